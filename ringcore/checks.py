@@ -1,0 +1,84 @@
+"""Input validation with messages that name the parameter, value and range.
+
+Every public entry point of ``ringcore`` validates its input with these
+helpers so that bad input raises a ``ValueError`` such as::
+
+    ValueError: sigma0 = -3 kg/m^2 is out of range: allowed 0 <= sigma0 < inf
+"""
+from __future__ import annotations
+
+import math
+
+
+def _fmt(x) -> str:
+    return f"{x:g}" if isinstance(x, (int, float)) and not isinstance(x, bool) else repr(x)
+
+
+def check_real(name: str, value, lo=-math.inf, hi=math.inf, *, lo_open=False,
+               hi_open=False, unit: str = "") -> float:
+    """Return ``float(value)`` if it is finite and within the interval.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the message.
+    value : object
+        Value to check.
+    lo, hi : float
+        Interval bounds; ``lo_open``/``hi_open`` make them exclusive.
+    unit : str
+        Unit shown after the value, e.g. ``"kg/m^2"``.
+
+    Raises
+    ------
+    ValueError
+        If the value is not a real number, not finite, or outside the range.
+    """
+    lo_sym = "<" if lo_open else "<="
+    hi_sym = "<" if hi_open else "<="
+    if math.isinf(hi):
+        hi_sym = "<"
+    rng = f"allowed {_fmt(lo)} {lo_sym} {name} {hi_sym} {_fmt(hi)}"
+    if math.isinf(lo):
+        rng = f"allowed {name} {hi_sym} {_fmt(hi)}" if not math.isinf(hi) else "allowed: any finite number"
+    u = f" {unit}" if unit else ""
+    try:
+        x = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} = {value!r} is not a number: {rng}") from None
+    if isinstance(value, bool):
+        raise ValueError(f"{name} = {value!r} is not a number: {rng}")
+    if not math.isfinite(x):
+        raise ValueError(f"{name} = {_fmt(x)}{u} is not finite: {rng}")
+    bad = (x < lo) or (x > hi) or (lo_open and x == lo) or (hi_open and x == hi)
+    if bad:
+        raise ValueError(f"{name} = {_fmt(x)}{u} is out of range: {rng}")
+    return x
+
+
+def check_int(name: str, value, lo: int = -(2**62), hi: int = 2**62) -> int:
+    """Return ``int(value)`` if it is an integer within ``[lo, hi]``."""
+    if isinstance(value, bool) or not isinstance(value, (int,)) and not (
+        isinstance(value, float) and value.is_integer()
+    ):
+        try:
+            import numpy as np
+
+            if isinstance(value, np.integer):
+                value = int(value)
+            else:
+                raise TypeError
+        except TypeError:
+            raise ValueError(f"{name} = {value!r} is not an integer: allowed {lo} <= {name} <= {hi}") from None
+    v = int(value)
+    if v < lo or v > hi:
+        raise ValueError(f"{name} = {v} is out of range: allowed {lo} <= {name} <= {hi}")
+    return v
+
+
+def check_choice(name: str, value, choices) -> str:
+    """Return ``value`` if it is one of ``choices``; else list the valid ones."""
+    choices = list(choices)
+    if value not in choices:
+        raise ValueError(f"{name} = {value!r} is not valid: choose one of {', '.join(map(str, choices))}")
+    return value

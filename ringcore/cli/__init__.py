@@ -1,0 +1,1 @@
+"""Command line interface: ``ringcore SUBCOMMAND ...`` (see ``ringcore --help``)."""
