@@ -1,0 +1,1 @@
+"""Matplotlib figures of the paper's computed results (headless, Agg backend)."""
