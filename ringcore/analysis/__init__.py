@@ -1,0 +1,13 @@
+"""Analyses shared by hydro and N-body results (Sections "Tests", "Results", "Saturation Wavelength").
+
+- :mod:`.rates`      growth rate from a log-linear fit, oscillation frequency from the Lomb periodogram
+- :mod:`.spectra`    power spectral density and prevalent wavelength lambda_p
+- :mod:`.saturation` empirical lambda_p = C lambda_zero (eq. lambdasigma), eq. (lambdasigmaap),
+                     3-point Lagrangian differentiation (Appendix "Group Velocities of Saturated Wave Trains")
+"""
+from .rates import Fit, growth_rate, lomb_frequency
+from .saturation import lagrange_derivative, lambda_p_approx, lambda_p_empirical
+from .spectra import fourier_amplitudes, power_spectrum, prevalent_wavelength
+
+__all__ = ["Fit", "growth_rate", "lomb_frequency", "fourier_amplitudes", "power_spectrum",
+           "prevalent_wavelength", "lambda_p_empirical", "lambda_p_approx", "lagrange_derivative"]

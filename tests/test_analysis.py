@@ -1,0 +1,50 @@
+"""Shared analyses checked on synthetic signals with known answers."""
+import numpy as np
+import pytest
+
+from ringcore import analysis, linear, params
+
+
+def test_growth_rate_of_noisy_exponential():
+    rng = np.random.default_rng(1)
+    t = np.linspace(0, 30, 300)
+    a = 1e-4 * np.exp(0.0413 * t) * (1 + 0.01 * rng.standard_normal(t.size))
+    fit = analysis.growth_rate(t, a)
+    assert fit.value == pytest.approx(0.0413, abs=3 * fit.stderr + 1e-4)
+    assert 0 < fit.stderr < 1e-3
+    with pytest.raises(ValueError, match="window"):
+        analysis.growth_rate(t, a, window=(100, 200))
+
+
+def test_lomb_frequency_uneven_sampling():
+    rng = np.random.default_rng(2)
+    t = np.sort(rng.uniform(0, 60, 500))
+    y = np.exp(0.01 * t) * np.cos(0.9321 * t + 0.3)
+    fit = analysis.lomb_frequency(t, y, 0.5, 1.5)
+    assert fit.value == pytest.approx(0.9321, abs=2e-3)
+    assert fit.stderr < 0.01
+    with pytest.raises(ValueError, match="fmin"):
+        analysis.lomb_frequency(t, y, -1, 1)
+
+
+def test_fourier_amplitudes_and_prevalent_wavelength():
+    L = 5000.0
+    x = np.arange(2000) * L / 2000
+    f = 1 + 0.3 * np.cos(2 * np.pi * 28 * x / L + 1) + 0.1 * np.cos(2 * np.pi * 3 * x / L)
+    A = analysis.fourier_amplitudes(f)
+    assert A[0] == pytest.approx(1) and A[28] == pytest.approx(0.3) and A[3] == pytest.approx(0.1)
+    assert analysis.prevalent_wavelength(f, L) == pytest.approx(L / 28)
+    lam, P = analysis.power_spectrum(f, L)
+    assert lam[0] == L and P.shape == (1000,)
+
+
+def test_saturation_relations():
+    p = params.get("tau15", sigma0=400)
+    assert analysis.lambda_p_empirical(p) == pytest.approx(1.4 * linear.lambda_zero(p))
+    assert analysis.lambda_p_approx(p) == pytest.approx(2 * 1.4 * (2.41 + 0.28) * p.lambda_J)
+
+
+def test_lagrange_derivative_exact_for_quadratics():
+    x = np.sort(np.random.default_rng(3).uniform(0, 5, 12))
+    y = 2 * x**2 - 3 * x + 1
+    assert np.allclose(analysis.lagrange_derivative(x, y), 4 * x - 3)
