@@ -1,0 +1,56 @@
+"""Run-file schema: round trip, and clear errors for missing, corrupt, foreign and newer files."""
+import numpy as np
+import pytest
+import xarray as xr
+
+from ringcore import params
+from ringcore.io import RunFileError, attrs_from_dict, dict_from_attrs, read_run, write_run
+
+
+def _ds():
+    p = params.get("tau15", sigma0=400)
+    ds = xr.Dataset({"sigma": (("x",), np.linspace(0.9, 1.1, 8), {"units": "sigma0"})},
+                    coords={"x": ("x", np.arange(8.0), {"units": "m"})})
+    ds.attrs.update(attrs_from_dict("param", p.as_dict()))
+    return ds, p
+
+
+def test_round_trip(tmp_path):
+    ds, p = _ds()
+    f = write_run(ds, tmp_path / "a.nc", kind="hydro")
+    back = read_run(f, kind="hydro")
+    assert np.array_equal(back.sigma.values, ds.sigma.values)
+    assert back.sigma.attrs["units"] == "sigma0"
+    assert params.RingParams(**dict_from_attrs(back, "param")) == p
+    assert back.attrs["param_sigma0"] == 400 and back.attrs["param_isothermal"] == 0
+    plain = xr.open_dataset(f, engine="h5netcdf")
+    assert plain.attrs["schema"] == "ringlab-run"
+    plain.close()
+
+
+def test_errors_name_file_and_problem(tmp_path):
+    with pytest.raises(RunFileError, match="no such file"):
+        read_run(tmp_path / "missing.nc")
+    bad = tmp_path / "corrupt.nc"
+    bad.write_bytes(b"\x89HDF\r\n garbage" * 10)
+    with pytest.raises(RunFileError, match="corrupt.nc: not a readable"):
+        read_run(bad)
+    foreign = tmp_path / "foreign.nc"
+    xr.Dataset({"a": ("x", [1, 2])}).to_netcdf(foreign, engine="h5netcdf")
+    with pytest.raises(RunFileError, match="not a ringlab run file"):
+        read_run(foreign)
+    ds, _ = _ds()
+    f = write_run(ds, tmp_path / "b.nc", kind="nbody")
+    with pytest.raises(RunFileError, match="expected 'hydro'"):
+        read_run(f, kind="hydro")
+    newer = ds.copy()
+    write_run(newer, tmp_path / "c.nc", kind="hydro")
+    d2 = xr.open_dataset(tmp_path / "c.nc", engine="h5netcdf").load()
+    d2.attrs["schema_version"] = 99
+    d2.to_netcdf(tmp_path / "d.nc", engine="h5netcdf")
+    with pytest.raises(RunFileError, match="newer ringcore"):
+        read_run(tmp_path / "d.nc")
+    d2.attrs["schema_version"] = 0
+    d2.to_netcdf(tmp_path / "e.nc", engine="h5netcdf")
+    with pytest.raises(RunFileError, match="no longer supported"):
+        read_run(tmp_path / "e.nc")
