@@ -13,7 +13,7 @@ import sys
 from .. import __version__
 
 # modules providing subcommands, in --help order
-SUBCOMMAND_MODULES = ("linear", "hydro", "nbody", "bench")
+SUBCOMMAND_MODULES = ("linear", "hydro", "nbody", "reproduce", "sweep", "resume", "bench")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -19,14 +19,31 @@ from .. import linear, params  # noqa: E402
 SIGMAS = (0.0, 400.0, 800.0)  # [kg/m^2], as in Figure "omega"
 
 
-def figure_omega(path, set_name: str = "tau15", wavelength_m=None):
+def add_caption(fig, caption: str) -> None:
+    """Write ``caption`` (what was run) under the axes of ``fig``."""
+    import textwrap
+
+    fig.set_constrained_layout(False)
+    fig.subplots_adjust(bottom=0.2, top=0.88, left=0.07, right=0.98, wspace=0.25)
+    fig.text(0.01, 0.01, textwrap.fill(caption, 170), fontsize=8, va="bottom", ha="left", color="0.2")
+
+
+def _finish(fig, path, caption):
+    if caption:
+        add_caption(fig, caption)
+    if path is not None:
+        fig.savefig(path, dpi=110)
+    return fig
+
+
+def figure_omega(path, set_name: str = "tau15", wavelength_m=None, caption: str | None = None):
     """Growth rates (left) and frequencies (right) against wavelength, Figure "omega".
 
     Black: non-isothermal; red dashed: isothermal p_s = 1; blue dashed: isothermal with the
     set's p_s at sigma0 = 800 kg/m^2.  Returns the matplotlib Figure.
     """
     lam = np.geomspace(20, 3000, 600) if wavelength_m is None else np.asarray(wavelength_m)
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.8), constrained_layout=caption is None)
     base = params.get(set_name)
     for s, lw in zip(SIGMAS, (1.0, 1.6, 2.2)):
         p = base.with_sigma0(s)
@@ -49,15 +66,14 @@ def figure_omega(path, set_name: str = "tau15", wavelength_m=None):
     a2.set_ylim(0.4, 2.0)
     a1.legend(fontsize=7)
     fig.suptitle(f"Exact linear theory, eq. (matni), {set_name} ($\\sigma_0$ in kg m$^{{-2}}$)")
-    fig.savefig(path, dpi=110)
-    return fig
+    return _finish(fig, path, caption)
 
 
-def figure_vgroup(path, set_name: str = "tau15"):
+def figure_vgroup(path, set_name: str = "tau15", caption: str | None = None):
     """Group velocities (left) and lambda_zero(sigma0) (right), Figure "vgroup"."""
     lam = np.geomspace(20, 3000, 600)
     base = params.get(set_name)
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.2), constrained_layout=True)
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.8), constrained_layout=caption is None)
     for s, c in zip((0, 200, 400, 600, 800, 1000), plt.cm.viridis(np.linspace(0, 0.9, 6))):
         p = base.with_sigma0(s)
         a1.plot(lam, linear.dispersion(p, lam).group_velocity_m_s * 1e3, "-", color=c, label=f"{s}")
@@ -77,8 +93,7 @@ def figure_vgroup(path, set_name: str = "tau15"):
     a2.set_ylabel("$\\lambda_{zero}$ [m]")
     a2.legend()
     fig.suptitle(f"Group velocity eq. (vg) and wavelength of its sign change, {set_name}")
-    fig.savefig(path, dpi=110)
-    return fig
+    return _finish(fig, path, caption)
 
 
 if __name__ == "__main__":

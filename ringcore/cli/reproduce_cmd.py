@@ -1,0 +1,31 @@
+"""``ringcore reproduce NAME --quick|--full`` and ``ringcore reproduce --list``."""
+from __future__ import annotations
+
+from ..experiments.registry import load_all, run_recipe
+
+
+def register(sub) -> None:
+    p = sub.add_parser("reproduce", help="re-run a figure of the paper as a named recipe",
+                       description="Each recipe writes a PNG (with a caption of what was run) and a data file.")
+    p.add_argument("name", nargs="?", help="recipe name (see --list)")
+    p.add_argument("--list", action="store_true", help="list recipes with figure labels and costs")
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--quick", dest="mode", action="store_const", const="quick",
+                   help="reduced box / fewer orbits, same physics (default)")
+    g.add_argument("--full", dest="mode", action="store_const", const="full", help="the paper's settings (hours)")
+    p.add_argument("--out", default="reproduce-out", help="output folder (default reproduce-out)")
+    p.set_defaults(func=run, mode="quick")
+
+
+def run(args) -> int:
+    recipes = load_all()
+    if args.list or not args.name:
+        w = max(len(n) for n in recipes)
+        print(f"{'name':<{w}}  {'figure':<22} {'quick':>8} {'full':>10}  title")
+        for n in sorted(recipes):
+            r = recipes[n]
+            print(f"{n:<{w}}  {r.figure:<22} {r.quick_cost:>8} {r.full_cost:>10}  {r.title}")
+        return 0
+    res = run_recipe(args.name, args.mode, args.out)
+    print(f"{args.name} ({args.mode}): {res.seconds:.1f} s\n  figure: {res.png}\n  data:   {res.data}\n  {res.caption}")
+    return 0

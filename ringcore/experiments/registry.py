@@ -1,0 +1,82 @@
+"""The recipe registry.
+
+A :class:`Recipe` couples a paper figure label with a function ``run(mode, outdir) -> RecipeResult``
+that computes the data (written as a run file), draws a PNG with a caption stating what was run,
+and reports both paths.  ``mode`` is ``"quick"`` (reduced box / fewer orbits, same physics,
+minutes on a laptop) or ``"full"`` (the paper's settings, hours: meant for a cluster).
+"""
+from __future__ import annotations
+
+import importlib
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Callable
+
+from ..checks import check_choice
+
+RECIPES: dict = {}
+MODES = ("quick", "full")
+# modules that define recipes (imported lazily by get_recipe / the CLI)
+RECIPE_MODULES = ("linear_recipes", "hydro_recipes", "nbody_recipes", "saturation_recipes")
+
+
+@dataclass(frozen=True)
+class RecipeResult:
+    """What a recipe wrote: figure, data file, caption and wall time [s]."""
+
+    png: Path
+    data: Path
+    caption: str
+    seconds: float = 0.0
+
+
+@dataclass(frozen=True)
+class Recipe:
+    """A named experiment reproducing one figure of the paper."""
+
+    name: str
+    figure: str  # the paper's figure label, e.g. "fig:omega"
+    title: str
+    quick_cost: str  # human-readable wall time of --quick on a 2-core machine
+    full_cost: str
+    func: Callable = field(repr=False)
+
+    def run(self, mode: str = "quick", outdir=".") -> RecipeResult:
+        check_choice("mode", mode, MODES)
+        out = Path(outdir)
+        out.mkdir(parents=True, exist_ok=True)
+        t0 = time.perf_counter()
+        res = self.func(mode, out)
+        return RecipeResult(res.png, res.data, res.caption, time.perf_counter() - t0)
+
+
+def recipe(name: str, figure: str, title: str, quick_cost: str, full_cost: str):
+    """Decorator registering ``func(mode, outdir) -> RecipeResult`` as a recipe."""
+    def deco(func):
+        RECIPES[name] = Recipe(name, figure, title, quick_cost, full_cost, func)
+        return func
+    return deco
+
+
+def load_all() -> dict:
+    """Import every recipe module that exists and return the registry."""
+    for mod in RECIPE_MODULES:
+        try:
+            importlib.import_module(f"{__package__}.{mod}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"{__package__}.{mod}":
+                raise
+    return RECIPES
+
+
+def get_recipe(name: str) -> Recipe:
+    """The recipe called ``name``; ValueError listing the valid names otherwise."""
+    load_all()
+    check_choice("recipe", name, sorted(RECIPES))
+    return RECIPES[name]
+
+
+def run_recipe(name: str, mode: str = "quick", outdir=".") -> RecipeResult:
+    """Run a recipe by name."""
+    return get_recipe(name).run(mode, outdir)
