@@ -1,0 +1,240 @@
+"""The "Linear theory" tab: exact dispersion relation of the overstable mode.
+
+Growth rate omega_R, oscillation frequency omega_I and group velocity v_g against
+wavelength (10 m - 10 km, log axis) for the current settings, several surface
+densities overlaid as in Figure "omega", markers at lambda_zero and at the
+fastest-growing wavelength, and readouts of the characteristic numbers.
+
+Plots are Bokeh figures whose ``ColumnDataSource`` objects are updated in place
+(a few ms per update, see ``shared/guides/panel-live-app.md``).  The sigma0 slider
+commits on release / key press (``value_throttled``); while it is dragged only
+the current curve follows (``LinearTheory.preview``, cached, ~20 ms).
+
+References: eqs. (matni), (osgrate), (osfreq), (vg); Figures "omega", "vgroup".
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import panel as pn
+import param
+from bokeh.models import ColumnDataSource, CustomJSTickFormatter, FixedTicker, HoverTool, Range1d, Span
+from bokeh.palettes import Viridis256
+from bokeh.plotting import figure
+
+from ringcore import params as ring_params
+
+from .controls import RingControls
+from .linear_model import WAVELENGTH_RANGE_M, LinearTheory
+
+PLOTS = (  # key in the curve dicts, y-axis label, title
+    ("growth_rate", "growth rate ω_R [Ω]", "Growth rate (> 0: overstable), eq. (21)"),
+    ("frequency", "oscillation frequency ω_I [Ω]", "Oscillation frequency, eq. (22)"),
+    ("group_velocity_mm_s", "group velocity v_g [mm/s]", "Group velocity v_g = dω_I/dk, eq. (23)"),
+)
+TICKS_M = [10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0, 2000.0, 5000.0, 10000.0]
+CURRENT_COLOR = "#111111"
+ZERO_COLOR = "#c2185b"  # lambda_zero marker
+MAXG_COLOR = "#ef6c00"  # fastest-growing wavelength marker
+
+EXPLANATION = """
+### What am I looking at?
+A small ring-density wave of wavelength λ (wavenumber k = 2π/λ) on a uniform ring behaves like
+exp(ω_R t + i(k x + ω_I t)). For each λ the app solves the paper's exact condition Det M = 0 with the
+matrix M of **eq. (17)** (4×4; 3×3 in the isothermal model) and follows the *overstable* root.
+
+* **Growth rate ω_R** (left): where it is above zero the ring is *viscously overstable* and the wave grows;
+  ω_R = 0.05 Ω means the amplitude grows by a factor e in 1/(0.05·2π) ≈ 3 orbits. At long wavelengths
+  **eq. (21)** approximates it: ω_R ≈ [ν₀(2 + 9β − 3γ)/6 + F₃/2] k², positive only if β > β_c.
+* **Oscillation frequency ω_I** (right), in units of the orbital frequency Ω, **eq. (22)**:
+  ω_I ≈ 1 − k/Q₀ + (p_s + F₂ − 1/Q₀²) k²/2. Self-gravity (σ₀ > 0) lowers it at long λ, pressure raises it at
+  short λ, so with σ₀ > 0 it has a minimum at **λ_zero**.
+* **Group velocity v_g = dω_I/dk** (below), **eq. (23)**: the speed at which a wave packet travels radially.
+  It changes sign at λ_zero: packets of shorter waves move outward, those of longer waves inward.
+
+Thin coloured curves are the comparison surface densities (the paper's Figures 1 and 2 use
+τ = 1.5, Ω_z/Ω = 3.6, i.e. set *tau15*, with σ₀ = 0, 400, 800 kg/m²); the thick black curve is the
+current setting. Dashed curves: isothermal model.
+"""
+
+CSS = """
+.readouts {display: grid; grid-template-columns: repeat(auto-fill, minmax(150px, 1fr)); gap: 8px;
+           font-family: var(--bokeh-base-font, sans-serif);}
+.readout {border: 1px solid #d0d7de; border-radius: 6px; padding: 6px 10px; background: #f8fafc;}
+.ro-label {font-size: 13px; color: #444;}
+.ro-value {font-size: 22px; font-weight: 600; color: #111;}
+.ro-note {font-size: 12px; color: #555;}
+.key {display: flex; flex-wrap: wrap; gap: 4px 18px; font-size: 14px; margin: 4px 0 2px 0; align-items: center;}
+.key-item {display: inline-flex; align-items: center; gap: 6px;}
+.key-line {display: inline-block; width: 30px; height: 0; border-top-style: solid;}
+.key-vline {display: inline-block; width: 0; height: 16px; border-left-style: dashed; border-left-width: 2px;}
+.model-label {font-size: 15px; color: #333; margin-bottom: 4px;}
+.msg-error {border: 2px solid #b00020; background: #fdecee; color: #7a0014; border-radius: 6px;
+            padding: 8px 10px; font-size: 14px;}
+"""
+
+
+def _fmt_len(x: float) -> str:
+    return "—" if not math.isfinite(x) else (f"{x / 1e3:.3g} km" if x >= 1e4 else f"{x:.4g} m")
+
+
+def format_numbers(n: dict) -> list[tuple[str, str, str, str]]:
+    """Readouts as (element id, label, value text, note) rows."""
+    if not n:
+        return []
+    g = n["max_growth_rate"]
+    efold = f"e-folds in {1.0 / (2 * math.pi * g):.3g} orbits" if g > 0 else "no growing wavelength"
+    over = "β > β_c: overstable" if n["beta"] > n["beta_c"] else "β ≤ β_c: stable at long λ"
+    return [
+        ("ro-q0", "Toomre Q₀", "∞" if not math.isfinite(n["Q0"]) else f"{n['Q0']:.3g}",
+         "no self-gravity" if n["sigma0"] == 0 else "Ωc₀/(πGσ₀)"),
+        ("ro-lambda-j", "Jeans wavelength λ_J", _fmt_len(n["lambda_J_m"]), "c₀²/(Gσ₀)"),
+        ("ro-lambda-zero", "λ_zero (v_g = 0)", _fmt_len(n["lambda_zero_m"]),
+         "needs σ₀ > 0" if not math.isfinite(n["lambda_zero_m"]) else "minimum of ω_I"),
+        ("ro-lambda-max", "Fastest-growing λ", _fmt_len(n["lambda_max_growth_m"]), "maximum of ω_R"),
+        ("ro-max-growth", "Max growth rate", f"{g:.3g} Ω", efold),
+        ("ro-beta-c", "Critical β_c", f"{n['beta_c']:.3g}" if math.isfinite(n["beta_c"]) else "—",
+         f"set's β = {n['beta']:.3g}: {over}"),
+    ]
+
+
+def _set_labels() -> dict:
+    out = {}
+    for name in ring_params.SET_NAMES:
+        p = ring_params.get(name)
+        extra = ", isothermal only" if name == "st99" else ""
+        out[f"{name} (τ = {p.tau:g}, Ω_z/Ω = {p.omega_z:g}{extra})"] = name
+    return out
+
+
+def _sigma_color(s: float) -> str:
+    return Viridis256[int(round(min(max(s / 1000.0, 0.0), 1.0) * 200))]
+
+
+class LinearView(pn.viewable.Viewer):
+    """The "Linear theory" tab for one session (controls, readouts, three plots, explanation)."""
+
+    controls = param.ClassSelector(class_=RingControls)
+    model = param.ClassSelector(class_=LinearTheory)
+
+    def __init__(self, **params):
+        params.setdefault("controls", RingControls())
+        super().__init__(**params)
+        if self.model is None:
+            self.model = LinearTheory(controls=self.controls)
+        self.sources = {key: ColumnDataSource(dict(xs=[], ys=[], label=[], color=[], width=[], dash=[]))
+                        for key, *_ in PLOTS}
+        self.marker_source = ColumnDataSource(dict(x=[], mlabel=[], color=[], dash=[]))
+        self.figures = {key: self._figure(key, ylabel, title) for key, ylabel, title in PLOTS}
+        self.key = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
+        self.readouts = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
+        self.message = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", visible=False)
+        self.widgets = self._widgets()
+        self.model.param.watch(self._render, ["curves", "numbers", "error", "model_label"])
+        self._render()
+        self._layout = self._build_layout()
+
+    # ---------------------------------------------------------------- building
+    def _widgets(self) -> pn.Column:
+        c = self.controls
+        self.sigma0_slider = pn.widgets.FloatSlider.from_param(c.param.sigma0, throttled=True, format="0")
+        # while dragging, only the current curve follows (cheap); readouts follow on release
+        self.sigma0_slider.param.watch(lambda e: self.model.preview(e.new), "value")
+        isothermal = c.param.isothermal
+        return pn.Column(
+            pn.widgets.Select.from_param(c.param.param_set, options=_set_labels()),
+            self.sigma0_slider,
+            pn.widgets.Checkbox.from_param(isothermal),
+            pn.widgets.FloatSlider.from_param(c.param.ps_scale, visible=isothermal.rx.not_(), format="0.00"),
+            pn.widgets.FloatSlider.from_param(c.param.iso_p_s, visible=isothermal, format="0.00"),
+            pn.widgets.TextInput.from_param(c.param.compare_sigma0),
+            self.message,
+            width=320,
+        )
+
+    def _figure(self, key: str, ylabel: str, title: str):
+        fig = figure(x_axis_type="log", x_range=Range1d(*WAVELENGTH_RANGE_M), y_range=Range1d(-1, 1),
+                     height=330, sizing_mode="stretch_width", min_width=420, title=title,
+                     x_axis_label="wavelength λ", y_axis_label=ylabel,
+                     tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="above")
+        fig.multi_line(xs="xs", ys="ys", line_color="color", line_width="width", line_dash="dash",
+                       source=self.sources[key])
+        fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.marker_source)
+        if key != "frequency":
+            fig.add_layout(Span(location=0, dimension="width", line_color="#888", line_width=1))
+        fig.add_tools(HoverTool(tooltips=[("", "@label"), ("λ", "$x{0.0} m"), (ylabel.split(" [")[0], "$y{0.000}")],
+                                line_policy="nearest"))
+        fig.title.text_font_size = "15px"
+        for ax in (fig.xaxis, fig.yaxis):
+            ax.axis_label_text_font_size = "15px"
+            ax.major_label_text_font_size = "13px"
+            ax.axis_label_text_font_style = "normal"
+        fig.xaxis.ticker = FixedTicker(ticks=TICKS_M)
+        fig.xaxis.formatter = CustomJSTickFormatter(code="return tick >= 1000 ? (tick / 1000) + ' km' : tick + ' m'")
+        fig.xgrid.ticker = FixedTicker(ticks=[10.0, 100.0, 1000.0, 10000.0])
+        return fig
+
+    def _build_layout(self):
+        plots = {k: pn.pane.Bokeh(f, sizing_mode="stretch_width") for k, f in self.figures.items()}
+        header = pn.pane.HTML(pn.bind(lambda s: f'<div class="model-label" id="linear-model">{s}</div>',
+                                      self.model.param.model_label), stylesheets=[CSS], margin=(0, 10))
+        explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"},
+                                       min_width=420)
+        grid = pn.GridBox(plots["growth_rate"], plots["frequency"], plots["group_velocity_mm_s"], explanation,
+                          ncols=2, sizing_mode="stretch_width")
+        return pn.Row(
+            pn.Column(pn.pane.Markdown("### Settings", margin=(0, 10)), self.widgets, width=340),
+            pn.Column(header, self.readouts, self.key, grid, sizing_mode="stretch_width"),
+            sizing_mode="stretch_width",
+        )
+
+    # ---------------------------------------------------------------- updating
+    def _render(self, *events):
+        m = self.model
+        iso = self.controls.isothermal
+        for key, src in self.sources.items():
+            data = dict(xs=[], ys=[], label=[], color=[], width=[], dash=[])
+            for cv in m.curves:
+                data["xs"].append(m.wavelength_m)
+                data["ys"].append(np.asarray(cv[key]))
+                s = cv["sigma0"]
+                data["label"].append(f"σ₀ = {s:g} kg/m²" + (" (current)" if cv["current"] else ""))
+                data["color"].append(CURRENT_COLOR if cv["current"] else _sigma_color(s))
+                data["width"].append(4.0 if cv["current"] else 2.0)
+                data["dash"].append("dashed" if iso else "solid")
+            src.data = data
+            self.figures[key].y_range.update(**dict(zip(("start", "end"), m.y_range(key))))
+        n = m.numbers
+        markers = dict(x=[], mlabel=[], color=[], dash=[])
+        for x, label, color, dash in ((n.get("lambda_zero_m", math.nan), "λ_zero", ZERO_COLOR, "dashed"),
+                                      (n.get("lambda_max_growth_m", math.nan), "fastest growth", MAXG_COLOR,
+                                       "dotted")):
+            if math.isfinite(x):
+                markers["x"].append(x)
+                markers["mlabel"].append(f"{label} = {x:.4g} m")
+                markers["color"].append(color)
+                markers["dash"].append(dash)
+        self.marker_source.data = markers
+        self.key.object = self._key_html(self.sources["growth_rate"].data, markers)
+        cards = "".join(
+            f'<div class="readout" id="{rid}"><div class="ro-label">{label}</div>'
+            f'<div class="ro-value">{value}</div><div class="ro-note">{note}</div></div>'
+            for rid, label, value, note in format_numbers(n))
+        self.readouts.object = f'<div class="readouts" id="linear-readouts">{cards}</div>'
+        if m.error:
+            self.message.object = (f'<div class="msg-error" id="linear-message"><b>Cannot use these settings.</b> '
+                                   f'{m.error}.<br>The plots still show the last valid settings.</div>')
+        self.message.visible = bool(m.error)
+
+    @staticmethod
+    def _key_html(curves: dict, markers: dict) -> str:
+        """Legend shared by the three plots (same colours in each)."""
+        items = [f'<span class="key-item"><span class="key-line" style="border-top: {w:g}px {d} {c}"></span>{lab}</span>'
+                 for lab, c, w, d in zip(curves["label"], curves["color"], curves["width"], curves["dash"])]
+        items += [f'<span class="key-item"><span class="key-vline" style="border-left: 2px {d} {c}"></span>{lab}</span>'
+                  for lab, c, d in zip(markers["mlabel"], markers["color"], markers["dash"])]
+        return f'<div class="key" id="linear-key">{"".join(items)}</div>'
+
+    def __panel__(self):
+        return self._layout
