@@ -1,0 +1,16 @@
+"""Local N-body shearing box (Section "N-Body Simulations" of the paper).
+
+>>> from ringcore import params
+>>> from ringcore.nbody import ShearingBox, NBodyOptions
+>>> box = ShearingBox(params.get("tau15"), NBodyOptions(L_x=50, L_y=25), seed=1)
+
+Modules: :mod:`.kernels` (drift, boundaries, cell list, collisions), :mod:`.gravity`
+(Fourier-mode radial self-gravity), :mod:`.integrator` (one step), :mod:`.initial`,
+:mod:`.options`, :mod:`.box`, :mod:`.diagnostics`, :mod:`.store` (NetCDF run files),
+:mod:`.growth` (linear mode measurement), :mod:`.bench`.
+Kernel units: lengths R_p, times 1/Omega, velocities R_p Omega.
+"""
+from .box import NBodyBlowUp, ShearingBox
+from .options import RESTITUTION_LAWS, NBodyOptions
+
+__all__ = ["ShearingBox", "NBodyOptions", "NBodyBlowUp", "RESTITUTION_LAWS"]

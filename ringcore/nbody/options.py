@@ -1,0 +1,133 @@
+"""Numerical options of the local N-body shearing box (:class:`NBodyOptions`).
+
+Physics (tau, Omega_z, sigma0, Omega) comes from :class:`ringcore.params.RingParams`;
+everything here is a numerical or set-up choice, in physical units at the API.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, fields, replace
+
+from ..checks import check_choice, check_int, check_real
+
+RESTITUTION_LAWS = ("bridges", "constant")
+V_C_BRIDGES = 0.077e-3  # [m/s] scale of the Bridges et al. (1984) law, eq. (bridges)
+
+
+@dataclass(frozen=True)
+class NBodyOptions:
+    """Box geometry, collision law, time step and self-gravity resolution.
+
+    Attributes
+    ----------
+    L_x, L_y : float
+        Radial and azimuthal box size [m]; each at least 6 R_p (three neighbour cells).
+    R_p : float
+        Particle radius [m] (the paper uses 1 m, and varies it from 1 to 4 m).
+    restitution : {"bridges", "constant"}
+        Normal coefficient of restitution: eq. (bridges) capped at 1 below ``v_c``, or ``epsilon``.
+    epsilon : float
+        Constant coefficient of restitution (0 < epsilon <= 1; the paper uses 0.5).
+    v_c : float
+        Velocity scale of the Bridges law [m/s] (0.077 mm/s).
+    dt_orbit : float
+        Time step [orbits] (default 1e-3: 1,000 steps per orbit).
+    collisions : bool
+        Resolve collisions (False: free test particles).
+    m_max : int
+        Highest Fourier mode of the radial self-gravity, eq. (sgmodes) (used if sigma0 > 0).
+    single_mode : int
+        If > 0, only this mode contributes to the self-gravity (linear growth measurements).
+    n_bins : int
+        Radial bins of the self-gravity density (0: automatic, max(8 m_hi, 64)).
+    n_zones : int
+        Radial zones of the diagnostic tabulation (0: automatic, zones of about 5 R_p).
+    record_every : float
+        Interval of the recorded box means [orbits].
+    profile_every : float
+        Interval of the recorded radial profiles sigma/sigma0, u, v, c [orbits] (0: never).
+    v_init : float
+        Initial peculiar velocity dispersion per component [m/s].
+    fill_fraction : float
+        Radial fraction of the box filled initially ("spreading boundaries"); tau is the
+        optical depth of the filled strip |x| < fill_fraction L_x / 2.
+    """
+
+    L_x: float = 50.0  # [m]
+    L_y: float = 25.0  # [m]
+    R_p: float = 1.0  # [m]
+    restitution: str = "bridges"
+    epsilon: float = 0.5
+    v_c: float = V_C_BRIDGES  # [m/s]
+    dt_orbit: float = 1.0e-3  # [orbits]
+    collisions: bool = True
+    m_max: int = 256
+    single_mode: int = 0
+    n_bins: int = 0
+    n_zones: int = 0
+    record_every: float = 0.1  # [orbits]
+    profile_every: float = 1.0  # [orbits]
+    v_init: float = 0.4e-3  # [m/s]
+    fill_fraction: float = 1.0
+
+    def __post_init__(self):
+        check_real("R_p", self.R_p, 0.0, math.inf, lo_open=True, unit="m")
+        check_real("L_x", self.L_x, 6.0 * self.R_p, 1.0e6, unit="m")
+        check_real("L_y", self.L_y, 6.0 * self.R_p, 1.0e6, unit="m")
+        check_choice("restitution", self.restitution, RESTITUTION_LAWS)
+        check_real("epsilon", self.epsilon, 0.0, 1.0, lo_open=True)
+        check_real("v_c", self.v_c, 0.0, math.inf, lo_open=True, unit="m/s")
+        check_real("dt_orbit", self.dt_orbit, 0.0, 0.05, lo_open=True, unit="orbits")
+        if not isinstance(self.collisions, bool):
+            raise ValueError(f"collisions = {self.collisions!r} is not valid: choose one of True, False")
+        check_int("m_max", self.m_max, 1, 100000)
+        check_int("single_mode", self.single_mode, 0, 100000)
+        check_int("n_bins", self.n_bins, 0, 10**7)
+        if 0 < self.n_bins < 4 * self.m_hi:
+            raise ValueError(f"n_bins = {self.n_bins} is out of range: allowed 0 (auto) or "
+                             f"{4 * self.m_hi} <= n_bins (4 x highest mode {self.m_hi})")
+        check_int("n_zones", self.n_zones, 0, 10**6)
+        check_real("record_every", self.record_every, self.dt_orbit, math.inf, unit="orbits")
+        check_real("profile_every", self.profile_every, 0.0, math.inf, unit="orbits")
+        check_real("v_init", self.v_init, 0.0, 1.0, unit="m/s")
+        check_real("fill_fraction", self.fill_fraction, 0.0, 1.0, lo_open=True)
+
+    @property
+    def m_lo(self) -> int:
+        """Lowest self-gravity mode used."""
+        return self.single_mode if self.single_mode > 0 else 1
+
+    @property
+    def m_hi(self) -> int:
+        """Highest self-gravity mode used."""
+        return self.single_mode if self.single_mode > 0 else self.m_max
+
+    @property
+    def bins(self) -> int:
+        """Number of self-gravity bins actually used."""
+        return self.n_bins if self.n_bins > 0 else max(8 * self.m_hi, 64)
+
+    @property
+    def zones(self) -> int:
+        """Number of diagnostic zones actually used."""
+        return self.n_zones if self.n_zones > 0 else max(1, int(round(self.L_x / (5.0 * self.R_p))))
+
+    def replace(self, **changes) -> "NBodyOptions":
+        """Copy with some fields changed (validated)."""
+        return replace(self, **changes)
+
+    def as_attrs(self) -> dict:
+        """Fields as netCDF-safe attributes (prefix ``opt_``; bools as 0/1)."""
+        return {f"opt_{k}": (int(v) if isinstance(v, bool) else v) for k, v in asdict(self).items()}
+
+    @classmethod
+    def from_attrs(cls, attrs: dict) -> "NBodyOptions":
+        """Inverse of :meth:`as_attrs`."""
+        kw = {}
+        for f in fields(cls):
+            key = f"opt_{f.name}"
+            if key in attrs:
+                v = attrs[key]
+                kw[f.name] = bool(v) if f.type in ("bool", bool) else (
+                    str(v) if f.type in ("str", str) else (int(v) if f.type in ("int", int) else float(v)))
+        return cls(**kw)
