@@ -68,7 +68,7 @@ def write_run(ds: xr.Dataset, path, kind: str) -> Path:
     ds.attrs.update(schema=SCHEMA, schema_version=SCHEMA_VERSION, kind=kind, ringcore_version=__version__,
                     created=datetime.now(timezone.utc).isoformat(timespec="seconds"))
     tmp = path.with_name(path.name + ".part")
-    ds.to_netcdf(tmp, engine="h5netcdf", invalid_netcdf=True)
+    ds.to_netcdf(tmp, engine="h5netcdf")
     os.replace(tmp, path)
     return path
 

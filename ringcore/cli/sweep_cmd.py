@@ -1,0 +1,64 @@
+"""``ringcore sweep``: a grid of runs on dask.distributed (LocalCluster or --scheduler ADDRESS)."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..checks import check_real
+
+
+def register(sub) -> None:
+    from ..experiments.sweep import RUNNERS
+
+    p = sub.add_parser("sweep", help="run a grid of runs on dask.distributed",
+                       description="Each finished run is written to its own file at once; re-running skips "
+                                   "finished runs; failures are reported. Aggregate: OUT/sweep.nc and OUT/lambdap.png.")
+    p.add_argument("--engine", default="hydro", choices=sorted(RUNNERS), help="which model to run")
+    p.add_argument("--set", default="tau15", help="parameter set")
+    p.add_argument("--sigma0", default="0:900:50", metavar="LIST|START:STOP:STEP",
+                   help="sigma0 values [kg/m^2], e.g. '0,200,400' or '0:900:50' (inclusive)")
+    p.add_argument("--ps-scale", default="1", metavar="LIST", help="p_s scaling factors, e.g. '1,1.4,2'")
+    p.add_argument("--isothermal", action="store_true")
+    p.add_argument("--lx", type=float, default=None, help="box size L_x [m] (engine default if omitted)")
+    p.add_argument("--h", type=float, default=None, help="hydro cell size [m]")
+    p.add_argument("--orbits", type=float, default=None, help="orbits per run")
+    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--workers", type=int, default=2, help="LocalCluster worker processes (default 2)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS", help="use a running dask scheduler")
+    p.add_argument("--out", default="sweep-out", help="output folder")
+    p.set_defaults(func=run)
+
+
+def parse_values(name: str, text: str) -> list:
+    """'a,b,c' or 'start:stop:step' (inclusive) -> list of floats."""
+    try:
+        if ":" in text:
+            a, b, s = (float(x) for x in text.split(":"))
+            check_real(f"{name} step", s, 0.0, np.inf, lo_open=True)
+            return [float(x) for x in np.arange(a, b + s / 2, s)]
+        return [float(x) for x in text.split(",") if x.strip()]
+    except (TypeError, ValueError) as exc:
+        if "step" in str(exc):
+            raise
+        raise ValueError(f"{name} = {text!r} is not a list 'a,b,c' or a range 'start:stop:step'") from None
+
+
+def run(args) -> int:
+    from ..experiments.sweep import run_sweep
+    from ..figures.saturation import figure_lambdap
+
+    tasks = []
+    for ps in parse_values("ps-scale", args.ps_scale):
+        for s in parse_values("sigma0", args.sigma0):
+            t = {"engine": args.engine, "set": args.set, "sigma0": s, "ps_scale": ps,
+                 "isothermal": bool(args.isothermal), "seed": args.seed}
+            for k in ("lx", "h", "orbits"):
+                if getattr(args, k) is not None:
+                    t[k] = getattr(args, k)
+            tasks.append(t)
+    res = run_sweep(tasks, args.out, scheduler=args.scheduler, n_workers=args.workers)
+    png = figure_lambdap(res.dataset, f"{args.out}/lambdap.png", set_name=args.set, isothermal=args.isothermal)
+    n_ok = len(res.rows) - len(res.failed)
+    print(f"sweep: {n_ok} of {len(res.rows)} runs finished in {res.wall_s:.1f} s -> {args.out}/sweep.nc, {png}")
+    for r in res.failed:
+        print(f"  failed: {r['task']}: {r['error']}")
+    return 1 if res.failed else 0

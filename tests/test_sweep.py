@@ -1,0 +1,27 @@
+"""Sweeps on a real dask.distributed LocalCluster: files at once, skip on re-run, failures reported."""
+import pytest
+
+from ringcore import linear, params
+from ringcore.experiments.sweep import execute_task, run_sweep, task_name
+
+
+def test_sweep_runs_skips_and_reports(tmp_path):
+    tasks = [{"engine": "linear", "set": "tau15", "sigma0": s} for s in (100.0, 400.0, 800.0)]
+    tasks.append({"engine": "linear", "set": "tau15", "sigma0": -5.0})  # invalid: must be reported
+    res = run_sweep(tasks, tmp_path, n_workers=2, progress=False, dashboard=False)
+    assert len(res.rows) == 4 and len(res.failed) == 1
+    assert "sigma0 = -5" in res.failed[0]["error"]
+    ds = res.dataset
+    assert list(ds.sigma0.values) == [100.0, 400.0, 800.0]
+    assert ds.lambda_zero_m.sel(run=1).item() == pytest.approx(linear.lambda_zero(params.get("tau15", sigma0=400)))
+    assert (tmp_path / "sweep.nc").exists()
+    for t in tasks[:3]:
+        assert (tmp_path / f"{task_name(t)}.nc").exists()
+    # re-run in-process: finished tasks are skipped, not recomputed
+    r = execute_task(tasks[0], str(tmp_path))
+    assert r["status"] == "skipped" and r["lambda_zero_m"] == pytest.approx(ds.lambda_zero_m.values[0])
+
+
+def test_unknown_engine():
+    with pytest.raises(ValueError, match="engine"):
+        run_sweep([{"engine": "warp"}], "/tmp/x", progress=False)
