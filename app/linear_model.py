@@ -13,8 +13,6 @@ References: eqs. (evp), (matni), (osgrate), (osfreq), (vg); Figures "omega", "vg
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 import panel as pn
 import param
@@ -138,7 +136,3 @@ class LinearTheory(param.Parameterized):
         span = hi - lo if hi > lo else max(abs(hi), 1.0) * 0.1
         return (lo - pad * span, hi + pad * span)
 
-
-def finite_or_none(x: float):
-    """``x`` if finite else None (for readouts)."""
-    return x if isinstance(x, (int, float)) and math.isfinite(x) else None

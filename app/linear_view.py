@@ -33,29 +33,34 @@ PLOTS = (  # key in the curve dicts, y-axis label, title
     ("frequency", "oscillation frequency ω_I [Ω]", "Oscillation frequency, eq. (22)"),
     ("group_velocity_mm_s", "group velocity v_g [mm/s]", "Group velocity v_g = dω_I/dk, eq. (23)"),
 )
-TICKS_M = [10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0, 2000.0, 5000.0, 10000.0]
+TICKS_M = [10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0, 2000.0, 10000.0]
 CURRENT_COLOR = "#111111"
 ZERO_COLOR = "#c2185b"  # lambda_zero marker
 MAXG_COLOR = "#ef6c00"  # fastest-growing wavelength marker
 
 EXPLANATION = """
 ### What am I looking at?
-A small ring-density wave of wavelength λ (wavenumber k = 2π/λ) on a uniform ring behaves like
-exp(ω_R t + i(k x + ω_I t)). For each λ the app solves the paper's exact condition Det M = 0 with the
-matrix M of **eq. (17)** (4×4; 3×3 in the isothermal model) and follows the *overstable* root.
+A small wave of wavelength λ (wavenumber k = 2π/λ) in the surface density of a uniform ring changes
+like exp(ω<sub>R</sub> t) · exp[i(k x + ω<sub>I</sub> t)]. For each λ the app solves the paper's exact
+condition Det M = 0, **eq. (16)**, with the matrix M of **eq. (17)** (4×4; 3×3 in the isothermal model)
+and follows the *overstable* solution.
 
-* **Growth rate ω_R** (left): where it is above zero the ring is *viscously overstable* and the wave grows;
-  ω_R = 0.05 Ω means the amplitude grows by a factor e in 1/(0.05·2π) ≈ 3 orbits. At long wavelengths
-  **eq. (21)** approximates it: ω_R ≈ [ν₀(2 + 9β − 3γ)/6 + F₃/2] k², positive only if β > β_c.
-* **Oscillation frequency ω_I** (right), in units of the orbital frequency Ω, **eq. (22)**:
-  ω_I ≈ 1 − k/Q₀ + (p_s + F₂ − 1/Q₀²) k²/2. Self-gravity (σ₀ > 0) lowers it at long λ, pressure raises it at
-  short λ, so with σ₀ > 0 it has a minimum at **λ_zero**.
-* **Group velocity v_g = dω_I/dk** (below), **eq. (23)**: the speed at which a wave packet travels radially.
-  It changes sign at λ_zero: packets of shorter waves move outward, those of longer waves inward.
+* **Growth rate ω<sub>R</sub>** (top left): where it is above zero the ring is *viscously overstable*
+  and the wave grows; ω<sub>R</sub> = 0.05 Ω means the amplitude grows by a factor e in
+  1/(0.05 · 2π) ≈ 3 orbits. For long waves **eq. (21)** gives
+  ω<sub>R</sub> ≈ [ν<sub>0</sub>(2 + 9β − 3γ)/6 + F<sub>3</sub>/2] k², positive only if β > β<sub>c</sub>.
+* **Oscillation frequency ω<sub>I</sub>** (top right), in units of the orbital frequency Ω,
+  **eq. (22)**: ω<sub>I</sub> ≈ 1 − k/Q<sub>0</sub> + (p<sub>s</sub> + F<sub>2</sub> − 1/Q<sub>0</sub>²) k²/2.
+  Self-gravity (σ<sub>0</sub> > 0) lowers it at long λ, pressure raises it at short λ, so with
+  self-gravity it has a minimum, at **λ<sub>zero</sub>**.
+* **Group velocity v<sub>g</sub> = dω<sub>I</sub>/dk** (bottom left), **eq. (23)**: how fast a wave packet
+  travels in radius. It changes sign at λ<sub>zero</sub>: packets of shorter waves move outward
+  (v<sub>g</sub> > 0), those of longer waves inward.
 
-Thin coloured curves are the comparison surface densities (the paper's Figures 1 and 2 use
-τ = 1.5, Ω_z/Ω = 3.6, i.e. set *tau15*, with σ₀ = 0, 400, 800 kg/m²); the thick black curve is the
-current setting. Dashed curves: isothermal model.
+Thin coloured curves: the comparison surface densities (the paper's Figures 1 and 2 use set *tau15*,
+τ = 1.5, Ω<sub>z</sub>/Ω = 3.6, with σ<sub>0</sub> = 0, 400, 800 kg/m²). Thick black curve: the
+current setting. Dashed curves: isothermal model. Vertical lines: λ<sub>zero</sub> and the
+fastest-growing wavelength for the current setting.
 """
 
 CSS = """
@@ -69,7 +74,7 @@ CSS = """
 .key-item {display: inline-flex; align-items: center; gap: 6px;}
 .key-line {display: inline-block; width: 30px; height: 0; border-top-style: solid;}
 .key-vline {display: inline-block; width: 0; height: 16px; border-left-style: dashed; border-left-width: 2px;}
-.model-label {font-size: 15px; color: #333; margin-bottom: 4px;}
+.model-label {font-size: 16px; color: #222; margin-bottom: 4px; font-weight: 600;}
 .msg-error {border: 2px solid #b00020; background: #fdecee; color: #7a0014; border-radius: 6px;
             padding: 8px 10px; font-size: 14px;}
 """
@@ -85,16 +90,17 @@ def format_numbers(n: dict) -> list[tuple[str, str, str, str]]:
         return []
     g = n["max_growth_rate"]
     efold = f"e-folds in {1.0 / (2 * math.pi * g):.3g} orbits" if g > 0 else "no growing wavelength"
-    over = "β > β_c: overstable" if n["beta"] > n["beta_c"] else "β ≤ β_c: stable at long λ"
+    over = "β > β<sub>c</sub>: overstable" if n["beta"] > n["beta_c"] else "β ≤ β<sub>c</sub>: stable at long λ"
     return [
-        ("ro-q0", "Toomre Q₀", "∞" if not math.isfinite(n["Q0"]) else f"{n['Q0']:.3g}",
-         "no self-gravity" if n["sigma0"] == 0 else "Ωc₀/(πGσ₀)"),
-        ("ro-lambda-j", "Jeans wavelength λ_J", _fmt_len(n["lambda_J_m"]), "c₀²/(Gσ₀)"),
-        ("ro-lambda-zero", "λ_zero (v_g = 0)", _fmt_len(n["lambda_zero_m"]),
-         "needs σ₀ > 0" if not math.isfinite(n["lambda_zero_m"]) else "minimum of ω_I"),
-        ("ro-lambda-max", "Fastest-growing λ", _fmt_len(n["lambda_max_growth_m"]), "maximum of ω_R"),
-        ("ro-max-growth", "Max growth rate", f"{g:.3g} Ω", efold),
-        ("ro-beta-c", "Critical β_c", f"{n['beta_c']:.3g}" if math.isfinite(n["beta_c"]) else "—",
+        ("ro-q0", "Toomre Q<sub>0</sub>", "∞" if not math.isfinite(n["Q0"]) else f"{n['Q0']:.2f}",
+         "no self-gravity" if n["sigma0"] == 0 else "Ωc<sub>0</sub>/(πGσ<sub>0</sub>)"),
+        ("ro-lambda-j", "Jeans wavelength λ<sub>J</sub>", _fmt_len(n["lambda_J_m"]),
+         "c<sub>0</sub><sup>2</sup>/(Gσ<sub>0</sub>)"),
+        ("ro-lambda-zero", "λ<sub>zero</sub> (v<sub>g</sub> = 0)", _fmt_len(n["lambda_zero_m"]),
+         "needs σ<sub>0</sub> > 0" if not math.isfinite(n["lambda_zero_m"]) else "minimum of ω<sub>I</sub>"),
+        ("ro-lambda-max", "Fastest-growing λ", _fmt_len(n["lambda_max_growth_m"]), "maximum of ω<sub>R</sub>"),
+        ("ro-max-growth", "Max growth rate ω<sub>R</sub>", f"{g:.3g} Ω", efold),
+        ("ro-beta-c", "Critical β<sub>c</sub>", f"{n['beta_c']:.3g}" if math.isfinite(n["beta_c"]) else "—",
          f"set's β = {n['beta']:.3g}: {over}"),
     ]
 
@@ -156,22 +162,22 @@ class LinearView(pn.viewable.Viewer):
     def _figure(self, key: str, ylabel: str, title: str):
         fig = figure(x_axis_type="log", x_range=Range1d(*WAVELENGTH_RANGE_M), y_range=Range1d(-1, 1),
                      height=330, sizing_mode="stretch_width", min_width=420, title=title,
-                     x_axis_label="wavelength λ", y_axis_label=ylabel,
+                     x_axis_label="wavelength λ [m]", y_axis_label=ylabel,
                      tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="above")
-        fig.multi_line(xs="xs", ys="ys", line_color="color", line_width="width", line_dash="dash",
+        lines = fig.multi_line(xs="xs", ys="ys", line_color="color", line_width="width", line_dash="dash",
                        source=self.sources[key])
         fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.marker_source)
         if key != "frequency":
             fig.add_layout(Span(location=0, dimension="width", line_color="#888", line_width=1))
         fig.add_tools(HoverTool(tooltips=[("", "@label"), ("λ", "$x{0.0} m"), (ylabel.split(" [")[0], "$y{0.000}")],
-                                line_policy="nearest"))
+                                line_policy="nearest", renderers=[lines]))
         fig.title.text_font_size = "15px"
         for ax in (fig.xaxis, fig.yaxis):
             ax.axis_label_text_font_size = "15px"
             ax.major_label_text_font_size = "13px"
             ax.axis_label_text_font_style = "normal"
         fig.xaxis.ticker = FixedTicker(ticks=TICKS_M)
-        fig.xaxis.formatter = CustomJSTickFormatter(code="return tick >= 1000 ? (tick / 1000) + ' km' : tick + ' m'")
+        fig.xaxis.formatter = CustomJSTickFormatter(code="return tick.toString()")
         fig.xgrid.ticker = FixedTicker(ticks=[10.0, 100.0, 1000.0, 10000.0])
         return fig
 
@@ -202,12 +208,12 @@ class LinearView(pn.viewable.Viewer):
                 data["label"].append(f"σ₀ = {s:g} kg/m²" + (" (current)" if cv["current"] else ""))
                 data["color"].append(CURRENT_COLOR if cv["current"] else _sigma_color(s))
                 data["width"].append(4.0 if cv["current"] else 2.0)
-                data["dash"].append("dashed" if iso else "solid")
+                data["dash"].append(("12 6" if cv["current"] else "8 4") if iso else "solid")
             src.data = data
             self.figures[key].y_range.update(**dict(zip(("start", "end"), m.y_range(key))))
         n = m.numbers
         markers = dict(x=[], mlabel=[], color=[], dash=[])
-        for x, label, color, dash in ((n.get("lambda_zero_m", math.nan), "λ_zero", ZERO_COLOR, "dashed"),
+        for x, label, color, dash in ((n.get("lambda_zero_m", math.nan), "λ<sub>zero</sub>", ZERO_COLOR, "dashed"),
                                       (n.get("lambda_max_growth_m", math.nan), "fastest growth", MAXG_COLOR,
                                        "dotted")):
             if math.isfinite(x):
@@ -230,9 +236,9 @@ class LinearView(pn.viewable.Viewer):
     @staticmethod
     def _key_html(curves: dict, markers: dict) -> str:
         """Legend shared by the three plots (same colours in each)."""
-        items = [f'<span class="key-item"><span class="key-line" style="border-top: {w:g}px {d} {c}"></span>{lab}</span>'
+        items = [f'<span class="key-item"><span class="key-line" style="border-top: {w:g}px {d} {c}"></span><span>{lab}</span></span>'
                  for lab, c, w, d in zip(curves["label"], curves["color"], curves["width"], curves["dash"])]
-        items += [f'<span class="key-item"><span class="key-vline" style="border-left: 2px {d} {c}"></span>{lab}</span>'
+        items += [f'<span class="key-item"><span class="key-vline" style="border-left: 2px {d} {c}"></span><span>{lab}</span></span>'
                   for lab, c, d in zip(markers["mlabel"], markers["color"], markers["dash"])]
         return f'<div class="key" id="linear-key">{"".join(items)}</div>'
 
