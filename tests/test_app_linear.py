@@ -170,6 +170,14 @@ def test_preview_moves_only_the_current_curve(view):
     assert m.numbers["lambda_zero_m"] == pytest.approx(linear.lambda_zero(params.get("tau15", 700.0)), rel=1e-9)
 
 
+def test_sessions_are_independent():
+    a, b = LinearView(), LinearView()
+    a.controls.sigma0 = 800.0
+    assert b.controls.sigma0 == 400.0 and b.model.numbers["sigma0"] == 400.0
+    assert a.sources["growth_rate"] is not b.sources["growth_rate"]
+    assert b.sources["growth_rate"].data["label"][-1] == "σ₀ = 400 kg/m² (current)"
+
+
 def test_app_assembles_tabs():
     import panel as pn
 

@@ -137,7 +137,7 @@ def test_linear_tab_in_browser(app_server, browser_page):
     t0 = time.perf_counter()
     page.goto(url)
     page.locator("#ro-lambda-zero .ro-value").wait_for(timeout=30_000)
-    page.locator("canvas").nth(2).wait_for(timeout=30_000)  # three Bokeh figures drawn
+    page.locator(".bk-Canvas").nth(2).wait_for(timeout=30_000)  # all three Bokeh figures laid out
     timings["page_load_to_first_plot_s"] = time.perf_counter() - t0
     page.wait_for_timeout(300)
     page.screenshot(path=str(ARTIFACTS / "linear-initial.png"), full_page=True)
