@@ -1,0 +1,20 @@
+"""1D axisymmetric shearing-sheet hydrodynamics (Section "Numerical Methods / Hydrodynamic Scheme").
+
+>>> from ringcore import params
+>>> from ringcore.hydro import Hydro1D, HydroOptions
+>>> sim = Hydro1D(params.get("tau15", sigma0=400), HydroOptions(L_x=5000, h=2.5), initial="noise", seed=1)
+>>> sim.run(orbits=100, progress=True)               # doctest: +SKIP
+>>> sim.to_dataset().to_netcdf("run.nc", engine="h5netcdf")  # doctest: +SKIP
+
+Modules: :mod:`.kernels` (compiled MP5 / AUSM / central differences / RK stage),
+:mod:`.gravity` (FFT self-gravity), :mod:`.timestep` (SSPRK(5,4), dt criteria),
+:mod:`.initial`, :mod:`.options`, :mod:`.solver`, :mod:`.diagnostics`, :mod:`.runfile`,
+:mod:`.bench`.
+"""
+from .diagnostics import e_kin, growth_rate, lomb_frequency, prevalent_wavelength, psd
+from .gravity import SelfGravity
+from .options import HydroOptions
+from .solver import Hydro1D, HydroBlowUp
+
+__all__ = ["Hydro1D", "HydroOptions", "HydroBlowUp", "SelfGravity", "e_kin", "psd", "prevalent_wavelength",
+           "growth_rate", "lomb_frequency"]

@@ -1,0 +1,156 @@
+"""Diagnostics of 1D hydro runs: kinetic energy, spectra, mode amplitudes, space-time rows.
+
+Functions take dimensionless primitive arrays; :class:`Recorder` collects their
+values at the solver's sample times (``samples_per_orbit`` per orbit, time step
+shortened to land on them) and keeps the stroboscopic and orbit-resolved
+space-time rows.
+
+Units: e_kin is returned in sigma0 c0^2 (dimensionless).  Multiply by
+sigma0 c0^2 for J/m^2 = kg/s^2, or by c0^2/(R_p Omega)^2 for units of
+sigma0 (R_p Omega)^2 with the paper's R_p = 1 m (Figure "ekinisonosg").
+
+References: eqs. (ekin), (fourier).
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.signal import lombscargle
+
+
+def e_kin(sigma, u, v) -> float:
+    """Mean kinetic energy density (1/L_x) int sigma (u^2 + v^2)/2 dx [sigma0 c0^2], eq. (ekin)."""
+    return float(np.mean(0.5 * sigma * (u * u + v * v)))
+
+
+def fourier_coefficients(f):
+    """Complex coefficients c_m (m = 0 .. n/2) with f = sum_m |c_m| cos(k_m x + arg c_m), eq. (fourier).
+
+    Phases refer to the first node; amplitudes |c_m| are the paper's U^m.
+    """
+    c = np.fft.rfft(f) * (2.0 / f.size)
+    c[0] *= 0.5
+    return c
+
+
+def psd(sigma, L_x_m: float):
+    """Power spectral density of sigma normalised to a maximum of 1 (mean removed).
+
+    Returns ``(wavelength_m, psd)`` for modes m = 1 .. n/2.
+    """
+    c = fourier_coefficients(np.asarray(sigma, float))[1:]
+    P = np.abs(c) ** 2
+    m = np.arange(1, c.size + 1)
+    top = P.max()
+    return L_x_m / m, (P / top if top > 0 else P)
+
+
+def prevalent_wavelength(sigma, L_x_m: float) -> float:
+    """lambda_p [m]: wavelength of the largest Fourier amplitude of sigma (m >= 1)."""
+    c = fourier_coefficients(np.asarray(sigma, float))
+    m = 1 + int(np.argmax(np.abs(c[1:])))
+    return L_x_m / m
+
+
+def growth_rate(t, amplitude) -> float:
+    """Slope of a least-squares line through log(amplitude) versus t (same time units as t)."""
+    return float(np.polyfit(np.asarray(t, float), np.log(np.asarray(amplitude, float)), 1)[0])
+
+
+def lomb_frequency(t, y, f_lo: float, f_hi: float, nfreq: int = 20001) -> float:
+    """Angular frequency of the largest Lomb-Scargle peak of y(t) in [f_lo, f_hi].
+
+    Uses :func:`scipy.signal.lombscargle` on the mean-removed signal; the peak is refined
+    by a parabola through the three highest grid values.  Units: radians per unit of t.
+    """
+    t = np.asarray(t, float)
+    y = np.asarray(y, float) - np.mean(y)
+    w = np.linspace(f_lo, f_hi, nfreq)
+    P = lombscargle(t, y, w)
+    j = int(np.argmax(P))
+    if 0 < j < nfreq - 1:
+        a, b, c = P[j - 1], P[j], P[j + 1]
+        den = a - 2 * b + c
+        if den != 0:
+            return float(w[j] + 0.5 * (a - c) / den * (w[1] - w[0]))
+    return float(w[j])
+
+
+FIELDS = ("sigma", "u", "v", "T")
+
+
+class Recorder:
+    """Collects diagnostics of a :class:`~ringcore.hydro.Hydro1D` run (dimensionless values)."""
+
+    def __init__(self, n: int, L_x_m: float, track_modes=(), probe_index=(), isothermal=False):
+        self.n = n
+        self.L_x_m = L_x_m
+        self.track_modes = np.asarray(track_modes, int)
+        self.probe_index = np.asarray(probe_index, int)
+        self.isothermal = isothermal
+        self.t, self.dt, self.steps, self.e_kin, self.lambda_p = [], [], [], [], []
+        self.fmin = {f: [] for f in FIELDS}
+        self.fmax = {f: [] for f in FIELDS}
+        self.mode_sigma, self.mode_u = [], []  # complex coefficients of tracked modes
+        self.probe_sigma, self.probe_u = [], []
+        self.t_strobe, self.strobe = [], []
+        self.t_spacetime, self.spacetime = [], []
+
+    def sample(self, t, dt, steps, sigma, u, v, T):
+        """Record the scalar diagnostics of one state at dimensionless time t."""
+        self.t.append(t)
+        self.dt.append(dt)
+        self.steps.append(steps)
+        self.e_kin.append(e_kin(sigma, u, v))
+        cs = fourier_coefficients(sigma)
+        self.lambda_p.append(self.L_x_m / (1 + int(np.argmax(np.abs(cs[1:])))))
+        for name, f in zip(FIELDS, (sigma, u, v, T)):
+            self.fmin[name].append(float(f.min()))
+            self.fmax[name].append(float(f.max()))
+        if self.track_modes.size:
+            self.mode_sigma.append(cs[self.track_modes])
+            self.mode_u.append(fourier_coefficients(u)[self.track_modes])
+        if self.probe_index.size:
+            self.probe_sigma.append(sigma[self.probe_index])
+            self.probe_u.append(u[self.probe_index])
+
+    def add_strobe(self, t, sigma):
+        """Stroboscopic row (one per orbit at orbital phase 0)."""
+        self.t_strobe.append(t)
+        self.strobe.append(np.asarray(sigma, np.float32).copy())
+
+    def add_spacetime(self, t, sigma):
+        """Orbit-resolved space-time row."""
+        self.t_spacetime.append(t)
+        self.spacetime.append(np.asarray(sigma, np.float32).copy())
+
+    # ------------------------------------------------------------------ arrays
+    def arrays(self) -> dict:
+        """All records as numpy arrays (dimensionless)."""
+        k = self.track_modes.size
+        npb = self.probe_index.size
+        out = dict(t=np.asarray(self.t), dt=np.asarray(self.dt), steps=np.asarray(self.steps, np.int64),
+                   e_kin=np.asarray(self.e_kin), lambda_p=np.asarray(self.lambda_p),
+                   mode_sigma=np.asarray(self.mode_sigma, complex).reshape(-1, k),
+                   mode_u=np.asarray(self.mode_u, complex).reshape(-1, k),
+                   probe_sigma=np.asarray(self.probe_sigma).reshape(-1, npb),
+                   probe_u=np.asarray(self.probe_u).reshape(-1, npb),
+                   t_strobe=np.asarray(self.t_strobe),
+                   strobe=np.asarray(self.strobe, np.float32).reshape(-1, self.n),
+                   t_spacetime=np.asarray(self.t_spacetime),
+                   spacetime=np.asarray(self.spacetime, np.float32).reshape(-1, self.n))
+        for f in FIELDS:
+            out[f + "_min"] = np.asarray(self.fmin[f])
+            out[f + "_max"] = np.asarray(self.fmax[f])
+        return out
+
+    def load(self, a: dict) -> None:
+        """Restore records from :meth:`arrays`-like data (continuing a saved run)."""
+        self.t, self.dt, self.steps = list(a["t"]), list(a["dt"]), list(a["steps"])
+        self.e_kin, self.lambda_p = list(a["e_kin"]), list(a["lambda_p"])
+        for f in FIELDS:
+            self.fmin[f] = list(a[f + "_min"])
+            self.fmax[f] = list(a[f + "_max"])
+        self.mode_sigma, self.mode_u = list(a["mode_sigma"]), list(a["mode_u"])
+        self.probe_sigma, self.probe_u = list(a["probe_sigma"]), list(a["probe_u"])
+        self.t_strobe, self.strobe = list(a["t_strobe"]), list(a["strobe"])
+        self.t_spacetime, self.spacetime = list(a["t_spacetime"]), list(a["spacetime"])

@@ -1,0 +1,109 @@
+"""Initial states in primitive, dimensionless variables (sigma, u, v, T).
+
+All functions return four arrays of length n (T is filled with T0 also for the
+isothermal model, where it is unused).
+
+References: eqs. (linper), (matni), (fourier).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .. import linear
+from ..checks import check_choice, check_int, check_real
+from ..params import RingParams
+
+INITIAL_KINDS = ("ground", "noise", "mode")
+
+
+def _T0(p: RingParams) -> float:
+    d = p.dimensionless()
+    return 1.0 if d["isothermal"] else d["T0"]
+
+
+def ground(p: RingParams, n: int):
+    """Uniform ground state sigma = 1, u = v = 0, T = T0."""
+    return np.ones(n), np.zeros(n), np.zeros(n), np.full(n, _T0(p))
+
+
+def single_mode(p: RingParams, x, L_x_m: float, wavelength_m: float, direction: str = "left",
+                amplitude: float = 1e-3, phase: float = 0.0):
+    """One overstable eigenmode of :func:`ringcore.linear.eigenmode` on top of the ground state.
+
+    Parameters
+    ----------
+    p : RingParams
+    x : ndarray
+        Dimensionless node positions.
+    L_x_m : float
+        Box size [m]; it must hold an integer number of wavelengths.
+    wavelength_m : float
+        Wavelength [m].
+    direction : {"left", "right"}
+        Travel direction.
+    amplitude : float
+        Relative surface-density amplitude (small: linear; up to ~0.5: nonlinear).
+    phase : float
+        Phase [rad] added to the complex amplitude.
+    """
+    check_real("wavelength", wavelength_m, 0.0, L_x_m, lo_open=True, unit="m")
+    ratio = L_x_m / wavelength_m
+    if abs(ratio - round(ratio)) > 1e-9 * ratio:
+        raise ValueError(f"wavelength = {wavelength_m:g} m is not valid: L_x = {L_x_m:g} m must hold an "
+                         "integer number of wavelengths")
+    check_real("amplitude", amplitude, 0.0, 0.9, lo_open=True)
+    mode = linear.eigenmode(p, wavelength_m, direction)
+    s = 1.0 if direction == "left" else -1.0
+    f = mode.fields(np.asarray(x, float) + s * phase / mode.k, 0.0, amplitude)  # exp(i (s k x + phase))
+    sig, u, v, T = ground(p, len(x))
+    return sig + f[0], u + f[1], v + f[2], (T + f[3]) if f.shape[0] == 4 else T
+
+
+def white_noise(p: RingParams, x, L_x_m: float, lambda_min_m: float = 50.0, amplitude: float = 1e-4,
+                seed: int = 0):
+    """Spectral white noise: every mode with wavelength >= ``lambda_min_m``, both travel directions.
+
+    Each Fourier mode m = 1 .. floor(L_x/lambda_min) is seeded twice, as a left- and a
+    right-traveling overstable eigenvector (exact linear theory), each with relative
+    surface-density amplitude ``amplitude`` and an independent uniformly random phase
+    drawn from ``numpy.random.default_rng(seed)`` (reproducible).
+    """
+    check_real("lambda_min", lambda_min_m, 0.0, L_x_m, lo_open=True, unit="m")
+    check_real("amplitude", amplitude, 0.0, 0.1, lo_open=True)
+    seed = check_int("seed", seed, 0, 2**63 - 1)
+    mmax = int(math.floor(L_x_m / lambda_min_m + 1e-9))
+    m = np.arange(1, mmax + 1)
+    k = linear.wavelengths_to_k(p, L_x_m / m)
+    _, _, vec = linear.track_overstable(p, k)
+    vec = vec / vec[:, :1]  # normalise to sigma = 1
+    rng = np.random.default_rng(seed)
+    phases = rng.uniform(0.0, 2.0 * np.pi, size=(2, mmax))
+    x = np.asarray(x, float)
+    sig, u, v, T = ground(p, x.size)
+    nv = vec.shape[1]
+    pert = np.zeros((nv, x.size))
+    for j in range(mmax):
+        for d, s in enumerate((1.0, -1.0)):  # left (exp(+ikx)), right (mirror: exp(-ikx), u, v -> -u, -v)
+            w = vec[j].copy()
+            if s < 0:
+                w[1:3] = -w[1:3]
+            ph = np.exp(1j * (s * k[j] * x + phases[d, j]))
+            pert += np.real(amplitude * w[:, None] * ph[None, :])
+    return sig + pert[0], u + pert[1], v + pert[2], (T + pert[3]) if nv == 4 else T
+
+
+def make_initial(kind: str, p: RingParams, x, L_x_m: float, **kw):
+    """Dispatch by name (``"ground"``, ``"noise"``, ``"mode"``); keyword arguments as above."""
+    check_choice("initial", kind, INITIAL_KINDS)
+    if kind == "ground":
+        return ground(p, len(x))
+    if kind == "noise":
+        return white_noise(p, x, L_x_m, kw.get("lambda_min", 50.0), kw.get("amplitude") or 1e-4,
+                           kw.get("seed", 0))
+    wl = kw.get("wavelength")
+    if wl is None:
+        raise ValueError("wavelength = None is not valid for initial = 'mode': give a wavelength in m")
+    return single_mode(p, x, L_x_m, wl, kw.get("direction", "left"), kw.get("amplitude") or 1e-3,
+                       kw.get("phase", 0.0))

@@ -1,0 +1,436 @@
+"""Compiled kernels of the conservative finite-difference hydro scheme.
+
+One call of :func:`rk_stage` evaluates the right-hand side ``L(U) = -dF/dx + S`` of
+eq. (hcl) and performs one stage of the SSPRK(5,4) update (coefficients in
+:mod:`ringcore.hydro.timestep`).  Everything is in the paper's dimensionless units
+(Table "List of Symbols and their Scalings"): x in c0/Omega, t in 1/Omega,
+sigma in sigma0, u, v in c0, T in c0^2.
+
+Array layout (all C-contiguous float64)
+---------------------------------------
+``U``        (nv, N): conservative variables (sigma, sigma u, sigma v[, e]) with
+             nv = 4 (non-isothermal) or 3 (isothermal), ``e = sigma (u^2/2 + 3T/2)``
+             (eq. energy).  N = n + 2 NG: the n interior nodes are ``U[:, NG:NG+n]``,
+             node j sits at x_j = -L_x/2 + j h; ``NG`` periodic ghost nodes on each side
+             are refilled by the kernels themselves.
+``W``        (NW, N): scratch rows (named ``R_*`` below), owned by the caller.
+``beta``     (N,): viscosity exponent per node (buffer zones), ghosts included.
+``g``        (n,): radial self-gravity force per unit mass -d(phi)/dx at interior nodes.
+``par``      (NPAR,): plain floats, indices ``P_*`` below.
+
+Scheme
+------
+Flux vector splitting F = F+ + F- of Liou & Steffen (1993, AUSM) (eqs. fvs1, fvs2);
+F+ is reconstructed at x_{j+1/2} with MP5 (Suresh & Huynh 1997) from nodes j-2..j+2,
+F- from nodes j+3..j-1 (mirrored), giving the conservative difference of
+eq. (defnumflux) (Shu & Osher 1988).  Stress tensor (eq. pten) and heat-flux (eq.
+heatflux) derivatives use 6th-order central differences, applied twice
+(d/dx [eta d u/dx]).
+
+References: eqs. (nleq), (convar), (energy), (hcl), (physflux), (pten), (du), (pres)-(coolfunc),
+(heatflux), (defnumflux), (fvs1), (fvs2), (timestep), (evalni), (evali).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .fastmath import vexp, vlog
+
+NG = 6  # ghost nodes per side (MP5 needs 3, nested 6th-order central differences need 6)
+
+# rows of the scratch array W
+R_U, R_V, R_T, R_P, R_C, R_ETA, R_GAM = 0, 1, 2, 3, 4, 5, 6
+R_UX, R_VX, R_TX, R_PXX, R_PXY, R_Q = 7, 8, 9, 10, 11, 12
+R_FP = 13  # 4 rows F+
+R_FM = 17  # 4 rows F-
+R_FH = 21  # 4 rows numerical flux f_{i+1/2} (stored at index i)
+NW = 25
+
+# indices into the parameter vector
+P_NU0, P_KRATIO, P_T0, P_PS, P_PT, P_NT, P_GS, P_GT, P_GAMMA0, P_BULK, P_H = range(11)
+P_DTMODE, P_DTFACTOR, P_GRAVITY = 11, 12, 13
+NPAR = 14
+
+MP5_ALPHA = 4.0  # Suresh & Huynh (1997)
+MP5_EPS = 1e-10  # their accuracy-preserving switch
+
+_FM = {"contract", "arcp", "nsz", "afn"}  # fast-math without nnan/ninf: blow-ups stay visible
+
+
+@njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
+def _minmod(a, b):
+    return 0.5 * (np.sign(a) + np.sign(b)) * min(abs(a), abs(b))
+
+
+@njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
+def _minmod4(w, x, y, z):
+    sw = np.sign(w)
+    return 0.125 * (sw + np.sign(x)) * abs((sw + np.sign(y)) * (sw + np.sign(z))) * min(
+        min(abs(w), abs(x)), min(abs(y), abs(z)))
+
+
+@njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
+def mp5(fm2, fm1, f0, fp1, fp2):
+    """MP5 value at the right interface x_{j+1/2} of node j from f_{j-2} .. f_{j+2}.
+
+    Fifth-order upwind-biased interpolation of the flux primitive (eq. halfnodes, r = 3)
+    with the monotonicity-preserving bounds of Suresh & Huynh (1997), alpha = 4.
+    Written branch-free so that loops over nodes vectorize.
+    """
+    forig = (2.0 * fm2 - 13.0 * fm1 + 47.0 * f0 + 27.0 * fp1 - 3.0 * fp2) * (1.0 / 60.0)
+    fmp = f0 + _minmod(fp1 - f0, MP5_ALPHA * (f0 - fm1))
+    dm = fm2 - 2.0 * fm1 + f0
+    d0 = fm1 - 2.0 * f0 + fp1
+    dp = f0 - 2.0 * fp1 + fp2
+    dm4p = _minmod4(4.0 * d0 - dp, 4.0 * dp - d0, d0, dp)
+    dm4m = _minmod4(4.0 * d0 - dm, 4.0 * dm - d0, d0, dm)
+    ful = f0 + MP5_ALPHA * (f0 - fm1)
+    fav = 0.5 * (f0 + fp1)
+    fmd = fav - 0.5 * dm4p
+    flc = f0 + 0.5 * (f0 - fm1) + (4.0 / 3.0) * dm4m
+    fmin = max(min(min(f0, fp1), fmd), min(min(f0, ful), flc))
+    fmax = min(max(max(f0, fp1), fmd), max(max(f0, ful), flc))
+    flim = forig + _minmod(fmin - forig, fmax - forig)
+    return forig if (forig - f0) * (forig - fmp) <= MP5_EPS else flim
+
+
+@njit(cache=True, error_model="numpy")
+def fill_ghosts(U, n):
+    """Periodic ghost nodes: U[:, :NG] <- last NG interior nodes, U[:, NG+n:] <- first NG."""
+    for k in range(U.shape[0]):
+        for g in range(NG):
+            U[k, g] = U[k, n + g]
+            U[k, NG + n + g] = U[k, NG + g]
+
+
+@njit(cache=True, error_model="numpy", fastmath=_FM)
+def _primitives(U, W, beta, par):
+    """Loop A: u, v, T, p, c, eta and Gamma (eqs. pres-coolfunc) at every node.
+
+    Also stores the diffusivity max((4/3+gamma) eta/sigma, 2 kappa_D/(3 sigma)) in row R_Q
+    (overwritten later by the heat flux) and |u| + c in row R_TX for :func:`_grid_maxima`.
+    """
+    nv, N = U.shape
+    nu0, kr, T0 = par[P_NU0], par[P_KRATIO], par[P_T0]
+    ps, pT, nT, Gs, GT = par[P_PS], par[P_PT], par[P_NT], par[P_GS], par[P_GT]
+    Gamma0, bulk = par[P_GAMMA0], par[P_BULK] + 4.0 / 3.0
+    invT0 = 1.0 / T0
+    wu, wv, wt, wp, wc, weta, wgam = W[R_U], W[R_V], W[R_T], W[R_P], W[R_C], W[R_ETA], W[R_GAM]
+    wdif, wsig = W[R_Q], W[R_TX]
+    s_, mx_, my_ = U[0], U[1], U[2]
+    if nv == 3:
+        for i in range(N):
+            s = s_[i]
+            rs = 1.0 / s
+            u = mx_[i] * rs
+            ls = vlog(s)
+            p = vexp(ps * ls)
+            eta = nu0 * vexp((beta[i] + 1.0) * ls)
+            c = math.sqrt(ps * p * rs)
+            wu[i] = u
+            wv[i] = my_[i] * rs
+            wt[i] = T0
+            wp[i] = p
+            wc[i] = c
+            weta[i] = eta
+            wgam[i] = 0.0
+            wdif[i] = bulk * eta * rs
+            wsig[i] = abs(u) + c
+    else:
+        e_ = U[3]
+        dmax = max(bulk, (2.0 / 3.0) * kr)
+        for i in range(N):
+            s = s_[i]
+            rs = 1.0 / s
+            u = mx_[i] * rs
+            T = (2.0 / 3.0) * (e_[i] * rs - 0.5 * u * u)
+            ls = vlog(s)
+            lt = vlog(T * invT0)
+            p = vexp(ps * ls + pT * lt)
+            eta = nu0 * vexp((beta[i] + 1.0) * ls + nT * lt)
+            c = math.sqrt(ps * p * rs + (2.0 / 3.0) * pT * p * p * rs * rs / T)
+            wu[i] = u
+            wv[i] = my_[i] * rs
+            wt[i] = T
+            wp[i] = p
+            wc[i] = c
+            weta[i] = eta
+            wgam[i] = Gamma0 * vexp(Gs * ls + GT * lt)
+            wdif[i] = dmax * eta * rs
+            wsig[i] = abs(u) + c
+
+
+@njit(cache=True, error_model="numpy", fastmath=True)
+def _grid_maxima(W, n):
+    """(max |u| + c, max diffusivity) over the interior nodes (rows filled by _primitives)."""
+    a = W[R_TX][NG:NG + n]
+    b = W[R_Q][NG:NG + n]
+    vmax = 0.0
+    numax = 0.0
+    for i in range(n):
+        vmax = max(vmax, a[i])
+        numax = max(numax, b[i])
+    return vmax, numax
+
+
+@njit(cache=True, error_model="numpy", fastmath=_FM)
+def _split_fluxes(U, W):
+    """Loop A2: Liou-Steffen (AUSM) flux vector splitting F = F+ + F- at every node.
+
+    F+- = M+- c (sigma, sigma u, sigma v[, e + p]) + (0, p+-, 0[, 0]) with
+    M+- = +-(M +- 1)^2/4, p+- = p (M +- 1)^2 (2 -+ M)/4 for |M| <= 1, else the upwind values.
+    """
+    nv, N = U.shape
+    wu, wp, wc = W[R_U], W[R_P], W[R_C]
+    s_, mx_, my_ = U[0], U[1], U[2]
+    fp0, fp1, fp2, fp3 = W[R_FP], W[R_FP + 1], W[R_FP + 2], W[R_FP + 3]
+    fm0, fm1, fm2, fm3 = W[R_FM], W[R_FM + 1], W[R_FM + 2], W[R_FM + 3]
+    iso = nv == 3
+    for i in range(N):
+        c = wc[i]
+        p = wp[i]
+        M = wu[i] / c
+        sub = abs(M) <= 1.0
+        a = 0.25 * (M + 1.0) * (M + 1.0)
+        b = 0.25 * (M - 1.0) * (M - 1.0)
+        Mp = a if sub else 0.5 * (M + abs(M))
+        Mm = -b if sub else 0.5 * (M - abs(M))
+        pp = p * a * (2.0 - M) if sub else (p if M > 0.0 else 0.0)
+        pm = p * b * (2.0 + M) if sub else (0.0 if M > 0.0 else p)
+        cp = Mp * c
+        cm = Mm * c
+        fp0[i] = cp * s_[i]
+        fm0[i] = cm * s_[i]
+        fp1[i] = cp * mx_[i] + pp
+        fm1[i] = cm * mx_[i] + pm
+        fp2[i] = cp * my_[i]
+        fm2[i] = cm * my_[i]
+        if not iso:
+            ep = U[3, i] + p
+            fp3[i] = cp * ep
+            fm3[i] = cm * ep
+
+
+@njit(cache=True, error_model="numpy", fastmath=_FM)
+def _numerical_flux(W, nv, n):
+    """Loop B: f_{i+1/2} = MP5(F+ from i-2..i+2) + MP5(F- from i+3..i-1), stored at index i.
+
+    Interfaces i = NG-1 .. NG+n-1.  Shifted views keep every index non-negative so the loop
+    vectorizes.
+    """
+    lo = NG - 1
+    m = n + 1
+    for k in range(nv):
+        fp = W[R_FP + k]
+        fm = W[R_FM + k]
+        o = W[R_FH + k][lo:]
+        a0, a1, a2, a3, a4 = fp[lo - 2:], fp[lo - 1:], fp[lo:], fp[lo + 1:], fp[lo + 2:]
+        b0, b1, b2, b3, b4 = fm[lo - 1:], fm[lo:], fm[lo + 1:], fm[lo + 2:], fm[lo + 3:]
+        for i in range(m):
+            o[i] = mp5(a0[i], a1[i], a2[i], a3[i], a4[i]) + mp5(b4[i], b3[i], b2[i], b1[i], b0[i])
+
+
+@njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
+def _d6v(m3, m2, m1, p1, p2, p3, i, inv60h):
+    return (45.0 * (p1[i] - m1[i]) - 9.0 * (p2[i] - m2[i]) + (p3[i] - m3[i])) * inv60h
+
+
+@njit(cache=True, error_model="numpy", fastmath=_FM)
+def _gradients(W, iso, bulk, kr, inv60h, N):
+    """Loop C (nodes 3 .. N-4): u_x, v_x, T_x; Pi_xx, Pi_xy (eq. pten), kappa_D T_x (eq. heatflux)."""
+    lo = 3
+    m = N - 6
+    eta = W[R_ETA][lo:]
+    for src, dst in ((R_U, R_UX), (R_V, R_VX), (R_T, R_TX)):
+        if iso and src == R_T:
+            break
+        f = W[src]
+        o = W[dst][lo:]
+        m3, m2, m1, p1, p2, p3 = f[lo - 3:], f[lo - 2:], f[lo - 1:], f[lo + 1:], f[lo + 2:], f[lo + 3:]
+        for i in range(m):
+            o[i] = _d6v(m3, m2, m1, p1, p2, p3, i, inv60h)
+    ux, vx, tx = W[R_UX][lo:], W[R_VX][lo:], W[R_TX][lo:]
+    pxx, pxy, q = W[R_PXX][lo:], W[R_PXY][lo:], W[R_Q][lo:]
+    for i in range(m):
+        pxx[i] = bulk * eta[i] * ux[i]  # Pi_xx = p - P_xx
+        pxy[i] = eta[i] * (vx[i] - 1.5)  # Pi_xy = -P_xy, background shear -3/2 Omega
+    if not iso:
+        for i in range(m):
+            q[i] = kr * eta[i] * tx[i]  # kappa_D dT/dx (= -F_kappa of eq. heatflux)
+
+
+@njit(cache=True, error_model="numpy", fastmath=_FM)
+def compute_rhs(U, W, beta, g, par, L):
+    """Right-hand side L(U) = -dF/dx + S of eq. (hcl) at the interior nodes.
+
+    Parameters
+    ----------
+    U : (nv, N) float64
+        State with ghost nodes (filled here).
+    W : (NW, N) float64
+        Scratch.
+    beta : (N,) float64
+        Viscosity exponent per node.
+    g : (n,) float64
+        Self-gravity force per unit mass [c0 Omega] (ignored if par[P_GRAVITY] == 0).
+    par : (NPAR,) float64
+    L : (nv, N) float64
+        Output, interior nodes only.
+
+    Returns
+    -------
+    vmax, numax : float
+        max |u| + c over the grid (eqs. evalni / evali) and the largest diffusivity
+        max((4/3 + gamma) eta/sigma, 2 kappa_D/(3 sigma)) [c0^2/Omega].
+
+    Notes
+    -----
+    Sources (the energy row derived from eq. nleq; e holds only the radial kinetic energy,
+    hence the 2 Omega sigma u v term):
+    S = (0, 2 sigma v + sigma g + d Pi_xx, -sigma u/2 + d Pi_xy,
+    2 sigma u v + Pi:grad u - Gamma + d(kappa_D T_x) + sigma u g + u d Pi_xx) with
+    Pi:grad u = Pi_xx u_x + Pi_xy (v_x - 3/2).
+    """
+    nv, N = U.shape
+    n = N - 2 * NG
+    iso = nv == 3
+    fill_ghosts(U, n)
+    _primitives(U, W, beta, par)
+    vmax, numax = _grid_maxima(W, n)
+    _split_fluxes(U, W)
+    _numerical_flux(W, nv, n)
+    h = par[P_H]
+    inv60h = 1.0 / (60.0 * h)
+    bulk = par[P_BULK] + 4.0 / 3.0
+    _gradients(W, iso, bulk, par[P_KRATIO], inv60h, N)
+    # --- D: conservative flux difference + sources at interior nodes (views start at node NG)
+    invh = 1.0 / h
+    gg = g if par[P_GRAVITY] != 0.0 else g[:0]
+    use_g = gg.shape[0] == n
+    s_ = U[0][NG:]
+    u_, v_ = W[R_U][NG:], W[R_V][NG:]
+    X = W[R_PXX]
+    Y = W[R_PXY]
+    Xm3, Xm2, Xm1, Xp1, Xp2, Xp3 = X[NG - 3:], X[NG - 2:], X[NG - 1:], X[NG + 1:], X[NG + 2:], X[NG + 3:]
+    Ym3, Ym2, Ym1, Yp1, Yp2, Yp3 = Y[NG - 3:], Y[NG - 2:], Y[NG - 1:], Y[NG + 1:], Y[NG + 2:], Y[NG + 3:]
+    f0, f1, f2 = W[R_FH][NG:], W[R_FH + 1][NG:], W[R_FH + 2][NG:]
+    f0m, f1m, f2m = W[R_FH][NG - 1:], W[R_FH + 1][NG - 1:], W[R_FH + 2][NG - 1:]
+    L0, L1, L2 = L[0][NG:], L[1][NG:], L[2][NG:]
+    for i in range(n):
+        s = s_[i]
+        fg = gg[i] if use_g else 0.0
+        dpxx = _d6v(Xm3, Xm2, Xm1, Xp1, Xp2, Xp3, i, inv60h)
+        dpxy = _d6v(Ym3, Ym2, Ym1, Yp1, Yp2, Yp3, i, inv60h)
+        L0[i] = -(f0[i] - f0m[i]) * invh
+        L1[i] = -(f1[i] - f1m[i]) * invh + 2.0 * s * v_[i] + s * fg + dpxx
+        L2[i] = -(f2[i] - f2m[i]) * invh - 0.5 * s * u_[i] + dpxy
+    if not iso:
+        Q = W[R_Q]
+        Qm3, Qm2, Qm1, Qp1, Qp2, Qp3 = Q[NG - 3:], Q[NG - 2:], Q[NG - 1:], Q[NG + 1:], Q[NG + 2:], Q[NG + 3:]
+        f3, f3m, L3 = W[R_FH + 3][NG:], W[R_FH + 3][NG - 1:], L[3][NG:]
+        ux, vx, pxx, pxy, gam = W[R_UX][NG:], W[R_VX][NG:], X[NG:], Y[NG:], W[R_GAM][NG:]
+        for i in range(n):
+            s = s_[i]
+            u = u_[i]
+            fg = gg[i] if use_g else 0.0
+            dpxx = _d6v(Xm3, Xm2, Xm1, Xp1, Xp2, Xp3, i, inv60h)
+            dq = _d6v(Qm3, Qm2, Qm1, Qp1, Qp2, Qp3, i, inv60h)
+            heat = pxx[i] * ux[i] + pxy[i] * (vx[i] - 1.5)  # Pi : grad u
+            L3[i] = (-(f3[i] - f3m[i]) * invh + 2.0 * s * u * v_[i] + heat - gam[i] + dq
+                     + s * u * fg + u * dpxx)
+    return vmax, numax
+
+
+@njit(cache=True, error_model="numpy")
+def stable_dt(vmax, numax, h, mode, factor):
+    """Time step from the grid maxima.
+
+    mode 0 ("paper", eq. timestep): factor * min(h^2/(2 nu), 2 nu/lambda^2);
+    mode 1 ("cfl"): factor * min(h^2/(2 nu), h/lambda).
+    """
+    a = h * h / (2.0 * numax) if numax > 0.0 else math.inf
+    if mode == 0:
+        b = 2.0 * numax / (vmax * vmax) if numax > 0.0 else h / vmax
+    else:
+        b = h / vmax
+    return factor * min(a, b)
+
+
+@njit(cache=True, error_model="numpy", fastmath=_FM)
+def rk_stage(Uin, W, beta, g, par, L, Lprev, A, a0, B, a1, C, a2, b1, b2, dt, dt_cap, out):
+    """One SSPRK stage: ``out = a0 A + a1 B + a2 C + dt (b1 L(Uin) + b2 Lprev)``.
+
+    Arrays as in :func:`compute_rhs`; ``L`` receives L(Uin) (interior nodes).  Terms with
+    a zero coefficient are skipped (so unused array arguments may hold anything).
+    If ``dt <= 0`` the step is chosen here from L's grid maxima with :func:`stable_dt`
+    (mode and factor in ``par``) and capped at ``dt_cap``.  Returns the dt used.
+    """
+    vmax, numax = compute_rhs(Uin, W, beta, g, par, L)
+    if dt <= 0.0:
+        dt = min(stable_dt(vmax, numax, par[P_H], int(par[P_DTMODE]), par[P_DTFACTOR]), dt_cap)
+    nv, N = Uin.shape
+    n = N - 2 * NG
+    c1 = dt * b1
+    c2 = dt * b2
+    for k in range(nv):
+        o = out[k][NG:NG + n]
+        a = A[k][NG:NG + n]
+        ll = L[k][NG:NG + n]
+        for i in range(n):
+            o[i] = a0 * a[i] + c1 * ll[i]
+        if a1 != 0.0:
+            bb = B[k][NG:NG + n]
+            for i in range(n):
+                o[i] += a1 * bb[i]
+        if a2 != 0.0:
+            cc = C[k][NG:NG + n]
+            for i in range(n):
+                o[i] += a2 * cc[i]
+        if b2 != 0.0:
+            lp = Lprev[k][NG:NG + n]
+            for i in range(n):
+                o[i] += c2 * lp[i]
+    return dt
+
+
+@njit(cache=True, error_model="numpy")
+def check_state(U):
+    """First bad interior node: returns (field, index) or (-1, -1) if all is well.
+
+    field 0: sigma not finite or <= 0; 1: u not finite; 2: v not finite; 3: T not finite
+    or <= 0 (non-isothermal only).  No fast-math here, so NaN tests are honoured.
+    """
+    nv, N = U.shape
+    n = N - 2 * NG
+    for i in range(NG, NG + n):
+        s = U[0, i]
+        if not (s > 0.0) or not math.isfinite(s):
+            return 0, i - NG
+        u = U[1, i] / s
+        if not math.isfinite(u):
+            return 1, i - NG
+        if not math.isfinite(U[2, i] / s):
+            return 2, i - NG
+        if nv == 4:
+            T = (2.0 / 3.0) * (U[3, i] / s - 0.5 * u * u)
+            if not (T > 0.0) or not math.isfinite(T):
+                return 3, i - NG
+    return -1, -1
+
+
+@njit(cache=True, error_model="numpy")
+def to_conservative(sigma, u, v, T, out):
+    """Fill interior nodes of ``out`` (nv, N) from primitive arrays of length n."""
+    n = sigma.shape[0]
+    nv = out.shape[0]
+    for j in range(n):
+        i = j + NG
+        out[0, i] = sigma[j]
+        out[1, i] = sigma[j] * u[j]
+        out[2, i] = sigma[j] * v[j]
+        if nv == 4:
+            out[3, i] = sigma[j] * (0.5 * u[j] * u[j] + 1.5 * T[j])
+    fill_ghosts(out, n)

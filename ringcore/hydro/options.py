@@ -1,0 +1,113 @@
+"""Numerical options of the 1D hydro solver (kept apart from the physics in RingParams)."""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+
+from ..checks import check_choice, check_int, check_real
+from .gravity import GRAVITY_METHODS
+from .timestep import TIMESTEP_MODES, default_dt_factor
+
+
+@dataclass(frozen=True)
+class HydroOptions:
+    """Grid, scheme and output options of :class:`ringcore.hydro.Hydro1D`.
+
+    Attributes
+    ----------
+    L_x : float
+        Periodic box size [m]; nodes at x_j = -L_x/2 + j h, j = 0 .. n-1.
+    h : float
+        Node spacing [m]; L_x/h must be an integer n >= 16.
+    gravity : {"mode", "wire"}
+        Self-gravity response (see :mod:`ringcore.hydro.gravity`); off when sigma0 = 0.
+    replicas : int
+        Extra wire-kernel images on each side (paper's tests: 5). Wire only.
+    bin_correction : bool
+        Self-bin correction of eq. (cbin). Wire only.
+    timestep : {"paper", "cfl"}
+        Criterion (see :mod:`ringcore.hydro.timestep`).
+    dt_factor : float or None
+        f_t; None: 0.1 for "paper", ``FAST_DT_FACTOR`` for "cfl".
+    buffer : tuple (x_min_m, x_max_m, beta) or None
+        Buffer zone: nodes with x_min <= x <= x_max [m] get viscosity exponent ``beta``.
+    buffer_on_orbit : float
+        Orbit at which ``buffer`` is switched on during :meth:`Hydro1D.run` (0: from the start).
+    samples_per_orbit : int
+        Rate of the scalar time series, tracked modes and probes (also sets the orbital
+        phase grid; the time step is shortened to land on sample times).
+    spacetime_rows_per_orbit : int
+        Orbit-resolved space-time rows of sigma per orbit (0: off); must divide
+        ``samples_per_orbit``.
+    strobe : bool
+        Record a stroboscopic row of sigma at every full orbit (orbital phase 0).
+    track_modes : tuple of int
+        Fourier mode numbers m (wavelength L_x/m) whose amplitudes are recorded.
+    probes_m : tuple of float
+        Positions [m] where sigma and u are recorded (nearest node).
+    """
+
+    L_x: float = 5000.0  # [m]
+    h: float = 2.5  # [m]
+    gravity: str = "mode"
+    replicas: int = 0
+    bin_correction: bool = False
+    timestep: str = "paper"
+    dt_factor: float | None = None
+    buffer: tuple | None = None
+    buffer_on_orbit: float = 0.0  # [orbits]
+    samples_per_orbit: int = 20
+    spacetime_rows_per_orbit: int = 0
+    strobe: bool = True
+    track_modes: tuple = field(default_factory=tuple)
+    probes_m: tuple = (0.0,)  # [m]
+
+    def __post_init__(self):
+        check_real("L_x", self.L_x, 0.0, math.inf, lo_open=True, unit="m")
+        check_real("h", self.h, 0.0, self.L_x / 16.0, lo_open=True, unit="m")
+        ratio = self.L_x / self.h
+        if abs(ratio - round(ratio)) > 1e-9 * ratio:
+            raise ValueError(f"L_x/h = {ratio:g} is not an integer: allowed L_x = n h with integer n >= 16 "
+                             f"(L_x = {self.L_x:g} m, h = {self.h:g} m)")
+        check_choice("gravity", self.gravity, GRAVITY_METHODS)
+        check_int("replicas", self.replicas, 0, 1000)
+        if not isinstance(self.bin_correction, bool):
+            raise ValueError(f"bin_correction = {self.bin_correction!r} is not valid: choose one of True, False")
+        check_choice("timestep", self.timestep, TIMESTEP_MODES)
+        if self.dt_factor is not None:
+            check_real("dt_factor", self.dt_factor, 0.0, 10.0, lo_open=True)
+        if self.buffer is not None:
+            if len(self.buffer) != 3:
+                raise ValueError(f"buffer = {self.buffer!r} is not valid: allowed (x_min_m, x_max_m, beta)")
+            lo = check_real("buffer x_min", self.buffer[0], -self.L_x / 2, self.L_x / 2, unit="m")
+            check_real("buffer x_max", self.buffer[1], lo, self.L_x / 2, unit="m")
+            check_real("buffer beta", self.buffer[2], -1.0, math.inf, lo_open=True)
+        check_real("buffer_on_orbit", self.buffer_on_orbit, 0.0, math.inf, unit="orbits")
+        check_int("samples_per_orbit", self.samples_per_orbit, 1, 10000)
+        check_int("spacetime_rows_per_orbit", self.spacetime_rows_per_orbit, 0, self.samples_per_orbit)
+        if self.spacetime_rows_per_orbit and self.samples_per_orbit % self.spacetime_rows_per_orbit:
+            raise ValueError(f"spacetime_rows_per_orbit = {self.spacetime_rows_per_orbit} is not valid: it must "
+                             f"divide samples_per_orbit = {self.samples_per_orbit}")
+        n = self.n
+        for m in self.track_modes:
+            check_int("track_modes entry", m, 1, n // 2 - 1)
+        for x in self.probes_m:
+            check_real("probes_m entry", x, -self.L_x / 2, self.L_x / 2, unit="m")
+        object.__setattr__(self, "track_modes", tuple(int(m) for m in self.track_modes))
+        object.__setattr__(self, "probes_m", tuple(float(x) for x in self.probes_m))
+        if self.buffer is not None:
+            object.__setattr__(self, "buffer", tuple(float(b) for b in self.buffer))
+
+    @property
+    def n(self) -> int:
+        """Number of nodes L_x/h."""
+        return int(round(self.L_x / self.h))
+
+    @property
+    def f_t(self) -> float:
+        """Effective time-step factor."""
+        return self.dt_factor if self.dt_factor is not None else default_dt_factor(self.timestep)
+
+    def as_dict(self) -> dict:
+        """All fields (for file attributes and JSON)."""
+        return asdict(self)

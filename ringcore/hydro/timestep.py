@@ -1,0 +1,72 @@
+"""Time integration: SSPRK(5,4) coefficients and the time-step criteria.
+
+SSPRK(5,4) in Shu-Osher form, coefficients of Spiteri & Ruuth (2002, SIAM J. Numer.
+Anal. 40, 469, Table "SSP(5,4)"), the method the paper cites as Ruuth (2006, Math.
+Comp. 75, 183); also listed in Gottlieb, Ketcheson & Shu (2009, J. Sci. Comput. 38,
+251), eq. (4.2)::
+
+    u1 = u0 + 0.391752226571890 dt L(u0)
+    u2 = 0.444370493651235 u0 + 0.555629506348765 u1 + 0.368410593050371 dt L(u1)
+    u3 = 0.620101851488403 u0 + 0.379898148511597 u2 + 0.251891774271694 dt L(u2)
+    u4 = 0.178079954393132 u0 + 0.821920045606868 u3 + 0.544974750228521 dt L(u3)
+    u5 = 0.517231671970585 u2 + 0.096059710526147 u3 + 0.063692468666290 dt L(u3)
+         + 0.386708617503269 u4 + 0.226007483236906 dt L(u4)
+
+Fourth-order accuracy is checked on linear and nonlinear ODEs in
+``tests/test_hydro_timestep.py``.
+
+Time-step criteria (dimensionless, evaluated every step from the current state):
+
+``"paper"``  eq. (timestep): dt = f_t min(h^2/(2 nu), 2 nu/lambda^2), f_t = 0.1 by default;
+``"cfl"``    dt = f_t min(h^2/(2 nu), h/lambda), f_t = :data:`FAST_DT_FACTOR` by default;
+
+lambda = max |u| + c over the grid, the largest Jacobian eigenvalue of eqs. (evalni),
+(evali) (c^2 = p_s p/sigma + 2 p_T p^2/(3 sigma^2 T), which equals the paper's
+closed form); nu = max over the grid of the largest diffusivity
+max((4/3 + gamma) eta/sigma, 2 kappa_D/(3 sigma)).
+For all tabulated sets at h <= 5 m both criteria are set by the diffusive term.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+SSPRK54_ALPHA = np.array([
+    # coefficients of (u0, u1, u2, u3, u4) in each stage
+    [1.0, 0.0, 0.0, 0.0, 0.0],
+    [0.444370493651235, 0.555629506348765, 0.0, 0.0, 0.0],
+    [0.620101851488403, 0.0, 0.379898148511597, 0.0, 0.0],
+    [0.178079954393132, 0.0, 0.0, 0.821920045606868, 0.0],
+    [0.0, 0.0, 0.517231671970585, 0.096059710526147, 0.386708617503269],
+])
+SSPRK54_BETA = np.array([
+    # coefficients of (dt L(u0), ..., dt L(u4)) in each stage
+    [0.391752226571890, 0.0, 0.0, 0.0, 0.0],
+    [0.0, 0.368410593050371, 0.0, 0.0, 0.0],
+    [0.0, 0.0, 0.251891774271694, 0.0, 0.0],
+    [0.0, 0.0, 0.0, 0.544974750228521, 0.0],
+    [0.0, 0.0, 0.0, 0.063692468666290, 0.226007483236906],
+])
+
+TIMESTEP_MODES = ("paper", "cfl")
+PAPER_DT_FACTOR = 0.1  # f_t of the paper
+# Largest factor found stable (scripts/find_dt_factor.py) times a safety margin 0.8;
+# see that script's header for the measured limits.
+FAST_DT_FACTOR = 1.0
+
+
+def ssprk54_step(f, y, dt):
+    """One SSPRK(5,4) step of the ODE y' = f(y) (reference implementation for tests)."""
+    a, b = SSPRK54_ALPHA, SSPRK54_BETA
+    u = [y]
+    F = []
+    for s in range(5):
+        F.append(f(u[s]))
+        nxt = sum(a[s, j] * u[j] for j in range(s + 1) if a[s, j] != 0.0)
+        nxt = nxt + dt * sum(b[s, j] * F[j] for j in range(s + 1) if b[s, j] != 0.0)
+        u.append(nxt)
+    return u[5]
+
+
+def default_dt_factor(mode: str) -> float:
+    """Default f_t of a time-step mode."""
+    return PAPER_DT_FACTOR if mode == "paper" else FAST_DT_FACTOR
