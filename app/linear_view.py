@@ -165,7 +165,7 @@ class LinearView(pn.viewable.Viewer):
                      x_axis_label="wavelength λ [m]", y_axis_label=ylabel,
                      tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="above")
         lines = fig.multi_line(xs="xs", ys="ys", line_color="color", line_width="width", line_dash="dash",
-                       source=self.sources[key])
+                               source=self.sources[key])
         fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.marker_source)
         if key != "frequency":
             fig.add_layout(Span(location=0, dimension="width", line_color="#888", line_width=1))
@@ -210,7 +210,8 @@ class LinearView(pn.viewable.Viewer):
                 data["width"].append(4.0 if cv["current"] else 2.0)
                 data["dash"].append(("12 6" if cv["current"] else "8 4") if iso else "solid")
             src.data = data
-            self.figures[key].y_range.update(**dict(zip(("start", "end"), m.y_range(key))))
+            lo, hi = m.y_range(key)  # also the target of the "reset" tool
+            self.figures[key].y_range.update(start=lo, end=hi, reset_start=lo, reset_end=hi)
         n = m.numbers
         markers = dict(x=[], mlabel=[], color=[], dash=[])
         for x, label, color, dash in ((n.get("lambda_zero_m", math.nan), "λ<sub>zero</sub>", ZERO_COLOR, "dashed"),
