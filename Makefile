@@ -25,8 +25,10 @@ browser:
 	  (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null) || \
 	  echo "warning: could not install chromium; browser tests will be skipped"; }
 
+PORT ?= 5006
 app: $(STAMP)
-	$(BIN)/ringcore linear --set tau15 --sigma0 400
+	@echo "ringlab app: open http://localhost:$(PORT)/main  (Ctrl-C stops the server)"
+	$(BIN)/python -m panel serve app/main.py --warm --port $(PORT)
 
 test: $(STAMP) browser
 	$(BIN)/python -m pytest

@@ -6,6 +6,7 @@ lambda_zero (minimum of omega_I, where the group velocity changes sign).
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import asdict, dataclass, replace
 
@@ -33,6 +34,7 @@ def small_k_coefficients(p: RingParams):
     return c[0], c[1], c[2]
 
 
+@functools.lru_cache(maxsize=256)
 def thermal_coefficients(p: RingParams):
     """(F2, F3) of eqs. (osmode1), (osgrate), (osfreq), from the exact relation.
 
@@ -51,8 +53,13 @@ def beta_c(p: RingParams) -> float:
 
     Exact in the sense that F3(beta) is recomputed from the exact relation for each beta
     (root found with brentq in -0.99 < beta < 20).  nan if there is no sign change.
+    Independent of sigma0 (computed without self-gravity; cached).
     """
-    q0 = p.with_sigma0(0.0)
+    return _beta_c(p.with_sigma0(0.0))
+
+
+@functools.lru_cache(maxsize=256)
+def _beta_c(q0: RingParams) -> float:
 
     def g(b):
         return small_k_coefficients(q0.with_beta(b))[1].real
@@ -72,6 +79,7 @@ def beta_c_approx(p: RingParams, F3: float | None = None) -> float:
     return (p.gamma - 2.0 / 3.0 - F3 / nu0) / 3.0
 
 
+@functools.lru_cache(maxsize=64)
 def _grid(p: RingParams, n: int = 1500):
     L = p.scales.length
     k = np.geomspace(2 * np.pi * L / LAMBDA_MAX_M, 2 * np.pi * L / LAMBDA_MIN_M, n)
