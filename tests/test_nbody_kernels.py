@@ -36,7 +36,8 @@ def run_free(pos, vel, nsteps, L_x=1e6, L_y=1e6, oz=3.6, t0=0.0, collisions=Fals
     acc = K.new_accumulators() if acc is None else acc
     t = advance(pos, vel, t0, nsteps, DT, oz, L_x, L_y, n_cx, n_cy, collisions, mode, eps, v_c, 0.0, 1, 1,
                 np.zeros(64), np.zeros(64), np.zeros((2, 1)), np.zeros((n, 3)), np.zeros(n, np.int64),
-                ws["cell_start"], np.zeros(2 * n, np.int64), np.zeros(2 * n, np.int64), acc)
+                ws["cell_start"], np.zeros(2 * n, np.int64), np.zeros(2 * n, np.int64), acc,
+                np.arange(n), 0, np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n, np.int64))
     return t, acc
 
 

@@ -29,6 +29,9 @@ from .integrator import advance
 from .options import NBodyOptions
 
 
+SORT_EVERY = 20  # steps between reorderings of the particles into cell order
+
+
 class NBodyBlowUp(RuntimeError):
     """A non-finite particle state; the box keeps the last good state."""
 
@@ -47,10 +50,12 @@ class ShearingBox:
         Seed of the random initial state (uniform, non-overlapping).
     state : tuple (pos, vel, t), optional
         Start from this state instead (kernel units); used by :meth:`from_dataset`.
+    ids : array of int, optional
+        Particle labels of ``state`` (particles are reordered in memory; ``ids`` follows them).
     """
 
     def __init__(self, params: RingParams, options: NBodyOptions | None = None, seed: int = 0, *,
-                 state=None):
+                 state=None, ids=None):
         if not isinstance(params, RingParams):
             raise ValueError(f"params = {params!r} is not valid: pass a ringcore.params.RingParams")
         self.params = params
@@ -71,6 +76,7 @@ class ShearingBox:
         self.pos = np.ascontiguousarray(pos, float)
         self.vel = np.ascontiguousarray(vel, float)
         self.t = float(t)  # [1/Omega]
+        self.ids = np.arange(self.pos.shape[0], dtype=np.int64) if ids is None else np.asarray(ids, np.int64)
         self._alloc()
         self.acc = K.new_accumulators()
         self.acc_total = K.new_accumulators()
@@ -94,6 +100,8 @@ class ShearingBox:
         self._coef = np.zeros((2, o.m_hi - o.m_lo + 1))
         self._g = -2.0 * math.pi * G * self.params.sigma0 / (self.R_p * self.Omega**2)
         self._mode = 1 if o.restitution == "bridges" else 0
+        self._spos, self._svel = np.zeros((n, 3)), np.zeros((n, 3))
+        self._sids = np.zeros(n, np.int64)
 
     @property
     def v_unit(self) -> float:
@@ -135,22 +143,26 @@ class ShearingBox:
         if nsteps == 0:
             return
         o = self.options
-        good = (self.pos.copy(), self.vel.copy(), self.t)
+        good = (self.pos.copy(), self.vel.copy(), self.t, self.ids.copy())
         before = self.acc.copy()
         self.t = advance(self.pos, self.vel, self.t, nsteps, self.dt, self.params.omega_z, self.L_x, self.L_y,
                          self.n_cx, self.n_cy, o.collisions, self._mode, o.epsilon, o.v_c / self.v_unit,
                          self._g, o.m_lo, o.m_hi, self._rho, self._force, self._coef, self._gpos, self._gsrc,
-                         self._cell_start, self._cell_entries, self._cell_of, self.acc)
+                         self._cell_start, self._cell_entries, self._cell_of, self.acc,
+                         self.ids, SORT_EVERY, self._spos, self._svel, self._sids)
         self.acc_total += self.acc - before
         if not (np.isfinite(self.pos).all() and np.isfinite(self.vel).all()):
             bad = np.flatnonzero(~(np.isfinite(self.pos).all(1) & np.isfinite(self.vel).all(1)))[0]
-            field = ("x", "y", "z")[int(np.argmin(np.isfinite(self.pos[bad])))] if not np.isfinite(
-                self.pos[bad]).all() else ("v_x", "v_y", "v_z")[int(np.argmin(np.isfinite(self.vel[bad])))]
-            where = good[0][bad, 0] * self.R_p
-            self.pos, self.vel, self.t = good
-            raise NBodyBlowUp(f"non-finite {field} of particle {bad} near x = {where:.2f} m between "
-                              f"orbit {self.orbits:.3f} and {self.orbits + nsteps * o.dt_orbit:.3f}; "
-                              "kept the last good state")
+            if not np.isfinite(self.pos[bad]).all():
+                field = ("x", "y", "z")[int(np.argmin(np.isfinite(self.pos[bad])))]
+            else:
+                field = ("v_x", "v_y", "v_z")[int(np.argmin(np.isfinite(self.vel[bad])))]
+            pid = int(self.ids[bad])
+            where = good[0][int(np.flatnonzero(good[3] == pid)[0]), 0] * self.R_p
+            t_end = self.orbits
+            self.pos, self.vel, self.t, self.ids = good
+            raise NBodyBlowUp(f"non-finite {field} of particle {pid} (last good x = {where:.2f} m) between "
+                              f"orbit {self.orbits:.3f} and {t_end:.3f}; kept the last good state")
 
     def run(self, orbits: float, progress: bool = False) -> "ShearingBox":
         """Integrate for ``orbits`` orbits, recording box means every ``options.record_every`` orbits."""

@@ -7,7 +7,9 @@ One step of length dt (kernel units, see :mod:`ringcore.nbody.kernels`):
 3. exact drift over dt/2 (Strang splitting: the SEI scheme of Rein & Tremaine 2011),
 4. shear-periodic wrap with the offset D(t + dt),
 5. cell-list search and resolution of the overlapping, approaching pairs (as REBOUND does),
-6. sampling of the peculiar-velocity moments for the local stress.
+6. sampling of the peculiar-velocity moments for the local stress,
+7. every ``sort_every`` steps, reordering of the particles into cell order (cache locality;
+   ``ids`` follows the particles).
 
 Without self-gravity and collisions the scheme is the exact flow of eq. (hill); the
 splitting is symplectic, second order in dt for the self-gravity force.
@@ -20,12 +22,13 @@ from numba import njit
 
 from .gravity import kick_selfgravity
 from .kernels import (A_CROSS, A_TIME, build_cell_list, drift_epicycle, resolve_collisions,
-                      sample_local_stress, shear_offset, wrap_shear_periodic)
+                      sample_local_stress, shear_offset, sort_by_cell, wrap_shear_periodic)
 
 
 @njit(cache=True)
 def advance(pos, vel, t0, nsteps, dt, omega_z, L_x, L_y, n_cx, n_cy, collisions, mode, eps_const,
-            v_c, g, m_lo, m_hi, rho, force, coef, gpos, gsrc, cell_start, cell_entries, cell_of, acc):
+            v_c, g, m_lo, m_hi, rho, force, coef, gpos, gsrc, cell_start, cell_entries, cell_of, acc,
+            ids, sort_every, spos, svel, sids):
     """Advance the particles ``nsteps`` steps of ``dt`` from time ``t0``; return the new time.
 
     Parameters (kernel units: R_p, 1/Omega)
@@ -38,6 +41,7 @@ def advance(pos, vel, t0, nsteps, dt, omega_z, L_x, L_y, n_cx, n_cy, collisions,
     rho, force (n_bins,), coef (2, m_hi - m_lo + 1): self-gravity work arrays.
     gpos (cap, 3), gsrc (cap,), cell_start, cell_entries, cell_of: neighbour-search work arrays.
     acc : (N_ACC,) accumulators (collisions, momentum fluxes, velocity moments).
+    ids (N,) particle labels; sort_every (0: never); spos, svel (N, 3), sids (N,) scratch.
     """
     half = 0.5 * dt
     t = t0
@@ -50,9 +54,11 @@ def advance(pos, vel, t0, nsteps, dt, omega_z, L_x, L_y, n_cx, n_cy, collisions,
         D = shear_offset(t, L_x, L_y)
         acc[A_CROSS] += wrap_shear_periodic(pos, vel, L_x, L_y, D)
         if collisions:
-            build_cell_list(pos, L_x, L_y, D, n_cx, n_cy, gpos, gsrc, cell_start, cell_entries, cell_of)
+            ng = build_cell_list(pos, L_x, L_y, D, n_cx, n_cy, gpos, gsrc, cell_start, cell_entries, cell_of)
             resolve_collisions(pos, vel, gpos, gsrc, cell_start, cell_entries, n_cx, n_cy, L_x, L_y, dt,
                                mode, eps_const, v_c, acc)
+            if sort_every > 0 and k % sort_every == 0:
+                sort_by_cell(pos, vel, ids, cell_entries, pos.shape[0] + ng, spos, svel, sids)
         sample_local_stress(pos, vel, acc)
         acc[A_TIME] += dt
     return t

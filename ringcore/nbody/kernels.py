@@ -307,3 +307,27 @@ def sample_local_stress(pos, vel, acc):
 def new_accumulators() -> np.ndarray:
     """Zeroed accumulator array of length N_ACC."""
     return np.zeros(N_ACC)
+
+
+@njit(cache=True)
+def sort_by_cell(pos, vel, ids, cell_entries, n_entries, spos, svel, sids):
+    """Reorder the particles (pos, vel, ids) into cell-list order for memory locality.
+
+    ``cell_entries[:n_entries]`` from :func:`build_cell_list` (ghost entries >= N are
+    skipped); ``spos``, ``svel`` (N, 3) and ``sids`` (N,) are scratch arrays.
+    """
+    N = pos.shape[0]
+    k = 0
+    for q in range(n_entries):
+        e = cell_entries[q]
+        if e < N:
+            for a in range(3):
+                spos[k, a] = pos[e, a]
+                svel[k, a] = vel[e, a]
+            sids[k] = ids[e]
+            k += 1
+    for i in range(N):
+        for a in range(3):
+            pos[i, a] = spos[i, a]
+            vel[i, a] = svel[i, a]
+        ids[i] = sids[i]

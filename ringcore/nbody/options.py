@@ -35,11 +35,12 @@ class NBodyOptions:
     collisions : bool
         Resolve collisions (False: free test particles).
     m_max : int
-        Highest Fourier mode of the radial self-gravity, eq. (sgmodes) (used if sigma0 > 0).
+        Highest Fourier mode of the radial self-gravity, eq. (sgmodes) (used if sigma0 > 0);
+        capped at L_x / (4 R_p) (shorter waves than two particle diameters carry no signal).
     single_mode : int
         If > 0, only this mode contributes to the self-gravity (linear growth measurements).
     n_bins : int
-        Radial bins of the self-gravity density (0: automatic, max(8 m_hi, 64)).
+        Radial bins of the self-gravity density (0: automatic, max(4 m_hi, 64)).
     n_zones : int
         Radial zones of the diagnostic tabulation (0: automatic, zones of about 5 R_p).
     record_every : float
@@ -100,12 +101,14 @@ class NBodyOptions:
     @property
     def m_hi(self) -> int:
         """Highest self-gravity mode used."""
-        return self.single_mode if self.single_mode > 0 else self.m_max
+        if self.single_mode > 0:
+            return self.single_mode
+        return max(1, min(self.m_max, int(self.L_x / (4.0 * self.R_p))))
 
     @property
     def bins(self) -> int:
         """Number of self-gravity bins actually used."""
-        return self.n_bins if self.n_bins > 0 else max(8 * self.m_hi, 64)
+        return self.n_bins if self.n_bins > 0 else max(4 * self.m_hi, 64)
 
     @property
     def zones(self) -> int:

@@ -30,6 +30,11 @@ def to_dataset(box) -> xr.Dataset:
         data[f"pos_{name}"] = ("particle", box.pos[:, a] * R, dict(units="m", long_name=f"{name} position"))
         data[f"vel_{name}"] = ("particle", box.vel[:, a] * vu,
                                dict(units="m/s", long_name=f"Hill velocity v_{name} (shear included)"))
+    data["particle_id"] = ("particle", box.ids.copy(), dict(long_name="particle label"))
+    data["state_pos"] = (("particle", "axis"), box.pos.copy(),
+                         dict(units="R_p", long_name="exact kernel state (positions) for continuation"))
+    data["state_vel"] = (("particle", "axis"), box.vel.copy(),
+                         dict(units="R_p Omega", long_name="exact kernel state (velocities) for continuation"))
     h = box.history
     for k, u in _HIST_UNITS.items():
         data[k] = ("time", np.asarray(h[k], float), dict(units=u))
@@ -48,7 +53,7 @@ def to_dataset(box) -> xr.Dataset:
                   x=("x", prof.x, dict(units="m", long_name="zone centre")))
     attrs = {f"param_{k}": (int(v) if isinstance(v, bool) else v) for k, v in box.params.as_dict().items()}
     attrs.update(box.options.as_attrs())
-    attrs.update(seed=box.seed, t_s=box.t / box.Omega, t_orbit=box.orbits, N=box.N, tau_box=box.tau,
+    attrs.update(seed=box.seed, t_s=box.t / box.Omega, t_kernel=box.t, t_orbit=box.orbits, N=box.N, tau_box=box.tau,
                  kernel_units="lengths R_p, times 1/Omega, velocities R_p Omega",
                  ekin_units="sigma0 (R_p Omega)^2", engine="ringcore.nbody")
     tr = D.transport(box.acc, box.N) if box.acc[K.A_TIME] > 0 else None
@@ -71,9 +76,13 @@ def from_dataset(cls, ds: xr.Dataset, *, sigma0=None, tile_x: bool = False, opti
         p = p.with_sigma0(sigma0)
     o = NBodyOptions.from_attrs(a)
     R, Om = o.R_p, p.Omega
-    pos = np.stack([ds[f"pos_{c}"].values for c in "xyz"], axis=1) / R
-    vel = np.stack([ds[f"vel_{c}"].values for c in "xyz"], axis=1) / (R * Om)
-    t = float(a["t_s"]) * Om
+    if "state_pos" in ds:  # exact kernel state
+        pos, vel = ds["state_pos"].values.copy(), ds["state_vel"].values.copy()
+        t = float(a["t_kernel"])
+    else:
+        pos = np.stack([ds[f"pos_{c}"].values for c in "xyz"], axis=1) / R
+        vel = np.stack([ds[f"vel_{c}"].values for c in "xyz"], axis=1) / (R * Om)
+        t = float(a["t_s"]) * Om
     if tile_x:
         pos, vel = initial.tile_radially(pos, vel, o.L_x / R, o.L_y / R, t)
         o = o.replace(L_x=2.0 * o.L_x, n_zones=2 * o.zones)
@@ -82,7 +91,10 @@ def from_dataset(cls, ds: xr.Dataset, *, sigma0=None, tile_x: bool = False, opti
             raise ValueError(f"options L_x, L_y, R_p = {options.L_x:g}, {options.L_y:g}, {options.R_p:g} m "
                              f"are not valid for this state: must equal {o.L_x:g}, {o.L_y:g}, {o.R_p:g} m")
         o = options
-    box = cls(p, o, seed=int(a.get("seed", 0)), state=(pos, vel, t))
+    ids = ds["particle_id"].values if "particle_id" in ds else None
+    if tile_x:
+        ids = None
+    box = cls(p, o, seed=int(a.get("seed", 0)), state=(pos, vel, t), ids=ids)
     if not tile_x and "accumulators_total" in ds:
         box.acc_total[:] = ds["accumulators_total"].values
         box._last_acc = box.acc_total.copy()
