@@ -24,8 +24,8 @@ Flux vector splitting F = F+ + F- of Liou & Steffen (1993, AUSM) (eqs. fvs1, fvs
 F+ is reconstructed at x_{j+1/2} with MP5 (Suresh & Huynh 1997) from nodes j-2..j+2,
 F- from nodes j+3..j-1 (mirrored), giving the conservative difference of
 eq. (defnumflux) (Shu & Osher 1988).  Stress tensor (eq. pten) and heat-flux (eq.
-heatflux) derivatives use 6th-order central differences, applied twice
-(d/dx [eta d u/dx]).
+heatflux) divergences use 6th-order central differences in expanded form,
+d/dx (eta u_x) = eta u_xx + eta_x u_x (compact second-derivative stencil).
 
 References: eqs. (nleq), (convar), (energy), (hcl), (physflux), (pten), (du), (pres)-(coolfunc),
 (heatflux), (defnumflux), (fvs1), (fvs2), (timestep), (evalni), (evali).
@@ -39,15 +39,17 @@ from numba import njit
 
 from .fastmath import vexp, vlog
 
-NG = 6  # ghost nodes per side (MP5 needs 3, nested 6th-order central differences need 6)
+NG = 6  # ghost nodes per side (MP5 and the 6th-order central differences need 3)
 
 # rows of the scratch array W
 R_U, R_V, R_T, R_P, R_C, R_ETA, R_GAM = 0, 1, 2, 3, 4, 5, 6
-R_UX, R_VX, R_TX, R_PXX, R_PXY, R_Q = 7, 8, 9, 10, 11, 12
-R_FP = 13  # 4 rows F+
-R_FM = 17  # 4 rows F-
-R_FH = 21  # 4 rows numerical flux f_{i+1/2} (stored at index i)
-NW = 25
+R_UX, R_VX, R_TX, R_UXX, R_VXX, R_TXX, R_ETAX = 7, 8, 9, 10, 11, 12, 13
+R_DIF, R_SIG = 14, 15  # diffusivity and |u| + c for the time step
+R_FP = 16  # 4 rows F+
+R_FM = 20  # 4 rows F-
+R_FH = 24  # 4 rows numerical flux f_{i+1/2} (stored at index i)
+R_RATE = 28  # cooling relaxation rate (2/3) G_T Gamma/(sigma T) for the time step
+NW = 29
 
 # indices into the parameter vector
 P_NU0, P_KRATIO, P_T0, P_PS, P_PT, P_NT, P_GS, P_GT, P_GAMMA0, P_BULK, P_H = range(11)
@@ -110,8 +112,8 @@ def fill_ghosts(U, n):
 def _primitives(U, W, beta, par):
     """Loop A: u, v, T, p, c, eta and Gamma (eqs. pres-coolfunc) at every node.
 
-    Also stores the diffusivity max((4/3+gamma) eta/sigma, 2 kappa_D/(3 sigma)) in row R_Q
-    (overwritten later by the heat flux) and |u| + c in row R_TX for :func:`_grid_maxima`.
+    Also stores the diffusivity max((4/3+gamma) eta/sigma, 2 kappa_D/(3 sigma)) in row R_DIF
+    and |u| + c in row R_SIG for :func:`_grid_maxima`.
     """
     nv, N = U.shape
     nu0, kr, T0 = par[P_NU0], par[P_KRATIO], par[P_T0]
@@ -119,7 +121,7 @@ def _primitives(U, W, beta, par):
     Gamma0, bulk = par[P_GAMMA0], par[P_BULK] + 4.0 / 3.0
     invT0 = 1.0 / T0
     wu, wv, wt, wp, wc, weta, wgam = W[R_U], W[R_V], W[R_T], W[R_P], W[R_C], W[R_ETA], W[R_GAM]
-    wdif, wsig = W[R_Q], W[R_TX]
+    wdif, wsig, wrate = W[R_DIF], W[R_SIG], W[R_RATE]
     s_, mx_, my_ = U[0], U[1], U[2]
     if nv == 3:
         for i in range(N):
@@ -139,6 +141,7 @@ def _primitives(U, W, beta, par):
             wgam[i] = 0.0
             wdif[i] = bulk * eta * rs
             wsig[i] = abs(u) + c
+            wrate[i] = 0.0
     else:
         e_ = U[3]
         dmax = max(bulk, (2.0 / 3.0) * kr)
@@ -158,22 +161,27 @@ def _primitives(U, W, beta, par):
             wp[i] = p
             wc[i] = c
             weta[i] = eta
-            wgam[i] = Gamma0 * vexp(Gs * ls + GT * lt)
+            gam = Gamma0 * vexp(Gs * ls + GT * lt)
+            wgam[i] = gam
             wdif[i] = dmax * eta * rs
             wsig[i] = abs(u) + c
+            wrate[i] = (2.0 / 3.0) * abs(GT) * gam * rs / T
 
 
 @njit(cache=True, error_model="numpy", fastmath=True)
 def _grid_maxima(W, n):
-    """(max |u| + c, max diffusivity) over the interior nodes (rows filled by _primitives)."""
-    a = W[R_TX][NG:NG + n]
-    b = W[R_Q][NG:NG + n]
+    """(max |u| + c, max diffusivity, max cooling rate) over the interior nodes."""
+    a = W[R_SIG][NG:NG + n]
+    b = W[R_DIF][NG:NG + n]
+    r = W[R_RATE][NG:NG + n]
     vmax = 0.0
     numax = 0.0
+    rmax = 0.0
     for i in range(n):
         vmax = max(vmax, a[i])
         numax = max(numax, b[i])
-    return vmax, numax
+        rmax = max(rmax, r[i])
+    return vmax, numax, rmax
 
 
 @njit(cache=True, error_model="numpy", fastmath=_FM)
@@ -209,9 +217,9 @@ def _split_fluxes(U, W):
         fp2[i] = cp * my_[i]
         fm2[i] = cm * my_[i]
         if not iso:
-            ep = U[3, i] + p
-            fp3[i] = cp * ep
-            fm3[i] = cm * ep
+            e = U[3, i]
+            fp3[i] = cp * e + pp * wu[i]
+            fm3[i] = cm * e + pm * wu[i]
 
 
 @njit(cache=True, error_model="numpy", fastmath=_FM)
@@ -233,33 +241,31 @@ def _numerical_flux(W, nv, n):
             o[i] = mp5(a0[i], a1[i], a2[i], a3[i], a4[i]) + mp5(b4[i], b3[i], b2[i], b1[i], b0[i])
 
 
-@njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
-def _d6v(m3, m2, m1, p1, p2, p3, i, inv60h):
-    return (45.0 * (p1[i] - m1[i]) - 9.0 * (p2[i] - m2[i]) + (p3[i] - m3[i])) * inv60h
-
-
 @njit(cache=True, error_model="numpy", fastmath=_FM)
-def _gradients(W, iso, bulk, kr, inv60h, N):
-    """Loop C (nodes 3 .. N-4): u_x, v_x, T_x; Pi_xx, Pi_xy (eq. pten), kappa_D T_x (eq. heatflux)."""
-    lo = 3
-    m = N - 6
-    eta = W[R_ETA][lo:]
-    for src, dst in ((R_U, R_UX), (R_V, R_VX), (R_T, R_TX)):
+def _gradients(W, iso, inv60h, inv180h2, n):
+    """Loop C (interior nodes): 6th-order central first and second derivatives.
+
+    Rows UX, VX, TX (d/dx), UXX, VXX, TXX (d^2/dx^2) of u, v, T and ETAX (d eta/dx).
+    The stress divergences are formed from them in expanded form, e.g.
+    d/dx (eta u_x) = eta u_xx + eta_x u_x, so the compact second-derivative stencil damps
+    the grid-scale (2h) mode that a repeated first-derivative stencil leaves untouched.
+    """
+    rows = ((R_U, R_UX, R_UXX), (R_V, R_VX, R_VXX), (R_ETA, R_ETAX, -1), (R_T, R_TX, R_TXX))
+    for r in range(4):
+        src, d1, d2 = rows[r]
         if iso and src == R_T:
             break
         f = W[src]
-        o = W[dst][lo:]
-        m3, m2, m1, p1, p2, p3 = f[lo - 3:], f[lo - 2:], f[lo - 1:], f[lo + 1:], f[lo + 2:], f[lo + 3:]
-        for i in range(m):
-            o[i] = _d6v(m3, m2, m1, p1, p2, p3, i, inv60h)
-    ux, vx, tx = W[R_UX][lo:], W[R_VX][lo:], W[R_TX][lo:]
-    pxx, pxy, q = W[R_PXX][lo:], W[R_PXY][lo:], W[R_Q][lo:]
-    for i in range(m):
-        pxx[i] = bulk * eta[i] * ux[i]  # Pi_xx = p - P_xx
-        pxy[i] = eta[i] * (vx[i] - 1.5)  # Pi_xy = -P_xy, background shear -3/2 Omega
-    if not iso:
-        for i in range(m):
-            q[i] = kr * eta[i] * tx[i]  # kappa_D dT/dx (= -F_kappa of eq. heatflux)
+        m3, m2, m1, c0, p1, p2, p3 = (f[NG - 3:], f[NG - 2:], f[NG - 1:], f[NG:], f[NG + 1:], f[NG + 2:],
+                                      f[NG + 3:])
+        o1 = W[d1][NG:]
+        for i in range(n):
+            o1[i] = (45.0 * (p1[i] - m1[i]) - 9.0 * (p2[i] - m2[i]) + (p3[i] - m3[i])) * inv60h
+        if d2 >= 0:
+            o2 = W[d2][NG:]
+            for i in range(n):
+                o2[i] = (2.0 * (p3[i] + m3[i]) - 27.0 * (p2[i] + m2[i]) + 270.0 * (p1[i] + m1[i])
+                         - 490.0 * c0[i]) * inv180h2
 
 
 @njit(cache=True, error_model="numpy", fastmath=_FM)
@@ -282,9 +288,10 @@ def compute_rhs(U, W, beta, g, par, L):
 
     Returns
     -------
-    vmax, numax : float
-        max |u| + c over the grid (eqs. evalni / evali) and the largest diffusivity
-        max((4/3 + gamma) eta/sigma, 2 kappa_D/(3 sigma)) [c0^2/Omega].
+    vmax, numax, rmax : float
+        max |u| + c over the grid (eqs. evalni / evali), the largest diffusivity
+        max((4/3 + gamma) eta/sigma, 2 kappa_D/(3 sigma)) [c0^2/Omega] and the largest
+        cooling relaxation rate [Omega] (0 if isothermal).
 
     Notes
     -----
@@ -299,64 +306,65 @@ def compute_rhs(U, W, beta, g, par, L):
     iso = nv == 3
     fill_ghosts(U, n)
     _primitives(U, W, beta, par)
-    vmax, numax = _grid_maxima(W, n)
+    vmax, numax, rmax = _grid_maxima(W, n)
     _split_fluxes(U, W)
     _numerical_flux(W, nv, n)
     h = par[P_H]
-    inv60h = 1.0 / (60.0 * h)
     bulk = par[P_BULK] + 4.0 / 3.0
-    _gradients(W, iso, bulk, par[P_KRATIO], inv60h, N)
+    kr = par[P_KRATIO]
+    _gradients(W, iso, 1.0 / (60.0 * h), 1.0 / (180.0 * h * h), n)
     # --- D: conservative flux difference + sources at interior nodes (views start at node NG)
     invh = 1.0 / h
     gg = g if par[P_GRAVITY] != 0.0 else g[:0]
     use_g = gg.shape[0] == n
     s_ = U[0][NG:]
-    u_, v_ = W[R_U][NG:], W[R_V][NG:]
-    X = W[R_PXX]
-    Y = W[R_PXY]
-    Xm3, Xm2, Xm1, Xp1, Xp2, Xp3 = X[NG - 3:], X[NG - 2:], X[NG - 1:], X[NG + 1:], X[NG + 2:], X[NG + 3:]
-    Ym3, Ym2, Ym1, Yp1, Yp2, Yp3 = Y[NG - 3:], Y[NG - 2:], Y[NG - 1:], Y[NG + 1:], Y[NG + 2:], Y[NG + 3:]
+    u_, v_, eta_, etax = W[R_U][NG:], W[R_V][NG:], W[R_ETA][NG:], W[R_ETAX][NG:]
+    ux, vx, uxx, vxx = W[R_UX][NG:], W[R_VX][NG:], W[R_UXX][NG:], W[R_VXX][NG:]
     f0, f1, f2 = W[R_FH][NG:], W[R_FH + 1][NG:], W[R_FH + 2][NG:]
     f0m, f1m, f2m = W[R_FH][NG - 1:], W[R_FH + 1][NG - 1:], W[R_FH + 2][NG - 1:]
     L0, L1, L2 = L[0][NG:], L[1][NG:], L[2][NG:]
     for i in range(n):
         s = s_[i]
         fg = gg[i] if use_g else 0.0
-        dpxx = _d6v(Xm3, Xm2, Xm1, Xp1, Xp2, Xp3, i, inv60h)
-        dpxy = _d6v(Ym3, Ym2, Ym1, Yp1, Yp2, Yp3, i, inv60h)
+        dpxx = bulk * (eta_[i] * uxx[i] + etax[i] * ux[i])  # d Pi_xx/dx, Pi_xx = (4/3+gamma) eta u_x
+        dpxy = eta_[i] * vxx[i] + etax[i] * (vx[i] - 1.5)  # d Pi_xy/dx, Pi_xy = eta (v_x - 3/2)
         L0[i] = -(f0[i] - f0m[i]) * invh
         L1[i] = -(f1[i] - f1m[i]) * invh + 2.0 * s * v_[i] + s * fg + dpxx
         L2[i] = -(f2[i] - f2m[i]) * invh - 0.5 * s * u_[i] + dpxy
     if not iso:
-        Q = W[R_Q]
-        Qm3, Qm2, Qm1, Qp1, Qp2, Qp3 = Q[NG - 3:], Q[NG - 2:], Q[NG - 1:], Q[NG + 1:], Q[NG + 2:], Q[NG + 3:]
+        tx, txx, gam = W[R_TX][NG:], W[R_TXX][NG:], W[R_GAM][NG:]
         f3, f3m, L3 = W[R_FH + 3][NG:], W[R_FH + 3][NG - 1:], L[3][NG:]
-        ux, vx, pxx, pxy, gam = W[R_UX][NG:], W[R_VX][NG:], X[NG:], Y[NG:], W[R_GAM][NG:]
         for i in range(n):
             s = s_[i]
             u = u_[i]
+            eta = eta_[i]
             fg = gg[i] if use_g else 0.0
-            dpxx = _d6v(Xm3, Xm2, Xm1, Xp1, Xp2, Xp3, i, inv60h)
-            dq = _d6v(Qm3, Qm2, Qm1, Qp1, Qp2, Qp3, i, inv60h)
-            heat = pxx[i] * ux[i] + pxy[i] * (vx[i] - 1.5)  # Pi : grad u
+            pxx = bulk * eta * ux[i]
+            sh = vx[i] - 1.5  # total shear rate incl. background -3/2 Omega
+            dpxx = bulk * (eta * uxx[i] + etax[i] * ux[i])
+            dq = kr * (eta * txx[i] + etax[i] * tx[i])  # d/dx (kappa_D T_x), kappa_D = (kappa0/nu0) eta
+            heat = pxx * ux[i] + eta * sh * sh  # Pi : grad u
             L3[i] = (-(f3[i] - f3m[i]) * invh + 2.0 * s * u * v_[i] + heat - gam[i] + dq
                      + s * u * fg + u * dpxx)
-    return vmax, numax
+    return vmax, numax, rmax
 
 
 @njit(cache=True, error_model="numpy")
-def stable_dt(vmax, numax, h, mode, factor):
+def stable_dt(vmax, numax, rmax, h, mode, factor):
     """Time step from the grid maxima.
 
-    mode 0 ("paper", eq. timestep): factor * min(h^2/(2 nu), 2 nu/lambda^2);
-    mode 1 ("cfl"): factor * min(h^2/(2 nu), h/lambda).
+    mode 0 ("paper", eq. timestep): factor * min(h^2/(2 nu), 2 nu/lambda^2, 1/r);
+    mode 1 ("cfl"): factor * min(h^2/(2 nu), h/lambda, 1/r);
+    r = max (2/3) G_T Gamma/(sigma T), the relaxation rate of the cooling term (an addition to
+    eq. timestep: it is 5.6 Omega in the tau15 ground state but grows like T^(G_T - 1) as T -> 0).
     """
     a = h * h / (2.0 * numax) if numax > 0.0 else math.inf
     if mode == 0:
         b = 2.0 * numax / (vmax * vmax) if numax > 0.0 else h / vmax
     else:
         b = h / vmax
-    return factor * min(a, b)
+    c = 1.0 / rmax if rmax > 0.0 else math.inf
+    return factor * min(min(a, b), c)
 
 
 @njit(cache=True, error_model="numpy", fastmath=_FM)
@@ -368,9 +376,9 @@ def rk_stage(Uin, W, beta, g, par, L, Lprev, A, a0, B, a1, C, a2, b1, b2, dt, dt
     If ``dt <= 0`` the step is chosen here from L's grid maxima with :func:`stable_dt`
     (mode and factor in ``par``) and capped at ``dt_cap``.  Returns the dt used.
     """
-    vmax, numax = compute_rhs(Uin, W, beta, g, par, L)
+    vmax, numax, rmax = compute_rhs(Uin, W, beta, g, par, L)
     if dt <= 0.0:
-        dt = min(stable_dt(vmax, numax, par[P_H], int(par[P_DTMODE]), par[P_DTFACTOR]), dt_cap)
+        dt = min(stable_dt(vmax, numax, rmax, par[P_H], int(par[P_DTMODE]), par[P_DTFACTOR]), dt_cap)
     nv, N = Uin.shape
     n = N - 2 * NG
     c1 = dt * b1
@@ -419,6 +427,27 @@ def check_state(U):
             if not (T > 0.0) or not math.isfinite(T):
                 return 3, i - NG
     return -1, -1
+
+
+@njit(cache=True, error_model="numpy")
+def apply_temperature_floor(U, T_min):
+    """Raise T to ``T_min`` where it is lower (adds internal energy to e); returns the node count.
+
+    Optional (``HydroOptions.T_floor``, off by default), a departure from the paper: in the
+    non-isothermal model the cooling Gamma ~ T^G_T with G_T < 1 drives T to zero in finite
+    time wherever the local shear heating vanishes, which an explicit scheme overshoots.
+    """
+    nv, N = U.shape
+    n = N - 2 * NG
+    hits = 0
+    for i in range(NG, NG + n):
+        s = U[0, i]
+        ek = 0.5 * U[1, i] * U[1, i] / s
+        T = (2.0 / 3.0) * (U[3, i] - ek) / s
+        if T < T_min:
+            U[3, i] = ek + 1.5 * s * T_min
+            hits += 1
+    return hits
 
 
 @njit(cache=True, error_model="numpy")

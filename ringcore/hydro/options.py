@@ -45,6 +45,11 @@ class HydroOptions:
         Fourier mode numbers m (wavelength L_x/m) whose amplitudes are recorded.
     probes_m : tuple of float
         Positions [m] where sigma and u are recorded (nearest node).
+    T_floor : float
+        Non-isothermal model only: after every step raise T to ``T_floor * T0`` where it is
+        lower (0: off, the paper's scheme; a run whose T reaches 0 then stops with
+        HydroBlowUp).  A departure from the paper, for long strongly nonlinear runs; the
+        number of raised nodes is recorded (``floor_hits``).
     """
 
     L_x: float = 5000.0  # [m]
@@ -61,6 +66,7 @@ class HydroOptions:
     strobe: bool = True
     track_modes: tuple = field(default_factory=tuple)
     probes_m: tuple = (0.0,)  # [m]
+    T_floor: float = 0.0  # [T0]
 
     def __post_init__(self):
         check_real("L_x", self.L_x, 0.0, math.inf, lo_open=True, unit="m")
@@ -93,6 +99,7 @@ class HydroOptions:
             check_int("track_modes entry", m, 1, n // 2 - 1)
         for x in self.probes_m:
             check_real("probes_m entry", x, -self.L_x / 2, self.L_x / 2, unit="m")
+        check_real("T_floor", self.T_floor, 0.0, 1.0)
         object.__setattr__(self, "track_modes", tuple(int(m) for m in self.track_modes))
         object.__setattr__(self, "probes_m", tuple(float(x) for x in self.probes_m))
         if self.buffer is not None:

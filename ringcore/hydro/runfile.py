@@ -84,7 +84,7 @@ def to_dataset(sim):
     attrs = {f"param_{k}": _attr(v) for k, v in p.as_dict().items()}
     attrs.update({f"option_{k}": _attr(v) for k, v in opt.as_dict().items()})
     attrs.update(time_orbits=sim.orbits, time_dimensionless=sim.t, steps=sim.steps,
-                 dt_dimensionless=sim.dt, buffer_active=int(sim.buffer_active),
+                 dt_dimensionless=sim.dt, floor_hits=sim.floor_hits, buffer_active=int(sim.buffer_active),
                  buffer=_attr(sim.buffer), length_unit_m=sc.length, c0_m_s=sc.velocity,
                  Omega_per_s=p.Omega, model=p.model, n=sim.n,
                  title="ringcore 1D hydrodynamics (Lehmann, Schmidt & Salo 2017)")
@@ -153,6 +153,7 @@ def from_dataset(ds):
     sim.t = float(ds.attrs["time_dimensionless"])
     sim.steps = int(ds.attrs["steps"])
     sim.dt = float(ds.attrs["dt_dimensionless"])
+    sim.floor_hits = int(ds.attrs.get("floor_hits", 0))
     sim.clear_buffer()
     buf = _unattr(ds.attrs.get("buffer", "none"), "tuple")
     if int(ds.attrs.get("buffer_active", 0)) and buf is not None:

@@ -99,6 +99,7 @@ class Hydro1D:
         self._W = np.zeros((K.NW, N))
         self._beta = np.full(N, d["beta"])
         self.buffer_active = False
+        self.buffer = None  # (x_min_m, x_max_m, beta) while a buffer zone is on
         par = np.zeros(K.NPAR)
         par[K.P_NU0] = d["nu0"]
         par[K.P_KRATIO] = 0.0 if self.isothermal else d["kappa0"] / d["nu0"]
@@ -110,6 +111,8 @@ class Hydro1D:
         par[K.P_DTFACTOR] = opt.f_t
         par[K.P_GRAVITY] = 1.0 if d["inv_Q0"] > 0 else 0.0
         self._par = par
+        self._T_floor = 0.0 if self.isothermal else opt.T_floor * d["T0"]
+        self.floor_hits = 0  # node-steps raised by the optional temperature floor
         self.gravity = SelfGravity(n, self.h, d["inv_Q0"], opt.gravity, opt.replicas, opt.bin_correction)
         self.t = 0.0  # [1/Omega]
         self.steps = 0
@@ -236,8 +239,8 @@ class Hydro1D:
 
     def stable_dt(self) -> float:
         """Time step [1/Omega] the criterion gives for the current state (no step taken)."""
-        vmax, numax = K.compute_rhs(self._U[0], self._W, self._beta, self.gravity.g, self._par, self._L[0])
-        return K.stable_dt(vmax, numax, self.h, int(self._par[K.P_DTMODE]), self._par[K.P_DTFACTOR])
+        vmax, numax, rmax = K.compute_rhs(self._U[0], self._W, self._beta, self.gravity.g, self._par, self._L[0])
+        return K.stable_dt(vmax, numax, rmax, self.h, int(self._par[K.P_DTMODE]), self._par[K.P_DTFACTOR])
 
     # ------------------------------------------------------------------ stepping
     def step(self, dt_cap: float = math.inf) -> float:
@@ -258,9 +261,15 @@ class Hydro1D:
               _B[3, 3], 0.0, dt, dt_cap, U4)
         stage(U4, W, beta, grav(U4[0, s]), par, La, L3, U2, _A[4, 2], U3, _A[4, 3], U4, _A[4, 4],
               _B[4, 4], _B[4, 3], dt, dt_cap, U5)
+        if self._T_floor > 0.0:
+            self.floor_hits += K.apply_temperature_floor(U5, self._T_floor)
         field, j = K.check_state(U5)
         if field >= 0:
-            c = U5[:, NG + j]
+            for Us in (U1, U2, U3, U4, U5):  # earliest stage: before gravity spreads a NaN
+                field, j = K.check_state(Us)
+                if field >= 0:
+                    break
+            c = Us[:, NG + j]
             with np.errstate(all="ignore"):
                 vals = [c[0], c[1] / c[0], c[2] / c[0],
                         (2.0 / 3.0) * (c[-1] / c[0] - 0.5 * (c[1] / c[0]) ** 2) if self.nv == 4 else np.nan]
