@@ -24,7 +24,7 @@ from .options import NBodyOptions
 BOXES = (("1k", 78.0, 26.0), ("10k", 416.0, 52.0), ("75k", 159 * 31.4, 31.4))
 #                   equilibrate [orbits], timed steps  (full / quick)
 PLAN = {"1k": ((10.0, 3000), (3.0, 1000)), "10k": ((3.0, 1000), (1.0, 300)),
-        "75k": ((1.0, 200), (0.2, 50))}
+        "75k": ((1.0, 100), (0.2, 50))}
 
 
 def _time_ours(box: ShearingBox, nsteps: int):
