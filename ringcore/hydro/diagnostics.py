@@ -106,12 +106,10 @@ class Recorder:
         for name, f in zip(FIELDS, (sigma, u, v, T)):
             self.fmin[name].append(float(f.min()))
             self.fmax[name].append(float(f.max()))
-        if self.track_modes.size:
-            self.mode_sigma.append(cs[self.track_modes])
-            self.mode_u.append(fourier_coefficients(u)[self.track_modes])
-        if self.probe_index.size:
-            self.probe_sigma.append(sigma[self.probe_index])
-            self.probe_u.append(u[self.probe_index])
+        self.mode_sigma.append(cs[self.track_modes])
+        self.mode_u.append(fourier_coefficients(u)[self.track_modes] if self.track_modes.size else cs[:0])
+        self.probe_sigma.append(sigma[self.probe_index])
+        self.probe_u.append(u[self.probe_index])
 
     def add_strobe(self, t, sigma):
         """Stroboscopic row (one per orbit at orbital phase 0)."""
@@ -126,18 +124,19 @@ class Recorder:
     # ------------------------------------------------------------------ arrays
     def arrays(self) -> dict:
         """All records as numpy arrays (dimensionless)."""
-        k = self.track_modes.size
-        npb = self.probe_index.size
+        def rows(lst, width, dtype):
+            return np.asarray(lst, dtype).reshape(len(lst), width) if lst else np.zeros((0, width), dtype)
+
         out = dict(t=np.asarray(self.t), dt=np.asarray(self.dt), steps=np.asarray(self.steps, np.int64),
                    e_kin=np.asarray(self.e_kin), lambda_p=np.asarray(self.lambda_p),
-                   mode_sigma=np.asarray(self.mode_sigma, complex).reshape(-1, k),
-                   mode_u=np.asarray(self.mode_u, complex).reshape(-1, k),
-                   probe_sigma=np.asarray(self.probe_sigma).reshape(-1, npb),
-                   probe_u=np.asarray(self.probe_u).reshape(-1, npb),
+                   mode_sigma=rows(self.mode_sigma, self.track_modes.size, complex),
+                   mode_u=rows(self.mode_u, self.track_modes.size, complex),
+                   probe_sigma=rows(self.probe_sigma, self.probe_index.size, float),
+                   probe_u=rows(self.probe_u, self.probe_index.size, float),
                    t_strobe=np.asarray(self.t_strobe),
-                   strobe=np.asarray(self.strobe, np.float32).reshape(-1, self.n),
+                   strobe=rows(self.strobe, self.n, np.float32),
                    t_spacetime=np.asarray(self.t_spacetime),
-                   spacetime=np.asarray(self.spacetime, np.float32).reshape(-1, self.n))
+                   spacetime=rows(self.spacetime, self.n, np.float32))
         for f in FIELDS:
             out[f + "_min"] = np.asarray(self.fmin[f])
             out[f + "_max"] = np.asarray(self.fmax[f])

@@ -431,7 +431,7 @@ def check_state(U):
 
 @njit(cache=True, error_model="numpy")
 def apply_temperature_floor(U, T_min):
-    """Raise T to ``T_min`` where it is lower (adds internal energy to e); returns the node count.
+    """Raise T to ``T_min`` where it is lower (adds internal energy to e); returns the node count (per RK stage).
 
     Optional (``HydroOptions.T_floor``, off by default), a departure from the paper: in the
     non-isothermal model the cooling Gamma ~ T^G_T with G_T < 1 drives T to zero in finite

@@ -46,10 +46,10 @@ class HydroOptions:
     probes_m : tuple of float
         Positions [m] where sigma and u are recorded (nearest node).
     T_floor : float
-        Non-isothermal model only: after every step raise T to ``T_floor * T0`` where it is
+        Non-isothermal model only: after every RK stage raise T to ``T_floor * T0`` where it is
         lower (0: off, the paper's scheme; a run whose T reaches 0 then stops with
         HydroBlowUp).  A departure from the paper, for long strongly nonlinear runs; the
-        number of raised nodes is recorded (``floor_hits``).
+        number of raised node-stages is recorded (``floor_hits``).
     """
 
     L_x: float = 5000.0  # [m]

@@ -251,18 +251,27 @@ class Hydro1D:
         grav = self.gravity.force
         s = slice(NG, NG + n)
         stage = K.rk_stage
+        fl = self._T_floor
         dt = stage(U0, W, beta, grav(U0[0, s]), par, La, La, U0, 1.0, U0, 0.0, U0, 0.0,
                    _B[0, 0], 0.0, -1.0, dt_cap, U1)
+        if fl > 0.0:
+            self.floor_hits += K.apply_temperature_floor(U1, fl)
         stage(U1, W, beta, grav(U1[0, s]), par, La, La, U0, _A[1, 0], U1, _A[1, 1], U1, 0.0,
               _B[1, 1], 0.0, dt, dt_cap, U2)
+        if fl > 0.0:
+            self.floor_hits += K.apply_temperature_floor(U2, fl)
         stage(U2, W, beta, grav(U2[0, s]), par, La, La, U0, _A[2, 0], U2, _A[2, 2], U2, 0.0,
               _B[2, 2], 0.0, dt, dt_cap, U3)
+        if fl > 0.0:
+            self.floor_hits += K.apply_temperature_floor(U3, fl)
         stage(U3, W, beta, grav(U3[0, s]), par, L3, L3, U0, _A[3, 0], U3, _A[3, 3], U3, 0.0,
               _B[3, 3], 0.0, dt, dt_cap, U4)
+        if fl > 0.0:
+            self.floor_hits += K.apply_temperature_floor(U4, fl)
         stage(U4, W, beta, grav(U4[0, s]), par, La, L3, U2, _A[4, 2], U3, _A[4, 3], U4, _A[4, 4],
               _B[4, 4], _B[4, 3], dt, dt_cap, U5)
-        if self._T_floor > 0.0:
-            self.floor_hits += K.apply_temperature_floor(U5, self._T_floor)
+        if fl > 0.0:
+            self.floor_hits += K.apply_temperature_floor(U5, fl)
         field, j = K.check_state(U5)
         if field >= 0:
             for Us in (U1, U2, U3, U4, U5):  # earliest stage: before gravity spreads a NaN

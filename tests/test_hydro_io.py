@@ -1,0 +1,94 @@
+"""Run files (xarray / h5netcdf), restoring a solver, diagnostics and the ``ringcore hydro`` CLI."""
+import math
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from ringcore import params
+from ringcore.cli.main import main
+from ringcore.hydro import Hydro1D, HydroOptions, prevalent_wavelength, psd
+
+
+@pytest.fixture(scope="module")
+def run_and_file(tmp_path_factory):
+    p = params.get("tau15", sigma0=400)
+    opt = HydroOptions(L_x=500, h=2.5, track_modes=(1, 5), probes_m=(0.0, 100.0), spacetime_rows_per_orbit=10,
+                       buffer=(-100.0, 100.0, -0.5), buffer_on_orbit=0.5, timestep="cfl")
+    sim = Hydro1D(p, opt, initial="noise", seed=1)
+    sim.run(orbits=1.2)
+    path = tmp_path_factory.mktemp("run") / "run.nc"
+    sim.to_dataset().to_netcdf(path, engine="h5netcdf")
+    return sim, path
+
+
+def test_dataset_content(run_and_file):
+    sim, path = run_and_file
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        assert ds["x"].attrs["units"] == "m" and ds["t"].attrs["units"] == "orbits"
+        assert ds.sizes["x"] == 200 and ds.sizes["t"] == 25 and ds.sizes["t_strobe"] == 2
+        assert ds.sizes["t_spacetime"] == 13
+        assert ds["sigma"].attrs["units"] == "kg m-2" and abs(float(ds["sigma"].mean()) - 400) < 1e-9
+        assert ds.attrs["param_name"] == "tau15" and ds.attrs["option_gravity"] == "mode"
+        assert ds.attrs["buffer_active"] == 1 and ds.attrs["time_orbits"] == pytest.approx(1.2)
+        # e_kin in three unit systems
+        c0, Om = sim.params.c0, sim.params.Omega
+        assert np.allclose(ds["e_kin_si"], ds["e_kin"] * 400 * c0**2)
+        assert np.allclose(ds["e_kin_rp"], ds["e_kin"] * (c0 / Om) ** 2)
+        assert ds["e_kin"].values[-1] == pytest.approx(sim.e_kin())
+
+
+def test_restore_continues_bit_exactly(run_and_file):
+    sim, path = run_and_file
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        sim2 = Hydro1D.from_dataset(ds.load())
+    assert sim2.buffer_active and sim2.steps == sim.steps and sim2.t == sim.t
+    a = Hydro1D.from_dataset(str(path))
+    a.run(orbits=0.3)
+    sim2.run(orbits=0.3)
+    assert np.array_equal(a.U, sim2.U)
+    assert len(a.diagnostics["t"]) == 25 + 6
+
+
+def test_psd_and_prevalent_wavelength():
+    L = 1000.0
+    x = -L / 2 + np.arange(400) * 2.5
+    s = 1 + 0.1 * np.cos(2 * np.pi * x / 125.0) + 0.02 * np.cos(2 * np.pi * x / 250.0)
+    wl, P = psd(s, L)
+    assert prevalent_wavelength(s, L) == 125.0 and P.max() == 1.0 and wl[np.argmax(P)] == 125.0
+    assert P[np.argmin(np.abs(wl - 250.0))] == pytest.approx(0.04)
+
+
+def test_strobe_rows_are_at_full_orbits():
+    p = params.get("tau15", sigma0=0, isothermal=True)
+    sim = Hydro1D(p, HydroOptions(L_x=200, h=2.0, samples_per_orbit=7, timestep="cfl"), initial="noise", seed=5)
+    sim.run(orbits=3)
+    a = sim.diagnostics
+    assert np.allclose(a["t_strobe"] / (2 * math.pi), [0, 1, 2, 3], atol=1e-12)
+    assert np.allclose(np.diff(a["t"]), 2 * math.pi / 7, atol=1e-9)
+
+
+def test_cli_hydro_run_and_continue(tmp_path, capsys):
+    out = tmp_path / "a.nc"
+    assert main(["hydro", "--set", "tau15", "--sigma0", "400", "--lx", "500", "--h", "2.5", "--orbits", "1",
+                 "--init", "noise", "--seed", "1", "--timestep", "cfl", "--no-progress", "--out", str(out)]) == 0
+    assert "lambda_p" in capsys.readouterr().out
+    out2 = tmp_path / "b.nc"
+    assert main(["hydro", "--init", str(out), "--orbits", "0.5", "--no-progress", "--out", str(out2)]) == 0
+    with xr.open_dataset(out2, engine="h5netcdf") as ds:
+        assert ds.attrs["time_orbits"] == pytest.approx(1.5)
+    assert main(["hydro", "--isothermal", "--lx", "200", "--h", "2", "--orbits", "0.2", "--init", "mode",
+                 "--wavelength", "100", "--buffer", "-50", "50", "-0.5", "--no-progress",
+                 "--out", str(tmp_path / "c.nc")]) == 0
+
+
+@pytest.mark.parametrize("args,msg", [
+    (["--lx", "500", "--h", "3"], "L_x/h"),
+    (["--init", "mode", "--wavelength", "33", "--lx", "500"], "wavelength"),
+    (["--orbits", "-1"], "--orbits"),
+    (["--gravity", "direct"], "gravity"),
+])
+def test_cli_bad_input_exit_2(tmp_path, capsys, args, msg):
+    assert main(["hydro", *args, "--no-progress", "--out", str(tmp_path / "x.nc")]) == 2
+    err = capsys.readouterr().err
+    assert msg in err and len(err.strip().splitlines()) == 1
