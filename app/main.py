@@ -1,25 +1,41 @@
 """Assemble and serve the ringlab web app: ``panel serve app/main.py``.
 
-Each tab is a (title, factory) pair in :data:`TABS`; a factory takes no
-arguments and returns a fresh viewer for one browser session.  Later tabs
-("Hydrodynamics", "N-body", "Saturation") are added by appending to TABS.
+Each tab is a (title, factory) pair in :data:`TABS`; a factory returns a fresh
+viewer for one browser session.  Factories that declare a ``runs`` parameter (the
+live tabs) get the session's :class:`app.session.SessionRuns`, through which the
+Saturation tab reaches the session's hydro run; the others are called without
+arguments.
 """
 from __future__ import annotations
 
 import panel as pn
 
+from app.hydro_view import HydroView
 from app.linear_view import LinearView
+from app.nbody_view import NBodyView
+from app.saturation_view import SaturationView
+from app.session import SessionRuns
 
 TABS = [
     ("Linear theory", LinearView),
+    ("Hydrodynamics", HydroView),
+    ("N-body", NBodyView),
+    ("Saturation", SaturationView),
 ]
 
 TITLE = "ringlab: viscous overstability in Saturn's rings"
 
 
+def _make(factory, runs):
+    params = getattr(factory, "param", None)
+    return factory(runs=runs) if params is not None and "runs" in params else factory()
+
+
 def create_app() -> pn.template.FastListTemplate:
     """The app for one session: a template whose main area holds one tab per entry of TABS."""
-    tabs = pn.Tabs(*[(title, factory()) for title, factory in TABS], dynamic=True, sizing_mode="stretch_width")
+    runs = SessionRuns()
+    tabs = pn.Tabs(*[(title, _make(factory, runs)) for title, factory in TABS], dynamic=True,
+                   sizing_mode="stretch_width")
     return pn.template.FastListTemplate(
         title=TITLE, main=[tabs], accent="#1f4e79", main_layout=None, theme_toggle=False,
     )

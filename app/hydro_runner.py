@@ -1,0 +1,305 @@
+"""The controller of one session's live hydrodynamic run: :class:`HydroRunner`.
+
+It owns a :class:`ringcore.hydro.Hydro1D` and the session's periodic callback.  The
+numba kernels of ``ringcore.hydro`` hold the GIL (no ``nogil=True``), so a background
+thread would not let the server breathe; instead every callback tick computes for a
+fixed wall-time budget (``budget_s``, ~60 ms of a 100 ms period) and then hands the new
+state to the view.  Each step goes through ``Hydro1D.run(max_steps=1)`` so the solver's
+own recorder samples e_kin, lambda_p and the stroboscopic rows at exact sample times;
+after every sample the runner copies what the plots need into bounded buffers
+(:mod:`app.live_buffers`).  The solver's recorder is thinned when it gets long, so a
+session that runs for hours keeps flat memory.
+
+Setup changes (parameters, grid, initial seed) rebuild the run at t = 0 (still running
+if it was); buffer-zone changes apply to the running state; invalid combinations leave
+the run untouched and set ``problems``.  A :class:`ringcore.hydro.HydroBlowUp` pauses the
+run and keeps the last good state.
+
+References: Section "Numerical Methods / Hydrodynamic Scheme"; eqs. (ekin), (fourier).
+"""
+from __future__ import annotations
+
+import collections
+import io
+import math
+import time
+
+import numpy as np
+import panel as pn
+import param
+
+from ringcore.hydro import Hydro1D, HydroBlowUp
+
+from .export import run_file_bytes
+from .hydro_settings import BUFFER_PARAMS, SETUP_PARAMS, HydroSettings
+from .linear_model import characteristic_numbers
+from .live_buffers import SeriesBuffer, SpaceTimeImage
+
+PERIOD_MS = 100  # periodic callback period
+BUDGET_S = 0.06  # compute time per tick
+MAX_RECORD_SAMPLES = 20000  # solver recorder samples kept (older ones thinned by 2)
+MAX_STROBE_BYTES = 16e6  # stroboscopic rows kept by the solver's recorder
+STEP_ORBITS = 1.0  # the "Step" button advances this many orbits (or STEP_MAX_S of wall time)
+STEP_MAX_S = 1.0
+_PER_SAMPLE = ("t", "dt", "steps", "e_kin", "lambda_p", "mode_sigma", "mode_u", "probe_sigma", "probe_u")
+
+
+def thin_recorder(rec, max_samples: int, max_strobe: int) -> bool:
+    """Drop every second sample (and strobe row) of a ``ringcore.hydro`` Recorder that is too long.
+
+    Returns True if anything was thinned.  Keeps the first and the latest samples.
+    """
+    done = False
+    if len(rec.t) > max_samples:
+        for name in _PER_SAMPLE:
+            lst = getattr(rec, name)
+            if lst:
+                lst[:] = lst[:-1:2] + lst[-1:]
+        for d in (rec.fmin, rec.fmax):
+            for lst in d.values():
+                lst[:] = lst[:-1:2] + lst[-1:]
+        done = True
+    if len(rec.t_strobe) > max_strobe:
+        rec.t_strobe[:] = rec.t_strobe[:-1:2] + rec.t_strobe[-1:]
+        rec.strobe[:] = rec.strobe[:-1:2] + rec.strobe[-1:]
+        done = True
+    return done
+
+
+class HydroRunner(HydroSettings):
+    """Settings, simulation, live buffers and controls (start/pause/step/reset) of one session."""
+
+    running = param.Boolean(default=False, doc="True while the periodic callback advances the run.")
+    status = param.String(default="", doc="One-line state of the run for the page.")
+    problems = param.Dict(default={}, doc="Messages for invalid settings, keyed by control group.")
+    blowup = param.String(default="", doc="What went wrong if the run blew up ('' otherwise).")
+    frame = param.Integer(default=0, doc="Incremented whenever the shown state changes.")
+    run_label = param.String(default="", doc="The settings of the simulation that is running.")
+
+    def __init__(self, **params):
+        super().__init__(**params)
+        self.sim = None
+        self._callback = None
+        self._rates = collections.deque(maxlen=40)  # (wall, orbits, steps) at ticks
+        self.thinned = False
+        self.buffer_events = []  # (orbit, beta or None)
+        self._rebuild()
+
+    # ------------------------------------------------------------------ building
+    @param.depends(*SETUP_PARAMS, watch=True)
+    def _on_setup(self):
+        self._rebuild()
+
+    def _rebuild(self) -> bool:
+        """Start a new simulation at t = 0 from the current settings (if they are valid)."""
+        probs = self.find_problems()
+        self.problems = probs
+        if any(k in probs for k in ("model", "grid", "initial")):
+            self.status = "Settings not applied: see the message beside the controls."
+            return False
+        p, opt = self.ring_params(), self.options()
+        kw = dict(seed=self.seed, amplitude=self.amplitude)
+        if self.initial == "mode":
+            kw["wavelength"] = self.wavelength
+        self.sim = sim = Hydro1D(p, opt, initial=self.initial, **kw)
+        self.numbers = characteristic_numbers(self.settings())
+        self.strobe_image = SpaceTimeImage(sim.n, 1.0)
+        self.orbit_image = SpaceTimeImage(sim.n, 1.0 / opt.samples_per_orbit)
+        self.series = SeriesBuffer(("e_kin", "lambda_p"))
+        self._n_samples = self._n_strobe = 0
+        self._max_strobe = max(100, int(MAX_STROBE_BYTES / (4 * sim.n)))
+        self._collect()
+        self.blowup = ""
+        self.thinned = False
+        self.buffer_events = []
+        self._rates.clear()
+        self._apply_buffer()
+        model = "isothermal" if p.isothermal else "non-isothermal"
+        self.run_label = (f"{p.name}, {model}, σ₀ = {p.sigma0:g} kg/m², p_s = {p.p_s:.3g}, L_x = {opt.L_x:g} m, "
+                          f"h = {opt.h:g} m ({sim.n} cells), {self._initial_name()}")
+        self.status = "Running." if self.running else "Ready: press Start."
+        self.frame += 1
+        return True
+
+    def _initial_name(self) -> str:
+        if self.initial == "noise":
+            return f"white noise (seed {self.seed})"
+        return f"mode λ = {self.wavelength:g} m"
+
+    def reset(self, *_):
+        """Restart from t = 0 with the current settings (the last valid ones if they are invalid)."""
+        if not self._rebuild() and self.sim is not None:
+            self.status = "Settings invalid: nothing reset (see the message beside the controls)."
+
+    # ------------------------------------------------------------------ buffer
+    @param.depends(*BUFFER_PARAMS, watch=True)
+    def _on_buffer(self):
+        self.problems = self.problems_with_buffer()
+        self._apply_buffer()
+        self.frame += 1
+
+    def problems_with_buffer(self) -> dict:
+        probs = {k: v for k, v in self.problems.items() if k != "buffer"}
+        msg = self.buffer_problem()
+        if msg:
+            probs["buffer"] = msg
+        return probs
+
+    def _apply_buffer(self) -> None:
+        sim = self.sim
+        if sim is None:
+            return
+        want = self.buffer_on and not self.buffer_problem()
+        if want:
+            lo, hi = self.buffer_bounds()
+            sim.set_buffer(lo, hi, self.buffer_beta)
+            self.buffer_events.append((sim.orbits, self.buffer_beta))
+        elif sim.buffer_active:
+            sim.clear_buffer()
+            self.buffer_events.append((sim.orbits, None))
+        del self.buffer_events[:-50]
+
+    # ------------------------------------------------------------------ running
+    def start(self, *_):
+        """Run continuously (periodic callback in a server session; call :meth:`tick` otherwise)."""
+        if self.sim is None:
+            self.status = "Nothing to run: fix the settings first."
+            return
+        if self.blowup:
+            self.status = "The run blew up: press Reset (maybe with a smaller h or σ₀) to start again."
+            return
+        self.running = True
+        self.status = "Running."
+        self._rates.clear()
+        self._ensure_callback()
+
+    def pause(self, *_):
+        """Stop advancing (the state is kept)."""
+        self.running = False
+        if self._callback is not None:
+            self._callback.stop()
+            self._callback = None
+        if not self.blowup:
+            self.status = "Paused."
+
+    def step_once(self, *_):
+        """Advance by STEP_ORBITS orbits (at most STEP_MAX_S seconds of computing) while paused."""
+        if self.running or self.sim is None or self.blowup:
+            return
+        target = self.sim.orbits + STEP_ORBITS
+        self.advance(STEP_MAX_S, until=target)
+        if not self.blowup:
+            self.status = f"Paused after a step to orbit {self.sim.orbits:.2f}."
+        self.frame += 1
+
+    def _ensure_callback(self):
+        doc = pn.state.curdoc
+        if self._callback is None and doc is not None and doc.session_context is not None:
+            self._callback = pn.state.add_periodic_callback(self.tick, period=PERIOD_MS)
+
+    def tick(self):
+        """One callback period: compute for BUDGET_S seconds, then signal the view."""
+        if not self.running or self.sim is None:
+            return
+        self.advance(BUDGET_S)
+        self.frame += 1
+
+    def advance(self, budget_s: float, until: float | None = None) -> int:
+        """Take time steps for ``budget_s`` seconds of wall time (or up to orbit ``until``).
+
+        Returns the number of steps taken.  A HydroBlowUp pauses the run and sets ``blowup``.
+        """
+        sim = self.sim
+        t0 = time.perf_counter()
+        steps0 = sim.steps
+        try:
+            while time.perf_counter() - t0 < budget_s:
+                if until is not None:
+                    if sim.orbits >= until - 1e-12:
+                        break
+                    sim.run(until=until, max_steps=1)
+                else:
+                    sim.run(orbits=1e9, max_steps=1)
+                if len(sim.recorder.t) != self._n_samples:
+                    self._collect()
+        except HydroBlowUp as exc:
+            self._collect()
+            self.blowup = (f"{exc}. The run is paused at the last good state (orbit {sim.orbits:.2f}). "
+                           f"Smaller h, a smaller σ₀, or the 'paper' time step may help; press Reset to start again.")
+            self.pause()
+            self.status = "Blown up: paused at the last good state."
+        self._rates.append((time.perf_counter(), sim.orbits, sim.steps))
+        if thin_recorder(sim.recorder, MAX_RECORD_SAMPLES, self._max_strobe):
+            self.thinned = True
+            self._n_samples, self._n_strobe = len(sim.recorder.t), len(sim.recorder.t_strobe)
+        return sim.steps - steps0
+
+    def _collect(self):
+        """Copy new recorder samples into the live buffers (called right after a sample)."""
+        rec, sim = self.sim.recorder, self.sim
+        if len(rec.t) != self._n_samples:
+            t = sim.orbits
+            self.series.add(t, e_kin=rec.e_kin[-1], lambda_p=rec.lambda_p[-1])
+            self.orbit_image.add(t, sim.U[0])
+            self._n_samples = len(rec.t)
+        if len(rec.t_strobe) != self._n_strobe:
+            self.strobe_image.add(sim.orbits, rec.strobe[-1])
+            self._n_strobe = len(rec.t_strobe)
+
+    # ------------------------------------------------------------------ readouts
+    def rates(self) -> tuple[float, float]:
+        """(steps per second, orbits per second) of wall time over the last ~2 s of running."""
+        r = self._rates
+        if len(r) < 2:
+            return (math.nan, math.nan)
+        j = 0
+        while j < len(r) - 2 and r[-1][0] - r[j][0] > 2.0:
+            j += 1
+        dt = r[-1][0] - r[j][0]
+        if dt <= 0:
+            return (math.nan, math.nan)
+        return ((r[-1][2] - r[j][2]) / dt, (r[-1][1] - r[j][1]) / dt)
+
+    def saturated_lambda_p(self, last_fraction: float = 0.25) -> float:
+        """Median lambda_p [m] over the last ``last_fraction`` of the run (nan before 1 orbit)."""
+        s = self.series
+        t, lam = s.get("t"), s.get("lambda_p")
+        if t.size == 0 or t[-1] < 1.0:
+            return math.nan
+        return float(np.median(lam[t >= t[-1] * (1.0 - last_fraction)]))
+
+    # ------------------------------------------------------------------ export
+    def to_dataset(self):
+        """The current run as the project's xarray.Dataset, with the app's settings as attributes."""
+        ds = self.sim.to_dataset()
+        ds.attrs["app_settings_json"] = self.settings_json()
+        ds.attrs["app_recorder_thinned"] = int(self.thinned)
+        if self.thinned:
+            ds.attrs["app_note"] = ("older samples and stroboscopic rows were thinned by the app to keep memory "
+                                    "bounded: sample times are not equally spaced")
+        if self.blowup:
+            ds.attrs["app_blowup"] = self.blowup
+        return ds
+
+    def netcdf_bytes(self) -> io.BytesIO:
+        """The run file (``ringcore.io.write_run``, kind "hydro") as bytes for a download."""
+        return run_file_bytes(self.to_dataset(), "hydro")
+
+    def export_filename(self) -> str:
+        return f"hydro_{self.param_set}_s{self.sigma0:g}_t{self.sim.orbits:.0f}orb.nc"
+
+    def load_settings(self, text) -> str:
+        """Apply a settings file (JSON text or bytes); returns '' or the error message."""
+        try:
+            d = self.parse_settings(text.decode() if isinstance(text, bytes) else text)
+            with param.parameterized.batch_call_watchers(self):
+                self.param.update(**d)
+        except ValueError as exc:
+            return str(exc)
+        return ""
+
+    def close(self, *_):
+        """Stop and free the simulation (the browser tab was closed)."""
+        self.pause()
+        self.sim = None
+        self.status = "Closed."

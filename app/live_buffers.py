@@ -1,0 +1,135 @@
+"""Bounded buffers for live plots: a growing space-time image and scalar time series.
+
+A live run can go on for as long as a browser tab stays open, so nothing the app keeps
+may grow without bound (``shared/guides/panel-live-app.md``, "Pushing frames to the page").
+:class:`SpaceTimeImage` keeps at most ``max_rows`` rows of at most ``max_cols`` columns
+(float32): when it is full, neighbouring rows are averaged in pairs and the row interval
+doubles, so the image always covers the whole run.  :class:`SeriesBuffer` does the same
+for (t, y) series.  :func:`bin_columns` averages a profile down to the shown pixels.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+MAX_IMAGE_ROWS = 500
+MAX_IMAGE_COLS = 500
+MAX_SERIES_POINTS = 4000
+
+
+def bin_columns(row: np.ndarray, max_cols: int = MAX_IMAGE_COLS) -> np.ndarray:
+    """Average ``row`` (length n) into ceil(n / ceil(n / max_cols)) bins of equal size (float32).
+
+    The last bin is shorter when n is not a multiple of the bin size.
+    """
+    row = np.asarray(row, np.float32)
+    f = max(1, math.ceil(row.size / max_cols))
+    if f == 1:
+        return row.copy()
+    edges = np.arange(0, row.size, f)
+    return (np.add.reduceat(row, edges) / np.diff(np.append(edges, row.size))).astype(np.float32)
+
+
+class SpaceTimeImage:
+    """Rows sigma(x) at (roughly) equal time intervals, thinned in pairs when full.
+
+    Parameters
+    ----------
+    n : int
+        Points per incoming row (binned to at most ``max_cols`` columns).
+    interval : float
+        Time between incoming rows that are kept initially [orbits].
+    """
+
+    def __init__(self, n: int, interval: float, max_rows: int = MAX_IMAGE_ROWS, max_cols: int = MAX_IMAGE_COLS):
+        self.max_rows, self.max_cols = int(max_rows), int(max_cols)
+        self.ncols = bin_columns(np.zeros(n), max_cols).size
+        self.data = np.zeros((self.max_rows, self.ncols), np.float32)
+        self.t = np.zeros(self.max_rows)
+        self.rows = 0
+        self.stride = 1  # incoming rows per stored row
+        self.base_interval = float(interval)
+        self._acc = np.zeros(self.ncols, np.float64)
+        self._nacc = 0
+        self._t_first = 0.0
+        self.version = 0  # changes whenever the image changes
+
+    @property
+    def interval(self) -> float:
+        """Time between stored rows [orbits]."""
+        return self.base_interval * self.stride
+
+    def add(self, t: float, row) -> None:
+        """Add one incoming row at time ``t`` [orbits] (averaged with the next ``stride - 1`` rows)."""
+        if self._nacc == 0:
+            self._t_first = t
+        self._acc += bin_columns(row, self.max_cols)
+        self._nacc += 1
+        if self._nacc < self.stride:
+            return
+        if self.rows == self.max_rows:
+            self._halve()
+        self.data[self.rows] = self._acc / self._nacc
+        self.t[self.rows] = self._t_first
+        self.rows += 1
+        self._acc[:] = 0.0
+        self._nacc = 0
+        self.version += 1
+
+    def _halve(self) -> None:
+        h = self.rows // 2
+        self.data[:h] = 0.5 * (self.data[0:2 * h:2] + self.data[1:2 * h:2])
+        self.t[:h] = self.t[0:2 * h:2]
+        self.rows = h
+        self.stride *= 2
+
+    def image(self) -> np.ndarray:
+        """The stored rows (rows, ncols) float32, oldest first (a copy)."""
+        return self.data[:self.rows].copy()
+
+    def extent(self) -> tuple[float, float]:
+        """(t of the first row, t just after the last row) [orbits]."""
+        if self.rows == 0:
+            return (0.0, self.interval)
+        return (float(self.t[0]), float(self.t[self.rows - 1] + self.interval))
+
+
+class SeriesBuffer:
+    """Named scalar series sampled together, at most ``max_points`` points (every second one
+    is dropped when full, so the series always covers the whole run)."""
+
+    def __init__(self, names, max_points: int = MAX_SERIES_POINTS):
+        self.names = tuple(names)
+        self.max_points = int(max_points)
+        self.arrays = {k: np.zeros(self.max_points) for k in ("t",) + self.names}
+        self.size = 0
+        self.stride = 1
+        self._skip = 0
+        self.version = 0
+
+    def add(self, t: float, **values) -> None:
+        """Add one sample at time ``t`` (kept if it falls on the current stride)."""
+        self._skip += 1
+        if self._skip < self.stride:
+            return
+        self._skip = 0
+        if self.size == self.max_points:
+            h = self.size // 2
+            for a in self.arrays.values():
+                a[:h] = a[0:2 * h:2]
+            self.size = h
+            self.stride *= 2
+        self.arrays["t"][self.size] = t
+        for k in self.names:
+            self.arrays[k][self.size] = values.get(k, math.nan)
+        self.size += 1
+        self.version += 1
+
+    def get(self, name: str) -> np.ndarray:
+        """The stored values of ``name`` (or ``"t"``), a copy."""
+        return self.arrays[name][:self.size].copy()
+
+    def last(self, name: str) -> float:
+        """Most recent value of ``name`` (nan if empty)."""
+        return float(self.arrays[name][self.size - 1]) if self.size else math.nan

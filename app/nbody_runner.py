@@ -1,0 +1,259 @@
+"""The controller of one session's live N-body shearing box: :class:`NBodyRunner`.
+
+Owns a :class:`ringcore.nbody.ShearingBox` and the session's periodic callback; each tick
+advances the box in chunks of ``RECORD_EVERY`` orbits (``ShearingBox.run``, which records
+the box means) for a wall-time budget, like :class:`app.hydro_runner.HydroRunner`.
+Transport coefficients (effective dispersion c_eff, viscosity nu) are averaged over
+windows of ``TRANSPORT_WINDOW`` orbits and compared with the parameter set's c0 and nu0,
+which the hydrodynamic model takes from N-body simulations of the same tau and
+Omega_z (Table "Hydrodynamic Parameters").
+
+References: Section "N-Body Simulations"; eqs. (hill), (bridges), (sgmodes), (ekin).
+"""
+from __future__ import annotations
+
+import collections
+import io
+import json
+import math
+import time
+
+import numpy as np
+import panel as pn
+import param
+
+from ringcore import params as ring_params
+from ringcore.nbody import NBodyBlowUp, NBodyOptions, ShearingBox
+
+from .controls import SIGMA0_MAX
+from .export import run_file_bytes
+from .linear_model import characteristic_numbers
+from .live_buffers import SeriesBuffer
+
+PERIOD_MS = 100
+BUDGET_S = 0.08
+RECORD_EVERY = 0.05  # [orbits] box means recorded by ShearingBox.run
+DT_ORBIT = 2.0e-3  # [orbits] 500 steps per orbit
+TRANSPORT_WINDOW = 5.0  # [orbits]
+MAX_PARTICLES = 8000
+MAX_HISTORY = 20000
+SETUP_PARAMS = ("param_set", "sigma0", "L_x", "L_y", "restitution", "seed")
+
+
+def _set_names():
+    return {f"{n} (τ = {ring_params.get(n).tau:g}, Ω_z/Ω = {ring_params.get(n).omega_z:g})": n
+            for n in ring_params.SET_NAMES}
+
+
+def thin_history(box, max_len: int) -> bool:
+    """Drop every second recorded box mean / profile of a ShearingBox whose history got long."""
+    done = False
+    for hist in (box.history, box.profile_history):
+        if len(hist["time"]) > max_len:
+            for lst in hist.values():
+                lst[:] = lst[:-1:2] + lst[-1:]
+            done = True
+    return done
+
+
+class NBodyRunner(param.Parameterized):
+    """Settings, box, live series and controls of one session's N-body run."""
+
+    param_set = param.Selector(default="tau15", objects=_set_names(), label="Parameter set (τ, Ω_z)",
+                               doc="Optical depth tau and vertical frequency enhancement of the box (and the "
+                                   "hydrodynamic parameters used for the predictions).")
+    sigma0 = param.Number(default=400.0, bounds=(0.0, SIGMA0_MAX), step=10.0, label="Surface density σ₀ [kg/m²]",
+                          doc="Sets the radial self-gravity, eq. (sgmodes); 0 switches it off.")
+    L_x = param.Number(default=140.0, bounds=(20.0, 500.0), step=5.0, label="Radial size L_x [m]",
+                       doc="Radial box size [m].")
+    L_y = param.Number(default=30.0, bounds=(10.0, 200.0), step=5.0, label="Azimuthal size L_y [m]",
+                       doc="Azimuthal box size [m].")
+    restitution = param.Selector(default="bridges", objects={"Bridges et al. (velocity-dependent)": "bridges",
+                                                             "constant ε = 0.5": "constant"},
+                                 label="Coefficient of restitution", doc="eq. (bridges) or a constant 0.5.")
+    seed = param.Integer(default=1, bounds=(0, 2**31 - 1), label="Random seed", doc="Seed of the initial state.")
+
+    running = param.Boolean(default=False)
+    status = param.String(default="")
+    problem = param.String(default="", doc="Message for invalid settings ('' when valid).")
+    blowup = param.String(default="")
+    frame = param.Integer(default=0)
+    run_label = param.String(default="")
+
+    def __init__(self, **params):
+        super().__init__(**params)
+        self.box = None
+        self._callback = None
+        self._rates = collections.deque(maxlen=40)
+        self.thinned = False
+        self._rebuild()
+
+    # ------------------------------------------------------------------ building
+    def ring_params(self):
+        """RingParams for the box (st99 exists only in the isothermal model)."""
+        return ring_params.get(self.param_set, self.sigma0)
+
+    def options(self) -> NBodyOptions:
+        return NBodyOptions(L_x=self.L_x, L_y=self.L_y, restitution=self.restitution, dt_orbit=DT_ORBIT,
+                            record_every=RECORD_EVERY, profile_every=1.0)
+
+    def find_problem(self) -> str:
+        try:
+            p, opt = self.ring_params(), self.options()
+        except ValueError as exc:
+            return str(exc)
+        n = p.tau * opt.L_x * opt.L_y / (math.pi * opt.R_p**2)
+        if n > MAX_PARTICLES:
+            return (f"N = {n:.0f} particles is too many for a live run: allowed at most {MAX_PARTICLES} "
+                    f"(τ L_x L_y / (π R_p²); make the box smaller)")
+        return ""
+
+    @param.depends(*SETUP_PARAMS, watch=True)
+    def _on_setup(self):
+        self._rebuild()
+
+    def _rebuild(self) -> bool:
+        self.problem = self.find_problem()
+        if self.problem:
+            self.status = "Settings not applied: see the message beside the controls."
+            return False
+        p = self.ring_params()
+        self.box = box = ShearingBox(p, self.options(), seed=self.seed)
+        self.numbers = characteristic_numbers((p.name, p.sigma0, p.isothermal, 1.0, p.p_s if p.isothermal else 1.0))
+        self.series = SeriesBuffer(("ekin", "c_mean", "collision_frequency", "lambda_p"))
+        self._n_hist = 0
+        self._collect()
+        self.transport = {}
+        self._window_start = 0.0
+        self.blowup = ""
+        self.thinned = False
+        self._rates.clear()
+        self.run_label = (f"{p.name}: τ = {p.tau:g}, Ω_z/Ω = {p.omega_z:g}, σ₀ = {p.sigma0:g} kg/m², "
+                          f"{box.N} particles of R_p = {box.options.R_p:g} m in {self.L_x:g} m × {self.L_y:g} m")
+        self.status = "Running." if self.running else "Ready: press Start."
+        self.frame += 1
+        return True
+
+    def reset(self, *_):
+        if not self._rebuild() and self.box is not None:
+            self.status = "Settings invalid: nothing reset (see the message beside the controls)."
+
+    # ------------------------------------------------------------------ running
+    def start(self, *_):
+        if self.box is None or self.blowup:
+            self.status = "Press Reset first." if self.blowup else "Nothing to run: fix the settings first."
+            return
+        self.running = True
+        self.status = "Running."
+        self._rates.clear()
+        doc = pn.state.curdoc
+        if self._callback is None and doc is not None and doc.session_context is not None:
+            self._callback = pn.state.add_periodic_callback(self.tick, period=PERIOD_MS)
+
+    def pause(self, *_):
+        self.running = False
+        if self._callback is not None:
+            self._callback.stop()
+            self._callback = None
+        if not self.blowup:
+            self.status = "Paused."
+
+    def step_once(self, *_):
+        """Advance 0.1 orbit while paused."""
+        if self.running or self.box is None or self.blowup:
+            return
+        self.advance(2.0, orbits=0.1)
+        if not self.blowup:
+            self.status = f"Paused after a step to orbit {self.box.orbits:.2f}."
+        self.frame += 1
+
+    def tick(self):
+        if not self.running or self.box is None:
+            return
+        self.advance(BUDGET_S)
+        self.frame += 1
+
+    def advance(self, budget_s: float, orbits: float | None = None) -> float:
+        """Run chunks of RECORD_EVERY orbits for ``budget_s`` s (or ``orbits`` orbits); returns orbits done."""
+        box = self.box
+        t0, o0 = time.perf_counter(), box.orbits
+        try:
+            while time.perf_counter() - t0 < budget_s:
+                if orbits is not None and box.orbits - o0 >= orbits - 1e-9:
+                    break
+                box.run(orbits=RECORD_EVERY)
+                self._collect()
+        except NBodyBlowUp as exc:
+            self.blowup = f"{exc}. The run is paused; press Reset to start again."
+            self.pause()
+            self.status = "Blown up: paused at the last good state."
+        self._rates.append((time.perf_counter(), box.orbits, round(box.t / box.dt)))
+        if thin_history(box, MAX_HISTORY):
+            self.thinned = True
+            self._n_hist = len(box.history["time"])
+        return box.orbits - o0
+
+    def _collect(self):
+        box = self.box
+        h = box.history
+        for i in range(self._n_hist, len(h["time"])):
+            self.series.add(h["time"][i], ekin=h["ekin"][i], c_mean=h["c_mean"][i],
+                            collision_frequency=h["collision_frequency"][i], lambda_p=h["lambda_p"][i])
+        self._n_hist = len(h["time"])
+        if box.orbits - getattr(self, "_window_start", 0.0) >= TRANSPORT_WINDOW - 1e-9:
+            self.transport = box.transport()
+            box.reset_accumulators()
+            self._window_start = box.orbits
+
+    # ------------------------------------------------------------------ readouts
+    def rates(self) -> tuple[float, float]:
+        """(steps per second, orbits per second) over the last ~2 s of running."""
+        r = self._rates
+        if len(r) < 2:
+            return (math.nan, math.nan)
+        j = 0
+        while j < len(r) - 2 and r[-1][0] - r[j][0] > 2.0:
+            j += 1
+        dt = r[-1][0] - r[j][0]
+        return ((r[-1][2] - r[j][2]) / dt, (r[-1][1] - r[j][1]) / dt) if dt > 0 else (math.nan, math.nan)
+
+    def particles(self, max_n: int = MAX_PARTICLES):
+        """(x, y, z) positions [m] as float32 arrays."""
+        pos = self.box.pos[:max_n] * self.box.R_p
+        return pos[:, 0].astype(np.float32), pos[:, 1].astype(np.float32), pos[:, 2].astype(np.float32)
+
+    # ------------------------------------------------------------------ export
+    def settings_json(self) -> str:
+        return json.dumps({"ringlab_settings": "nbody", **{k: getattr(self, k) for k in SETUP_PARAMS}}, indent=1)
+
+    def load_settings(self, text) -> str:
+        try:
+            d = json.loads(text.decode() if isinstance(text, bytes) else text)
+            if not isinstance(d, dict) or d.pop("ringlab_settings", None) != "nbody":
+                raise ValueError("settings file is not a ringlab N-body settings file")
+            unknown = sorted(set(d) - set(SETUP_PARAMS))
+            if unknown:
+                raise ValueError(f"settings file has unknown keys {unknown}: allowed {', '.join(SETUP_PARAMS)}")
+            self.param.update(**d)
+        except ValueError as exc:
+            return str(exc)
+        return ""
+
+    def netcdf_bytes(self) -> io.BytesIO:
+        ds = self.box.to_dataset()
+        ds.attrs["app_settings_json"] = self.settings_json()
+        ds.attrs["app_history_thinned"] = int(self.thinned)
+        return run_file_bytes(ds, "nbody")
+
+    def export_filename(self) -> str:
+        return f"nbody_{self.param_set}_s{self.sigma0:g}_t{self.box.orbits:.0f}orb.nc"
+
+    @property
+    def sim(self):
+        """The box (the name the export panel uses)."""
+        return self.box
+
+    def close(self, *_):
+        self.pause()
+        self.box = None
+        self.status = "Closed."

@@ -1,0 +1,176 @@
+"""The "Saturation" tab: prevalent wavelength lambda_p against sigma0, like Figure "lambdap".
+
+Theory curves for the chosen parameter set and model: the empirical relation
+lambda_p = 1.4 lambda_zero(sigma0), eq. (lambdasigma), and the fastest-growing linear
+wavelength.  Points: the sweep shipped with the package (``app/data/saturation_sweep.nc``,
+the ``sweep.nc`` written by ``ringcore sweep``) and the student's own hydro runs of this
+session ("Add my run").
+
+References: eqs. (lambdasigma), (lambdasigmaap), (jeans); Figure "lambdap".
+"""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import panel as pn
+import param
+from bokeh.models import ColumnDataSource, HoverTool, Range1d
+
+from ringcore import linear
+from ringcore.analysis.saturation import C_EMPIRICAL, lambda_p_empirical
+
+from .controls import build_params
+from .linear_view import _set_labels
+from .live_common import CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, message_html, new_figure
+from .session import SessionRuns
+
+SWEEP_FILE = Path(__file__).parent / "data" / "saturation_sweep.nc"
+SIGMA0_GRID = np.linspace(25.0, 1000.0, 30)  # [kg/m^2]
+SWEEP_COLOR = "#6a1b9a"
+
+EXPLANATION = """
+### What am I looking at?
+When overstable waves have grown and saturated, one wavelength dominates: the *prevalent* wavelength
+λ<sub>p</sub>, the largest Fourier amplitude of σ (Section "Saturation Wavelength of Viscous Overstability").
+The paper's Figure "lambdap" shows λ<sub>p</sub> from many long hydrodynamic and N-body runs against the ring's
+surface density σ₀: denser rings have shorter waves, settling at 100-200 m.
+
+* **Dashed blue**: the empirical relation λ<sub>p</sub> = 1.4 λ<sub>zero</sub>(σ₀), **eq. (lambdasigma)**, where
+  λ<sub>zero</sub> is the wavelength at which the linear group velocity vanishes (Linear-theory tab, Figure "vgroup").
+  For large σ₀ it is close to 2.8 (p<sub>s</sub> − F<sub>2</sub>) λ<sub>J</sub>, **eq. (lambdasigmaap)**, with the
+  Jeans wavelength λ<sub>J</sub> = c<sub>0</sub>²/(Gσ₀), **eq. (jeans)**.
+* **Dotted orange**: the fastest-growing linear wavelength. Saturated waves are *longer* than the waves that grow
+  fastest at the start.
+* **Purple squares**: the runs shipped with the app (a `ringcore sweep`). **Green circles**: your own hydro runs —
+  let a run in the Hydrodynamics tab saturate (e<sub>kin</sub> flat), then press "Add my run"; its λ<sub>p</sub> is the
+  median over the last quarter of the run.
+"""
+
+
+@pn.cache(max_items=64)
+def theory_curves(name: str, isothermal: bool) -> dict:
+    """lambda_p = 1.4 lambda_zero and the fastest-growing wavelength [m] on SIGMA0_GRID."""
+    emp, fast = [], []
+    for s in SIGMA0_GRID:
+        p = build_params(name, float(s), isothermal, 1.0, 1.0)
+        emp.append(lambda_p_empirical(p))
+        fast.append(linear.max_growth(p)[0])
+    return dict(sigma0=SIGMA0_GRID.copy(), empirical=np.array(emp), fastest=np.array(fast))
+
+
+def load_sweep(path: Path = SWEEP_FILE) -> tuple[list, str]:
+    """Points (dicts: sigma0, lambda_p_m, set, isothermal, engine) of the shipped sweep and a note."""
+    if not path.exists():
+        return [], (f"No sweep data shipped yet ({path.name} is missing): only the theory curves are shown. "
+                    "It is made with <code>ringcore sweep</code>.")
+    try:
+        import xarray as xr
+        with xr.open_dataset(path, engine="h5netcdf") as f:
+            ds = f.load()
+    except Exception as exc:  # a damaged file must not break the tab
+        return [], f"The sweep file {path.name} cannot be read ({type(exc).__name__}: {exc}); theory only."
+    if "lambda_p_m" not in ds or "sigma0" not in ds.coords:
+        return [], f"The sweep file {path.name} has no lambda_p_m / sigma0: theory only."
+    tasks = ds["task"].values if "task" in ds.coords else [None] * ds.sizes.get("run", 0)
+    pts = []
+    for s, lam, t in zip(ds["sigma0"].values, ds["lambda_p_m"].values, tasks):
+        if not (np.isfinite(s) and np.isfinite(lam)):
+            continue
+        task = json.loads(t) if isinstance(t, str) else {}
+        pts.append(dict(sigma0=float(s), lambda_p_m=float(lam), set=task.get("set", "?"),
+                        isothermal=bool(task.get("isothermal", False)), engine=task.get("engine", "?")))
+    note = "" if pts else f"The sweep file {path.name} holds no measured λ<sub>p</sub> yet: theory only."
+    return pts, note
+
+
+class SaturationView(pn.viewable.Viewer):
+    """The "Saturation" tab of one session."""
+
+    param_set = param.Selector(default="tau15", objects=list(_set_labels().values()), label="Parameter set",
+                               doc="Set of the theory curves (points of other sets are drawn fainter).")
+    isothermal = param.Boolean(default=False, label="Isothermal model (p_s = 1)",
+                               doc="Theory curves of the isothermal model with p_s = 1, as in Figure 'lambdap'.")
+    runs = param.ClassSelector(class_=SessionRuns)
+
+    def __init__(self, **params):
+        super().__init__(**params)
+        if self.runs is None:
+            self.runs = SessionRuns()
+        self.sweep_points, note = load_sweep()
+        self.curve_source = ColumnDataSource(dict(sigma0=[], empirical=[], fastest=[]), name="sat-curve-source")
+        self.sweep_source = ColumnDataSource(dict(sigma0=[], lambda_p=[], label=[], alpha=[]))
+        self.user_source = ColumnDataSource(dict(sigma0=[], lambda_p=[], label=[]), name="sat-user-source")
+        self.fig = self._figure()
+        self.note = pn.pane.HTML(message_html(note, "sat-note", "warn") if note else "", stylesheets=[CSS],
+                                 visible=bool(note), sizing_mode="stretch_width")
+        self.message = pn.pane.HTML("", stylesheets=[CSS], visible=False, sizing_mode="stretch_width")
+        self.add_button = pn.widgets.Button(label="Add my run", color="primary", css_classes=["sat-add"],
+                                            width=200)
+        self.add_button.on_click(self._add)
+        self.model_error = pn.pane.HTML("", stylesheets=[CSS], visible=False, sizing_mode="stretch_width")
+        self.runs.param.watch(self._update_points, "points")
+        self._update_curves()
+        self._update_points()
+        self._layout = self._build_layout()
+
+    def _figure(self):
+        fig = new_figure("Saturated prevalent wavelength λ_p against surface density (Figure 'lambdap')",
+                         "surface density σ₀ [kg/m²]", "λ_p [m]", height=520, y_axis_type="log",
+                         x_range=Range1d(0, 1020), y_range=Range1d(30, 3000))
+        fig.line("sigma0", "empirical", source=self.curve_source, line_dash="dashed", line_width=3, color=EMP_COLOR,
+                 legend_label=f"{C_EMPIRICAL:g} λ_zero, eq. (lambdasigma)")
+        fig.line("sigma0", "fastest", source=self.curve_source, line_dash="dotted", line_width=3, color=MAXG_COLOR,
+                 legend_label="fastest-growing (linear)")
+        r1 = fig.scatter("sigma0", "lambda_p", source=self.sweep_source, marker="square", size=10, color=SWEEP_COLOR,
+                         fill_alpha="alpha", line_alpha="alpha", legend_label="shipped sweep")
+        r2 = fig.scatter("sigma0", "lambda_p", source=self.user_source, size=13, color=LP_COLOR,
+                         line_color="black", legend_label="my runs")
+        fig.add_tools(HoverTool(renderers=[r1, r2], tooltips=[("", "@label"), ("σ₀", "@sigma0{0} kg/m²"),
+                                                              ("λ_p", "@lambda_p{0.0} m")]))
+        fig.legend.location = "top_right"
+        fig.legend.label_text_font_size = "13px"
+        return fig
+
+    @param.depends("param_set", "isothermal", watch=True)
+    def _update_curves(self):
+        try:
+            c = theory_curves(self.param_set, self.isothermal)
+        except ValueError as exc:
+            self.model_error.object = message_html(f"{exc}.", "sat-model-message")
+            self.model_error.visible = True
+            return
+        self.model_error.visible = False
+        self.curve_source.data = dict(c)
+        pts = self.sweep_points
+        same = [p["set"] == self.param_set and p["isothermal"] == self.isothermal for p in pts]
+        self.sweep_source.data = dict(sigma0=[p["sigma0"] for p in pts], lambda_p=[p["lambda_p_m"] for p in pts],
+                                      label=[f"{p['engine']} {p['set']}{' iso' if p['isothermal'] else ''}"
+                                             for p in pts],
+                                      alpha=[1.0 if s else 0.3 for s in same])
+
+    def _update_points(self, *_):
+        pts = self.runs.points
+        self.user_source.data = dict(sigma0=[p["sigma0"] for p in pts], lambda_p=[p["lambda_p_m"] for p in pts],
+                                     label=[p["label"] for p in pts])
+
+    def _add(self, *_):
+        msg = self.runs.add_hydro_run()
+        kind, text = msg.split(": ", 1)
+        self.message.object = message_html(text, "sat-message", "ok" if kind == "ok" else "error")
+        self.message.visible = True
+
+    def _build_layout(self):
+        W = pn.widgets
+        controls = pn.Column(
+            pn.pane.Markdown("### Theory curves for", margin=(0, 10)),
+            W.Select.from_param(self.param.param_set, options=_set_labels()),
+            W.Checkbox.from_param(self.param.isothermal), self.model_error,
+            pn.pane.Markdown("### Your runs", margin=(0, 10)), self.add_button, self.message, width=340)
+        explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
+        return pn.Row(controls, pn.Column(self.note, pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
+                                          explanation, sizing_mode="stretch_width"), sizing_mode="stretch_width")
+
+    def __panel__(self):
+        return self._layout
