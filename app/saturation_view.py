@@ -60,8 +60,10 @@ def theory_curves(name: str, isothermal: bool) -> dict:
     return dict(sigma0=SIGMA0_GRID.copy(), empirical=np.array(emp), fastest=np.array(fast))
 
 
-def load_sweep(path: Path = SWEEP_FILE) -> tuple[list, str]:
-    """Points (dicts: sigma0, lambda_p_m, set, isothermal, engine) of the shipped sweep and a note."""
+def load_sweep(path: Path | None = None) -> tuple[list, str]:
+    """Points (dicts: sigma0, lambda_p_m, set, isothermal, engine) of the sweep file (default
+    SWEEP_FILE) and a note for the page ('' if there are points)."""
+    path = Path(SWEEP_FILE if path is None else path)
     if not path.exists():
         return [], (f"No sweep data shipped yet ({path.name} is missing): only the theory curves are shown. "
                     "It is made with <code>ringcore sweep</code>.")

@@ -1,0 +1,102 @@
+"""Headless tests of the Saturation tab and of the session's shared run log (no browser)."""
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import app.saturation_view as sv
+from app.hydro_runner import HydroRunner
+from app.saturation_view import SaturationView, load_sweep, theory_curves
+from app.session import SessionRuns
+from ringcore import linear, params
+
+
+def test_theory_curves_are_eq_lambdasigma_and_the_fastest_growing_wavelength():
+    c = theory_curves("tau15", False)
+    for j in (0, 10, len(c["sigma0"]) - 1):
+        p = params.get("tau15", float(c["sigma0"][j]))
+        assert c["empirical"][j] == pytest.approx(1.4 * linear.lambda_zero(p), rel=1e-9)
+        assert c["fastest"][j] == pytest.approx(linear.max_growth(p)[0], rel=1e-9)
+    assert np.all(np.diff(c["empirical"]) < 0)  # denser rings, shorter saturated waves (Figure "lambdap")
+    iso = theory_curves("tau15", True)
+    p = params.get("tau15", float(iso["sigma0"][5])).isothermal_limit(1.0)
+    assert iso["empirical"][5] == pytest.approx(1.4 * linear.lambda_zero(p), rel=1e-9)
+
+
+def _sweep(path, rows):
+    tasks = [json.dumps({"engine": "hydro", "set": s, "sigma0": x, "isothermal": iso}) for s, x, _, iso in rows]
+    ds = xr.Dataset({"lambda_p_m": ("run", np.array([r[2] for r in rows]))},
+                    coords={"sigma0": ("run", np.array([r[1] for r in rows])),
+                            "task": ("run", np.array(tasks, dtype=object))})
+    ds.to_netcdf(path, engine="h5netcdf")
+
+
+def test_sweep_file_missing_present_and_damaged(tmp_path, monkeypatch):
+    pts, note = load_sweep(tmp_path / "none.nc")
+    assert pts == [] and "only the theory curves" in note
+    f = tmp_path / "sweep.nc"
+    _sweep(f, [("tau15", 200.0, 400.0, False), ("tau15", 600.0, np.nan, False), ("tau20", 400.0, 180.0, False)])
+    pts, note = load_sweep(f)
+    assert note == "" and [(p["set"], p["sigma0"], p["lambda_p_m"]) for p in pts] == [
+        ("tau15", 200.0, 400.0), ("tau20", 400.0, 180.0)]
+    monkeypatch.setattr(sv, "SWEEP_FILE", f)
+    v = SaturationView()
+    assert not v.note.visible
+    assert list(v.sweep_source.data["lambda_p"]) == [400.0, 180.0]
+    assert list(v.sweep_source.data["alpha"]) == [1.0, 0.3]  # the other set is drawn faint
+    v.param_set = "tau20"
+    assert list(v.sweep_source.data["alpha"]) == [0.3, 1.0]
+    bad = tmp_path / "bad.nc"
+    bad.write_bytes(b"not a netcdf file")
+    pts, note = load_sweep(bad)
+    assert pts == [] and "cannot be read" in note
+
+
+def test_invalid_model_gives_a_message_and_keeps_the_curves():
+    v = SaturationView()
+    before = v.curve_source.data
+    v.param_set = "st99"  # isothermal only
+    assert v.model_error.visible and "st99" in v.model_error.object
+    assert v.curve_source.data is before
+    v.isothermal = True
+    assert not v.model_error.visible
+
+
+def test_add_my_run():
+    runs = SessionRuns()
+    v = SaturationView(runs=runs)
+    v._add()
+    assert "no hydro run" in v.message.object and runs.points == []
+    r = HydroRunner(L_x=500.0, h=2.5)
+    runs.hydro = r
+    v._add()
+    assert "only 0.0 orbits" in v.message.object
+    r.advance(60.0, until=24.0)
+    assert r.sim.orbits == pytest.approx(24.0)
+    v._add()
+    assert runs.points and 'class="msg-ok"' in v.message.object
+    pt = runs.points[-1]
+    t, lam = r.series.get("t"), r.series.get("lambda_p")
+    assert pt["lambda_p_m"] == pytest.approx(np.median(lam[t >= 0.75 * t[-1]]))
+    assert pt["sigma0"] == 400.0 and pt["lambda_p_m"] in (500.0 / np.arange(1, 200))
+    assert list(v.user_source.data["lambda_p"]) == [pt["lambda_p_m"]]
+
+
+def test_sessions_do_not_share_runs():
+    """create_app gives each session its own SessionRuns, passed to the tabs that declare ``runs``."""
+    from app import main
+
+    assert [t for t, _ in main.TABS] == ["Linear theory", "Hydrodynamics", "N-body", "Saturation"]
+    sessions = []
+    for _ in range(2):
+        runs = SessionRuns()
+        sessions.append((runs, [main._make(factory, runs) for _, factory in main.TABS]))
+    (runs_a, (_, hydro_a, nbody_a, sat_a)), (runs_b, (_, hydro_b, nbody_b, sat_b)) = sessions
+    assert sat_a.runs is runs_a and runs_a.hydro is hydro_a.runner
+    assert sat_b.runs is runs_b and runs_b.hydro is hydro_b.runner
+    assert hydro_a.runner is not hydro_b.runner and nbody_a.runner is not nbody_b.runner
+    hydro_a.runner.sigma0 = 800.0
+    assert hydro_b.runner.sim.params.sigma0 == 400.0
