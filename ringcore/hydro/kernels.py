@@ -188,8 +188,12 @@ def _grid_maxima(W, n):
 def _split_fluxes(U, W):
     """Loop A2: Liou-Steffen (AUSM) flux vector splitting F = F+ + F- at every node.
 
-    F+- = M+- c (sigma, sigma u, sigma v[, e + p]) + (0, p+-, 0[, 0]) with
-    M+- = +-(M +- 1)^2/4, p+- = p (M +- 1)^2 (2 -+ M)/4 for |M| <= 1, else the upwind values.
+    F+- = M+- c (sigma, sigma u, sigma v) + (0, p+-, 0) with M+- = +-(M +- 1)^2/4,
+    p+- = p (M +- 1)^2 (2 -+ M)/4 for |M| <= 1, else the upwind values; energy flux
+    M+- c e + p+- u (sums to u (e + p)).  Liou & Steffen put e + p in the convected vector; with
+    the large non-local pressure p >> 3 sigma T / 2 of these models its numerical dissipation
+    acts on p and drove T to zero in compressed regions of nonlinear runs, so the pressure work
+    is split with the pressure instead.
     """
     nv, N = U.shape
     wu, wp, wc = W[R_U], W[R_P], W[R_C]
@@ -216,10 +220,23 @@ def _split_fluxes(U, W):
         fm1[i] = cm * mx_[i] + pm
         fp2[i] = cp * my_[i]
         fm2[i] = cm * my_[i]
-        if not iso:
-            e = U[3, i]
-            fp3[i] = cp * e + pp * wu[i]
-            fm3[i] = cm * e + pm * wu[i]
+    if iso:
+        return
+    e_ = U[3]
+    for i in range(N):  # energy: M+- c e + p+- u (a separate loop keeps both loops vectorized)
+        c = wc[i]
+        p = wp[i]
+        u = wu[i]
+        M = u / c
+        sub = abs(M) <= 1.0
+        a = 0.25 * (M + 1.0) * (M + 1.0)
+        b = 0.25 * (M - 1.0) * (M - 1.0)
+        Mp = a if sub else 0.5 * (M + abs(M))
+        Mm = -b if sub else 0.5 * (M - abs(M))
+        pp = p * a * (2.0 - M) if sub else (p if M > 0.0 else 0.0)
+        pm = p * b * (2.0 + M) if sub else (0.0 if M > 0.0 else p)
+        fp3[i] = Mp * c * e_[i] + pp * u
+        fm3[i] = Mm * c * e_[i] + pm * u
 
 
 @njit(cache=True, error_model="numpy", fastmath=_FM)
