@@ -16,8 +16,8 @@ from bokeh.palettes import Viridis256
 
 from ringcore.analysis.saturation import C_EMPIRICAL
 
-from .live_common import (BUFFER_COLOR, EMP_COLOR, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, new_figure,
-                          wavelength_markers)
+from .live_common import (BUFFER_COLOR, EMP_COLOR, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, log_ticks,
+                          new_figure, wavelength_markers)
 
 R_P = 1.0  # [m] particle radius of the e_kin unit sigma0 (R_p Omega)^2 (Figure "ekinisonosg")
 PROFILES = (  # key, y label, title
@@ -36,7 +36,7 @@ class HydroPlots:
         self.profile_source = ColumnDataSource(dict(x=[], sigma=[], u=[], v=[], T=[]), name="hydro-profile-source")
         self.profile_figs = {}
         for key, ylab, title in PROFILES:
-            fig = new_figure(title, "x [m]", ylab, height=190, x_range=self.x_range)
+            fig = new_figure(title, "x [m]", ylab, height=205, x_range=self.x_range, min_width=200)
             fig.line("x", key, source=self.profile_source, line_width=2, color=LINE_COLOR)
             fig.title.text_font_size = "13px"
             self.profile_figs[key] = fig
@@ -68,7 +68,7 @@ class HydroPlots:
     def _series_figures(self):
         self.series_source = ColumnDataSource(dict(t=[], e_kin=[], lambda_p=[]), name="hydro-series-source")
         self.event_source = ColumnDataSource(dict(x=[], color=[], label=[]))
-        fig = new_figure("Kinetic energy of the waves e_kin, eq. (ekin)", "time [orbits]",
+        fig = new_figure("Wave kinetic energy e_kin, eq. (ekin)", "time [orbits]",
                          "e_kin [σ₀ (R_p Ω)²]", height=260, y_axis_type="log")
         r = fig.line("t", "e_kin", source=self.series_source, line_width=2, color=LINE_COLOR)
         fig.vspan(x="x", line_color="color", line_dash="dashed", line_width=2, source=self.event_source)
@@ -81,12 +81,13 @@ class HydroPlots:
         r = fig.scatter("t", "lambda_p", source=self.series_source, size=3, color=LP_COLOR)
         fig.hspan(y="y", line_color="color", line_dash="dash", line_width=2, source=self.lp_marker_source)
         fig.add_tools(HoverTool(renderers=[r], tooltips=[("t", "@t{0.0} orbits"), ("λ_p", "@lambda_p{0.0} m")]))
+        log_ticks(fig, [10, 20, 30, 50, 70, 100, 150, 200, 300, 500, 700, 1000, 2000, 5000, 10000])
         self.lp_fig = fig
 
     def _psd_figure(self):
         self.psd_source = ColumnDataSource(dict(wavelength=[], power=[]), name="hydro-psd-source")
         self.psd_markers = ColumnDataSource(dict(x=[], color=[], dash=[], label=[]))
-        fig = new_figure("Power spectrum of σ (normalised), eq. (fourier)", "wavelength λ [m]", "PSD",
+        fig = new_figure("Power spectrum of σ, eq. (fourier)", "wavelength λ [m]", "PSD",
                          height=260, x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
         r = fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR)
         fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.psd_markers)

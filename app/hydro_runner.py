@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import collections
 import io
+import logging
 import math
 import time
 
@@ -301,5 +302,7 @@ class HydroRunner(HydroSettings):
     def close(self, *_):
         """Stop and free the simulation (the browser tab was closed)."""
         self.pause()
+        if self.sim is not None:
+            logging.getLogger("app").info("hydro run of a closed session freed at orbit %.2f", self.sim.orbits)
         self.sim = None
         self.status = "Closed."

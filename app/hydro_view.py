@@ -138,9 +138,11 @@ class HydroView(pn.viewable.Viewer):
     def _build_layout(self):
         P = self.plots
         pane = lambda f: pn.pane.Bokeh(f, sizing_mode="stretch_width")  # noqa: E731
-        profiles = pn.GridBox(*[pane(f) for f in P.profile_figs.values()], ncols=2, sizing_mode="stretch_width")
-        top = pn.Row(pn.Column(pane(P.spacetime_fig), sizing_mode="stretch_width"),
-                     pn.Column(profiles, sizing_mode="stretch_width"), sizing_mode="stretch_width")
+        f = list(P.profile_figs.values())
+        profiles = pn.Column(pn.Row(pane(f[0]), pane(f[1]), sizing_mode="stretch_width"),
+                             pn.Row(pane(f[2]), pane(f[3]), sizing_mode="stretch_width"), sizing_mode="stretch_width")
+        top = pn.Row(pn.Column(pane(P.spacetime_fig), sizing_mode="stretch_width", min_width=360),
+                     profiles, sizing_mode="stretch_width")
         bottom = pn.GridBox(pane(P.ekin_fig), pane(P.lp_fig), pane(P.psd_fig), ncols=3, sizing_mode="stretch_width")
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
         controls = pn.Row(*self.buttons.values(), sizing_mode="stretch_width")
@@ -164,7 +166,11 @@ class HydroView(pn.viewable.Viewer):
     def _sync_location(self):
         doc = pn.state.curdoc
         if pn.state.location is not None and doc is not None and doc.session_context is not None:
-            pn.state.location.sync(self.runner, {k: f"hydro_{k}" for k in SETTINGS_PARAMS})
+            pn.state.location.sync(self.runner, {k: f"hydro_{k}" for k in SETTINGS_PARAMS}, on_error=self._bad_query)
+
+    def _bad_query(self, values: dict) -> None:
+        self.runner.status = (f"Settings in the page address were not applied (invalid): "
+                              f"{', '.join(sorted(values))}.")
 
     # ---------------------------------------------------------------- updating
     def _on_frame(self, *_):
@@ -203,6 +209,8 @@ class HydroView(pn.viewable.Viewer):
              f"fastest growth {fmt(n.get('lambda_max_growth_m', math.nan), '.4g', 'm')}"),
             ("hydro-lambda-zero", "λ<sub>zero</sub>", fmt(n.get("lambda_zero_m", math.nan), ".4g", "m"),
              f"1.4 λ<sub>zero</sub> = {fmt(1.4 * n.get('lambda_zero_m', math.nan), '.4g', 'm')}"),
+            ("hydro-buffer", "Buffer zone", f"β = {sim.buffer[2]:g}" if sim.buffer_active else "off",
+             f"{sim.buffer[0]:g} .. {sim.buffer[1]:g} m" if sim.buffer_active else "β = β of the set everywhere"),
         ]
 
     def _on_problems(self, *_):

@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 
 import panel as pn
-from bokeh.models import ColumnDataSource
+from bokeh.models import ColumnDataSource, CustomJSTickFormatter, FixedTicker
 from bokeh.plotting import figure
 
 from .linear_view import CSS as LINEAR_CSS
@@ -82,8 +82,9 @@ def style_figure(fig, title_size: str = "14px") -> None:
 
 def new_figure(title: str, xlabel: str, ylabel: str, height: int = 260, **kw):
     """A styled figure with pan/zoom/reset/save tools."""
+    kw.setdefault("min_width", 260)
     fig = figure(title=title, x_axis_label=xlabel, y_axis_label=ylabel, height=height, sizing_mode="stretch_width",
-                 tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="above", min_width=300, **kw)
+                 tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="above", **kw)
     style_figure(fig)
     return fig
 
@@ -111,6 +112,12 @@ def key_html(markers: dict, element_id: str, extra_items=()) -> str:
     items += [f'<span class="key-item"><span class="key-vline" style="border-left: 2px {d} {c}"></span>'
               f'<span>{lab}</span></span>' for lab, c, d in zip(markers["label"], markers["color"], markers["dash"])]
     return f'<div class="key" id="{element_id}">{"".join(items)}</div>'
+
+
+def log_ticks(fig, ticks) -> None:
+    """Readable fixed ticks (plain numbers) on a log y axis."""
+    fig.yaxis.ticker = FixedTicker(ticks=list(ticks))
+    fig.yaxis.formatter = CustomJSTickFormatter(code="return tick.toString()")
 
 
 def on_session_end(callback) -> None:

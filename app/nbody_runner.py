@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import collections
 import io
+import logging
 import json
 import math
 import time
@@ -254,6 +255,9 @@ class NBodyRunner(param.Parameterized):
         return self.box
 
     def close(self, *_):
+        """Stop and free the box (the browser tab was closed)."""
         self.pause()
+        if self.box is not None:
+            logging.getLogger("app").info("N-body box of a closed session freed at orbit %.2f", self.box.orbits)
         self.box = None
         self.status = "Closed."

@@ -106,12 +106,12 @@ class NBodyView(pn.viewable.Viewer):
         self.c0_source = ColumnDataSource(dict(y=[], color=[]))
         self.c_fig.hspan(y="y", line_color="color", line_dash="dashed", line_width=2, source=self.c0_source)
         self.c_fig.add_tools(HoverTool(renderers=[r], tooltips=[("t", "@t{0.00}"), ("<c>", "@c_mean{0.000} mm/s")]))
-        self.coll_fig = new_figure("Collision frequency", "time [orbits]", "collisions per particle per orbit",
+        self.coll_fig = new_figure("Collision frequency", "time [orbits]", "per particle per orbit",
                                    height=230)
         self.coll_fig.line("t", "collision_frequency", source=self.series_source, line_width=2, color=LINE_COLOR)
         self.psd_source = ColumnDataSource(dict(wavelength=[], power=[]), name="nbody-psd-source")
         self.psd_markers = ColumnDataSource(dict(x=[], color=[], dash=[], label=[]))
-        self.psd_fig = new_figure("PSD of σ with linear wavelengths", "wavelength λ [m]", "PSD", height=230,
+        self.psd_fig = new_figure("PSD of σ", "wavelength λ [m]", "PSD", height=230,
                                   x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-4, 2))
         self.psd_fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR)
         self.psd_fig.scatter("wavelength", "power", source=self.psd_source, size=5, color=LINE_COLOR)
@@ -220,10 +220,10 @@ class NBodyView(pn.viewable.Viewer):
             ("nbody-orbits", "Orbits elapsed", f"{box.orbits:.2f}", f"{box.N} particles"),
             ("nbody-orbits-per-s", "Orbits per second", fmt(orb_s, ".2f"), f"{fmt(steps_s, '.0f')} steps/s"),
             ("nbody-c", "⟨c⟩ now", fmt(c_now * 1e3, ".3g", "mm/s"), "zone velocity dispersion"),
-            ("nbody-ceff", "c<sub>eff</sub> (last 5 orbits)", fmt(tr.get("c_eff", math.nan) * 1e3, ".3g", "mm/s"),
+            ("nbody-ceff", "c<sub>eff</sub> [mm/s], last 5 orbits", fmt(tr.get("c_eff", math.nan) * 1e3, ".3g"),
              f"hydro c<sub>0</sub> = {p.c0 * 1e3:.3g} mm/s"),
-            ("nbody-nu", "Viscosity ν (last 5 orbits)", fmt(tr.get("nu", math.nan) * 1e3, ".3g", "10⁻³ m²/s"),
-             f"hydro ν<sub>0</sub> = {p.nu0 * 1e3:.3g} · 10⁻³ m²/s"),
+            ("nbody-nu", "ν [10⁻³ m²/s], last 5 orbits", fmt(tr.get("nu", math.nan) * 1e3, ".3g"),
+             f"hydro ν<sub>0</sub> = {p.nu0 * 1e3:.3g}"),
             ("nbody-coll", "Collision frequency", fmt(r.series.last("collision_frequency"), ".3g"),
              "per particle per orbit"),
         ]

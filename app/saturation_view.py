@@ -23,7 +23,7 @@ from ringcore.analysis.saturation import C_EMPIRICAL, lambda_p_empirical
 
 from .controls import build_params
 from .linear_view import _set_labels
-from .live_common import CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, message_html, new_figure
+from .live_common import CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, log_ticks, message_html, new_figure
 from .session import SessionRuns
 
 SWEEP_FILE = Path(__file__).parent / "data" / "saturation_sweep.nc"
@@ -121,19 +121,28 @@ class SaturationView(pn.viewable.Viewer):
         fig = new_figure("Saturated prevalent wavelength λ_p against surface density (Figure 'lambdap')",
                          "surface density σ₀ [kg/m²]", "λ_p [m]", height=520, y_axis_type="log",
                          x_range=Range1d(0, 1020), y_range=Range1d(30, 3000))
-        fig.line("sigma0", "empirical", source=self.curve_source, line_dash="dashed", line_width=3, color=EMP_COLOR,
-                 legend_label=f"{C_EMPIRICAL:g} λ_zero, eq. (lambdasigma)")
-        fig.line("sigma0", "fastest", source=self.curve_source, line_dash="dotted", line_width=3, color=MAXG_COLOR,
-                 legend_label="fastest-growing (linear)")
+        fig.line("sigma0", "empirical", source=self.curve_source, line_dash="dashed", line_width=3, color=EMP_COLOR)
+        fig.line("sigma0", "fastest", source=self.curve_source, line_dash="dotted", line_width=3, color=MAXG_COLOR)
         r1 = fig.scatter("sigma0", "lambda_p", source=self.sweep_source, marker="square", size=10, color=SWEEP_COLOR,
-                         fill_alpha="alpha", line_alpha="alpha", legend_label="shipped sweep")
-        r2 = fig.scatter("sigma0", "lambda_p", source=self.user_source, size=13, color=LP_COLOR,
-                         line_color="black", legend_label="my runs")
+                         fill_alpha="alpha", line_alpha="alpha")
+        r2 = fig.scatter("sigma0", "lambda_p", source=self.user_source, size=13, color=LP_COLOR, line_color="black")
         fig.add_tools(HoverTool(renderers=[r1, r2], tooltips=[("", "@label"), ("σ₀", "@sigma0{0} kg/m²"),
                                                               ("λ_p", "@lambda_p{0.0} m")]))
-        fig.legend.location = "top_right"
-        fig.legend.label_text_font_size = "13px"
+        log_ticks(fig, [30, 50, 100, 200, 500, 1000, 2000, 3000])
         return fig
+
+    @staticmethod
+    def _key() -> pn.pane.HTML:
+        lines = [(f"{C_EMPIRICAL:g} λ<sub>zero</sub>, eq. (lambdasigma)", EMP_COLOR, "dashed"),
+                 ("fastest-growing λ (linear)", MAXG_COLOR, "dotted")]
+        dots = [("shipped sweep", SWEEP_COLOR, "2px"), ("my runs", LP_COLOR, "50%")]
+        html = "".join(f'<span class="key-item"><span class="key-line" style="border-top: 3px {s} {c}"></span>'
+                       f'<span>{lab}</span></span>' for lab, c, s in lines)
+        html += "".join(f'<span class="key-item"><span style="display:inline-block;width:12px;height:12px;'
+                        f'background:{c};border-radius:{r};border:1px solid #222"></span><span>{lab}</span></span>'
+                        for lab, c, r in dots)
+        return pn.pane.HTML(f'<div class="key" id="sat-key">{html}</div>', stylesheets=[CSS],
+                            sizing_mode="stretch_width", margin=(0, 10))
 
     @param.depends("param_set", "isothermal", watch=True)
     def _update_curves(self):
@@ -171,7 +180,7 @@ class SaturationView(pn.viewable.Viewer):
             W.Checkbox.from_param(self.param.isothermal), self.model_error,
             pn.pane.Markdown("### Your runs", margin=(0, 10)), self.add_button, self.message, width=340)
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
-        return pn.Row(controls, pn.Column(self.note, pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
+        return pn.Row(controls, pn.Column(self.note, self._key(), pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
                                           explanation, sizing_mode="stretch_width"), sizing_mode="stretch_width")
 
     def __panel__(self):

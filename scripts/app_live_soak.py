@@ -1,0 +1,131 @@
+"""Measure the live tabs of the web app in a real browser over several minutes.
+
+Starts ``panel serve app/main.py --warm`` on a free port, opens the page in headless Debian
+Chromium (Playwright) and reports, as JSON on stdout and in ``test-artifacts/soak.json``:
+
+* page load to interactive (first plot) for a first and a second session on the warm server;
+* the default hydro run (tau15, non-isothermal, sigma0 = 400 kg/m^2, 2 km box, h = 2.5 m):
+  orbits per second inside the app during its first seconds;
+* a long hydro phase (isothermal with a buffer zone, a setting ringcore integrates for hundreds
+  of orbits; blown-up runs are reset and restarted) and an N-body phase: orbits per second,
+  updates per second of the line plots and of the space-time image / particle view counted
+  in the page, and the server's RSS sampled every 5 s.
+
+Usage: ``.venv/bin/python scripts/app_live_soak.py [minutes per phase, default 3]``.
+Not a test (takes minutes); recipe of ``shared/guides/panel-live-app.md``.
+"""
+import json
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+REPO = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(REPO / "tests"))
+
+from playwright.sync_api import sync_playwright  # noqa: E402
+from test_browser import ARTIFACTS, CHROMIUM, FLAGS, free_port, start_server, stop_server  # noqa: E402
+from test_browser_live import COUNTER_JS, number, readout, rss_mb  # noqa: E402
+
+
+def counts(page):
+    return page.evaluate("() => ({...(window.__counts || {})})")
+
+
+def phase(page, pid, seconds, orbit_id, names, restart_sel, out):
+    """Sample every 5 s: orbits, RSS, source update counts; restart after a blow-up."""
+    page.evaluate(COUNTER_JS, names)
+    t0 = time.perf_counter()
+    c0, o0 = counts(page), number(readout(page, orbit_id))
+    samples = []
+    while time.perf_counter() - t0 < seconds:
+        page.wait_for_timeout(5000)
+        page.evaluate(COUNTER_JS, names)
+        o = number(readout(page, orbit_id))
+        samples.append(dict(t=round(time.perf_counter() - t0, 1), orbits=o, rss_mb=round(rss_mb(pid), 1)))
+        blown = page.locator(restart_sel["blowup"])
+        if blown.count() and blown.is_visible():
+            samples[-1]["blowup"] = True
+            page.locator(restart_sel["reset"]).click()
+            page.wait_for_timeout(500)
+            page.locator(restart_sel["start"]).click()
+    dt = time.perf_counter() - t0
+    c1 = counts(page)
+    out.update(seconds=round(dt, 1), samples=samples,
+               updates_per_s={k: round((c1[k] - c0.get(k, 0)) / dt, 2) for k in c1},
+               orbits_per_s_while_sampled=round((samples[-1]["orbits"] - o0) / dt, 2) if not any(
+                   s.get("blowup") for s in samples) else None,
+               rss_first_last_max=[samples[0]["rss_mb"], samples[-1]["rss_mb"], max(s["rss_mb"] for s in samples)])
+
+
+def main(minutes=3.0):
+    ARTIFACTS.mkdir(exist_ok=True)
+    port = free_port()
+    proc, t_live = start_server(port, ARTIFACTS / "panel-serve-soak.log", extra=("--warm",))
+    res = {"server_start_to_liveness_s": round(t_live, 2), "rss_after_start_mb": round(rss_mb(proc.pid), 1)}
+    url = f"http://127.0.0.1:{port}/main"
+    try:
+        with sync_playwright() as pw:
+            ctx = pw.chromium.launch_persistent_context(tempfile.mkdtemp(), executable_path=str(CHROMIUM),
+                                                        headless=True, args=FLAGS,
+                                                        viewport={"width": 1500, "height": 1100})
+            ctx.set_default_timeout(30_000)
+            page = ctx.new_page()
+            errors = []
+            page.on("pageerror", lambda e: errors.append(str(e)))
+            for k in ("first", "second"):
+                t0 = time.perf_counter()
+                page.goto(url)
+                page.locator(".bk-Canvas").nth(2).wait_for()
+                res[f"page_interactive_{k}_session_s"] = round(time.perf_counter() - t0, 2)
+            t0 = time.perf_counter()
+            page.locator(".bk-tab", has_text="Hydrodynamics").click()
+            page.locator(".bk-Canvas").nth(6).wait_for()
+            res["hydro_tab_interactive_s"] = round(time.perf_counter() - t0, 2)
+            # default run: its first seconds (ringcore blows up near orbit 50 for these settings)
+            page.locator(".hydro-start button").click()
+            page.wait_for_timeout(2500)
+            res["default_hydro"] = dict(orbits_after_2_5_s=number(readout(page, "hydro-orbits")),
+                                        orbits_per_s_readout=number(readout(page, "hydro-orbits-per-s")),
+                                        steps_per_s_readout=number(readout(page, "hydro-steps-per-s")),
+                                        status=page.locator("#hydro-status").inner_text())
+            page.locator(".hydro-pause button").click()
+            page.locator(".hydro-step button").wait_for()
+            # long hydro phase: isothermal with a buffer zone
+            page.locator("label", has_text="Isothermal model").locator("input").check()
+            page.locator(".hydro-buffer-on input[type=checkbox]").check()
+            page.wait_for_timeout(500)
+            page.locator(".hydro-start button").click()
+            res["hydro_phase"] = {}
+            phase(page, proc.pid, 60 * minutes, "hydro-orbits",
+                  ["hydro-profile-source", "hydro-series-source", "hydro-spacetime-source"],
+                  {"blowup": "#hydro-blowup", "reset": ".hydro-reset button", "start": ".hydro-start button"},
+                  res["hydro_phase"])
+            page.screenshot(path=str(ARTIFACTS / "soak-hydro.png"), full_page=True)
+            page.locator(".hydro-pause button").click()
+            page.locator(".bk-tab", has_text="N-body").click()
+            page.locator(".nbody-start button").click()
+            res["nbody_phase"] = {}
+            phase(page, proc.pid, 60 * minutes, "nbody-orbits",
+                  ["nbody-particle-source", "nbody-series-source", "nbody-profile-source"],
+                  {"blowup": "#nbody-blowup", "reset": ".nbody-reset button", "start": ".nbody-start button"},
+                  res["nbody_phase"])
+            page.screenshot(path=str(ARTIFACTS / "soak-nbody.png"), full_page=True)
+            page.close()
+            log = ARTIFACTS / "panel-serve-soak.log"
+            t0 = time.perf_counter()
+            while time.perf_counter() - t0 < 90 and "N-body box of a closed session freed" not in log.read_text():
+                time.sleep(1)  # bokeh destroys unused sessions after ~15-30 s
+            res["session_freed_after_close_s"] = round(time.perf_counter() - t0, 1)
+            res["freed_messages"] = [ln for ln in log.read_text().splitlines() if "closed session freed" in ln]
+            res["rss_after_tab_closed_mb"] = round(rss_mb(proc.pid), 1)
+            res["js_errors"] = errors
+            ctx.close()
+    finally:
+        stop_server(proc)
+    (ARTIFACTS / "soak.json").write_text(json.dumps(res, indent=1))
+    print(json.dumps(res, indent=1))
+
+
+if __name__ == "__main__":
+    main(float(sys.argv[1]) if len(sys.argv) > 1 else 3.0)
