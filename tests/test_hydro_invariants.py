@@ -21,7 +21,8 @@ def test_mass_conserved_to_roundoff(name, gravity):
     sim = Hydro1D(MODELS[name], opt, initial="noise", seed=4, amplitude=3e-3)
     m0 = math.fsum(sim.U[0])
     sim.run(orbits=2)
-    assert abs(math.fsum(sim.U[0]) - m0) < 1e-13 * m0
+    # round-off only: the flux differences telescope; the SSPRK weights sum to 1 within 1 ulp per stage
+    assert abs(math.fsum(sim.U[0]) - m0) < 1e-16 * 5 * sim.steps * m0 + 1e-13 * m0
     assert np.ptp(sim.U[0]) > 1e-3  # something happened
 
 

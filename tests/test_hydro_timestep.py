@@ -56,6 +56,6 @@ def test_solver_time_order():
         sim.run(orbits=0.25)
         return sim.U.copy()
 
-    ref = run(0.1)
-    errs = [np.max(np.abs(run(f) - ref)) for f in (1.6, 0.8, 0.4)]
+    ref = run(0.075)
+    errs = [np.max(np.abs(run(f) - ref)) for f in (1.2, 0.6, 0.3)]
     assert min(_order(errs)) > 3.5
