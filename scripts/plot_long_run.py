@@ -21,7 +21,7 @@ def main():
     ax[1].plot(ds["t"], ds["lambda_p"], lw=0.6)
     ax[1].set(xlabel="t [orbits]", ylabel=r"$\lambda_p$ [m]", title="prevalent wavelength")
     s = ds["strobe_sigma"]
-    ax[2].pcolormesh(ds["x"], ds["t_strobe"], s / float(ds.attrs["param_sigma0"]), shading="auto", cmap="viridis")
+    ax[2].pcolormesh(ds["x"], ds["t_strobe"], s, shading="auto", cmap="viridis")
     ax[2].set(xlabel="x [m]", ylabel="t [orbits]", title=r"stroboscopic $\sigma/\sigma_0$")
     fig.suptitle(f"{ds.attrs['param_name']} {ds.attrs['model']}, sigma0 = {ds.attrs['param_sigma0']:g} kg/m^2, "
                  f"L_x = {ds.attrs['option_L_x']:g} m, h = {ds.attrs['option_h']:g} m")

@@ -12,7 +12,6 @@ import os
 import sys
 import time
 
-import xarray as xr
 
 from ringcore import params
 from ringcore.hydro import Hydro1D, HydroOptions
@@ -23,8 +22,7 @@ def main():
     orbits = float(sys.argv[2]) if len(sys.argv) > 2 else 1000.0
     chunk = float(sys.argv[3]) if len(sys.argv) > 3 else 50.0
     if os.path.exists(out):
-        with xr.open_dataset(out, engine="h5netcdf") as f:
-            sim = Hydro1D.from_dataset(f.load())
+        sim = Hydro1D.load(out)
     else:
         p = params.get("tau15", sigma0=400)
         opt = HydroOptions(L_x=5000.0, h=2.5, samples_per_orbit=10, track_modes=(20, 25, 28, 36, 39),
@@ -33,9 +31,7 @@ def main():
     t0 = time.time()
     while sim.orbits < orbits - 1e-9:
         sim.run(until=min(orbits, sim.orbits + chunk))
-        ds = sim.to_dataset()
-        ds.to_netcdf(out + ".tmp", engine="h5netcdf")
-        os.replace(out + ".tmp", out)
+        sim.save(out, complete=sim.orbits >= orbits - 1e-9)  # ringcore.io.write_run: atomic
         print(f"{sim.orbits:8.1f} orbits  e_kin = {sim.e_kin():.4e} sigma0 c0^2  lambda_p = "
               f"{sim.prevalent_wavelength():7.1f} m  dt = {sim.dt_orbits:.2e} orbits  "
               f"steps = {sim.steps}  floor hits = {sim.floor_hits}  wall = {time.time() - t0:.0f} s", flush=True)

@@ -28,7 +28,7 @@ print(f"N = {box.N}, L_x = {a.L_x} m, L_y = {a.L_y} m, sigma0 = {a.sigma0}", flu
 t0 = time.time()
 while box.orbits < a.orbits - 1e-9:
     box.run(min(a.check, a.orbits - box.orbits))
-    box.to_dataset().to_netcdf(a.out, engine="h5netcdf")
+    box.save(a.out, complete=box.orbits >= a.orbits - 1e-9)
     h = box.history
     n = int(round(a.check / box.options.record_every))
     print(f"orbit {box.orbits:7.1f}  e_kin = {np.mean(h['ekin'][-n:]):9.4g}  <c> = {np.mean(h['c_mean'][-n:])*1e3:.3f} mm/s"

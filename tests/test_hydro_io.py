@@ -18,7 +18,7 @@ def run_and_file(tmp_path_factory):
     sim = Hydro1D(p, opt, initial="noise", seed=1)
     sim.run(orbits=1.2)
     path = tmp_path_factory.mktemp("run") / "run.nc"
-    sim.to_dataset().to_netcdf(path, engine="h5netcdf")
+    sim.save(path)
     return sim, path
 
 

@@ -85,10 +85,10 @@ def test_run_file_roundtrip_continues_identically(tmp_path):
                                                          profile_every=0.1), seed=4)
     box.run(0.2)
     path = tmp_path / "run.nc"
-    box.to_dataset().to_netcdf(path, engine="h5netcdf")
+    box.save(path)
     ds = xr.load_dataset(path, engine="h5netcdf")
     assert ds["pos_x"].attrs["units"] == "m" and ds["time"].attrs["units"] == "orbit"
-    assert ds.attrs["param_sigma0"] == 300 and ds.attrs["opt_L_x"] == 40
+    assert ds.attrs["param_sigma0"] == 300 and ds.attrs["option_L_x"] == 40
     assert ds["sigma_tx"].shape == (2, box.options.zones)
     again = ShearingBox.from_dataset(ds)
     box.step(150)

@@ -14,7 +14,7 @@ def test_nbody_command_writes_run_file(tmp_path, capsys):
     d = json.loads(capsys.readouterr().out)
     assert d["N"] == round(1.5 * 360 / 3.141592653589793) and d["T"] > 0
     ds = xr.load_dataset(out, engine="h5netcdf")
-    assert ds.attrs["opt_L_x"] == 30 and ds.sizes["particle"] == d["N"]
+    assert ds.attrs["option_L_x"] == 30 and ds.sizes["particle"] == d["N"]
     out2 = tmp_path / "b.nc"
     rc = main(["nbody", "--from", str(out), "--tile-x", "--sigma0", "100", "--orbits", "0.1", "--out", str(out2),
                "--no-progress"])

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import sys
 
 from ..checks import check_real
 from .common import add_ring_arguments, ring_params_from_args
@@ -39,19 +40,19 @@ def register(sub) -> None:
     p.add_argument("--T-floor", type=float, default=0.0, dest="T_floor",
                    help="temperature floor in units of T0 (non-isothermal; 0: off, the paper's scheme)")
     p.add_argument("--out", required=True, metavar="FILE.nc", help="run file to write (NetCDF, h5netcdf)")
+    p.add_argument("--checkpoint-every", type=float, default=None, metavar="ORBITS",
+                   help="also write the run file every ORBITS orbits (SIGINT/SIGTERM always write it)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
-    import xarray as xr
-
+    from ..experiments.checkpoint import run_checkpointed
     from ..hydro import Hydro1D, HydroBlowUp, HydroOptions
 
     check_real("--orbits", args.orbits, 0.0, math.inf, lo_open=True, unit="orbits")
     if args.init.endswith(".nc"):
-        with xr.open_dataset(args.init, engine="h5netcdf") as f:
-            sim = Hydro1D.from_dataset(f.load())
+        sim = Hydro1D.load(args.init)
     else:
         p = ring_params_from_args(args)
         opt = HydroOptions(L_x=args.lx, h=args.h, gravity=args.gravity, replicas=args.replicas,
@@ -61,14 +62,12 @@ def run(args) -> int:
                            spacetime_rows_per_orbit=args.spacetime_rows, T_floor=args.T_floor)
         sim = Hydro1D(p, opt, initial=args.init, seed=args.seed, amplitude=args.amplitude,
                       lambda_min=args.lambda_min, wavelength=args.wavelength, direction=args.direction)
-    status = 0
     try:
-        sim.run(orbits=args.orbits, progress=not args.no_progress)
+        run_checkpointed(sim, args.orbits, out=args.out, every=args.checkpoint_every,
+                         progress=not args.no_progress)
     except HydroBlowUp as exc:
-        import sys
-        sys.stderr.write(f"ringcore hydro: {exc}\n")
-        status = 1
-    sim.to_dataset().to_netcdf(args.out, engine="h5netcdf")
+        sys.stderr.write(f"ringcore hydro: {exc} (saved to {args.out}, complete = 0)\n")
+        return 1
     print(f"{sim.orbits:.2f} orbits, {sim.steps} steps, e_kin = {sim.e_kin():.4e} sigma0 c0^2, "
           f"lambda_p = {sim.prevalent_wavelength():.1f} m -> {args.out}")
-    return status
+    return 0

@@ -41,6 +41,8 @@ def register(sub) -> None:
     p.add_argument("--record-every", type=float, default=0.1, metavar="ORBITS", help="box means interval")
     p.add_argument("--profile-every", type=float, default=1.0, metavar="ORBITS", help="profiles interval")
     p.add_argument("--out", default="nbody.nc", metavar="FILE", help="run file to write (default nbody.nc)")
+    p.add_argument("--checkpoint-every", type=float, default=None, metavar="ORBITS",
+                   help="also write the run file every ORBITS orbits (SIGINT/SIGTERM always write it)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="print the final diagnostics as one JSON object")
     p.set_defaults(func=run)
@@ -50,11 +52,10 @@ def _build(args):
     from ..nbody import NBodyOptions, ShearingBox
 
     if args.from_file:
-        import xarray as xr
+        from ..io import read_run
 
-        ds = xr.load_dataset(args.from_file, engine="h5netcdf")
-        box = ShearingBox.from_dataset(ds, sigma0=args.sigma0, tile_x=args.tile_x)
-        return box
+        return ShearingBox.from_dataset(read_run(args.from_file, kind="nbody"), sigma0=args.sigma0,
+                                        tile_x=args.tile_x)
     if args.tile_x:
         raise ValueError("--tile-x is only valid with --from FILE")
     p = params.get(args.set, sigma0=0.0 if args.sigma0 is None else args.sigma0)
@@ -69,12 +70,14 @@ def _build(args):
 
 
 def run(args) -> int:
+    from ..experiments.checkpoint import run_checkpointed
+
     box = _build(args)
+    kw = dict(out=args.out, every=args.checkpoint_every, progress=not args.no_progress)
     if args.equilibrate > 0:
-        box.run(args.equilibrate, progress=not args.no_progress)
+        run_checkpointed(box, args.equilibrate, finish=False, **kw)
     box.reset_accumulators()
-    box.run(args.orbits, progress=not args.no_progress)
-    box.to_dataset().to_netcdf(args.out, engine="h5netcdf")
+    run_checkpointed(box, args.orbits, **kw)
     d = box.diagnostics()
     if args.json:
         print(json.dumps({k: (float(v) if isinstance(v, float) else v) for k, v in d.items()}))

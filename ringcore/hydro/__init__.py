@@ -4,7 +4,8 @@
 >>> from ringcore.hydro import Hydro1D, HydroOptions
 >>> sim = Hydro1D(params.get("tau15", sigma0=400), HydroOptions(L_x=5000, h=2.5), initial="noise", seed=1)
 >>> sim.run(orbits=100, progress=True)               # doctest: +SKIP
->>> sim.to_dataset().to_netcdf("run.nc", engine="h5netcdf")  # doctest: +SKIP
+>>> sim.save("run.nc")                                # doctest: +SKIP
+>>> sim = Hydro1D.load("run.nc").run(orbits=100)     # continues bit-for-bit  # doctest: +SKIP
 
 Modules: :mod:`.kernels` (compiled MP5 / AUSM / central differences / RK stage),
 :mod:`.gravity` (FFT self-gravity), :mod:`.timestep` (SSPRK(5,4), dt criteria),

@@ -293,10 +293,14 @@ class Hydro1D:
         return dt
 
     def run(self, orbits: float | None = None, *, until: float | None = None, progress: bool = False,
-            max_steps: int | None = None) -> "Hydro1D":
+            max_steps: int | None = None, stop=None) -> "Hydro1D":
         """Integrate for ``orbits`` more orbits (or up to orbit ``until``), recording diagnostics.
 
-        Raises :class:`HydroBlowUp` (last good state kept) if a field goes bad.
+        An end time within 1e-9 sample intervals of a sample time is moved onto it, so a run
+        split into pieces that end on sample times (e.g. whole orbits) is bit-for-bit the
+        uninterrupted run.  ``stop``: optional callable polled after every step (e.g. a
+        :class:`ringcore.io.StopRequest`); the run returns early, in a consistent state, when
+        it returns True.  Raises :class:`HydroBlowUp` (last good state kept) if a field goes bad.
         """
         if (orbits is None) == (until is None):
             raise ValueError("give exactly one of orbits (duration) or until (end time), in orbits")
@@ -305,6 +309,9 @@ class Hydro1D:
         until = check_real("until", until, self.orbits, math.inf, unit="orbits")
         t_end = until * TWO_PI
         ds = TWO_PI / self.options.samples_per_orbit
+        k_end = round(t_end / ds)
+        if abs(k_end * ds - t_end) <= 1e-9 * ds:
+            t_end = k_end * ds  # the same float the sample grid uses
         opt = self.options
         t_buf = opt.buffer_on_orbit * TWO_PI if (opt.buffer is not None and not self.buffer_active
                                                   and opt.buffer_on_orbit * TWO_PI >= self.t) else math.inf
@@ -327,6 +334,8 @@ class Hydro1D:
                     self.set_buffer(*opt.buffer)
                     t_buf = math.inf
                 self._record()
+                if stop is not None and stop():
+                    break
                 if bar is not None and self.steps % 200 == 0:
                     bar.update(round(self.orbits - o0 - bar.n, 6))
         finally:
@@ -369,9 +378,28 @@ class Hydro1D:
 
     @classmethod
     def from_dataset(cls, ds) -> "Hydro1D":
-        """Restore a solver (state, time, step count, buffer and records) from :meth:`to_dataset`."""
+        """Restore a solver (state, time, step count, buffer and records) from :meth:`to_dataset`
+        (a Dataset, or a path read with :func:`ringcore.io.read_run`)."""
         from .runfile import from_dataset
         return from_dataset(ds)
+
+    def summary(self, last_fraction: float = 0.25) -> dict:
+        """Saturation summary over the last ``last_fraction`` of the run (see :func:`.runfile.summary`)."""
+        from .runfile import summary
+        return summary(self, last_fraction)
+
+    def save(self, path, *, complete: bool = True, **attrs):
+        """Write the run file ``path`` (:func:`ringcore.io.write_run`, kind "hydro") with everything
+        needed to continue bit-for-bit; ``complete`` and ``summary_json`` attributes, plus ``attrs``."""
+        from .runfile import save
+        return save(self, path, complete=complete, **attrs)
+
+    @classmethod
+    def load(cls, path) -> "Hydro1D":
+        """Continue a run from its file; :class:`ringcore.io.RunFileError` for missing, corrupt,
+        foreign, non-hydro or newer files."""
+        from ..io import read_run
+        return cls.from_dataset(read_run(path, kind="hydro"))
 
     def __repr__(self):
         return (f"Hydro1D({self.params.name}, {self.params.model}, sigma0={self.params.sigma0:g} kg/m^2, "

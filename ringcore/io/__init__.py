@@ -1,7 +1,7 @@
 """Self-describing run files (NetCDF through xarray + h5netcdf) and graceful interruption."""
 from .runfile import (SCHEMA, SCHEMA_VERSION, RunFileError, attrs_from_dict, dict_from_attrs, read_run,
-                      write_run)
-from .signals import graceful_interrupt
+                      status_attrs, write_run)
+from .signals import StopRequest, graceful_interrupt
 
 __all__ = ["SCHEMA", "SCHEMA_VERSION", "RunFileError", "read_run", "write_run", "attrs_from_dict",
-           "dict_from_attrs", "graceful_interrupt"]
+           "dict_from_attrs", "status_attrs", "graceful_interrupt", "StopRequest"]

@@ -58,6 +58,13 @@ def dict_from_attrs(ds: xr.Dataset, prefix: str) -> dict:
     return json.loads(ds.attrs[key])
 
 
+def status_attrs(summary: dict, complete: bool) -> dict:
+    """Attributes ``complete`` (1: the run reached its end; 0: checkpoint or interrupted) and
+    ``summary_json`` (the summary dict; non-finite numbers as null)."""
+    clean = {k: (None if isinstance(v, float) and not math.isfinite(v) else _clean(v)) for k, v in summary.items()}
+    return {"complete": int(bool(complete)), "summary_json": json.dumps(clean)}
+
+
 def write_run(ds: xr.Dataset, path, kind: str) -> Path:
     """Write ``ds`` to ``path`` atomically (temporary file, then rename) with the schema attributes."""
     from .. import __version__

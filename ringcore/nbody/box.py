@@ -5,7 +5,7 @@
 >>> box = ShearingBox(params.get("tau15"), NBodyOptions(L_x=50, L_y=25, restitution="bridges"), seed=1)
 >>> box.run(orbits=20, progress=True)                # doctest: +SKIP
 >>> box.diagnostics()["T"], box.transport()["nu"]    # [m^2/s^2], [m^2/s]  # doctest: +SKIP
->>> box.to_dataset().to_netcdf("run.nc", engine="h5netcdf")                # doctest: +SKIP
+>>> box.save("run.nc"); box = ShearingBox.load("run.nc")                   # doctest: +SKIP
 
 Physical units at the API (meters, seconds, orbits); the state is held in kernel units
 (lengths R_p, times 1/Omega, velocities R_p Omega, see :mod:`ringcore.nbody.kernels`).
@@ -52,6 +52,11 @@ class ShearingBox:
         Start from this state instead (kernel units); used by :meth:`from_dataset`.
     ids : array of int, optional
         Particle labels of ``state`` (particles are reordered in memory; ``ids`` follows them).
+
+    Time is ``t = t0 + step_count * dt`` and the box means are recorded when ``step_count`` is a
+    multiple of ``record_every``: a run split into pieces (checkpoints, interruptions) is
+    bit-for-bit the same as the uninterrupted run.  ``rng`` (seeded by ``seed``) made the
+    initial state; its state is saved with the run.
     """
 
     def __init__(self, params: RingParams, options: NBodyOptions | None = None, seed: int = 0, *,
@@ -64,22 +69,23 @@ class ShearingBox:
         self.R_p, self.Omega = o.R_p, params.Omega
         self.L_x, self.L_y = o.L_x / o.R_p, o.L_y / o.R_p  # [R_p]
         self.dt = 2.0 * math.pi * o.dt_orbit  # [1/Omega]
+        self.rng = np.random.default_rng(self.seed)
         if state is None:
             n = int(round(params.tau * o.fill_fraction * o.L_x * o.L_y / (math.pi * o.R_p**2)))
             check_int("N (from tau, L_x, L_y, R_p)", n, 1, 10**8)
-            rng = np.random.default_rng(self.seed)
-            pos, vel = initial.uniform_state(rng, n, self.L_x, self.L_y, params.tau,
+            pos, vel = initial.uniform_state(self.rng, n, self.L_x, self.L_y, params.tau,
                                              o.v_init / self.v_unit, o.fill_fraction)
             t = 0.0
         else:
             pos, vel, t = state
         self.pos = np.ascontiguousarray(pos, float)
         self.vel = np.ascontiguousarray(vel, float)
-        self.t = float(t)  # [1/Omega]
+        self._t0 = float(t)  # [1/Omega] time of step 0
+        self.step_count = 0
         self.ids = np.arange(self.pos.shape[0], dtype=np.int64) if ids is None else np.asarray(ids, np.int64)
         self._alloc()
         self.acc = K.new_accumulators()
-        self.acc_total = K.new_accumulators()
+        self._acc_before = K.new_accumulators()  # sum of the intervals closed by reset_accumulators
         self.history = {k: [] for k in ("time", "ekin", "c_mean", "T", "collision_frequency",
                                         "lambda_p", "unresolved", "crossings")}
         self.profile_history = {k: [] for k in ("time", "sigma", "u", "v", "c")}
@@ -119,6 +125,20 @@ class ShearingBox:
         return self.N * math.pi / (self.L_x * self.L_y)
 
     @property
+    def t(self) -> float:
+        """Time [1/Omega] = t0 + step_count * dt."""
+        return self._t0 + self.step_count * self.dt
+
+    @t.setter
+    def t(self, value: float) -> None:
+        self._t0, self.step_count = float(value), 0
+
+    @property
+    def acc_total(self) -> np.ndarray:
+        """Kernel accumulators of the whole run (a copy)."""
+        return self._acc_before + self.acc
+
+    @property
     def orbits(self) -> float:
         """Elapsed time [orbits]."""
         return self.t / (2.0 * math.pi)
@@ -134,6 +154,7 @@ class ShearingBox:
 
     def reset_accumulators(self) -> None:
         """Start a new averaging interval for :meth:`transport`."""
+        self._acc_before += self.acc
         self.acc[:] = 0.0
 
     # ------------------------------------------------------------------ running
@@ -143,14 +164,13 @@ class ShearingBox:
         if nsteps == 0:
             return
         o = self.options
-        good = (self.pos.copy(), self.vel.copy(), self.t, self.ids.copy())
-        before = self.acc.copy()
-        self.t = advance(self.pos, self.vel, self.t, nsteps, self.dt, self.params.omega_z, self.L_x, self.L_y,
-                         self.n_cx, self.n_cy, o.collisions, self._mode, o.epsilon, o.v_c / self.v_unit,
-                         self._g, o.m_lo, o.m_hi, self._rho, self._force, self._coef, self._gpos, self._gsrc,
-                         self._cell_start, self._cell_entries, self._cell_of, self.acc,
-                         self.ids, SORT_EVERY, self._spos, self._svel, self._sids)
-        self.acc_total += self.acc - before
+        good = (self.pos.copy(), self.vel.copy(), self.step_count, self.ids.copy(), self.acc.copy())
+        advance(self.pos, self.vel, self._t0, nsteps, self.dt, self.params.omega_z, self.L_x, self.L_y,
+                self.n_cx, self.n_cy, o.collisions, self._mode, o.epsilon, o.v_c / self.v_unit,
+                self._g, o.m_lo, o.m_hi, self._rho, self._force, self._coef, self._gpos, self._gsrc,
+                self._cell_start, self._cell_entries, self._cell_of, self.acc,
+                self.ids, SORT_EVERY, self._spos, self._svel, self._sids, self.step_count)
+        self.step_count += nsteps
         if not (np.isfinite(self.pos).all() and np.isfinite(self.vel).all()):
             bad = np.flatnonzero(~(np.isfinite(self.pos).all(1) & np.isfinite(self.vel).all(1)))[0]
             if not np.isfinite(self.pos[bad]).all():
@@ -160,13 +180,25 @@ class ShearingBox:
             pid = int(self.ids[bad])
             where = good[0][int(np.flatnonzero(good[3] == pid)[0]), 0] * self.R_p
             t_end = self.orbits
-            self.pos, self.vel, self.t, self.ids = good
+            self.pos, self.vel, self.step_count, self.ids = good[:4]
+            self.acc[:] = good[4]
             raise NBodyBlowUp(f"non-finite {field} of particle {pid} (last good x = {where:.2f} m) between "
                               f"orbit {self.orbits:.3f} and {t_end:.3f}; kept the last good state")
 
-    def run(self, orbits: float, progress: bool = False) -> "ShearingBox":
-        """Integrate for ``orbits`` orbits, recording box means every ``options.record_every`` orbits."""
-        orbits = check_real("orbits", orbits, 0.0, 1e7, unit="orbits")
+    def run(self, orbits: float | None = None, progress: bool = False, *, until: float | None = None,
+            stop=None) -> "ShearingBox":
+        """Integrate for ``orbits`` more orbits (or up to orbit ``until``; rounded to whole steps).
+
+        Box means are recorded whenever the step count is a multiple of ``options.record_every``
+        (profiles: of ``profile_every``).  ``stop``: optional callable polled after every record
+        interval (e.g. a :class:`ringcore.io.StopRequest`); the run returns early when it is True.
+        """
+        if (orbits is None) == (until is None):
+            raise ValueError("give exactly one of orbits (duration) or until (end time), in orbits")
+        if until is not None:
+            orbits = check_real("until", until, self.orbits - 0.5 * self.options.dt_orbit, 1e7,
+                                unit="orbits") - self.orbits
+        orbits = check_real("orbits", max(orbits, 0.0), 0.0, 1e7, unit="orbits")
         o = self.options
         n_total = int(round(orbits / o.dt_orbit))
         chunk = max(1, int(round(o.record_every / o.dt_orbit)))
@@ -174,18 +206,21 @@ class ShearingBox:
         done = 0
         with tqdm(total=n_total, disable=not progress, unit="step", desc="nbody") as bar:
             while done < n_total:
-                n = min(chunk, n_total - done)
+                n = min(chunk - self.step_count % chunk, n_total - done)
                 self.step(n)
                 done += n
-                self._record(pchunk > 0 and (round(self.t / self.dt) % pchunk == 0))
                 bar.update(n)
-                bar.set_postfix(orbit=f"{self.orbits:.2f}", c=f"{self.history['c_mean'][-1]*1e3:.3f}mm/s")
+                if self.step_count % chunk == 0:
+                    self._record(pchunk > 0 and self.step_count % pchunk == 0)
+                    bar.set_postfix(orbit=f"{self.orbits:.2f}", c=f"{self.history['c_mean'][-1]*1e3:.3f}mm/s")
+                if stop is not None and stop():
+                    break
         return self
 
     def _record(self, profiles: bool) -> None:
         prof = D.tabulate(self.pos, self.vel, self.L_x, self.options.zones)
         d = self.acc_total - self._last_acc
-        self._last_acc = self.acc_total.copy()
+        self._last_acc = self.acc_total
         dorb = d[K.A_TIME] / (2.0 * math.pi)
         h = self.history
         h["time"].append(self.orbits)
@@ -251,8 +286,30 @@ class ShearingBox:
     @classmethod
     def from_dataset(cls, ds, *, sigma0: float | None = None, tile_x: bool = False,
                      options: NBodyOptions | None = None) -> "ShearingBox":
-        """Restore a box saved with :meth:`to_dataset`, optionally with a new ``sigma0`` [kg/m^2]
-        and/or tiled to twice its radial size (``tile_x``; as in the paper's Figure "boxdouble")."""
+        """Restore a box saved with :meth:`to_dataset` (a Dataset or a run-file path), optionally with a
+        new ``sigma0`` [kg/m^2] and/or tiled to twice its radial size (``tile_x``; as in the paper's
+        Figure "boxdouble").  Without changes, the run continues bit-for-bit."""
         from .store import from_dataset
 
         return from_dataset(cls, ds, sigma0=sigma0, tile_x=tile_x, options=options)
+
+    def summary(self, last_fraction: float = 0.25) -> dict:
+        """Saturation summary over the last ``last_fraction`` of the run (see :func:`.store.summary`)."""
+        from .store import summary
+
+        return summary(self, last_fraction)
+
+    def save(self, path, *, complete: bool = True, **attrs):
+        """Write the run file ``path`` (:func:`ringcore.io.write_run`, kind "nbody") with everything
+        needed to continue bit-for-bit; ``complete`` and ``summary_json`` attributes, plus ``attrs``."""
+        from .store import save
+
+        return save(self, path, complete=complete, **attrs)
+
+    @classmethod
+    def load(cls, path) -> "ShearingBox":
+        """Continue a run from its file; :class:`ringcore.io.RunFileError` for missing, corrupt,
+        foreign, non-nbody or newer files."""
+        from ..io import read_run
+
+        return cls.from_dataset(read_run(path, kind="nbody"))

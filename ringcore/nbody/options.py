@@ -6,7 +6,7 @@ everything here is a numerical or set-up choice, in physical units at the API.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import dataclass, replace
 
 from ..checks import check_choice, check_int, check_real
 
@@ -118,19 +118,3 @@ class NBodyOptions:
     def replace(self, **changes) -> "NBodyOptions":
         """Copy with some fields changed (validated)."""
         return replace(self, **changes)
-
-    def as_attrs(self) -> dict:
-        """Fields as netCDF-safe attributes (prefix ``opt_``; bools as 0/1)."""
-        return {f"opt_{k}": (int(v) if isinstance(v, bool) else v) for k, v in asdict(self).items()}
-
-    @classmethod
-    def from_attrs(cls, attrs: dict) -> "NBodyOptions":
-        """Inverse of :meth:`as_attrs`."""
-        kw = {}
-        for f in fields(cls):
-            key = f"opt_{f.name}"
-            if key in attrs:
-                v = attrs[key]
-                kw[f.name] = bool(v) if f.type in ("bool", bool) else (
-                    str(v) if f.type in ("str", str) else (int(v) if f.type in ("int", int) else float(v)))
-        return cls(**kw)

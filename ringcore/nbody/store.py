@@ -1,18 +1,27 @@
-"""Run files of the shearing box: :func:`to_dataset` / :func:`from_dataset` (xarray, h5netcdf).
+"""Run files of the shearing box: the layout of its ``xarray.Dataset``.
 
-The dataset holds the particle state (to continue a run), the recorded box means, the
-recorded radial profiles and the current profiles, with SI units as attributes and all
-parameters (``param_*``) and options (``opt_*``) as attributes.
+Files are written and read only through :mod:`ringcore.io` (``write_run(ds, path, "nbody")``,
+``read_run(path, "nbody")``: schema, version and kind checks; parameters and options as
+``param_*`` / ``option_*`` attributes plus ``params_json`` / ``options_json``).
+
+The dataset holds the particles in SI units (``pos_*`` [m], ``vel_*`` [m/s]), the recorded box
+means (dimension ``time`` [orbits]), the recorded and final radial profiles (``x`` [m]), and for
+a bit-exact continuation the kernel state (``state_pos``, ``state_vel``, ``particle_id`` in
+memory order), the accumulators (``accumulators``, ``accumulators_before``,
+``accumulators_last_record``), the time origin and step count (attributes ``t0_kernel``,
+``step_count``) and the random generator state (``rng_state_json``).
 """
 from __future__ import annotations
 
+import json
 import math
+from dataclasses import asdict
 
 import numpy as np
 import xarray as xr
 
+from ..io import attrs_from_dict, dict_from_attrs, read_run, status_attrs, write_run
 from ..params import RingParams
-from . import diagnostics as D
 from . import initial
 from . import kernels as K
 from .options import NBodyOptions
@@ -47,60 +56,106 @@ def to_dataset(box) -> xr.Dataset:
         arr = np.asarray(ph[k], float).reshape(len(ph["time"]), nz)
         data[f"{k}_tx"] = (("time_profile", "x"), arr, dict(units=u, long_name=f"recorded profiles of {k}"))
     data["accumulators"] = ("acc", box.acc.copy(), dict(long_name="kernel accumulators (current interval)"))
-    data["accumulators_total"] = ("acc", box.acc_total.copy(), dict(long_name="kernel accumulators (run)"))
+    data["accumulators_before"] = ("acc", box._acc_before.copy(),
+                                   dict(long_name="kernel accumulators of the closed intervals"))
+    data["accumulators_last_record"] = ("acc", box._last_acc.copy(),
+                                        dict(long_name="run accumulators at the last record"))
+    data["accumulators_total"] = ("acc", box.acc_total, dict(long_name="kernel accumulators (run)"))
     coords = dict(particle=np.arange(box.N), time=("time", np.asarray(h["time"], float), dict(units="orbit")),
                   time_profile=("time_profile", np.asarray(ph["time"], float), dict(units="orbit")),
                   x=("x", prof.x, dict(units="m", long_name="zone centre")))
-    attrs = {f"param_{k}": (int(v) if isinstance(v, bool) else v) for k, v in box.params.as_dict().items()}
-    attrs.update(box.options.as_attrs())
-    attrs.update(seed=box.seed, t_s=box.t / box.Omega, t_kernel=box.t, t_orbit=box.orbits, N=box.N, tau_box=box.tau,
+    attrs = attrs_from_dict("param", box.params.as_dict())
+    attrs.update(attrs_from_dict("option", asdict(box.options)))
+    attrs.update(seed=box.seed, rng_state_json=json.dumps(box.rng.bit_generator.state),
+                 t_s=box.t / box.Omega, t_kernel=box.t, t0_kernel=box._t0, step_count=box.step_count,
+                 t_orbit=box.orbits, N=box.N, tau_box=box.tau,
                  kernel_units="lengths R_p, times 1/Omega, velocities R_p Omega",
                  ekin_units="sigma0 (R_p Omega)^2", engine="ringcore.nbody")
-    tr = D.transport(box.acc, box.N) if box.acc[K.A_TIME] > 0 else None
-    if tr is not None:
+    if box.acc[K.A_TIME] > 0:
         for k, v in box.transport().items():
             attrs[f"transport_{k}"] = float(v)
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def from_dataset(cls, ds: xr.Dataset, *, sigma0=None, tile_x: bool = False, options=None):
-    """Restore a box from :func:`to_dataset` output (a Dataset or a path to a NetCDF file)."""
+def from_dataset(cls, ds, *, sigma0=None, tile_x: bool = False, options=None):
+    """Restore a box from :func:`to_dataset` output (a Dataset or a run-file path)."""
     if not isinstance(ds, xr.Dataset):
-        ds = xr.load_dataset(ds, engine="h5netcdf")
+        ds = read_run(ds, kind="nbody")
     a = ds.attrs
-    pk = {k[6:]: a[k] for k in a if k.startswith("param_")}
-    pk["isothermal"] = bool(pk.get("isothermal", False))
-    pk["name"] = str(pk["name"])
-    p = RingParams(**{k: (v if k in ("name", "isothermal") else float(v)) for k, v in pk.items()})
+    p = RingParams(**dict_from_attrs(ds, "param"))
+    exact = sigma0 is None and not tile_x and options is None
     if sigma0 is not None:
         p = p.with_sigma0(sigma0)
-    o = NBodyOptions.from_attrs(a)
-    R, Om = o.R_p, p.Omega
-    if "state_pos" in ds:  # exact kernel state
-        pos, vel = ds["state_pos"].values.copy(), ds["state_vel"].values.copy()
-        t = float(a["t_kernel"])
-    else:
-        pos = np.stack([ds[f"pos_{c}"].values for c in "xyz"], axis=1) / R
-        vel = np.stack([ds[f"vel_{c}"].values for c in "xyz"], axis=1) / (R * Om)
-        t = float(a["t_s"]) * Om
+    o = NBodyOptions(**dict_from_attrs(ds, "option"))
+    pos, vel = ds["state_pos"].values.copy(), ds["state_vel"].values.copy()
+    t0, steps = float(a["t0_kernel"]), int(a["step_count"])
+    t = t0 + steps * (2.0 * math.pi * o.dt_orbit)
+    ids = ds["particle_id"].values
     if tile_x:
-        pos, vel = initial.tile_radially(pos, vel, o.L_x / R, o.L_y / R, t)
+        pos, vel = initial.tile_radially(pos, vel, o.L_x / o.R_p, o.L_y / o.R_p, t)
         o = o.replace(L_x=2.0 * o.L_x, n_zones=2 * o.zones)
+        ids = None
     if options is not None:
         if (options.L_x, options.L_y, options.R_p) != (o.L_x, o.L_y, o.R_p):
             raise ValueError(f"options L_x, L_y, R_p = {options.L_x:g}, {options.L_y:g}, {options.R_p:g} m "
                              f"are not valid for this state: must equal {o.L_x:g}, {o.L_y:g}, {o.R_p:g} m")
         o = options
-    ids = ds["particle_id"].values if "particle_id" in ds else None
-    if tile_x:
-        ids = None
     box = cls(p, o, seed=int(a.get("seed", 0)), state=(pos, vel, t), ids=ids)
-    if not tile_x and "accumulators_total" in ds:
-        box.acc_total[:] = ds["accumulators_total"].values
-        box._last_acc = box.acc_total.copy()
+    if "rng_state_json" in a:
+        box.rng.bit_generator.state = json.loads(a["rng_state_json"])
+    if exact:  # the same run, continued: time origin, step count, accumulators, records
+        box._t0, box.step_count = t0, steps
+        box.acc[:] = ds["accumulators"].values
+        box._acc_before[:] = ds["accumulators_before"].values
+        box._last_acc = ds["accumulators_last_record"].values.copy()
+        for k in box.history:
+            box.history[k] = list(ds[k].values) if k != "time" else list(ds["time"].values)
+        nz = o.zones
+        box.profile_history["time"] = list(ds["time_profile"].values)
+        for k in ("sigma", "u", "v", "c"):
+            box.profile_history[k] = [row.reshape(nz) for row in ds[f"{k}_tx"].values]
+    else:
+        box._last_acc = box.acc_total
     return box
+
+
+def summary(box, last_fraction: float = 0.25) -> dict:
+    """Saturation summary over the last ``last_fraction`` (by time) of the recorded box means.
+
+    Keys: ``lambda_p_m`` most frequent recorded prevalent wavelength [m]; ``lambda_p_mean_m``
+    [m]; ``e_kin`` mean [sigma0 (R_p Omega)^2] (also ``e_kin_rp``); ``c_mean`` mean velocity
+    dispersion [m/s]; ``orbits``; ``N``.
+    """
+    h = box.history
+    t = np.asarray(h["time"], float)
+    out = dict(orbits=box.orbits, N=box.N)
+    if t.size:
+        sel = t >= t[-1] - last_fraction * (t[-1] - t[0])
+        lam = np.asarray(h["lambda_p"], float)[sel]
+        lam = lam[np.isfinite(lam)]
+        if lam.size:
+            vals, counts = np.unique(lam, return_counts=True)
+            out.update(lambda_p_m=float(vals[np.argmax(counts)]), lambda_p_mean_m=float(lam.mean()))
+        else:
+            out.update(lambda_p_m=math.nan, lambda_p_mean_m=math.nan)
+        out.update(e_kin=float(np.mean(np.asarray(h["ekin"])[sel])),
+                   c_mean=float(np.mean(np.asarray(h["c_mean"])[sel])))
+    else:
+        d = box.diagnostics()
+        out.update(lambda_p_m=float(d["lambda_p"]), lambda_p_mean_m=float(d["lambda_p"]), e_kin=float(d["ekin"]),
+                   c_mean=float(d["c_mean"]))
+    out["e_kin_rp"] = out["e_kin"]
+    return out
+
+
+def save(box, path, *, complete: bool = True, **attrs):
+    """Write ``box`` to ``path`` with :func:`ringcore.io.write_run` (kind "nbody")."""
+    ds = to_dataset(box)
+    ds.attrs.update(status_attrs(summary(box), complete))
+    ds.attrs.update(attrs)
+    return write_run(ds, path, kind="nbody")
 
 
 def orbits_of(ds: xr.Dataset) -> float:
     """Time of a saved state [orbits]."""
-    return float(ds.attrs["t_s"]) * float(ds.attrs["param_Omega"]) / (2.0 * math.pi)
+    return float(ds.attrs["t_orbit"])

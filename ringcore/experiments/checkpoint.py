@@ -1,0 +1,96 @@
+"""Checkpointed, interruptible runs of either engine, and continuing any run file.
+
+:func:`run_checkpointed` drives a :class:`~ringcore.hydro.Hydro1D` or a
+:class:`~ringcore.nbody.ShearingBox` (both provide ``orbits``, ``run(until=, stop=)``,
+``save(path, complete=, **attrs)``) to an end time and writes its run file
+
+- every ``every`` orbits (checkpoints at whole multiples of ``every``; ``complete = 0``),
+- when SIGINT or SIGTERM arrives (:func:`ringcore.io.graceful_interrupt` in deferred mode:
+  the run stops between two steps, so the file is a consistent state; ``complete = 0``,
+  ``interrupted = "SIGTERM"``), then raises KeyboardInterrupt,
+- when a field blows up (the last good state; ``complete = 0``, ``blowup = message``), then re-raises,
+- at the end (``complete = 1``, ``summary_json``).
+
+Because both engines' runs are independent of how they are split (see their ``run``
+methods), continuing a file with :func:`load_model` and :func:`run_checkpointed` gives
+the same numbers, bit for bit, as the uninterrupted run.
+"""
+from __future__ import annotations
+
+import importlib
+import math
+import sys
+
+from ..checks import check_real
+from ..io import RunFileError, graceful_interrupt, read_run
+
+# run-file kind -> (module, model class, blow-up exception)
+ENGINES = {"hydro": ("ringcore.hydro", "Hydro1D", "HydroBlowUp"),
+           "nbody": ("ringcore.nbody", "ShearingBox", "NBodyBlowUp")}
+
+
+def engine_class(kind: str, what: int = 1):
+    """The model class (``what=2``: blow-up exception) of a run-file ``kind`` ("hydro" or "nbody")."""
+    entry = ENGINES[kind]
+    return getattr(importlib.import_module(entry[0]), entry[what])
+
+
+def kind_of(model) -> str:
+    """"hydro" or "nbody" for a model instance."""
+    for kind in ENGINES:
+        if isinstance(model, engine_class(kind)):
+            return kind
+    raise ValueError(f"model = {model!r} is not valid: give a Hydro1D or a ShearingBox")
+
+
+def load_model(path):
+    """The model of any continuable run file (kind "hydro" or "nbody" from its ``kind`` attribute)."""
+    ds = read_run(path)
+    kind = ds.attrs.get("kind")
+    if kind not in ENGINES:
+        raise RunFileError(f"{path}: a {kind!r} run cannot be continued: allowed kinds {', '.join(ENGINES)}")
+    return engine_class(kind).from_dataset(ds)
+
+
+def run_checkpointed(model, orbits: float | None = None, *, out, until: float | None = None,
+                     every: float | None = None, progress: bool = True, finish: bool = True, **attrs) -> dict:
+    """Run ``model`` for ``orbits`` more orbits (or up to orbit ``until``), writing ``out`` as above.
+
+    ``finish=False``: no final file (a first phase of a longer run).  ``attrs`` are added to every
+    file written.  Returns the model's summary.
+    """
+    from tqdm.auto import tqdm
+
+    if (orbits is None) == (until is None):
+        raise ValueError("give exactly one of orbits (duration) or until (end time), in orbits")
+    start = model.orbits
+    if until is None:
+        until = start + check_real("orbits", orbits, 0.0, math.inf, unit="orbits")
+    until = check_real("until", until, start, math.inf, unit="orbits")
+    if every is not None:
+        every = check_real("checkpoint-every", every, 0.0, math.inf, lo_open=True, unit="orbits")
+    tol = 1e-9 * max(1.0, until)
+    kind = kind_of(model)
+    blowup = engine_class(kind, 2)
+    with graceful_interrupt(deferred=True) as stop, \
+            tqdm(total=round(until - start, 6), unit="orbit", desc=kind, disable=not progress) as bar:
+        next_ckpt = (math.floor((start + tol) / every) + 1) * every if every else math.inf
+        while model.orbits < until - tol:
+            target = min(until, math.floor(model.orbits + tol) + 1.0, next_ckpt)
+            try:
+                model.run(until=target, stop=stop)
+            except blowup as exc:
+                model.save(out, complete=False, blowup=str(exc), **attrs)
+                raise
+            bar.update(round(model.orbits - start - bar.n, 6))
+            if stop.requested:
+                model.save(out, complete=False, interrupted=stop.signal, **attrs)
+                sys.stderr.write(f"\n{kind}: {stop.signal} at orbit {model.orbits:.4f}: state saved to {out}; "
+                                 f"continue with: ringcore resume {out} --until {until:g}\n")
+                raise KeyboardInterrupt(stop.signal)
+            if model.orbits >= next_ckpt - tol:
+                model.save(out, complete=False, checkpoint_orbit=model.orbits, **attrs)
+                next_ckpt += every
+    if finish:
+        model.save(out, complete=True, **attrs)
+    return model.summary()
