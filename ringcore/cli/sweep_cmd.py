@@ -18,9 +18,10 @@ def register(sub) -> None:
                    help="sigma0 values [kg/m^2], e.g. '0,200,400' or '0:900:50' (inclusive)")
     p.add_argument("--ps-scale", default="1", metavar="LIST", help="p_s scaling factors, e.g. '1,1.4,2'")
     p.add_argument("--isothermal", action="store_true")
-    p.add_argument("--lx", type=float, default=None, help="box size L_x [m] (engine default if omitted)")
-    p.add_argument("--h", type=float, default=None, help="hydro cell size [m]")
-    p.add_argument("--orbits", type=float, default=None, help="orbits per run")
+    p.add_argument("--lx", type=float, default=None,
+                   help="box size L_x [m] (default: hydro 3000, nbody 400; see ringcore.experiments.runners)")
+    p.add_argument("--h", type=float, default=None, help="hydro node spacing [m] (default 2.5)")
+    p.add_argument("--orbits", type=float, default=None, help="orbits per run (default: hydro 300, nbody 100)")
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--workers", type=int, default=2, help="LocalCluster worker processes (default 2)")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS", help="use a running dask scheduler")

@@ -29,6 +29,8 @@ from ..io import RunFileError, read_run
 # engine -> "module:function" taking (task: dict, path: Path) and returning a summary dict
 RUNNERS = {
     "linear": "ringcore.experiments.runners:run_linear_task",
+    "hydro": "ringcore.experiments.runners:run_hydro_task",
+    "nbody": "ringcore.experiments.runners:run_nbody_task",
 }
 SUMMARY_KEYS = ("lambda_p_m", "e_kin", "c_mean", "orbits", "wall_s")
 
@@ -75,12 +77,16 @@ class SweepResult:
     wall_s: float = 0.0
 
 
+def _num(v) -> float:
+    return math.nan if v is None else float(v)
+
+
 def aggregate(rows) -> xr.Dataset:
     """One dataset with one entry per successful task (dimension ``run``)."""
     ok = [r for r in rows if r["status"] in ("done", "skipped")]
     keys = list(SUMMARY_KEYS) + sorted({k for r in ok for k, v in r.items()
                                         if isinstance(v, (int, float)) and k not in SUMMARY_KEYS})
-    data = {k: ("run", np.array([float(r.get(k, math.nan)) for r in ok])) for k in keys}
+    data = {k: ("run", np.array([_num(r.get(k)) for r in ok])) for k in keys}
     tasks = [json.loads(r["task"]) for r in ok]
     coords = {"sigma0": ("run", np.array([float(t.get("sigma0", math.nan)) for t in tasks]), {"units": "kg m-2"}),
               "task": ("run", np.array([r["task"] for r in ok], dtype=object)),
@@ -88,7 +94,10 @@ def aggregate(rows) -> xr.Dataset:
     ds = xr.Dataset(data, coords=coords)
     units = {"lambda_p_m": "m", "e_kin": "sigma0 c0^2 (dimensionless)", "c_mean": "m s-1", "orbits": "orbits",
              "wall_s": "s"}
-    units.update(lambda_zero_m="m", lambda_max_growth_m="m")
+    units.update(lambda_zero_m="m", lambda_max_growth_m="m", lambda_p_mean_m="m", lambda_p_psd_m="m",
+                 lambda_p_empirical_m="m", e_kin_rp="sigma0 (R_p Omega)^2 with R_p = 1 m")
+    if {t.get("engine") for t in tasks} == {"nbody"}:
+        units["e_kin"] = "sigma0 (R_p Omega)^2 with R_p = 1 m"
     for k, u in units.items():
         if k in ds:
             ds[k].attrs["units"] = u
