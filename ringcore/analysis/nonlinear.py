@@ -73,6 +73,8 @@ class NonlinearFrequency:
         "ok", "blow-up at orbit X" (measured on the data before it) or "taken over".
     wall_s : float
         Wall time [s].
+    floor_hits : int
+        Hydro: node-stages raised by the optional temperature floor (0: the paper's scheme).
     """
 
     wavelength_m: float
@@ -86,6 +88,7 @@ class NonlinearFrequency:
     orbits_used: float
     status: str
     wall_s: float
+    floor_hits: int = 0
 
 
 def hydro_seed_amplitude(p: RingParams, wavelength_m: float, amplitude: float = 0.3, u_max: float = 5.0) -> float:
@@ -146,7 +149,7 @@ def hydro_frequency(p: RingParams, wavelength_m: float, *, amplitude: float = 0.
     if use.sum() < 2 * samples_per_orbit:
         return NonlinearFrequency(lam, math.nan, math.nan, math.nan, lin, amp, math.nan, False,
                                   float(use.sum()) / samples_per_orbit, status + " (too short)",
-                                  time.perf_counter() - t0)
+                                  time.perf_counter() - t0, int(sim.floor_hits))
     fit = lomb_frequency(t[use], a["probe_u"][use, 0], 0.5, 1.5, n=40000)
     phase = np.unwrap(np.angle(a["mode_u"][use, 0]))
     w_phase = float(np.polyfit(t[use], phase, 1)[0])  # arg c_1 = +/- omega t (sign: travel direction)
@@ -155,7 +158,8 @@ def hydro_frequency(p: RingParams, wavelength_m: float, *, amplitude: float = 0.
         status = "taken over"
     return NonlinearFrequency(lam, fit.value, fit.stderr, abs(w_phase), lin, amp,
                               float(np.mean(np.abs(a["mode_sigma"][use, 0]))), dominant,
-                              float(t[use][-1] - t[use][0]) / TWO_PI, status, time.perf_counter() - t0)
+                              float(t[use][-1] - t[use][0]) / TWO_PI, status, time.perf_counter() - t0,
+                              int(sim.floor_hits))
 
 
 def nbody_frequency(p: RingParams, wavelength_m: float, *, amplitude: float = 10.0, L_y: float = 10.0,

@@ -1,0 +1,140 @@
+"""Helpers shared by the hydro, N-body and saturation recipes.
+
+Runs are driven through the engines' public APIs (``Hydro1D``, ``ShearingBox``); what a figure
+needs is collected into one ``xarray.Dataset`` per recipe (units as attributes, the caption and
+the settings as attributes) and written with :func:`ringcore.io.write_run` (kind ``"recipe"``).
+"""
+from __future__ import annotations
+
+import json
+import math
+import textwrap
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+from ..io import write_run  # noqa: E402
+from ..units import R_P  # noqa: E402
+from .registry import RecipeResult  # noqa: E402
+
+
+def pick(mode: str, quick, full):
+    """``quick`` or ``full`` by recipe mode."""
+    return quick if mode == "quick" else full
+
+
+def caption_fig(fig, caption: str, bottom: float = 0.2) -> None:
+    """Put the caption (what was run) under the axes."""
+    fig.subplots_adjust(bottom=bottom, top=0.9, left=0.08, right=0.97, wspace=0.28, hspace=0.35)
+    fig.text(0.01, 0.01, textwrap.fill(caption, 165), fontsize=7.5, va="bottom", ha="left", color="0.2")
+
+
+def finish(fig, ds: xr.Dataset, out, name: str, caption: str, settings: dict | None = None) -> RecipeResult:
+    """Caption and save the PNG, write the data file; return the RecipeResult."""
+    caption_fig(fig, caption)
+    png = out / f"{name}.png"
+    fig.savefig(png, dpi=110)
+    plt.close(fig)
+    ds = ds.copy()
+    ds.attrs["caption"] = caption
+    ds.attrs["recipe"] = name
+    if settings is not None:
+        ds.attrs["settings_json"] = json.dumps(settings, default=str)
+    data = write_run(ds, out / f"{name}.nc", kind="recipe")
+    return RecipeResult(png, data, caption)
+
+
+# ---------------------------------------------------------------------------------------- hydro
+def hydro_run(p, L_x, h, orbits, *, initial="noise", seed=1, wavelength=None, amplitude=None, lambda_min=50.0,
+              buffer=None, buffer_on_orbit=0.0, spacetime_rows=0, samples_per_orbit=10, T_floor=0.01,
+              timestep="cfl", dt_factor=None, track_modes=()):
+    """Run a ``Hydro1D`` and return ``(sim, status)``; a blow-up stops the run and is reported in
+    ``status`` (the records up to the last good state are kept and plotted)."""
+    from ..hydro import Hydro1D, HydroBlowUp, HydroOptions
+
+    opt = HydroOptions(L_x=L_x, h=h, timestep=timestep, dt_factor=dt_factor, samples_per_orbit=samples_per_orbit,
+                       spacetime_rows_per_orbit=spacetime_rows, strobe=True, buffer=buffer,
+                       buffer_on_orbit=buffer_on_orbit, T_floor=0.0 if p.isothermal else T_floor,
+                       track_modes=tuple(track_modes), probes_m=(0.0,))
+    kw = dict(seed=seed, lambda_min=lambda_min) if initial == "noise" else dict(wavelength=wavelength)
+    sim = Hydro1D(p, opt, initial=initial, amplitude=amplitude, **kw)
+    status = "ok"
+    try:
+        sim.run(orbits=orbits)
+    except HydroBlowUp as exc:
+        status = str(exc)
+    return sim, status
+
+
+def ekin_rp(sim):
+    """(t [orbits], e_kin [sigma0 (R_p Omega)^2] with R_p = 1 m) of a hydro run (Figure "ekinisonosg" units)."""
+    t, e = sim.e_kin_series()
+    return t, e * (sim.params.scales.c0 / (R_P * sim.params.Omega)) ** 2
+
+
+def series_dataset(runs: dict) -> xr.Dataset:
+    """e_kin(t) and lambda_p(t) of several hydro runs {label: sim} on a common run dimension (nan-padded)."""
+    labels = list(runs)
+    tt = [ekin_rp(runs[k]) for k in labels]
+    n = max(len(t) for t, _ in tt)
+    T = np.full((len(labels), n), np.nan)
+    E = np.full_like(T, np.nan)
+    L = np.full_like(T, np.nan)
+    for i, k in enumerate(labels):
+        t, e = tt[i]
+        T[i, :t.size], E[i, :t.size] = t, e
+        L[i, :t.size] = runs[k].diagnostics["lambda_p"]
+    return xr.Dataset({"time": (("run", "sample"), T, {"units": "orbits"}),
+                       "e_kin": (("run", "sample"), E, {"units": "sigma0 (R_p Omega)^2, R_p = 1 m"}),
+                       "lambda_p": (("run", "sample"), L, {"units": "m"})},
+                      coords={"run": ("run", np.array(labels, dtype=object))})
+
+
+def strobe_dataset(sim, prefix: str = "") -> xr.Dataset:
+    """Stroboscopic sigma rows, final sigma profile and final normalised PSD of a hydro run."""
+    a = sim.diagnostics
+    wl, P = sim.psd()
+    tname, lname = prefix + "t_strobe", prefix + "wavelength"
+    return xr.Dataset({prefix + "strobe_sigma": ((tname, prefix + "x"), a["strobe"], {"units": "sigma0"}),
+                       prefix + "sigma_final": ((prefix + "x",), sim.sigma, {"units": "sigma0"}),
+                       prefix + "psd_final": ((lname,), P, {"units": "normalised to max 1"})},
+                      coords={tname: (tname, a["t_strobe"] / (2 * math.pi), {"units": "orbits"}),
+                              prefix + "x": (prefix + "x", sim.x_m, {"units": "m"}),
+                              lname: (lname, wl, {"units": "m"})})
+
+
+def plot_spacetime(ax, t, x_m, rows, title="", cmap="gray", vmax_q=99.0):
+    """Space-time diagram of sigma rows (time upward, x in km)."""
+    rows = np.asarray(rows, float)
+    lo, hi = np.percentile(rows, [100 - vmax_q, vmax_q]) if rows.size else (0, 1)
+    ax.imshow(rows, origin="lower", aspect="auto", cmap=cmap, vmin=lo, vmax=hi,
+              extent=[x_m[0] / 1e3, x_m[-1] / 1e3, t[0], t[-1] if len(t) > 1 else t[0] + 1])
+    ax.set_xlabel("x [km]")
+    ax.set_ylabel("t [orbits]")
+    if title:
+        ax.set_title(title, fontsize=9)
+
+
+def plot_psd(ax, wl, P, title="final PSD of sigma"):
+    ax.semilogx(wl, P, "k-", lw=1)
+    ax.set_xlabel("wavelength [m]")
+    ax.set_ylabel("normalised PSD")
+    j = int(np.argmax(P))
+    ax.axvline(wl[j], color="C3", ls=":", lw=1)
+    ax.text(wl[j], 0.95, f" $\\lambda_p$ = {wl[j]:.0f} m", color="C3", fontsize=8, va="top")
+    ax.set_title(title, fontsize=9)
+
+
+def strobe_psd_figure(sim, suptitle: str):
+    """Figure "tau15nga"-type: stroboscopic space-time diagram (left) and final PSD (right)."""
+    a = sim.diagnostics
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5))
+    plot_spacetime(ax1, a["t_strobe"] / (2 * math.pi), sim.x_m, a["strobe"], "stroboscopic (1/orbit) sigma/sigma0")
+    wl, P = sim.psd()
+    plot_psd(ax2, wl, P)
+    fig.suptitle(suptitle, fontsize=10)
+    return fig

@@ -1,0 +1,188 @@
+"""Recipes of Section "Saturation Wavelength of Viscous Overstability".
+
+"lambdap" (lambda_p(sigma0) vs 1.4 lambda_zero), "nlvg" (hydro nonlinear dispersion relation and
+group velocities), "nbvga" (N-body nonlinear dispersion relation), "osfrat" (lambda_zero^nl,
+lambda_zero^lin, lambda_p ratios with buffer-zone runs).  The nonlinear frequencies come from
+:mod:`ringcore.analysis.nonlinear` (box L_x = lambda, large seeded mode, transient discarded,
+Lomb periodogram of u at a fixed point).
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+import xarray as xr
+
+from .. import linear, params
+from ..analysis import lambda_p_empirical
+from ..analysis.nonlinear import (frequency_minimum, group_velocity, hydro_frequency, nbody_frequency,
+                                  to_arrays)
+from ..io import RunFileError, read_run
+from .recipe_common import finish, hydro_run, pick
+from .registry import recipe
+
+SWEEP_FILE = Path(__file__).resolve().parents[2] / "app" / "data" / "saturation_sweep.nc"
+
+
+def nonlinear_curve(p, wavelengths, mode, **kw):
+    """Nonlinear hydro frequencies at ``wavelengths`` (quick: 40 nodes per wavelength, 32 orbits,
+    12 discarded; full: h = 1 m, 80 orbits, 30 discarded)."""
+    set_kw = pick(mode, dict(nodes=40, orbits=32.0, discard=12.0), dict(h=None, nodes=None, orbits=80.0, discard=30.0))
+    set_kw["T_floor"] = 0.01  # strongly nonlinear non-isothermal waves: T -> 0 in rarefactions (see README)
+    res = []
+    for lam in wavelengths:
+        k = dict(set_kw)
+        if mode == "full":
+            k.update(nodes=int(round(lam)), h=None)  # h = 1 m
+        k.update(kw)
+        res.append(hydro_frequency(p, float(lam), **k))
+    return to_arrays(res)
+
+
+def saturation_points(mode, set_name="tau15", sigmas=(250.0, 400.0, 600.0, 800.0), out=None):
+    """Measured lambda_p(sigma0): the shipped sweep file if it exists, else a small in-process hydro sweep
+    (quick: L_x = 1.5 km, h = 2.5 m, 600 orbits from white noise; full: 5 km, 5,000 orbits)."""
+    if mode == "quick" and SWEEP_FILE.is_file():
+        try:
+            ds = read_run(SWEEP_FILE) if SWEEP_FILE.suffix == ".nc" else None
+            if ds is not None and "lambda_p_m" in ds:
+                return ds.sigma0.values, ds.lambda_p_m.values, f"sweep file {SWEEP_FILE.name}"
+        except (RunFileError, OSError, ValueError):
+            pass
+    L, orbits = pick(mode, 1500.0, 5000.0), pick(mode, 600, 5000)
+    lam_p = []
+    for s in sigmas:
+        sim, _ = hydro_run(params.get(set_name, sigma0=s), L, 2.5, orbits, initial="noise", seed=1)
+        a = sim.diagnostics
+        last = a["lambda_p"][a["t"] >= a["t"][-1] * 0.75]
+        vals, counts = np.unique(last, return_counts=True)
+        lam_p.append(float(vals[np.argmax(counts)]))
+    return np.array(sigmas), np.array(lam_p), f"hydro runs, L_x = {L / 1e3:g} km, h = 2.5 m, {orbits} orbits"
+
+
+@recipe("lambdap", "fig:lambdap", "Saturation wavelength lambda_p(sigma0) vs 1.4 lambda_zero (tau15, non-isothermal)",
+        "3 min", "40 h")
+def lambdap(mode, out):
+    sig, lam_p, src = saturation_points(mode, sigmas=pick(mode, (250.0, 400.0, 600.0, 800.0),
+                                                          tuple(np.arange(100.0, 1001.0, 50.0))))
+    base = params.get("tau15")
+    s = np.linspace(25, 1000, 80)
+    emp = np.array([lambda_p_empirical(base.with_sigma0(v)) for v in s])
+    fast = np.array([linear.max_growth(base.with_sigma0(v))[0] for v in s])
+    fig, ax = plt.subplots(figsize=(7, 5.2))
+    ax.plot(s, emp, "k--", label=r"1.4 $\lambda_{zero}$, eq. (lambdasigma)")
+    ax.plot(s, fast, "k:", label="fastest-growing (linear)")
+    ax.plot(sig, lam_p, "o", color="C3", label=r"measured $\lambda_p$ (Hydro)")
+    ax.set_yscale("log")
+    ax.set_xlabel(r"$\sigma_0$ [kg m$^{-2}$]")
+    ax.set_ylabel(r"$\lambda_p$ [m]")
+    ax.set_title("Figure lambdap: tau15, non-isothermal", fontsize=10)
+    ax.legend(fontsize=8)
+    ref = np.array([lambda_p_empirical(base.with_sigma0(v)) for v in sig])
+    ds = xr.Dataset({"lambda_p": ("sigma0", lam_p, {"units": "m"}),
+                     "lambda_p_empirical": ("sigma0", ref, {"units": "m", "long_name": "1.4 lambda_zero"}),
+                     "ratio": ("sigma0", lam_p / ref)},
+                    coords={"sigma0": ("sigma0", sig, {"units": "kg m-2"})})
+    cap = (f"{mode} run: lambda_p (largest Fourier amplitude of sigma, most frequent value over the last quarter) "
+           f"from {src}, white noise down to 50 m, fast time step, T floor 0.01 T0. lambda_p / (1.4 lambda_zero) = "
+           + ", ".join(f"{r:.2f}" for r in lam_p / ref) + f" at sigma0 = " + ", ".join(f"{v:g}" for v in sig)
+           + ". Paper: L_x = 5-20 km, thousands of orbits, 19 values of sigma0.")
+    return finish(fig, ds, out, "lambdap", cap, dict(source=src))
+
+
+NLVG_LAMBDAS_QUICK = (60.0, 85.0, 120.0, 170.0, 240.0, 340.0, 480.0)
+
+
+@recipe("nlvg", "fig:nlvg", "Nonlinear hydro dispersion relation and group velocities (tau15, non-isothermal)",
+        "2.5 min", "30 h")
+def nlvg(mode, out, sigmas=None, wavelengths=None):
+    sigmas = sigmas or pick(mode, (400.0, 700.0), (100.0, 200.0, 300.0, 400.0, 500.0, 600.0, 700.0, 800.0))
+    lams = np.array(wavelengths or pick(mode, NLVG_LAMBDAS_QUICK, tuple(np.geomspace(40, 2000, 25).round())))
+    curve = np.geomspace(40, 2000, 300)
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.8))
+    cols = plt.cm.viridis(np.linspace(0, 0.85, len(sigmas)))
+    data, mins = {}, []
+    for s, c in zip(sigmas, cols):
+        p = params.get("tau15", sigma0=s)
+        r = nonlinear_curve(p, lams, mode)
+        d = linear.dispersion(p, curve)
+        lz_nl, w_nl = frequency_minimum(lams, r["frequency"])
+        lz_lin = linear.lambda_zero(p)
+        mins.append((s, lz_lin, lz_nl, w_nl))
+        vg = group_velocity(lams, r["frequency"], p.Omega)
+        ax1.semilogx(lams, r["frequency"], "o-", color=c, label=f"{s:g}")
+        ax1.semilogx(curve, d.frequency, "--", color=c, lw=0.9)
+        if np.isfinite(lz_nl):
+            ax1.plot(lz_nl, w_nl, "v", color=c, ms=9, mec="k")
+        ax2.semilogx(lams, vg * 1e3, "o-", color=c, label=f"{s:g}")
+        ax2.semilogx(curve, d.group_velocity_m_s * 1e3, "--", color=c, lw=0.9)
+        for key in ("frequency", "frequency_err", "frequency_phase", "linear_frequency", "seed_amplitude",
+                    "amplitude", "dominant", "floor_hits"):
+            data[f"{key}_s{s:g}"] = ("wavelength", r[key].astype(float))
+        data[f"status_s{s:g}"] = ("wavelength", r["status"].astype(str))
+        data[f"group_velocity_s{s:g}"] = ("wavelength", vg, {"units": "m s-1", "long_name": "d omega_I^nl/dk"})
+    ax1.set_xlabel("wavelength [m]")
+    ax1.set_ylabel(r"$\omega_I$ [$\Omega$]")
+    ax1.legend(title=r"$\sigma_0$ [kg m$^{-2}$]", fontsize=8)
+    ax1.set_title("nonlinear (solid, o; v = minimum) and linear (dashed) frequency", fontsize=9)
+    ax2.axhline(0, color="0.6", lw=0.7)
+    ax2.set_ylim(-0.5, 0.5)
+    ax2.set_xlabel("wavelength [m]")
+    ax2.set_ylabel(r"$v_g$ [mm/s]")
+    ax2.set_title("group velocity: 3-point Lagrange d omega/dk (o) vs linear eq. (vg) (dashed)", fontsize=9)
+    fig.suptitle("Figure nlvg (a): tau15 non-isothermal, saturated wave trains in boxes L_x = lambda", fontsize=10)
+    mins = np.array(mins)
+    ds = xr.Dataset(data, coords={"wavelength": ("wavelength", lams, {"units": "m"})})
+    for k, v in data.items():
+        if k.startswith(("frequency", "linear_frequency")):
+            ds[k].attrs["units"] = "Omega"
+    ds["lambda_zero_linear"] = ("sigma0", mins[:, 1], {"units": "m"})
+    ds["lambda_zero_nonlinear"] = ("sigma0", mins[:, 2], {"units": "m"})
+    ds["omega_min_nonlinear"] = ("sigma0", mins[:, 3], {"units": "Omega"})
+    ds = ds.assign_coords(sigma0=("sigma0", mins[:, 0], {"units": "kg m-2"}))
+    sett = pick(mode, "40 nodes per wavelength, 32 orbits (first 12 discarded)", "h = 1 m, 80 orbits (30 discarded)")
+    sett += ", T floor 0.01 T0"
+    cap = (f"{mode} run: tau15 non-isothermal, one box L_x = lambda per point, seed = linear eigenmode with sigma "
+           f"amplitude 0.3 (u <= 5 c0), exact mode self-gravity (infinite wave train), fast time step, {sett}; "
+           "omega from the Lomb periodogram of u(x = 0). lambda_zero nonlinear vs linear: "
+           + "; ".join(f"sigma0 = {s:g}: {n:.0f} m vs {l:.0f} m" for s, l, n, _ in mins) + ".")
+    return finish(fig, ds, out, "nlvg", cap, dict(wavelengths=lams.tolist(), sigmas=list(sigmas)))
+
+
+@recipe("nbvga", "fig:nbvga", "N-body nonlinear dispersion relation vs linear hydro (p_s and 2 p_s), tau15",
+        "2.5 min", "20 h")
+def nbvga(mode, out):
+    sigmas = pick(mode, (350.0, 900.0), (150.0, 350.0, 600.0, 900.0))
+    lams = np.array(pick(mode, (80.0, 150.0, 300.0), (50.0, 70.0, 100.0, 140.0, 200.0, 280.0, 400.0, 560.0, 800.0)))
+    kw = pick(mode, dict(L_y=10.0, equilibrate=3.0, orbits=25.0, discard=8.0),
+              dict(L_y=20.0, equilibrate=10.0, orbits=100.0, discard=40.0))
+    curve = np.geomspace(40, 1000, 200)
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.8), sharey=True)
+    cols = plt.cm.plasma(np.linspace(0, 0.8, len(sigmas)))
+    data = {}
+    for s, c in zip(sigmas, cols):
+        p = params.get("tau15", sigma0=s)
+        r = to_arrays([nbody_frequency(p, float(lam), **kw) for lam in lams])
+        ax1.semilogx(curve, linear.dispersion(p, curve).frequency, "-", color="C3", lw=0.9)
+        ax1.semilogx(lams, r["frequency"], "o-", color=c, label=f"{s:g}")
+        ax2.semilogx(curve, linear.dispersion(p, curve).frequency, "-", color="C3", lw=0.9)
+        ax2.semilogx(curve, linear.dispersion(p.scaled_ps(2.0), curve).frequency, "--", color="C0", lw=0.9)
+        ax2.semilogx(lams, r["frequency"], "o", color=c)
+        data[f"frequency_s{s:g}"] = ("wavelength", r["frequency"], {"units": "Omega"})
+        data[f"frequency_err_s{s:g}"] = ("wavelength", r["frequency_err"], {"units": "Omega"})
+        data[f"amplitude_s{s:g}"] = ("wavelength", r["amplitude"], {"units": "R_p Omega"})
+        data[f"linear_frequency_s{s:g}"] = ("wavelength", r["linear_frequency"], {"units": "Omega"})
+    for ax in (ax1, ax2):
+        ax.set_xlabel("wavelength [m]")
+    ax1.set_ylabel(r"$\omega_I$ [$\Omega$]")
+    ax1.legend(title=r"$\sigma_0$ [kg m$^{-2}$]", fontsize=8)
+    ax1.set_title("N-body nonlinear (o) vs linear hydro (red)", fontsize=9)
+    ax2.set_title("vs linear hydro (red) and hydro with 2 p_s (blue dashed)", fontsize=9)
+    fig.suptitle("Figure nbvga: tau = 1.5, Omega_z = 3.6, Bridges law", fontsize=10)
+    ds = xr.Dataset(data, coords={"wavelength": ("wavelength", lams, {"units": "m"})})
+    cap = (f"{mode} run: N-body box L_x = lambda, L_y = {kw['L_y']:g} m, R_p = 1 m, {kw['equilibrate']:g} orbits "
+           f"settling, m = 1 radial-velocity seed 10 R_p Omega, self-gravity modes down to 10 m, "
+           f"{kw['orbits']:g} orbits ({kw['discard']:g} discarded), Lomb periodogram of Re U_1. "
+           "Paper: open boxes (linear N-body frequencies) are not repeated here; see recipe nblin2.")
+    return finish(fig, ds, out, "nbvga", cap, kw)
