@@ -186,3 +186,49 @@ def nbvga(mode, out):
            f"{kw['orbits']:g} orbits ({kw['discard']:g} discarded), Lomb periodogram of Re U_1. "
            "Paper: open boxes (linear N-body frequencies) are not repeated here; see recipe nblin2.")
     return finish(fig, ds, out, "nbvga", cap, kw)
+
+
+@recipe("osfrat", "fig:osfrat", "lambda_zero^nl, lambda_zero^lin and buffer-zone lambda_p ratios (tau15)", "3 min", "60 h")
+def osfrat(mode, out):
+    sigmas = pick(mode, (300.0, 500.0, 700.0), (200.0, 300.0, 400.0, 500.0, 600.0, 700.0, 800.0))
+    L, orbits = pick(mode, 1500.0, 8000.0), pick(mode, 600, 10000)
+    factors = pick(mode, (0.9, 1.15, 1.45, 1.85, 2.4), tuple(np.geomspace(0.8, 3.0, 12)))
+    rows = []
+    for s in sigmas:
+        p = params.get("tau15", sigma0=s)
+        lz = linear.lambda_zero(p)
+        lams = np.array(factors) * lz
+        r = nonlinear_curve(p, lams, mode)
+        lz_nl, _ = frequency_minimum(lams, r["frequency"])
+        sim, _ = hydro_run(p, L, 2.5, orbits, initial="noise", seed=1, buffer=(-L / 16, L / 16, -0.5))
+        a = sim.diagnostics
+        lp = float(np.min(a["lambda_p"][a["t"] >= 0.75 * a["t"][-1]]))
+        rows.append((s, lz, lz_nl, lp))
+    s, lz, lnl, lp = np.array(rows).T
+    fig, axes = plt.subplots(2, 2, figsize=(10, 8))
+    ax = axes[0, 0]
+    ax.plot(s, lnl, "o-", label="nl")
+    ax.plot(s, lz, "s-", label="lin")
+    ax.plot(s, 1.4 * lz, "r--", label="1.4 lin (eq. lambdasigma)")
+    ax.plot(s, lp, "k*", ms=10, label=r"$\lambda_p$ (buffer)")
+    ax.set_ylabel("wavelength [m]")
+    ax.legend(fontsize=8)
+    for ax, y, lab in ((axes[0, 1], lnl / lz, r"$\lambda^{nl}_{zero}/\lambda^{lin}_{zero}$"),
+                       (axes[1, 0], lp / lnl, r"$\lambda_p/\lambda^{nl}_{zero}$"),
+                       (axes[1, 1], lp / lz, r"$\lambda_p/\lambda^{lin}_{zero}$")):
+        ax.plot(s, y, "ko-")
+        ax.set_ylabel(lab)
+        ax.axhline(1.0, color="0.6", lw=0.7)
+    axes[1, 1].axhline(1.4, color="r", ls="--", lw=0.8)
+    for ax in axes.flat:
+        ax.set_xlabel(r"$\sigma_0$ [kg m$^{-2}$]")
+    fig.suptitle("Figure osfrat: tau15 non-isothermal", fontsize=10)
+    ds = xr.Dataset({"lambda_zero_linear": ("sigma0", lz, {"units": "m"}),
+                     "lambda_zero_nonlinear": ("sigma0", lnl, {"units": "m"}),
+                     "lambda_p_buffer": ("sigma0", lp, {"units": "m"})},
+                    coords={"sigma0": ("sigma0", s, {"units": "kg m-2"})})
+    cap = (f"{mode} run: lambda_zero^nl from nonlinear frequencies (boxes L_x = lambda, as recipe nlvg) at "
+           f"{len(factors)} wavelengths {factors[0]:g}-{factors[-1]:g} lambda_zero^lin; lambda_p = smallest prevalent "
+           f"wavelength over the last quarter of white-noise runs with a buffer zone (beta = -0.5, |x| < L_x/16), "
+           f"L_x = {L / 1e3:g} km, h = 2.5 m, {orbits} orbits, T floor 0.01 T0. Paper: L_x = 6-8 km, ~10,000 orbits.")
+    return finish(fig, ds, out, "osfrat", cap, dict(L_x=L, orbits=orbits, factors=list(factors)))

@@ -1,0 +1,241 @@
+"""Recipes for the N-body figures: "nblin1", "nblin2" (linear growth rates and frequencies vs hydro),
+"enbody" (e_kin(t)), "vdispnb" (velocity dispersion and collision frequency), "boxdouble" (box-size
+test by tiling a saturated box) and "radvar" (saturation wavelength vs particle radius, eq. lambdasigmaap).
+
+Quick: boxes of a few hundred metres and tens to a hundred orbits (same physics: Bridges law,
+Omega_z of the parameter set, radial self-gravity eq. sgmodes); full: Table "tab:nbstat" boxes and
+thousands of orbits.
+"""
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+import xarray as xr
+
+from .. import linear, params
+from ..analysis import lambda_p_approx
+from ..nbody import NBodyOptions, ShearingBox, growth
+from .recipe_common import finish, pick
+from .registry import recipe
+
+
+def _linear_nbody(p, lams, L_y, eq, orbits, single=True):
+    """N-body growth rate and frequency of a small m = 1 seed (2 R_p Omega) in boxes L_x = lambda."""
+    g, w = [], []
+    for lam in lams:
+        box = ShearingBox(p, NBodyOptions(L_x=lam, L_y=L_y, single_mode=1 if single else 0, record_every=1.0,
+                                          profile_every=0.0), seed=1)
+        box.run(eq)
+        box.seed_mode(1, 2.0)
+        r = growth.measure(box, 1, orbits, skip=1.0)
+        g.append(r.growth_rate)
+        w.append(r.frequency)
+    return np.array(g), np.array(w)
+
+
+def _lin_settings(mode):
+    return pick(mode, dict(lams=(100.0, 200.0), L_y=10.0, eq=3.0, orbits=12.0),
+                dict(lams=tuple(1000.0 / np.arange(1, 26)), L_y=25.0, eq=10.0, orbits=20.0))
+
+
+@recipe("nblin1", "fig:nblin1", "N-body linear growth rates vs hydro, tau = 1.5, 2 (sigma0 = 0, 350)", "2 min", "6 h")
+def nblin1(mode, out):
+    st = _lin_settings(mode)
+    sets = pick(mode, ("tau15", "tau20"), ("tau10", "tau15", "tau20"))
+    lams = np.array(st["lams"])
+    curve = np.geomspace(30, 1200, 200)
+    fig, ax = plt.subplots(figsize=(8, 5.2))
+    data = {}
+    for name, c in zip(sets, ("C0", "k", "C3")):
+        for s, mk in ((0.0, "o"), (350.0, "s")):
+            p = params.get(name, sigma0=s)
+            g, w = _linear_nbody(p, lams, st["L_y"], st["eq"], st["orbits"])
+            ax.semilogx(curve, linear.dispersion(p, curve).growth_rate, "-" if s else "--", color=c, lw=0.9)
+            ax.semilogx(lams, g, mk, color=c, mfc=c if s else "none", label=f"{name}, sigma0 = {s:g}")
+            data[f"growth_rate_{name}_s{s:g}"] = ("wavelength", g, {"units": "Omega"})
+            data[f"frequency_{name}_s{s:g}"] = ("wavelength", w, {"units": "Omega"})
+    ax.axhline(0, color="0.6", lw=0.7)
+    ax.set_xlabel("wavelength [m]")
+    ax.set_ylabel(r"$\omega_R$ [$\Omega$]")
+    ax.legend(fontsize=8)
+    ax.set_title("Figure nblin1: N-body (symbols; filled: 350 kg/m^2) vs non-isothermal hydro (lines)", fontsize=9)
+    ds = xr.Dataset(data, coords={"wavelength": ("wavelength", lams, {"units": "m"})})
+    cap = (f"{mode} run: Omega_z = 3.6, Bridges law, box L_x = lambda, L_y = {st['L_y']:g} m, {st['eq']:g} orbits "
+           f"settling, m = 1 radial-velocity seed 2 R_p Omega, self-gravity from this mode only, fit over "
+           f"{st['orbits']:g} orbits (growth.measure). Paper: L_x = 1 km, m = 1-25, ~20 orbits.")
+    return finish(fig, ds, out, "nblin1", cap, st)
+
+
+@recipe("nblin2", "fig:nblin2", "N-body linear growth rates and frequencies vs hydro (p_s and 1.4 p_s), tau = 1.5",
+        "2 min", "8 h")
+def nblin2(mode, out):
+    st = _lin_settings(mode)
+    sigmas = pick(mode, (0.0, 600.0), (0.0, 150.0, 350.0, 600.0, 900.0))
+    lams = np.array(st["lams"])
+    curve = np.geomspace(30, 1200, 200)
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.8))
+    cols = plt.cm.plasma(np.linspace(0, 0.8, len(sigmas)))
+    data = {}
+    for s, c in zip(sigmas, cols):
+        p = params.get("tau15", sigma0=s)
+        g, w = _linear_nbody(p, lams, st["L_y"], st["eq"], st["orbits"])
+        d, dm = linear.dispersion(p, curve), linear.dispersion(p.scaled_ps(1.4), curve)
+        ax1.semilogx(curve, d.growth_rate, "-", color=c)
+        ax1.semilogx(curve, dm.growth_rate, "--", color=c)
+        ax1.semilogx(lams, g, "o", color=c, label=f"{s:g}")
+        ax2.semilogx(curve, d.frequency, "-", color=c)
+        ax2.semilogx(curve, dm.frequency, "--", color=c)
+        ax2.semilogx(lams, w, "o", color=c)
+        data[f"growth_rate_s{s:g}"] = ("wavelength", g, {"units": "Omega"})
+        data[f"frequency_s{s:g}"] = ("wavelength", w, {"units": "Omega"})
+    ax1.axhline(0, color="0.6", lw=0.7)
+    ax1.set_ylabel(r"$\omega_R$ [$\Omega$]")
+    ax2.set_ylabel(r"$\omega_I$ [$\Omega$]")
+    for ax in (ax1, ax2):
+        ax.set_xlabel("wavelength [m]")
+    ax1.legend(title=r"$\sigma_0$ [kg m$^{-2}$]", fontsize=8)
+    fig.suptitle("Figure nblin2: tau = 1.5 N-body (o), hydro (solid), hydro with 1.4 p_s (dashed)", fontsize=10)
+    ds = xr.Dataset(data, coords={"wavelength": ("wavelength", lams, {"units": "m"})})
+    cap = (f"{mode} run: tau = 1.5, Omega_z = 3.6, Bridges law, L_x = lambda, L_y = {st['L_y']:g} m, {st['eq']:g} "
+           f"orbits settling, m = 1 seed 2 R_p Omega, single-mode self-gravity, fit over {st['orbits']:g} orbits. "
+           "Paper: L_x = 1 km, m = 1-25, sigma0 = 0-900.")
+    return finish(fig, ds, out, "nblin2", cap, st)
+
+
+def _overstable_runs(mode, sigmas, set_name="tau15"):
+    """Overstable N-body runs from the uniform state: {sigma0: box}."""
+    L, L_y, orbits = pick(mode, 300.0, 5000.0), pick(mode, 10.0, 31.41), pick(mode, 100.0, 5000.0)
+    runs = {}
+    for s in sigmas:
+        box = ShearingBox(params.get(set_name, sigma0=s), NBodyOptions(L_x=L, L_y=L_y, record_every=1.0,
+                                                                      profile_every=0.0), seed=1)
+        box.run(orbits)
+        runs[s] = box
+    return runs, dict(L_x=L, L_y=L_y, orbits=orbits)
+
+
+def _history_dataset(runs, keys=("ekin", "c_mean", "collision_frequency", "lambda_p")):
+    units = dict(ekin="sigma0 (R_p Omega)^2", c_mean="m s-1", collision_frequency="1/orbit", lambda_p="m")
+    sig = list(runs)
+    t = np.array(runs[sig[0]].history["time"])
+    data = {k: (("sigma0", "time"), np.array([runs[s].history[k] for s in sig]), {"units": units[k]}) for k in keys}
+    return xr.Dataset(data, coords={"sigma0": ("sigma0", np.array(sig), {"units": "kg m-2"}),
+                                    "time": ("time", t, {"units": "orbits"})})
+
+
+@recipe("enbody", "fig:enbody", "N-body e_kin(t) for several sigma0 (tau = 1.5)", "2.5 min", "300 h")
+def enbody(mode, out):
+    sigmas = pick(mode, (0.0, 300.0, 800.0), (0.0, 50.0, 100.0, 150.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
+    runs, st = _overstable_runs(mode, sigmas)
+    ds = _history_dataset(runs)
+    fig, ax = plt.subplots(figsize=(8, 5.2))
+    for i, s in enumerate(sigmas):
+        ax.semilogy(ds.time, ds.ekin[i], lw=1, label=f"{s:g} (lambda_p = {runs[s].diagnostics()['lambda_p']:.0f} m)")
+    ax.set_xlabel("t [orbits]")
+    ax.set_ylabel(r"$e_{kin}$ [$\sigma_0 (R_p\Omega)^2$]")
+    ax.legend(title=r"$\sigma_0$ [kg m$^{-2}$]", fontsize=8)
+    ax.set_title("Figure enbody: N-body, tau = 1.5, Omega_z = 3.6, Bridges law", fontsize=10)
+    cap = (f"{mode} run: N-body from the uniform state, L_x = {st['L_x']:g} m, L_y = {st['L_y']:g} m, R_p = 1 m, "
+           f"{st['orbits']:g} orbits, self-gravity eq. (sgmodes) with all modes down to 4 R_p. "
+           "Paper: L_x = 5 km, L_y = 31.4 m (75,000 particles), ~5,000 orbits, tau = 1.5 and 2.")
+    return finish(fig, ds, out, "enbody", cap, st)
+
+
+@recipe("vdispnb", "fig:vdispnb", "N-body <c>(sigma0) and collision frequency (tau = 1.5, Omega_z = 3.6 and 2)",
+        "3 min", "300 h")
+def vdispnb(mode, out):
+    sigmas = pick(mode, (0.0, 400.0, 800.0), (0.0, 100.0, 200.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
+    sets = pick(mode, ("tau15",), ("tau15", "tau15_oz2"))
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.8))
+    data = {}
+    for name, mk in zip(sets, ("*", "+")):
+        runs, st = _overstable_runs(mode, sigmas, name)
+        ds = _history_dataset(runs)
+        n = ds.sizes["time"]
+        cm = ds.c_mean[:, n // 2:].mean("time") * 1e3
+        ax1.plot(ds.sigma0, cm, mk, ms=10, label=f"N-body {name}")
+        ax1.axhline(np.sqrt(params.get(name).T0) * 1e3, ls="--", color="0.5", lw=0.8)
+        for i, s in enumerate(sigmas):
+            ax2.plot(ds.time, ds.collision_frequency[i], lw=1, label=f"{name} {s:g}")
+        data[f"c_mean_{name}"] = ("sigma0", cm.values, {"units": "mm s-1"})
+        data[f"collision_frequency_{name}"] = (("sigma0", "time"), ds.collision_frequency.values, {"units": "1/orbit"})
+    ax1.set_xlabel(r"$\sigma_0$ [kg m$^{-2}$]")
+    ax1.set_ylabel(r"$\langle c\rangle$ [mm/s]")
+    ax1.legend(fontsize=8)
+    ax2.set_xlabel("t [orbits]")
+    ax2.set_ylabel(r"$\omega_c$ [1/orbit]")
+    ax2.legend(fontsize=7)
+    fig.suptitle("Figure vdispnb: velocity dispersion (time mean of the second half) and collision frequency", fontsize=10)
+    ds = xr.Dataset(data, coords={"sigma0": ("sigma0", np.array(sigmas), {"units": "kg m-2"}),
+                                  "time": ("time", ds.time.values, {"units": "orbits"})})
+    cap = (f"{mode} run: N-body tau = 1.5 ({', '.join(sets)}), Bridges law, L_x = {st['L_x']:g} m, L_y = {st['L_y']:g} m, "
+           f"{st['orbits']:g} orbits from the uniform state; dashed: ground-state sqrt(T0) of the table. "
+           "Paper: L_x = 5 km (Omega_z = 3.6, epsilon = 0.5) and 2 km (Omega_z = 2), >= 100 orbits averaging, "
+           "plus hydro points (recipe etauhydro).")
+    return finish(fig, ds, out, "vdispnb", cap, st)
+
+
+@recipe("boxdouble", "fig:boxdouble", "N-body box-size test: a saturated box tiled to twice its size", "2.5 min",
+        "400 h")
+def boxdouble(mode, out):
+    L, L_y, t1, t2 = pick(mode, 150.0, 2000.0), pick(mode, 10.0, 10.0), pick(mode, 50.0, 5000.0), pick(mode, 25.0, 3000.0)
+    p = params.get("tau15", sigma0=150.0)
+    base = ShearingBox(p, NBodyOptions(L_x=L, L_y=L_y, record_every=0.5, profile_every=0.0), seed=1)
+    base.run(t1)
+    snap = base.to_dataset()
+    fig, ax = plt.subplots(figsize=(8, 5.2))
+    ax.semilogy(base.history["time"], base.history["ekin"], "k-", lw=1, label=f"L_x = {L:g} m, sigma0 = 150")
+    data = {"ekin_base": ("time_base", np.array(base.history["ekin"]), {"units": "sigma0 (R_p Omega)^2"})}
+    for s, c in ((150.0, "k"), (0.0, "C0"), (600.0, "C3")):
+        big = ShearingBox.from_dataset(snap, sigma0=s, tile_x=True)
+        h0 = len(big.history["time"])
+        big.run(t2)
+        t = np.array(big.history["time"][h0:])
+        e = np.array(big.history["ekin"][h0:])
+        ax.semilogy(t, e, "-", color=c, lw=1, label=f"tiled to {2 * L:g} m, sigma0 = {s:g}")
+        data[f"ekin_tiled_s{s:g}"] = ("time_tiled", e, {"units": "sigma0 (R_p Omega)^2"})
+    ax.axvline(base.orbits, color="0.5", ls=":")
+    ax.set_xlabel("t [orbits]")
+    ax.set_ylabel(r"$e_{kin}$ [$\sigma_0 (R_p\Omega)^2$]")
+    ax.legend(fontsize=8)
+    ax.set_title("Figure boxdouble (left): tau = 1.5, Omega_z = 3.6", fontsize=10)
+    ds = xr.Dataset(data, coords={"time_base": ("time_base", np.array(base.history["time"]), {"units": "orbits"}),
+                                  "time_tiled": ("time_tiled", t, {"units": "orbits"})})
+    cap = (f"{mode} run: N-body, sigma0 = 150 kg/m^2 in L_x = {L:g} m x L_y = {L_y:g} m for {t1:g} orbits; the final "
+           f"state tiled radially (x2) and continued {t2:g} orbits with sigma0 = 150, 0, 600 kg/m^2. "
+           "Paper: 2 km -> 4 km at 5,000 orbits; right panel (2 vs 8 km at 300 kg/m^2) not repeated in quick mode.")
+    return finish(fig, ds, out, "boxdouble", cap, dict(L_x=L, L_y=L_y, orbits_base=t1, orbits_tiled=t2))
+
+
+@recipe("radvar", "fig:radvar", "N-body saturation wavelength vs particle radius, sigma0 = 900 (eq. lambdasigmaap)",
+        "3 min", "1000 h")
+def radvar(mode, out):
+    radii = np.array(pick(mode, (1.0, 1.5, 2.0), (1.0, 1.5, 2.0, 2.5, 3.0, 4.0)))
+    L1, Ly1, orbits = pick(mode, 250.0, 2000.0), pick(mode, 8.0, 10.0), pick(mode, 80.0, 5000.0)
+    p = params.get("tau15", sigma0=900.0)
+    lam_p, c0 = [], []
+    for R in radii:
+        box = ShearingBox(p, NBodyOptions(L_x=L1 * R**2, L_y=Ly1 * R, R_p=R, record_every=1.0,
+                                          profile_every=0.0), seed=1)
+        box.run(orbits)
+        n = len(box.history["lambda_p"])
+        vals, counts = np.unique(np.array(box.history["lambda_p"][n // 2:]), return_counts=True)
+        lam_p.append(float(vals[np.argmax(counts)]))
+        c0.append(float(np.mean(box.history["c_mean"][n // 2:])))
+    approx = np.array([lambda_p_approx(p) * R**2 for R in radii])  # c0 ~ R_p => lambda_J ~ R_p^2
+    fig, ax = plt.subplots(figsize=(7, 5))
+    ax.plot(radii, lam_p, "*", ms=12, color="k", label="N-body, periodic boundaries")
+    ax.plot(radii, approx, "k--", label=r"eq. (lambdasigmaap) x $(R_p/1\,$m$)^2$")
+    ax.set_xlabel(r"$R_p$ [m]")
+    ax.set_ylabel(r"$\lambda_p$ [m]")
+    ax.legend(fontsize=8)
+    ax.set_title("Figure radvar: tau = 1.5, Omega_z = 3.6, sigma0 = 900 kg/m^2", fontsize=10)
+    ds = xr.Dataset({"lambda_p": ("R_p", np.array(lam_p), {"units": "m"}),
+                     "c_mean": ("R_p", np.array(c0), {"units": "m s-1"}),
+                     "lambda_p_approx": ("R_p", approx, {"units": "m"})},
+                    coords={"R_p": ("R_p", radii, {"units": "m"})})
+    cap = (f"{mode} run: N-body with L_x = {L1:g} m (R_p/1 m)^2, L_y = {Ly1:g} m (R_p/1 m), Bridges law unchanged "
+           f"(v_c = 0.077 mm/s), tau, sigma0 unchanged, {orbits:g} orbits; lambda_p = most frequent "
+           "prevalent wavelength of the second half. Paper: L_x = 2 km (R_p/1 m)^2, R_p = 1-4 m, thousands of orbits, "
+           "plus spreading-boundary runs (diamonds, not repeated here).")
+    return finish(fig, ds, out, "radvar", cap, dict(L_x=L1, L_y=Ly1, orbits=orbits))
