@@ -104,7 +104,7 @@ def nblin2(mode, out):
 
 def _overstable_runs(mode, sigmas, set_name="tau15"):
     """Overstable N-body runs from the uniform state: {sigma0: box}."""
-    L, L_y, orbits = pick(mode, 300.0, 5000.0), pick(mode, 10.0, 31.41), pick(mode, 100.0, 5000.0)
+    L, L_y, orbits = pick(mode, 200.0, 5000.0), pick(mode, 10.0, 31.41), pick(mode, 80.0, 5000.0)
     runs = {}
     for s in sigmas:
         box = ShearingBox(params.get(set_name, sigma0=s), NBodyOptions(L_x=L, L_y=L_y, record_every=1.0,
@@ -125,7 +125,7 @@ def _history_dataset(runs, keys=("ekin", "c_mean", "collision_frequency", "lambd
 
 @recipe("enbody", "fig:enbody", "N-body e_kin(t) for several sigma0 (tau = 1.5)", "2.5 min", "300 h")
 def enbody(mode, out):
-    sigmas = pick(mode, (0.0, 300.0, 800.0), (0.0, 50.0, 100.0, 150.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
+    sigmas = pick(mode, (0.0, 800.0), (0.0, 50.0, 100.0, 150.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
     runs, st = _overstable_runs(mode, sigmas)
     ds = _history_dataset(runs)
     fig, ax = plt.subplots(figsize=(8, 5.2))
@@ -144,7 +144,7 @@ def enbody(mode, out):
 @recipe("vdispnb", "fig:vdispnb", "N-body <c>(sigma0) and collision frequency (tau = 1.5, Omega_z = 3.6 and 2)",
         "3 min", "300 h")
 def vdispnb(mode, out):
-    sigmas = pick(mode, (0.0, 400.0, 800.0), (0.0, 100.0, 200.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
+    sigmas = pick(mode, (0.0, 800.0), (0.0, 100.0, 200.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
     sets = pick(mode, ("tau15",), ("tau15", "tau15_oz2"))
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.8))
     data = {}
@@ -211,7 +211,7 @@ def boxdouble(mode, out):
         "3 min", "1000 h")
 def radvar(mode, out):
     radii = np.array(pick(mode, (1.0, 1.5, 2.0), (1.0, 1.5, 2.0, 2.5, 3.0, 4.0)))
-    L1, Ly1, orbits = pick(mode, 250.0, 2000.0), pick(mode, 8.0, 10.0), pick(mode, 80.0, 5000.0)
+    L1, Ly1, orbits = pick(mode, 150.0, 2000.0), pick(mode, 6.0, 10.0), pick(mode, 80.0, 5000.0)
     p = params.get("tau15", sigma0=900.0)
     lam_p, c0 = [], []
     for R in radii:

@@ -27,10 +27,14 @@ def pick(mode: str, quick, full):
     return quick if mode == "quick" else full
 
 
-def caption_fig(fig, caption: str, bottom: float = 0.2) -> None:
-    """Put the caption (what was run) under the axes."""
+def caption_fig(fig, caption: str) -> None:
+    """Put the caption (what was run) under the axes, leaving room for its lines and the x labels."""
+    width = max(60, int(165 * fig.get_figwidth() / 11.0))
+    text = textwrap.fill(caption, width)
+    line = 7.5 * 1.25 / 72.0 / fig.get_figheight()  # height of one caption line, figure fraction
+    bottom = 0.02 + (text.count("\n") + 1) * line + 0.75 / fig.get_figheight()
     fig.subplots_adjust(bottom=bottom, top=0.9, left=0.08, right=0.97, wspace=0.28, hspace=0.35)
-    fig.text(0.01, 0.01, textwrap.fill(caption, 165), fontsize=7.5, va="bottom", ha="left", color="0.2")
+    fig.text(0.01, 0.01, text, fontsize=7.5, va="bottom", ha="left", color="0.2")
 
 
 def finish(fig, ds: xr.Dataset, out, name: str, caption: str, settings: dict | None = None) -> RecipeResult:

@@ -122,6 +122,7 @@ def nlvg(mode, out, sigmas=None, wavelengths=None):
             data[f"{key}_s{s:g}"] = ("wavelength", r[key].astype(float))
         data[f"status_s{s:g}"] = ("wavelength", r["status"].astype(str))
         data[f"group_velocity_s{s:g}"] = ("wavelength", vg, {"units": "m s-1", "long_name": "d omega_I^nl/dk"})
+    star = _overplot_lambda_p(ax1, out, sigmas, cols, lams, data)
     ax1.set_xlabel("wavelength [m]")
     ax1.set_ylabel(r"$\omega_I$ [$\Omega$]")
     ax1.legend(title=r"$\sigma_0$ [kg m$^{-2}$]", fontsize=8)
@@ -145,9 +146,30 @@ def nlvg(mode, out, sigmas=None, wavelengths=None):
     sett += ", T floor 0.01 T0"
     cap = (f"{mode} run: tau15 non-isothermal, one box L_x = lambda per point, seed = linear eigenmode with sigma "
            f"amplitude 0.3 (u <= 5 c0), exact mode self-gravity (infinite wave train), fast time step, {sett}; "
-           "omega from the Lomb periodogram of u(x = 0). lambda_zero nonlinear vs linear: "
+           f"omega from the Lomb periodogram of u(x = 0). {star}lambda_zero nonlinear vs linear: "
            + "; ".join(f"sigma0 = {s:g}: {n:.0f} m vs {l:.0f} m" for s, l, n, _ in mins) + ".")
     return finish(fig, ds, out, "nlvg", cap, dict(wavelengths=lams.tolist(), sigmas=list(sigmas)))
+
+
+def _overplot_lambda_p(ax, out, sigmas, cols, lams, data) -> str:
+    """Asterisks: lambda_p of large-scale runs (``lambdap.nc`` in the same output folder, if present)
+    at the nonlinear frequency interpolated in ln(lambda); returns a caption fragment."""
+    path = Path(out) / "lambdap.nc"
+    if not path.is_file():
+        return "(No lambdap.nc in the output folder: run recipe lambdap first for the asterisks.) "
+    sat = read_run(path)
+    marked = []
+    for s, c in zip(sigmas, cols):
+        hit = np.flatnonzero(np.isclose(sat.sigma0.values, s))
+        key = f"frequency_s{s:g}"
+        if hit.size and key in data:
+            lp = float(sat.lambda_p.values[hit[0]])
+            w = np.asarray(data[key][1], float)
+            ok = np.isfinite(w)
+            if ok.sum() >= 2 and lams[ok][0] <= lp <= lams[ok][-1]:
+                ax.plot(lp, np.interp(np.log(lp), np.log(lams[ok]), w[ok]), "*", ms=14, color=c, mec="k")
+                marked.append(f"{s:g}: {lp:.0f} m")
+    return f"Asterisks: lambda_p of the lambdap runs ({'; '.join(marked) or 'none in range'}). "
 
 
 @recipe("nbvga", "fig:nbvga", "N-body nonlinear dispersion relation vs linear hydro (p_s and 2 p_s), tau15",
