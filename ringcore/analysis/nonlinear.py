@@ -128,9 +128,8 @@ def hydro_frequency(p: RingParams, wavelength_m: float, *, amplitude: float = 0.
     lam = check_real("wavelength_m", wavelength_m, 0.0, 1e6, lo_open=True, unit="m")
     orbits = check_real("orbits", orbits, 2.0, 1e6, unit="orbits")
     discard = check_real("discard", discard, 0.0, orbits - 2.0, unit="orbits")
-    nodes = check_int("nodes", nodes, 16, 10**6)
     if h is None:
-        h = lam / nodes
+        h = lam / check_int("nodes", nodes, 16, 10**6)
     t0 = time.perf_counter()
     amp = hydro_seed_amplitude(p, lam, amplitude, u_max)
     opt = HydroOptions(L_x=lam, h=h, gravity=gravity, replicas=replicas if gravity == "wire" else 0,

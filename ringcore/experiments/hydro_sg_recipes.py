@@ -162,8 +162,9 @@ def vgpert(mode, out):
     p = params.get("tau15", sigma0=s)
     sim, st = hydro_run(p, L, 2.5, orbits + extra, initial="noise", seed=2)
     lam_p = sim.prevalent_wavelength()
-    lams = np.array([0.8, 1.0, 1.25]) * lam_p
-    kw = pick(mode, dict(nodes=48, orbits=40.0, discard=15.0), dict(nodes=None, h=1.0, orbits=80.0, discard=30.0))
+    lams = np.round(np.array([0.8, 1.0, 1.25]) * lam_p)  # integer metres (h = 1 m in full mode)
+    kw = pick(mode, dict(nodes=40, orbits=32.0, discard=12.0), dict(nodes=None, h=1.0, orbits=80.0, discard=30.0))
+    kw["T_floor"] = 0.01
     w = np.array([hydro_frequency(p, lam, **kw).frequency for lam in lams])
     vg = float(group_velocity(lams, w, p.Omega)[1])  # [m/s] at lambda_p
     a = sim.diagnostics
