@@ -53,6 +53,8 @@ class ExportPanel(pn.viewable.Viewer):
             pn.pane.Markdown("**Export** — each plot has a save tool (disk icon above it) for a PNG.", margin=(0, 10)),
             self.run_download, self.settings_download,
             pn.pane.Markdown("Load a saved settings file:", margin=(0, 10)), self.settings_upload, self.message,
+            pn.pane.Markdown("*Permalink*: the page address always holds the current settings; copy it to "
+                             "share or restore this setup.", margin=(0, 10), styles={"font-size": "13px"}),
             sizing_mode="stretch_width")
 
     def _run_file(self):

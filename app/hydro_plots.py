@@ -23,7 +23,7 @@ R_P = 1.0  # [m] particle radius of the e_kin unit sigma0 (R_p Omega)^2 (Figure 
 PROFILES = (  # key, y label, title
     ("sigma", "σ/σ₀", "Surface density σ/σ₀"),
     ("u", "u [mm/s]", "Radial velocity u"),
-    ("v", "v [mm/s]", "Azimuthal velocity v (shear removed)"),
+    ("v", "v [mm/s]", "Azimuthal velocity v"),
     ("T", "T [mm²/s²]", "Granular temperature T"),
 )
 
@@ -36,7 +36,7 @@ class HydroPlots:
         self.profile_source = ColumnDataSource(dict(x=[], sigma=[], u=[], v=[], T=[]), name="hydro-profile-source")
         self.profile_figs = {}
         for key, ylab, title in PROFILES:
-            fig = new_figure(title, "x [m]", ylab, height=205, x_range=self.x_range, min_width=200)
+            fig = new_figure(title, "x [m]", ylab, height=205, x_range=self.x_range, min_width=150)
             fig.line("x", key, source=self.profile_source, line_width=2, color=LINE_COLOR)
             fig.title.text_font_size = "13px"
             self.profile_figs[key] = fig
@@ -148,7 +148,12 @@ class HydroPlots:
 
     def update_image(self, runner) -> None:
         """The space-time diagram (stroboscopic or orbit-resolved, as set)."""
-        img = runner.strobe_image if runner.spacetime == "stroboscopic" else runner.orbit_image
+        strobe = runner.spacetime == "stroboscopic"
+        img = runner.strobe_image if strobe else runner.orbit_image
+        title = ("Space-time diagram of σ/σ₀, stroboscopic (one row per orbit)" if strobe else
+                 f"Space-time diagram of σ/σ₀, orbit-resolved (last {img.max_rows * img.interval:g} orbits)")
+        if self.spacetime_fig.title.text != title:
+            self.spacetime_fig.title.text = title
         data = img.image()
         if data.shape[0] == 0:
             return

@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import collections
 import io
-import logging
 import math
 import time
 
@@ -34,11 +33,11 @@ from ringcore.hydro import Hydro1D, HydroBlowUp
 from .export import run_file_bytes
 from .hydro_settings import BUFFER_PARAMS, SETUP_PARAMS, HydroSettings
 from .linear_model import characteristic_numbers
-from .live_buffers import SeriesBuffer, SpaceTimeImage
+from .live_buffers import RollingImage, SeriesBuffer, SpaceTimeImage
 
 PERIOD_MS = 100  # periodic callback period
 BUDGET_S = 0.06  # compute time per tick
-MAX_RECORD_SAMPLES = 20000  # solver recorder samples kept (older ones thinned by 2)
+MAX_RECORD_SAMPLES = 5000  # solver recorder samples kept (older ones thinned by 2; ~6 KB each at n = 800)
 MAX_STROBE_BYTES = 16e6  # stroboscopic rows kept by the solver's recorder
 STEP_ORBITS = 1.0  # the "Step" button advances this many orbits (or STEP_MAX_S of wall time)
 STEP_MAX_S = 1.0
@@ -105,7 +104,7 @@ class HydroRunner(HydroSettings):
         self.sim = sim = Hydro1D(p, opt, initial=self.initial, **kw)
         self.numbers = characteristic_numbers(self.settings())
         self.strobe_image = SpaceTimeImage(sim.n, 1.0)
-        self.orbit_image = SpaceTimeImage(sim.n, 1.0 / opt.samples_per_orbit)
+        self.orbit_image = RollingImage(sim.n, 1.0 / opt.samples_per_orbit)  # last 25 orbits
         self.series = SeriesBuffer(("e_kin", "lambda_p"))
         self._n_samples = self._n_strobe = 0
         self._max_strobe = max(100, int(MAX_STROBE_BYTES / (4 * sim.n)))
@@ -261,6 +260,12 @@ class HydroRunner(HydroSettings):
             return (math.nan, math.nan)
         return ((r[-1][2] - r[j][2]) / dt, (r[-1][1] - r[j][1]) / dt)
 
+    def typical_dt_orbits(self) -> float:
+        """Time step [orbits] set by the criterion: the largest of the last 20 recorded steps (steps
+        shortened to land on a sample time are smaller); nan before the first step."""
+        dts = self.sim.recorder.dt[-20:]
+        return max(dts) / (2.0 * math.pi) if dts and max(dts) > 0 else math.nan
+
     def saturated_lambda_p(self, last_fraction: float = 0.25) -> float:
         """Median lambda_p [m] over the last ``last_fraction`` of the run (nan before 1 orbit)."""
         s = self.series
@@ -303,6 +308,6 @@ class HydroRunner(HydroSettings):
         """Stop and free the simulation (the browser tab was closed)."""
         self.pause()
         if self.sim is not None:
-            logging.getLogger("app").info("hydro run of a closed session freed at orbit %.2f", self.sim.orbits)
+            pn.state.log(f"hydro run of a closed session freed at orbit {self.sim.orbits:.2f}")
         self.sim = None
         self.status = "Closed."

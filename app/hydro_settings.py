@@ -65,7 +65,7 @@ class HydroSettings(RingControls):
                                doc="Viscosity exponent beta in the buffer (paper: -0.5 < beta_c, so waves damp).")
     spacetime = param.Selector(default="stroboscopic", objects=["stroboscopic", "orbit-resolved"],
                                label="Space-time diagram",
-                               doc="One row per orbit at orbital phase 0, or 20 rows per orbit.")
+                               doc="Whole run, one row per orbit at orbital phase 0; or the last 25 orbits with 20 rows per orbit.")
 
     # ------------------------------------------------------------------ checks
     def options(self) -> HydroOptions:

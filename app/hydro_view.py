@@ -3,8 +3,9 @@
 Controls (settings, buffer zone, Start / Pause / Step / Reset, export) on the left; the
 space-time diagram, the profiles, e_kin(t), lambda_p(t) and the PSD on the right.  The
 :class:`app.hydro_runner.HydroRunner` advances the run in its periodic callback and bumps
-``frame``; this view then writes the line plots (every frame, ~10/s) and the space-time
-image (at most every IMAGE_PERIOD_S) into Bokeh sources.
+``frame``; this view then writes the line plots (up to every frame, ~10/s) and the
+space-time image (at most every IMAGE_PERIOD_S) into Bokeh sources, each only once the
+page has drawn the previous frame (:class:`app.live_common.FrameGate`).
 
 References: eqs. (nleq), (ekin), (fourier), (lambdasigma); Figures "tau15nga", "tau15bufnosg".
 """
@@ -21,8 +22,8 @@ from .hydro_plots import HydroPlots
 from .hydro_runner import HydroRunner
 from .hydro_settings import SETTINGS_PARAMS
 from .linear_view import _set_labels
-from .live_common import (BUFFER_COLOR, CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, fmt, message_pane,
-                          on_session_end, readout_cards, show_message)
+from .live_common import (BUFFER_COLOR, CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, FrameGate, fmt,
+                          message_pane, on_session_end, readout_cards, show_message)
 
 IMAGE_PERIOD_S = 0.25  # the space-time image is sent at most 4 times per second
 
@@ -45,6 +46,9 @@ and radial self-gravity), in a periodic box of radial size L<sub>x</sub>, with t
   **eq. (lambdasigma)**, the paper's Figure "lambdap".
 * **Buffer zone**: a region with viscosity exponent β below β<sub>c</sub> (purple) where waves are damped, as in
   Figure "tau15bufnosg" and Section "Hydrodynamical Integrations with a Buffer-Zone"; it creates a source/sink structure.
+
+The run goes on while you look at other tabs (press Pause to stop it); closing the browser tab stops it.
+If the scheme fails (a "blow-up": a density or temperature turns negative), the run pauses at the last good state.
 """
 
 
@@ -62,8 +66,10 @@ class HydroView(pn.viewable.Viewer):
         if self.runs is not None:
             self.runs.hydro = r
         self.plots = HydroPlots()
+        self.line_gate = FrameGate(self.plots.profile_figs["sigma"], self.plots.profile_source)
+        self.image_gate = FrameGate(self.plots.spacetime_fig, self.plots.image_source, min_period_s=IMAGE_PERIOD_S,
+                                    max_in_flight=1)
         self._shown_sim = None
-        self._last_image = -math.inf
         self._buffer_shown = None
         self.header = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.status = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
@@ -77,6 +83,7 @@ class HydroView(pn.viewable.Viewer):
         r.param.watch(self._on_frame, "frame")
         r.param.watch(self._on_problems, ["problems", "blowup"])
         r.param.watch(self._on_running, ["running", "status"])
+        r.param.watch(self._on_mode, "spacetime")
         self._on_frame()
         self._on_problems()
         self._on_running()
@@ -111,7 +118,7 @@ class HydroView(pn.viewable.Viewer):
             title("Ring model"),
             W.Select.from_param(p.param_set, options=_set_labels()),
             W.FloatSlider.from_param(p.sigma0, throttled=True, format="0"),
-            W.Checkbox.from_param(iso),
+            W.Checkbox.from_param(iso, css_classes=["hydro-isothermal"]),
             W.FloatSlider.from_param(p.ps_scale, visible=iso.rx.not_(), format="0.00", throttled=True),
             W.FloatSlider.from_param(p.iso_p_s, visible=iso, format="0.00", throttled=True),
             self.messages["model"],
@@ -131,7 +138,8 @@ class HydroView(pn.viewable.Viewer):
             W.FloatSlider.from_param(p.buffer_beta, format="0.00"),
             self.messages["buffer"],
             title("Display"),
-            W.RadioButtonGroup.from_param(p.spacetime),
+            W.RadioButtonGroup.from_param(p.spacetime, color="primary", variant="outline",
+                                          css_classes=["hydro-spacetime-mode"]),
             width=320,
         )
 
@@ -139,9 +147,11 @@ class HydroView(pn.viewable.Viewer):
         P = self.plots
         pane = lambda f: pn.pane.Bokeh(f, sizing_mode="stretch_width")  # noqa: E731
         f = list(P.profile_figs.values())
+        share = {"flex": "1 1 0", "min-width": "0"}  # columns share the width and may shrink
         profiles = pn.Column(pn.Row(pane(f[0]), pane(f[1]), sizing_mode="stretch_width"),
-                             pn.Row(pane(f[2]), pane(f[3]), sizing_mode="stretch_width"), sizing_mode="stretch_width")
-        top = pn.Row(pn.Column(pane(P.spacetime_fig), sizing_mode="stretch_width", min_width=360),
+                             pn.Row(pane(f[2]), pane(f[3]), sizing_mode="stretch_width"), sizing_mode="stretch_width",
+                             styles=share)
+        top = pn.Row(pn.Column(pane(P.spacetime_fig), sizing_mode="stretch_width", styles=share),
                      profiles, sizing_mode="stretch_width")
         bottom = pn.GridBox(pane(P.ekin_fig), pane(P.lp_fig), pane(P.psd_fig), ncols=3, sizing_mode="stretch_width")
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
@@ -177,9 +187,14 @@ class HydroView(pn.viewable.Viewer):
         r = self.runner
         if r.sim is None:
             return
+        now = time.perf_counter()
+        force = r.sim is not self._shown_sim or not r.running
+        lines = force or self.line_gate.ready(now)
+        image = force or self.image_gate.ready(now)
+        if not (lines or image):
+            return  # the page is still drawing the previous frame: skip this one
         with pn.io.hold():
-            force = r.sim is not self._shown_sim
-            if force:
+            if r.sim is not self._shown_sim:
                 self.plots.set_run(r)
                 self._shown_sim = r.sim
                 self.header.object = f'<div class="model-label" id="hydro-run-label">{r.run_label}</div>'
@@ -187,12 +202,18 @@ class HydroView(pn.viewable.Viewer):
             if buf != self._buffer_shown:
                 self.plots.update_buffer(r)
                 self._buffer_shown = buf
-            self.plots.update_lines(r)
-            now = time.perf_counter()
-            if force or not r.running or now - self._last_image >= IMAGE_PERIOD_S:
+            if lines:
+                self.plots.update_lines(r)
+                self.readouts.object = readout_cards(self._readout_rows(), "hydro-readouts")
+                self.line_gate.mark_sent(now)
+            if image:
                 self.plots.update_image(r)
-                self._last_image = now
-            self.readouts.object = readout_cards(self._readout_rows(), "hydro-readouts")
+                self.image_gate.mark_sent(now)
+
+    def _on_mode(self, *_):
+        if self.runner.sim is not None:
+            self.plots.update_image(self.runner)
+            self.image_gate.mark_sent(time.perf_counter())
 
     def _readout_rows(self):
         r = self.runner
@@ -203,7 +224,7 @@ class HydroView(pn.viewable.Viewer):
             ("hydro-orbits", "Orbits elapsed", f"{sim.orbits:.2f}", f"{sim.steps} steps"),
             ("hydro-orbits-per-s", "Orbits per second", fmt(orb_s, ".1f"), "of wall-clock time"),
             ("hydro-steps-per-s", "Steps per second", fmt(steps_s, ".0f"), f"{sim.n} cells"),
-            ("hydro-dt", "Time step", fmt(sim.dt_orbits * 1e3, ".3g", "mOrb") if sim.steps else "—",
+            ("hydro-dt", "Time step", fmt(r.typical_dt_orbits() * 1e3, ".3g", "mOrb"),
              "eq. (timestep)" if r.timestep == "paper" else "CFL criterion"),
             ("hydro-lambda-p", "λ<sub>p</sub> now", fmt(sim.prevalent_wavelength(), ".4g", "m"),
              f"fastest growth {fmt(n.get('lambda_max_growth_m', math.nan), '.4g', 'm')}"),

@@ -1,10 +1,11 @@
-"""Bounded buffers for live plots: a growing space-time image and scalar time series.
+"""Bounded buffers for live plots: space-time images and scalar time series.
 
 A live run can go on for as long as a browser tab stays open, so nothing the app keeps
 may grow without bound (``shared/guides/panel-live-app.md``, "Pushing frames to the page").
 :class:`SpaceTimeImage` keeps at most ``max_rows`` rows of at most ``max_cols`` columns
 (float32): when it is full, neighbouring rows are averaged in pairs and the row interval
-doubles, so the image always covers the whole run.  :class:`SeriesBuffer` does the same
+doubles, so the image always covers the whole run; :class:`RollingImage` keeps the latest
+``max_rows`` rows at full time resolution.  :class:`SeriesBuffer` thins like the former
 for (t, y) series.  :func:`bin_columns` averages a profile down to the shown pixels.
 """
 from __future__ import annotations
@@ -93,6 +94,44 @@ class SpaceTimeImage:
         if self.rows == 0:
             return (0.0, self.interval)
         return (float(self.t[0]), float(self.t[self.rows - 1] + self.interval))
+
+
+class RollingImage:
+    """The latest ``max_rows`` rows (a window that moves with the run; ring buffer, float32)."""
+
+    def __init__(self, n: int, interval: float, max_rows: int = MAX_IMAGE_ROWS, max_cols: int = MAX_IMAGE_COLS):
+        self.max_rows, self.max_cols = int(max_rows), int(max_cols)
+        self.ncols = bin_columns(np.zeros(n), max_cols).size
+        self.data = np.zeros((self.max_rows, self.ncols), np.float32)
+        self.t = np.zeros(self.max_rows)
+        self.rows = 0
+        self.head = 0  # index of the next row to write
+        self.interval = float(interval)
+        self.version = 0
+
+    def add(self, t: float, row) -> None:
+        """Add one row at time ``t`` [orbits] (the oldest one drops out when full)."""
+        self.data[self.head] = bin_columns(row, self.max_cols)
+        self.t[self.head] = t
+        self.head = (self.head + 1) % self.max_rows
+        self.rows = min(self.rows + 1, self.max_rows)
+        self.version += 1
+
+    def _order(self) -> np.ndarray:
+        if self.rows < self.max_rows:
+            return np.arange(self.rows)
+        return (np.arange(self.max_rows) + self.head) % self.max_rows
+
+    def image(self) -> np.ndarray:
+        """The rows in the window (rows, ncols), oldest first (a copy)."""
+        return self.data[self._order()]
+
+    def extent(self) -> tuple[float, float]:
+        """(t of the oldest row, t just after the newest row) [orbits]."""
+        if self.rows == 0:
+            return (0.0, self.interval)
+        idx = self._order()
+        return (float(self.t[idx[0]]), float(self.t[idx[-1]] + self.interval))
 
 
 class SeriesBuffer:

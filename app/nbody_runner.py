@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import collections
 import io
-import logging
 import json
 import math
 import time
@@ -258,6 +257,6 @@ class NBodyRunner(param.Parameterized):
         """Stop and free the box (the browser tab was closed)."""
         self.pause()
         if self.box is not None:
-            logging.getLogger("app").info("N-body box of a closed session freed at orbit %.2f", self.box.orbits)
+            pn.state.log(f"N-body box of a closed session freed at orbit {self.box.orbits:.2f}")
         self.box = None
         self.status = "Closed."

@@ -19,9 +19,9 @@ import param
 from bokeh.models import ColumnDataSource, HoverTool, Range1d
 
 from .export import ExportPanel
-from .live_common import (CSS, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, fmt, message_pane, new_figure,
-                          on_session_end, readout_cards, show_message, wavelength_markers)
-from .nbody_runner import NBodyRunner
+from .live_common import (CSS, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, FrameGate, fmt, message_pane,
+                          new_figure, on_session_end, readout_cards, show_message, wavelength_markers)
+from .nbody_runner import SETUP_PARAMS, NBodyRunner
 
 PARTICLE_PERIOD_S = 0.3  # particle views sent at most ~3 times per second
 C0_COLOR = "#c2185b"
@@ -57,8 +57,10 @@ class NBodyView(pn.viewable.Viewer):
             self.runner = NBodyRunner()
         r = self.runner
         self._shown_box = None
-        self._last_particles = -math.inf
         self._figures()
+        self.line_gate = FrameGate(self.sigma_fig, self.profile_source)
+        self.particle_gate = FrameGate(self.xy_fig, self.particle_source, min_period_s=PARTICLE_PERIOD_S,
+                                       max_in_flight=1)
         self.header = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.status = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.readouts = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
@@ -79,6 +81,9 @@ class NBodyView(pn.viewable.Viewer):
         self._on_frame()
         self._on_state()
         on_session_end(r.close)
+        doc = pn.state.curdoc
+        if pn.state.location is not None and doc is not None and doc.session_context is not None:
+            pn.state.location.sync(r, {k: f"nbody_{k}" for k in SETUP_PARAMS})
 
     # ---------------------------------------------------------------- building
     def _figures(self):
@@ -159,25 +164,31 @@ class NBodyView(pn.viewable.Viewer):
         box = r.box
         if box is None:
             return
+        now = time.perf_counter()
+        force = box is not self._shown_box or not r.running
+        lines = force or self.line_gate.ready(now)
+        particles = force or self.particle_gate.ready(now)
+        if not (lines or particles):
+            return  # the page is still drawing the previous frame
         with pn.io.hold():
-            force = box is not self._shown_box
-            if force:
+            if box is not self._shown_box:
                 self._set_box()
-            now = time.perf_counter()
-            if force or not r.running or now - self._last_particles >= PARTICLE_PERIOD_S:
+            if particles:
                 x, y, z = r.particles()
                 self.particle_source.data = dict(x=x, y=y, z=z)
-                self._last_particles = now
-            prof = box.profiles()
-            f32 = np.float32
-            self.profile_source.data = dict(x=prof.x.astype(f32), sigma=prof.sigma.astype(f32),
-                                            u=(np.nan_to_num(prof.u) * 1e3).astype(f32))
-            s = r.series
-            self.series_source.data = dict(t=s.get("t").astype(f32), ekin=s.get("ekin").astype(f32),
-                                           c_mean=(s.get("c_mean") * 1e3).astype(f32),
-                                           collision_frequency=s.get("collision_frequency").astype(f32))
-            self._update_psd(prof)
-            self.readouts.object = readout_cards(self._readout_rows(), "nbody-readouts")
+                self.particle_gate.mark_sent(now)
+            if lines:
+                prof = box.profiles()
+                f32 = np.float32
+                self.profile_source.data = dict(x=prof.x.astype(f32), sigma=prof.sigma.astype(f32),
+                                                u=(np.nan_to_num(prof.u) * 1e3).astype(f32))
+                s = r.series
+                self.series_source.data = dict(t=s.get("t").astype(f32), ekin=s.get("ekin").astype(f32),
+                                               c_mean=(s.get("c_mean") * 1e3).astype(f32),
+                                               collision_frequency=s.get("collision_frequency").astype(f32))
+                self._update_psd(prof)
+                self.readouts.object = readout_cards(self._readout_rows(), "nbody-readouts")
+                self.line_gate.mark_sent(now)
 
     def _set_box(self):
         r, box = self.runner, self.runner.box

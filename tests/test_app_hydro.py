@@ -13,7 +13,7 @@ import pytest
 from app.hydro_runner import HydroRunner, thin_recorder
 from app.hydro_settings import HydroSettings
 from app.hydro_view import HydroView
-from app.live_buffers import SeriesBuffer, SpaceTimeImage, bin_columns
+from app.live_buffers import RollingImage, SeriesBuffer, SpaceTimeImage, bin_columns
 from ringcore import linear, params
 from ringcore.hydro import Hydro1D, HydroOptions
 from ringcore.io import read_run
@@ -79,6 +79,8 @@ def test_run_advances_pause_step_and_reset(runner):
     assert r.sim.orbits == t and not r.running
     r.step_once()
     assert r.sim.orbits == pytest.approx(t + 1.0, abs=1e-9)
+    dt = r.typical_dt_orbits()  # the criterion's step, not the one shortened to land on the orbit
+    assert r.sim.dt_orbits <= dt and dt == pytest.approx(r.sim.stable_dt() / (2 * np.pi), rel=0.5)
     assert r.strobe_image.rows >= 2  # a stroboscopic row at every full orbit
     r.reset()
     assert r.sim.orbits == 0.0 and r.series.size == 1
@@ -182,6 +184,11 @@ def test_memory_stays_bounded():
     t0, t1 = img.extent()
     assert t0 == 0.0 and t1 >= 1000.0 - img.stride  # the whole run (rows still being averaged aside)
     assert img.image()[0, 0] == pytest.approx(7.5)  # mean of rows 0..15
+    roll = RollingImage(10, 0.05, max_rows=20)
+    for k in range(45):
+        roll.add(0.05 * k, np.full(10, k, float))
+    assert roll.rows == 20 and roll.image()[:, 0].tolist() == list(range(25, 45))  # the latest 20, in order
+    assert roll.extent() == pytest.approx((1.25, 2.25))
     s = SeriesBuffer(("y",), max_points=64)
     for k in range(10000):
         s.add(float(k), y=2.0 * k)
@@ -214,6 +221,9 @@ def test_view_fills_the_plots_and_readouts():
     assert v.messages["grid"].visible and "too coarse" in v.messages["grid"].object
     r.h = 2.5
     assert not v.messages["grid"].visible
+    r.spacetime = "orbit-resolved"  # shown at once, not at the next image frame
+    assert "orbit-resolved (last 25 orbits)" in p.spacetime_fig.title.text
+    assert p.image_source.data["image"][0].shape[0] == r.orbit_image.rows
     marks = p.psd_markers.data["x"]
     assert r.numbers["lambda_zero_m"] in marks and r.numbers["lambda_max_growth_m"] in marks
     r.close()
