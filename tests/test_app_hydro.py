@@ -229,3 +229,19 @@ def test_view_fills_the_plots_and_readouts():
     r.close()
     assert r.sim is None and not r.running
     r.tick()  # a late callback after the tab closed does nothing
+
+
+def test_frame_gate_paces_frames():
+    from bokeh.models import ColumnDataSource
+    from bokeh.plotting import figure
+
+    from app.live_common import FrameGate
+
+    fig, src = figure(), ColumnDataSource(dict(x=[]))
+    gate = FrameGate(fig, src, min_period_s=0.25, max_in_flight=1)
+    assert "change:data" in src.js_property_callbacks  # the page acknowledges each applied frame
+    assert gate.ready(10.0)
+    gate.mark_sent(10.0)
+    assert not gate.ready(10.1) and gate.ready(10.3)  # no server session: only the period applies
+    gate._ack("tags", [], [1])
+    assert gate.acks == gate.sent == 1
