@@ -7,7 +7,6 @@ Non-isothermal long runs use the documented temperature floor T_floor = 0.01 T0 
 """
 from __future__ import annotations
 
-import math
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -15,7 +14,7 @@ import xarray as xr
 
 from .. import linear, params
 from ..analysis import growth_rate, lomb_frequency
-from .recipe_common import finish, hydro_run, pick, plot_psd, series_dataset, strobe_dataset, strobe_psd_figure
+from .recipe_common import finish, hydro_run, pick, series_dataset, strobe_dataset, strobe_psd_figure
 from .registry import recipe
 
 GRATES_SIGMAS = (0.0, 350.0, 600.0)

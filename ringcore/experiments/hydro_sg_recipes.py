@@ -15,7 +15,7 @@ import xarray as xr
 
 from .. import params
 from ..analysis.nonlinear import group_velocity, hydro_frequency
-from .recipe_common import (ekin_rp, finish, hydro_run, pick, plot_psd, plot_spacetime, series_dataset,
+from .recipe_common import (ekin_rp, finish, hydro_run, pick, plot_spacetime, series_dataset,
                             strobe_dataset, strobe_psd_figure)
 from .registry import recipe
 

@@ -18,7 +18,7 @@ from .. import linear, params
 from ..analysis import lambda_p_empirical
 from ..analysis.nonlinear import (frequency_minimum, group_velocity, hydro_frequency, nbody_frequency,
                                   to_arrays)
-from ..io import RunFileError, read_run
+from ..io import read_run
 from .recipe_common import finish, hydro_run, pick
 from .registry import recipe
 
@@ -44,11 +44,13 @@ def saturation_points(mode, set_name="tau15", sigmas=(250.0, 400.0, 600.0, 800.0
     """Measured lambda_p(sigma0): the shipped sweep file if it exists, else a small in-process hydro sweep
     (quick: L_x = 1.5 km, h = 2.5 m, 600 orbits from white noise; full: 5 km, 5,000 orbits)."""
     if mode == "quick" and SWEEP_FILE.is_file():
-        try:
-            ds = read_run(SWEEP_FILE) if SWEEP_FILE.suffix == ".nc" else None
-            if ds is not None and "lambda_p_m" in ds:
-                return ds.sigma0.values, ds.lambda_p_m.values, f"sweep file {SWEEP_FILE.name}"
-        except (RunFileError, OSError, ValueError):
+        try:  # aggregate of `ringcore sweep` (plain NetCDF: sigma0, lambda_p_m per run)
+            with xr.open_dataset(SWEEP_FILE, engine="h5netcdf") as ds:
+                if "lambda_p_m" in ds and ds.sizes.get("run", 0):
+                    ok = np.isfinite(ds.lambda_p_m.values)
+                    return (ds.sigma0.values[ok], ds.lambda_p_m.values[ok],
+                            f"sweep file app/data/{SWEEP_FILE.name} ({ds.attrs.get('description', 'ringcore sweep')})")
+        except (OSError, ValueError, KeyError):
             pass
     L, orbits = pick(mode, 1500.0, 5000.0), pick(mode, 600, 5000)
     lam_p = []
