@@ -219,7 +219,8 @@ print(f"sigma0 = {q.sigma0:.0f}, group velocity at {lam_near:.0f} m: nonlinear {
 #   the minimum cannot send modulations anywhere: neighbouring patches stop interacting, so the wavelength stops
 #   evolving — the reason the large-scale runs settle there. The short-wave branch (v_g > 0) and the long-wave
 #   branch (v_g < 0) carry perturbations in opposite directions (Appendix "Group Velocities of Saturated Wave Trains").
-# * The minimum is shallow (about 0.01 Ω, or 1 %, across a factor of two in λ at σ0 = 400), which is why λ_p is only loosely fixed and why
+# * The minimum is shallow (about 0.01 Ω, or 1 %, across a factor of two in λ at σ0 = 400), which is why λ_p is
+#   only loosely fixed and why
 #   the paper finds a "belt of quasi-stable wavelengths" around the minimum.
 
 # %% [markdown]
