@@ -43,7 +43,7 @@ def nblin1(mode, out):
     st = _lin_settings(mode)
     sets = pick(mode, ("tau15", "tau20"), ("tau10", "tau15", "tau20"))
     lams = np.array(st["lams"])
-    curve = np.geomspace(30, 1200, 200)
+    curve = np.geomspace(40, 1200, 200)
     fig, ax = plt.subplots(figsize=(8, 5.2))
     data = {}
     for name, c in zip(sets, ("C0", "k", "C3")):
@@ -55,6 +55,7 @@ def nblin1(mode, out):
             data[f"growth_rate_{name}_s{s:g}"] = ("wavelength", g, {"units": "Omega"})
             data[f"frequency_{name}_s{s:g}"] = ("wavelength", w, {"units": "Omega"})
     ax.axhline(0, color="0.6", lw=0.7)
+    ax.set_ylim(-0.06, 0.08)
     ax.set_xlabel("wavelength [m]")
     ax.set_ylabel(r"$\omega_R$ [$\Omega$]")
     ax.legend(fontsize=8)
@@ -72,7 +73,7 @@ def nblin2(mode, out):
     st = _lin_settings(mode)
     sigmas = pick(mode, (0.0, 600.0), (0.0, 150.0, 350.0, 600.0, 900.0))
     lams = np.array(st["lams"])
-    curve = np.geomspace(30, 1200, 200)
+    curve = np.geomspace(40, 1200, 200)
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.8))
     cols = plt.cm.plasma(np.linspace(0, 0.8, len(sigmas)))
     data = {}
@@ -89,6 +90,8 @@ def nblin2(mode, out):
         data[f"growth_rate_s{s:g}"] = ("wavelength", g, {"units": "Omega"})
         data[f"frequency_s{s:g}"] = ("wavelength", w, {"units": "Omega"})
     ax1.axhline(0, color="0.6", lw=0.7)
+    ax1.set_ylim(-0.06, 0.1)
+    ax2.set_ylim(0.8, 1.2)
     ax1.set_ylabel(r"$\omega_R$ [$\Omega$]")
     ax2.set_ylabel(r"$\omega_I$ [$\Omega$]")
     for ax in (ax1, ax2):

@@ -29,7 +29,7 @@ def pick(mode: str, quick, full):
 
 def caption_fig(fig, caption: str) -> None:
     """Put the caption (what was run) under the axes, leaving room for its lines and the x labels."""
-    width = max(60, int(165 * fig.get_figwidth() / 11.0))
+    width = max(60, int(150 * fig.get_figwidth() / 11.0))
     text = textwrap.fill(caption, width)
     line = 7.5 * 1.25 / 72.0 / fig.get_figheight()  # height of one caption line, figure fraction
     bottom = 0.02 + (text.count("\n") + 1) * line + 0.75 / fig.get_figheight()
