@@ -111,18 +111,21 @@ def _strobe_recipe(mode, out, name, p, L_q, L_f, orb_q, orb_f, title, buffer_fra
     orbits = pick(mode, orb_q, orb_f)
     buffer = (-buffer_frac * L, buffer_frac * L, -0.5) if buffer_frac else None
     sim, status = hydro_run(p, L, 2.5, orbits, initial="noise", seed=seed, buffer=buffer)
-    fig = strobe_psd_figure(sim, title)
+    lam_max = L / 4 if buffer else None  # leave out the box-scale buffer/ring density contrast
+    fig = strobe_psd_figure(sim, title, lam_max)
+    lam_p = float(fig.axes[1].lines[0].get_xdata()[np.argmax(fig.axes[1].lines[0].get_ydata())])
     if buffer:
         for ax in fig.axes[:1]:
             ax.axvspan(buffer[0] / 1e3, buffer[1] / 1e3, color="C0", alpha=0.12)
-    ds = strobe_dataset(sim)
+    ds = strobe_dataset(sim, lam_max=lam_max)
     t, e = sim.e_kin_series()
     ds["e_kin"] = ("t", e, {"units": "sigma0 c0^2"})
     ds = ds.assign_coords(t=("t", t, {"units": "orbits"}))
     cap = (f"{mode} run: {p.name} {p.model} (p_s = {p.p_s:g}), sigma0 = {p.sigma0:g} kg/m^2, white noise down to 50 m, "
            f"L_x = {L / 1e3:g} km, h = 2.5 m, {sim.orbits:.0f} orbits, fast time step"
            + (f", buffer zone beta = -0.5 in [{buffer[0]/1e3:g}, {buffer[1]/1e3:g}] km (shaded)" if buffer else "")
-           + ("" if p.isothermal else ", T floor 0.01 T0") + f". Final lambda_p = {sim.prevalent_wavelength():.0f} m."
+           + ("" if p.isothermal else ", T floor 0.01 T0") + f". Final lambda_p = {lam_p:.0f} m"
+           + (f" (PSD of wavelengths <= L_x/4: the buffer's box-scale density contrast is left out)." if buffer else ".")
            + ("" if status == "ok" else f" STOPPED: {status}")
            + f" Paper: L_x = {L_f / 1e3:g} km, {orb_f:,} orbits.")
     return finish(fig, ds, out, name, cap, dict(L_x=L, orbits=orbits, status=status))

@@ -98,10 +98,10 @@ def series_dataset(runs: dict) -> xr.Dataset:
                       coords={"run": ("run", np.array(labels, dtype=object))})
 
 
-def strobe_dataset(sim, prefix: str = "") -> xr.Dataset:
-    """Stroboscopic sigma rows, final sigma profile and final normalised PSD of a hydro run."""
+def strobe_dataset(sim, prefix: str = "", lam_max=None) -> xr.Dataset:
+    """Stroboscopic sigma rows, final sigma profile and final normalised PSD (wavelengths <= lam_max)."""
     a = sim.diagnostics
-    wl, P = sim.psd()
+    wl, P = psd_below(sim.sigma, sim.options.L_x, lam_max)
     tname, lname = prefix + "t_strobe", prefix + "wavelength"
     return xr.Dataset({prefix + "strobe_sigma": ((tname, prefix + "x"), a["strobe"], {"units": "sigma0"}),
                        prefix + "sigma_final": ((prefix + "x",), sim.sigma, {"units": "sigma0"}),
@@ -123,6 +123,21 @@ def plot_spacetime(ax, t, x_m, rows, title="", cmap="gray", vmax_q=99.0):
         ax.set_title(title, fontsize=9)
 
 
+def psd_below(sigma, L_x, lam_max=None):
+    """(wavelength [m], PSD normalised to max 1) of a sigma profile, keeping wavelengths <= lam_max [m].
+
+    With a buffer zone the box-scale density contrast between buffer and ring (m = 1, 2, ...) carries
+    most of the power; ``lam_max`` (e.g. L_x/4) leaves it out so that lambda_p is the waves' wavelength."""
+    from ..hydro.diagnostics import psd
+
+    wl, P = psd(np.asarray(sigma, float), L_x)
+    if lam_max is not None:
+        keep = wl <= lam_max
+        wl, P = wl[keep], P[keep]
+        P = P / P.max() if P.max() > 0 else P
+    return wl, P
+
+
 def plot_psd(ax, wl, P, title="final PSD of sigma"):
     ax.semilogx(wl, P, "k-", lw=1)
     ax.set_xlabel("wavelength [m]")
@@ -133,12 +148,12 @@ def plot_psd(ax, wl, P, title="final PSD of sigma"):
     ax.set_title(title, fontsize=9)
 
 
-def strobe_psd_figure(sim, suptitle: str):
+def strobe_psd_figure(sim, suptitle: str, lam_max=None):
     """Figure "tau15nga"-type: stroboscopic space-time diagram (left) and final PSD (right)."""
     a = sim.diagnostics
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5))
     plot_spacetime(ax1, a["t_strobe"] / (2 * math.pi), sim.x_m, a["strobe"], "stroboscopic (1/orbit) sigma/sigma0")
-    wl, P = sim.psd()
-    plot_psd(ax2, wl, P)
+    wl, P = psd_below(sim.sigma, sim.options.L_x, lam_max)
+    plot_psd(ax2, wl, P, "final PSD of sigma" + (f" (lambda <= {lam_max:.0f} m)" if lam_max else ""))
     fig.suptitle(suptitle, fontsize=10)
     return fig

@@ -19,7 +19,7 @@ from ..analysis import lambda_p_empirical
 from ..analysis.nonlinear import (frequency_minimum, group_velocity, hydro_frequency, nbody_frequency,
                                   to_arrays)
 from ..io import read_run
-from .recipe_common import finish, hydro_run, pick
+from .recipe_common import finish, hydro_run, pick, psd_below
 from .registry import recipe
 
 SWEEP_FILE = Path(__file__).resolve().parents[2] / "app" / "data" / "saturation_sweep.nc"
@@ -227,7 +227,8 @@ def osfrat(mode, out):
         lz_nl, _ = frequency_minimum(lams, r["frequency"])
         sim, _ = hydro_run(p, L, 2.5, orbits, initial="noise", seed=1, buffer=(-L / 16, L / 16, -0.5))
         a = sim.diagnostics
-        lp = float(np.min(a["lambda_p"][a["t"] >= 0.75 * a["t"][-1]]))
+        rows_ = a["strobe"][a["t_strobe"] >= 0.75 * a["t_strobe"][-1]]
+        lp = float(min(wl[np.argmax(P)] for wl, P in (psd_below(r, L, L / 4) for r in rows_)))
         rows.append((s, lz, lz_nl, lp))
     s, lz, lnl, lp = np.array(rows).T
     fig, axes = plt.subplots(2, 2, figsize=(10, 8))
@@ -254,6 +255,6 @@ def osfrat(mode, out):
                     coords={"sigma0": ("sigma0", s, {"units": "kg m-2"})})
     cap = (f"{mode} run: lambda_zero^nl from nonlinear frequencies (boxes L_x = lambda, as recipe nlvg) at "
            f"{len(factors)} wavelengths {factors[0]:g}-{factors[-1]:g} lambda_zero^lin; lambda_p = smallest prevalent "
-           f"wavelength over the last quarter of white-noise runs with a buffer zone (beta = -0.5, |x| < L_x/16), "
+           f"wavelength (PSD of the stroboscopic rows, wavelengths <= L_x/4) over the last quarter of white-noise runs with a buffer zone (beta = -0.5, |x| < L_x/16), "
            f"L_x = {L / 1e3:g} km, h = 2.5 m, {orbits} orbits, T floor 0.01 T0. Paper: L_x = 6-8 km, ~10,000 orbits.")
     return finish(fig, ds, out, "osfrat", cap, dict(L_x=L, orbits=orbits, factors=list(factors)))
