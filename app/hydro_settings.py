@@ -26,7 +26,7 @@ MAX_CELLS = 16384  # larger grids cannot run live on a shared 2-core machine
 MIN_Q0 = 1.0  # Toomre: Q0 < 1 is gravitationally unstable, the axisymmetric scheme blows up
 
 SETUP_PARAMS = ("param_set", "sigma0", "isothermal", "ps_scale", "iso_p_s", "L_x", "h", "initial", "wavelength",
-                "amplitude", "seed", "timestep")
+                "amplitude", "seed", "timestep", "T_floor")
 BUFFER_PARAMS = ("buffer_on", "buffer_x", "buffer_width", "buffer_beta")
 SETTINGS_PARAMS = SETUP_PARAMS + BUFFER_PARAMS + ("spacetime",)
 GROUPS = ("model", "grid", "initial", "buffer")  # where messages are shown
@@ -54,6 +54,12 @@ class HydroSettings(RingControls):
                                                       "paper (eq. timestep, f_t = 0.1)": "paper"},
                               label="Time step",
                               doc="Time-step criterion of ringcore.hydro.timestep.")
+    T_floor = param.Selector(default=0.01, objects={"0.01 T0 (default)": 0.01, "0.001 T0": 0.001,
+                                                    "off (the paper's scheme)": 0.0},
+                             label="Temperature floor",
+                             doc="Non-isothermal model: T is kept above this fraction of T0. Without it, strongly "
+                                 "nonlinear runs stop when T reaches 0 where the shear heating vanishes (README: "
+                                 "'Departures from the paper').")
     buffer_on = param.Boolean(default=False, label="Buffer zone on",
                               doc="Lower the viscosity exponent beta inside a radial zone so waves are damped "
                                   "there (can be switched while the run goes).")
@@ -70,7 +76,7 @@ class HydroSettings(RingControls):
     # ------------------------------------------------------------------ checks
     def options(self) -> HydroOptions:
         """Numerical options of the current settings (raises ValueError)."""
-        return HydroOptions(L_x=self.L_x, h=self.h, timestep=self.timestep, samples_per_orbit=20,
+        return HydroOptions(L_x=self.L_x, h=self.h, timestep=self.timestep, T_floor=self.T_floor, samples_per_orbit=20,
                             spacetime_rows_per_orbit=0, strobe=True, probes_m=(0.0,))
 
     def buffer_bounds(self) -> tuple[float, float]:

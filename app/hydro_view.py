@@ -125,6 +125,7 @@ class HydroView(pn.viewable.Viewer):
             title("Box and grid"),
             pn.Row(W.FloatInput.from_param(p.L_x, width=145), W.FloatInput.from_param(p.h, width=145)),
             W.Select.from_param(p.timestep),
+            W.Select.from_param(p.T_floor),
             self.messages["grid"],
             title("Initial state"),
             W.Select.from_param(p.initial),
