@@ -43,6 +43,25 @@ def parse_values(name: str, text: str) -> list:
         raise ValueError(f"{name} = {text!r} is not a list 'a,b,c' or a range 'start:stop:step'") from None
 
 
+def _record_provenance(ds, args) -> None:
+    """Rewrite OUT/sweep.nc with the command line, the runner defaults and the software version."""
+    import json
+    import shlex
+    import sys
+    from datetime import datetime, timezone
+
+    from .. import __version__
+    from ..experiments import runners
+
+    argv = sys.argv[1:] if sys.argv and sys.argv[0].endswith("ringcore") else None
+    ds.attrs.update(command=shlex.join(["ringcore", *argv]) if argv else f"ringcore sweep ({vars(args)})",
+                    ringcore_version=__version__, created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
+                    engine=args.engine, set=args.set, isothermal=int(bool(args.isothermal)),
+                    runner_defaults_json=json.dumps({"hydro": runners.HYDRO_DEFAULTS,
+                                                     "nbody": runners.NBODY_DEFAULTS}))
+    ds.to_netcdf(f"{args.out}/sweep.nc", engine="h5netcdf")
+
+
 def run(args) -> int:
     from ..experiments.sweep import run_sweep
     from ..figures.saturation import figure_lambdap
@@ -57,6 +76,7 @@ def run(args) -> int:
                     t[k] = getattr(args, k)
             tasks.append(t)
     res = run_sweep(tasks, args.out, scheduler=args.scheduler, n_workers=args.workers)
+    _record_provenance(res.dataset, args)
     png = figure_lambdap(res.dataset, f"{args.out}/lambdap.png", set_name=args.set, isothermal=args.isothermal)
     n_ok = len(res.rows) - len(res.failed)
     print(f"sweep: {n_ok} of {len(res.rows)} runs finished in {res.wall_s:.1f} s -> {args.out}/sweep.nc, {png}")
