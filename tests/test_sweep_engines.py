@@ -58,3 +58,20 @@ def test_nbody_task(tmp_path):
     assert r["orbits"] == pytest.approx(1.0) and 1e-5 < r["c_mean"] < 1e-2 and r["N"] == round(1.5 * 480 / np.pi)
     f = read_run(r["file"], kind="nbody")
     assert f.attrs["complete"] == 1 and f.attrs["option_L_x"] == 40.0
+
+
+def test_shipped_sweep_dataset():
+    """app/data/saturation_sweep.nc: made by the recorded command; settled runs near 1.4 lambda_zero."""
+    from pathlib import Path
+
+    import xarray as xr
+
+    path = Path(__file__).parent.parent / "app" / "data" / "saturation_sweep.nc"
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        assert ds.attrs["command"].startswith("ringcore sweep --engine hydro --set tau15")
+        assert ds.attrs["command"] in (path.parent / "README.md").read_text()
+        settled = ds.sigma0.values >= 300
+        ratio = ds.lambda_p_m.values / ds.lambda_p_empirical_m.values
+        assert np.all(np.abs(ratio[settled] - 1) < 0.2)
+        lz = [linear.lambda_zero(params.get("tau15", sigma0=s)) for s in ds.sigma0.values]
+        np.testing.assert_allclose(ds.lambda_zero_m.values, lz, rtol=1e-6)
