@@ -40,16 +40,16 @@ def nonlinear_curve(p, wavelengths, mode, **kw):
     return to_arrays(res)
 
 
-def saturation_points(mode, set_name="tau15", sigmas=(250.0, 400.0, 600.0, 800.0), out=None):
+def saturation_points(mode, set_name="tau15", sigmas=(250.0, 400.0, 600.0, 800.0), use_sweep_file=True):
     """Measured lambda_p(sigma0): the shipped sweep file if it exists, else a small in-process hydro sweep
     (quick: L_x = 2 km, h = 5 m, 1,000 orbits from white noise; full: 5 km, h = 2.5 m, 5,000 orbits)."""
-    if mode == "quick" and SWEEP_FILE.is_file():
+    if mode == "quick" and use_sweep_file and SWEEP_FILE.is_file():
         try:  # aggregate of `ringcore sweep` (plain NetCDF: sigma0, lambda_p_m per run)
             with xr.open_dataset(SWEEP_FILE, engine="h5netcdf") as ds:
                 if "lambda_p_m" in ds and ds.sizes.get("run", 0):
                     ok = np.isfinite(ds.lambda_p_m.values)
                     return (ds.sigma0.values[ok], ds.lambda_p_m.values[ok],
-                            f"sweep file app/data/{SWEEP_FILE.name} ({ds.attrs.get('description', 'ringcore sweep')})")
+                            f"sweep file app/data/{SWEEP_FILE.name} (made by: {ds.attrs.get('command', 'ringcore sweep')})")
         except (OSError, ValueError, KeyError):
             pass
     L, h, orbits = pick(mode, 2000.0, 5000.0), pick(mode, 5.0, 2.5), pick(mode, 1000, 5000)
