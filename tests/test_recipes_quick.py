@@ -49,9 +49,9 @@ def test_grates_ci_frequency():
 
 
 def test_nlvg_ci(tmp_path):
-    """Reduced Figure nlvg: sigma0 = 400, three wavelengths (~40 s idle, 70 s at load 5). The nonlinear frequency minimum lies at a larger
-    wavelength than the linear lambda_zero (129 m), and the saturated frequencies exceed the linear ones
-    at short wavelengths (paper: panel a)."""
+    """Reduced Figure nlvg: sigma0 = 400, three wavelengths. The nonlinear frequency minimum lies at a
+    larger wavelength than the linear lambda_zero (129 m), and the saturated frequencies exceed the
+    linear ones at short wavelengths (paper: panel a)."""
     res = saturation_recipes.nlvg("quick", tmp_path, sigmas=(400.0,), wavelengths=(120.0, 170.0, 240.0))
     assert res.png.stat().st_size > 20_000
     ds = read_run(res.data, kind="recipe")
