@@ -58,7 +58,7 @@ def _grates_frequency(p, lam, h, orbits):
 
 
 @recipe("grates", "fig:grates", "Hydro test: linear growth rates and frequencies vs theory (tau15, non-isothermal)",
-        "35 s", "10 min")
+        "90 s", "1 h")
 def grates(mode, out):
     h = pick(mode, 2.0, 1.0)
     orb_g, orb_f = pick(mode, 15.0, 15.0), pick(mode, 8.0, 30.0)
@@ -132,7 +132,7 @@ def _strobe_recipe(mode, out, name, p, L_q, L_f, orb_q, orb_f, title, buffer_fra
 
 
 @recipe("tau15nga", "fig:tau15nga", "Stroboscopic space-time diagram and final PSD, tau15 isothermal, no SG",
-        "70 s", "5 h")
+        "50 s", "1 h")
 def tau15nga(mode, out):
     p = params.get("tau15", sigma0=0.0, isothermal=True)
     return _strobe_recipe(mode, out, "tau15nga", p, 2000.0, 10000.0, 1500, 20000,
@@ -140,7 +140,7 @@ def tau15nga(mode, out):
 
 
 @recipe("tau15bufnosg", "fig:tau15bufnosg", "Buffer zone (beta = -0.5): space-time diagram and PSD, tau15 iso, no SG",
-        "70 s", "5 h")
+        "100 s", "2 h")
 def tau15bufnosg(mode, out):
     p = params.get("tau15", sigma0=0.0, isothermal=True)
     return _strobe_recipe(mode, out, "tau15bufnosg", p, 2000.0, 10000.0, 1500, 20000,
@@ -148,7 +148,7 @@ def tau15bufnosg(mode, out):
 
 
 @recipe("tau20nonisonosga", "fig:tau20nonisonosga", "Space-time diagram and PSD, tau20 non-isothermal, no SG",
-        "90 s", "5 h")
+        "130 s", "2 h")
 def tau20nonisonosga(mode, out):
     p = params.get("tau20", sigma0=0.0)
     return _strobe_recipe(mode, out, "tau20nonisonosga", p, 2000.0, 10000.0, 1500, 14000,
@@ -156,9 +156,9 @@ def tau20nonisonosga(mode, out):
 
 
 @recipe("ekinisonosg", "fig:ekinisonosg", "e_kin(t) and lambda_p(t), isothermal, no SG (tau15, tau20, st99)",
-        "2.5 min", "25 h")
+        "3.5 min", "20 h")
 def ekinisonosg(mode, out):
-    L, orbits = pick(mode, 1500.0, 10000.0), pick(mode, 800, 20000)
+    L, orbits = pick(mode, 1000.0, 10000.0), pick(mode, 600, 20000)
     runs, status = {}, {}
     for name in ("tau15", "tau20"):
         p = params.get(name, sigma0=0.0, isothermal=True)

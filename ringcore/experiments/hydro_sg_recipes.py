@@ -50,7 +50,7 @@ def _ekin_panels(mode, out, name, panels, L, orbits, iso, title, paper):
 
 
 @recipe("ekincompare", "fig:ekincompare", "e_kin(t) of isothermal runs with self-gravity (tau15, tau20)",
-        "2 min", "40 h")
+        "4 min", "20 h")
 def ekincompare(mode, out):
     panels = pick(mode, {"tau15": (200.0, 300.0, 400.0, 600.0), "tau20": (250.0, 400.0, 700.0)},
                   {"tau15": (200.0, 250.0, 300.0, 400.0, 600.0), "tau20": (250.0, 300.0, 350.0, 400.0, 500.0, 700.0)})
@@ -62,7 +62,7 @@ def ekincompare(mode, out):
 
 
 @recipe("etauhydro", "fig:etauhydro", "e_kin(t) of non-isothermal runs with self-gravity (tau15, tau20)",
-        "2 min", "100 h")
+        "3.7 min", "120 h")
 def etauhydro(mode, out):
     panels = pick(mode, {"tau15": (0.0, 300.0, 500.0, 700.0), "tau20": (300.0, 600.0, 900.0)},
                   {"tau15": (0.0, 100.0, 200.0, 300.0, 400.0, 500.0, 600.0, 700.0, 800.0),
@@ -73,7 +73,7 @@ def etauhydro(mode, out):
 
 
 @recipe("sgstable", "fig:sgstable", "Snapshots and orbit-resolved space-time diagrams, tau15 isothermal, sigma0 = 250, 400",
-        "80 s", "20 h")
+        "55 s", "2.5 h")
 def sgstable(mode, out):
     L, orbits, rows = pick(mode, 1000.0, 5000.0), pick(mode, 600, 20000), pick(mode, 150, 250)
     fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
@@ -112,7 +112,7 @@ def sgstable(mode, out):
 
 
 @recipe("tau15nonisoweaksg", "fig:tau15nonisoweaksg", "Space-time diagram and PSD, tau15 non-isothermal, sigma0 = 125",
-        "80 s", "8 h")
+        "55 s", "1.5 h")
 def tau15nonisoweaksg(mode, out):
     L, orbits = pick(mode, 2000.0, 20000.0), pick(mode, 1500, 15000)
     p = params.get("tau15", sigma0=125.0)
@@ -125,7 +125,7 @@ def tau15nonisoweaksg(mode, out):
 
 
 @recipe("boxsizecomp01", "fig:boxsizecomp01", "Influence of L_x on e_kin and the final PSD at small sigma0 (tau15)",
-        "2 min", "60 h")
+        "2.4 min", "18 h")
 def boxsizecomp01(mode, out):
     sigmas = pick(mode, (0.0, 100.0), (0.0, 50.0, 100.0))
     boxes = pick(mode, (1000.0, 3000.0), (10000.0, 30000.0))
@@ -159,7 +159,7 @@ def boxsizecomp01(mode, out):
 
 
 @recipe("vgpert", "fig:vgpert", "Space-time diagram of a saturated wave train with the nonlinear group velocity",
-        "2 min", "10 h")
+        "2.4 min", "5 h")
 def vgpert(mode, out):
     s = 400.0
     L, orbits, extra = pick(mode, 2000.0, 20000.0), pick(mode, 700, 10000), pick(mode, 300, 2000)

@@ -38,7 +38,7 @@ def _lin_settings(mode):
                 dict(lams=tuple(1000.0 / np.arange(1, 26)), L_y=25.0, eq=10.0, orbits=20.0))
 
 
-@recipe("nblin1", "fig:nblin1", "N-body linear growth rates vs hydro, tau = 1.5, 2 (sigma0 = 0, 350)", "2 min", "6 h")
+@recipe("nblin1", "fig:nblin1", "N-body linear growth rates vs hydro, tau = 1.5, 2 (sigma0 = 0, 350)", "3.6 min", "6 h")
 def nblin1(mode, out):
     st = _lin_settings(mode)
     sets = pick(mode, ("tau15", "tau20"), ("tau10", "tau15", "tau20"))
@@ -68,7 +68,7 @@ def nblin1(mode, out):
 
 
 @recipe("nblin2", "fig:nblin2", "N-body linear growth rates and frequencies vs hydro (p_s and 1.4 p_s), tau = 1.5",
-        "2 min", "8 h")
+        "1.8 min", "5 h")
 def nblin2(mode, out):
     st = _lin_settings(mode)
     sigmas = pick(mode, (0.0, 600.0), (0.0, 150.0, 350.0, 600.0, 900.0))
@@ -126,7 +126,7 @@ def _history_dataset(runs, keys=("ekin", "c_mean", "collision_frequency", "lambd
                                     "time": ("time", t, {"units": "orbits"})})
 
 
-@recipe("enbody", "fig:enbody", "N-body e_kin(t) for several sigma0 (tau = 1.5)", "2.5 min", "300 h")
+@recipe("enbody", "fig:enbody", "N-body e_kin(t) for several sigma0 (tau = 1.5)", "3 min", "2000 h")
 def enbody(mode, out):
     sigmas = pick(mode, (0.0, 800.0), (0.0, 50.0, 100.0, 150.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
     runs, st = _overstable_runs(mode, sigmas)
@@ -145,7 +145,7 @@ def enbody(mode, out):
 
 
 @recipe("vdispnb", "fig:vdispnb", "N-body <c>(sigma0) and collision frequency (tau = 1.5, Omega_z = 3.6 and 2)",
-        "3 min", "300 h")
+        "3.3 min", "1400 h")
 def vdispnb(mode, out):
     sigmas = pick(mode, (0.0, 800.0), (0.0, 100.0, 200.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
     sets = pick(mode, ("tau15",), ("tau15", "tau15_oz2"))
@@ -178,8 +178,7 @@ def vdispnb(mode, out):
     return finish(fig, ds, out, "vdispnb", cap, st)
 
 
-@recipe("boxdouble", "fig:boxdouble", "N-body box-size test: a saturated box tiled to twice its size", "2.5 min",
-        "400 h")
+@recipe("boxdouble", "fig:boxdouble", "N-body box-size test: a saturated box tiled to twice its size", "4 min", "170 h")
 def boxdouble(mode, out):
     L, L_y, t1, t2 = pick(mode, 150.0, 2000.0), pick(mode, 10.0, 10.0), pick(mode, 50.0, 5000.0), pick(mode, 25.0, 3000.0)
     p = params.get("tau15", sigma0=150.0)
@@ -211,10 +210,10 @@ def boxdouble(mode, out):
 
 
 @recipe("radvar", "fig:radvar", "N-body saturation wavelength vs particle radius, sigma0 = 900 (eq. lambdasigmaap)",
-        "3 min", "1000 h")
+        "4.3 min", "400 h")
 def radvar(mode, out):
     radii = np.array(pick(mode, (1.0, 1.5, 2.0), (1.0, 1.5, 2.0, 2.5, 3.0, 4.0)))
-    L1, Ly1, orbits = pick(mode, 150.0, 2000.0), pick(mode, 6.0, 10.0), pick(mode, 80.0, 5000.0)
+    L1, Ly1, orbits = pick(mode, 150.0, 2000.0), pick(mode, 6.0, 10.0), pick(mode, 60.0, 5000.0)
     p = params.get("tau15", sigma0=900.0)
     lam_p, c0 = [], []
     for R in radii:

@@ -3,6 +3,12 @@
 Runs are driven through the engines' public APIs (``Hydro1D``, ``ShearingBox``); what a figure
 needs is collected into one ``xarray.Dataset`` per recipe (units as attributes, the caption and
 the settings as attributes) and written with :func:`ringcore.io.write_run` (kind ``"recipe"``).
+
+Costs given in the ``@recipe`` decorators: *quick* is the wall time measured with
+``scripts/run_quick_recipes.py`` on the shared 2-core development machine at load averages of 4-12
+(roughly 2-3x the idle time); *full* is that measured time scaled by the work ratio full/quick, i.e.
+the sum over runs of cells x (1/h^2) x orbits (hydro; diffusion-limited time step dt ~ h^2) or
+particles x orbits (N-body), for one core.
 """
 from __future__ import annotations
 

@@ -64,7 +64,7 @@ def saturation_points(mode, set_name="tau15", sigmas=(250.0, 400.0, 600.0, 800.0
 
 
 @recipe("lambdap", "fig:lambdap", "Saturation wavelength lambda_p(sigma0) vs 1.4 lambda_zero (tau15, non-isothermal)",
-        "3 min", "40 h")
+        "22 s", "70 h")
 def lambdap(mode, out):
     sig, lam_p, src = saturation_points(mode, sigmas=pick(mode, (250.0, 400.0, 600.0, 800.0),
                                                           tuple(np.arange(100.0, 1001.0, 50.0))))
@@ -98,7 +98,7 @@ NLVG_LAMBDAS_QUICK = (60.0, 85.0, 120.0, 170.0, 240.0, 340.0, 480.0)
 
 
 @recipe("nlvg", "fig:nlvg", "Nonlinear hydro dispersion relation and group velocities (tau15, non-isothermal)",
-        "2.5 min", "30 h")
+        "4 min", "260 h")
 def nlvg(mode, out, sigmas=None, wavelengths=None):
     sigmas = sigmas or pick(mode, (400.0, 700.0), (100.0, 200.0, 300.0, 400.0, 500.0, 600.0, 700.0, 800.0))
     lams = np.array(wavelengths or pick(mode, NLVG_LAMBDAS_QUICK, tuple(np.geomspace(40, 2000, 25).round())))
@@ -176,7 +176,7 @@ def _overplot_lambda_p(ax, out, sigmas, cols, lams, data) -> str:
 
 
 @recipe("nbvga", "fig:nbvga", "N-body nonlinear dispersion relation vs linear hydro (p_s and 2 p_s), tau15",
-        "2.5 min", "20 h")
+        "4.2 min", "5 h")
 def nbvga(mode, out):
     sigmas = pick(mode, (350.0, 900.0), (150.0, 350.0, 600.0, 900.0))
     lams = np.array(pick(mode, (80.0, 150.0, 300.0), (50.0, 70.0, 100.0, 140.0, 200.0, 280.0, 400.0, 560.0, 800.0)))
@@ -213,7 +213,7 @@ def nbvga(mode, out):
     return finish(fig, ds, out, "nbvga", cap, kw)
 
 
-@recipe("osfrat", "fig:osfrat", "lambda_zero^nl, lambda_zero^lin and buffer-zone lambda_p ratios (tau15)", "3 min", "60 h")
+@recipe("osfrat", "fig:osfrat", "lambda_zero^nl, lambda_zero^lin and buffer-zone lambda_p ratios (tau15)", "4 min", "15 h")
 def osfrat(mode, out):
     sigmas = pick(mode, (300.0, 500.0, 700.0), (200.0, 300.0, 400.0, 500.0, 600.0, 700.0, 800.0))
     L, orbits = pick(mode, 1500.0, 8000.0), pick(mode, 600, 10000)
