@@ -64,8 +64,10 @@ def saturation_points(mode, set_name="tau15", sigmas=(250.0, 400.0, 600.0, 800.0
 
 
 @recipe("lambdap", "fig:lambdap", "Saturation wavelength lambda_p(sigma0) vs 1.4 lambda_zero (tau15, non-isothermal)",
-        "22 s", "70 h")
+        "22 s", "45 h")
 def lambdap(mode, out):
+    """Quick: the shipped sweep (app/data/saturation_sweep.nc, 22 s) or, without it, an in-process sweep of
+    four 2 km runs (5.4 min measured at load 5)."""
     sig, lam_p, src = saturation_points(mode, sigmas=pick(mode, (250.0, 400.0, 600.0, 800.0),
                                                           tuple(np.arange(100.0, 1001.0, 50.0))))
     base = params.get("tau15")
@@ -213,7 +215,8 @@ def nbvga(mode, out):
     return finish(fig, ds, out, "nbvga", cap, kw)
 
 
-@recipe("osfrat", "fig:osfrat", "lambda_zero^nl, lambda_zero^lin and buffer-zone lambda_p ratios (tau15)", "4 min", "15 h")
+@recipe("osfrat", "fig:osfrat", "lambda_zero^nl, lambda_zero^lin and buffer-zone lambda_p ratios (tau15)", "2.6 min",
+        "10 h")
 def osfrat(mode, out):
     sigmas = pick(mode, (300.0, 500.0, 700.0), (200.0, 300.0, 400.0, 500.0, 600.0, 700.0, 800.0))
     L, orbits = pick(mode, 1500.0, 8000.0), pick(mode, 600, 10000)
