@@ -100,7 +100,7 @@ NLVG_LAMBDAS_QUICK = (60.0, 85.0, 120.0, 170.0, 240.0, 340.0, 480.0)
 
 
 @recipe("nlvg", "fig:nlvg", "Nonlinear hydro dispersion relation and group velocities (tau15, non-isothermal)",
-        "4 min", "260 h")
+        "1-4 min", "260 h")
 def nlvg(mode, out, sigmas=None, wavelengths=None):
     sigmas = sigmas or pick(mode, (400.0, 700.0), (100.0, 200.0, 300.0, 400.0, 500.0, 600.0, 700.0, 800.0))
     lams = np.array(wavelengths or pick(mode, NLVG_LAMBDAS_QUICK, tuple(np.geomspace(40, 2000, 25).round())))
@@ -117,6 +117,8 @@ def nlvg(mode, out, sigmas=None, wavelengths=None):
         mins.append((s, lz_lin, lz_nl, w_nl))
         vg = group_velocity(lams, r["frequency"], p.Omega)
         ax1.semilogx(lams, r["frequency"], "o-", color=c, label=f"{s:g}")
+        lost = ~r["dominant"].astype(bool)  # shorter modes took over: open symbols
+        ax1.plot(lams[lost], r["frequency"][lost], "o", color="w", mec=c, ms=5)
         ax1.semilogx(curve, d.frequency, "--", color=c, lw=0.9)
         if np.isfinite(lz_nl):
             ax1.plot(lz_nl, w_nl, "v", color=c, ms=9, mec="k")
@@ -131,7 +133,7 @@ def nlvg(mode, out, sigmas=None, wavelengths=None):
     ax1.set_xlabel("wavelength [m]")
     ax1.set_ylabel(r"$\omega_I$ [$\Omega$]")
     ax1.legend(title=r"$\sigma_0$ [kg m$^{-2}$]", fontsize=8)
-    ax1.set_title("nonlinear (solid, o; v = minimum) and linear (dashed) frequency", fontsize=9)
+    ax1.set_title("nonlinear (o; open: seeded mode overtaken; v: minimum; *: lambda_p), linear (dashed)", fontsize=8)
     ax2.axhline(0, color="0.6", lw=0.7)
     ax2.set_ylim(-0.5, 0.5)
     ax2.set_xlabel("wavelength [m]")
@@ -193,6 +195,8 @@ def nbvga(mode, out):
         r = to_arrays([nbody_frequency(p, float(lam), **kw) for lam in lams])
         ax1.semilogx(curve, linear.dispersion(p, curve).frequency, "-", color="C3", lw=0.9)
         ax1.semilogx(lams, r["frequency"], "o-", color=c, label=f"{s:g}")
+        lost = ~r["dominant"].astype(bool)  # shorter modes took over: open symbols
+        ax1.plot(lams[lost], r["frequency"][lost], "o", color="w", mec=c, ms=5)
         ax2.semilogx(curve, linear.dispersion(p, curve).frequency, "-", color="C3", lw=0.9)
         ax2.semilogx(curve, linear.dispersion(p.scaled_ps(2.0), curve).frequency, "--", color="C0", lw=0.9)
         ax2.semilogx(lams, r["frequency"], "o", color=c)
