@@ -156,7 +156,7 @@ def tau20nonisonosga(mode, out):
 
 
 @recipe("ekinisonosg", "fig:ekinisonosg", "e_kin(t) and lambda_p(t), isothermal, no SG (tau15, tau20, st99)",
-        "3.5 min", "20 h")
+        "90 s", "8 h")
 def ekinisonosg(mode, out):
     L, orbits = pick(mode, 1000.0, 10000.0), pick(mode, 600, 20000)
     runs, status = {}, {}

@@ -126,7 +126,7 @@ def _history_dataset(runs, keys=("ekin", "c_mean", "collision_frequency", "lambd
                                     "time": ("time", t, {"units": "orbits"})})
 
 
-@recipe("enbody", "fig:enbody", "N-body e_kin(t) for several sigma0 (tau = 1.5)", "3 min", "2000 h")
+@recipe("enbody", "fig:enbody", "N-body e_kin(t) for several sigma0 (tau = 1.5)", "65 s", "730 h")
 def enbody(mode, out):
     sigmas = pick(mode, (0.0, 800.0), (0.0, 50.0, 100.0, 150.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
     runs, st = _overstable_runs(mode, sigmas)
@@ -178,7 +178,7 @@ def vdispnb(mode, out):
     return finish(fig, ds, out, "vdispnb", cap, st)
 
 
-@recipe("boxdouble", "fig:boxdouble", "N-body box-size test: a saturated box tiled to twice its size", "4 min", "170 h")
+@recipe("boxdouble", "fig:boxdouble", "N-body box-size test: a saturated box tiled to twice its size", "62 s", "45 h")
 def boxdouble(mode, out):
     L, L_y, t1, t2 = pick(mode, 150.0, 2000.0), pick(mode, 10.0, 10.0), pick(mode, 50.0, 5000.0), pick(mode, 25.0, 3000.0)
     p = params.get("tau15", sigma0=150.0)
@@ -210,7 +210,7 @@ def boxdouble(mode, out):
 
 
 @recipe("radvar", "fig:radvar", "N-body saturation wavelength vs particle radius, sigma0 = 900 (eq. lambdasigmaap)",
-        "4.3 min", "400 h")
+        "65 s", "100 h")
 def radvar(mode, out):
     radii = np.array(pick(mode, (1.0, 1.5, 2.0), (1.0, 1.5, 2.0, 2.5, 3.0, 4.0)))
     L1, Ly1, orbits = pick(mode, 150.0, 2000.0), pick(mode, 6.0, 10.0), pick(mode, 60.0, 5000.0)
