@@ -20,7 +20,7 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
 
-_FM = {"contract", "arcp", "nsz", "afn"}
+_FM = {"nsz"}
 
 
 @intrinsic

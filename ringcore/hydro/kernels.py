@@ -59,7 +59,9 @@ NPAR = 14
 MP5_ALPHA = 4.0  # Suresh & Huynh (1997)
 MP5_EPS = 1e-10  # their accuracy-preserving switch
 
-_FM = {"contract", "arcp", "nsz", "afn"}  # fast-math without nnan/ninf: blow-ups stay visible
+_FM = {"nsz"}  # no contract/arcp/afn/reassoc: their use depends on inlining, and cached code
+# would then differ in the last bits from freshly compiled code (breaks bit-for-bit restarts);
+# no nnan/ninf: blow-ups stay visible
 
 
 @njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
@@ -168,7 +170,7 @@ def _primitives(U, W, beta, par):
             wrate[i] = (2.0 / 3.0) * abs(GT) * gam * rs / T
 
 
-@njit(cache=True, error_model="numpy", fastmath=True)
+@njit(cache=True, error_model="numpy", fastmath=_FM)
 def _grid_maxima(W, n):
     """(max |u| + c, max diffusivity, max cooling rate) over the interior nodes."""
     a = W[R_SIG][NG:NG + n]
