@@ -34,8 +34,8 @@ from .export import run_file_bytes
 from .hydro_settings import BUFFER_PARAMS, SETUP_PARAMS, HydroSettings
 from .linear_model import characteristic_numbers
 from .live_buffers import RollingImage, SeriesBuffer, SpaceTimeImage
+from .live_loop import LiveLoop
 
-PERIOD_MS = 100  # periodic callback period
 BUDGET_S = 0.06  # compute time per tick
 MAX_RECORD_SAMPLES = 5000  # solver recorder samples kept (older ones thinned by 2; ~6 KB each at n = 800)
 MAX_STROBE_BYTES = 16e6  # stroboscopic rows kept by the solver's recorder
@@ -66,7 +66,7 @@ def thin_recorder(rec, max_samples: int, max_strobe: int) -> bool:
     return done
 
 
-class HydroRunner(HydroSettings):
+class HydroRunner(LiveLoop, HydroSettings):
     """Settings, simulation, live buffers and controls (start/pause/step/reset) of one session."""
 
     running = param.Boolean(default=False, doc="True while the periodic callback advances the run.")
@@ -168,19 +168,7 @@ class HydroRunner(HydroSettings):
         if self.blowup:
             self.status = "The run blew up: press Reset (maybe with a smaller h or σ₀) to start again."
             return
-        self.running = True
-        self.status = "Running."
-        self._rates.clear()
-        self._ensure_callback()
-
-    def pause(self, *_):
-        """Stop advancing (the state is kept)."""
-        self.running = False
-        if self._callback is not None:
-            self._callback.stop()
-            self._callback = None
-        if not self.blowup:
-            self.status = "Paused."
+        self._begin()
 
     def step_once(self, *_):
         """Advance by STEP_ORBITS orbits (at most STEP_MAX_S seconds of computing) while paused."""
@@ -191,11 +179,6 @@ class HydroRunner(HydroSettings):
         if not self.blowup:
             self.status = f"Paused after a step to orbit {self.sim.orbits:.2f}."
         self.frame += 1
-
-    def _ensure_callback(self):
-        doc = pn.state.curdoc
-        if self._callback is None and doc is not None and doc.session_context is not None:
-            self._callback = pn.state.add_periodic_callback(self.tick, period=PERIOD_MS)
 
     def tick(self):
         """One callback period: compute for BUDGET_S seconds, then signal the view."""
@@ -247,19 +230,6 @@ class HydroRunner(HydroSettings):
             self._n_strobe = len(rec.t_strobe)
 
     # ------------------------------------------------------------------ readouts
-    def rates(self) -> tuple[float, float]:
-        """(steps per second, orbits per second) of wall time over the last ~2 s of running."""
-        r = self._rates
-        if len(r) < 2:
-            return (math.nan, math.nan)
-        j = 0
-        while j < len(r) - 2 and r[-1][0] - r[j][0] > 2.0:
-            j += 1
-        dt = r[-1][0] - r[j][0]
-        if dt <= 0:
-            return (math.nan, math.nan)
-        return ((r[-1][2] - r[j][2]) / dt, (r[-1][1] - r[j][1]) / dt)
-
     def typical_dt_orbits(self) -> float:
         """Time step [orbits] set by the criterion: the largest of the last 20 recorded steps (steps
         shortened to land on a sample time are smaller); nan before the first step."""

@@ -29,8 +29,8 @@ from .controls import SIGMA0_MAX
 from .export import run_file_bytes
 from .linear_model import characteristic_numbers
 from .live_buffers import SeriesBuffer
+from .live_loop import LiveLoop
 
-PERIOD_MS = 100
 BUDGET_S = 0.08
 RECORD_EVERY = 0.05  # [orbits] box means recorded by ShearingBox.run
 DT_ORBIT = 2.0e-3  # [orbits] 500 steps per orbit
@@ -56,7 +56,7 @@ def thin_history(box, max_len: int) -> bool:
     return done
 
 
-class NBodyRunner(param.Parameterized):
+class NBodyRunner(LiveLoop, param.Parameterized):
     """Settings, box, live series and controls of one session's N-body run."""
 
     param_set = param.Selector(default="tau15", objects=_set_names(), label="Parameter set (τ, Ω_z)",
@@ -143,20 +143,7 @@ class NBodyRunner(param.Parameterized):
         if self.box is None or self.blowup:
             self.status = "Press Reset first." if self.blowup else "Nothing to run: fix the settings first."
             return
-        self.running = True
-        self.status = "Running."
-        self._rates.clear()
-        doc = pn.state.curdoc
-        if self._callback is None and doc is not None and doc.session_context is not None:
-            self._callback = pn.state.add_periodic_callback(self.tick, period=PERIOD_MS)
-
-    def pause(self, *_):
-        self.running = False
-        if self._callback is not None:
-            self._callback.stop()
-            self._callback = None
-        if not self.blowup:
-            self.status = "Paused."
+        self._begin()
 
     def step_once(self, *_):
         """Advance 0.1 orbit while paused."""
@@ -206,17 +193,6 @@ class NBodyRunner(param.Parameterized):
             self._window_start = box.orbits
 
     # ------------------------------------------------------------------ readouts
-    def rates(self) -> tuple[float, float]:
-        """(steps per second, orbits per second) over the last ~2 s of running."""
-        r = self._rates
-        if len(r) < 2:
-            return (math.nan, math.nan)
-        j = 0
-        while j < len(r) - 2 and r[-1][0] - r[j][0] > 2.0:
-            j += 1
-        dt = r[-1][0] - r[j][0]
-        return ((r[-1][2] - r[j][2]) / dt, (r[-1][1] - r[j][1]) / dt) if dt > 0 else (math.nan, math.nan)
-
     def particles(self, max_n: int = MAX_PARTICLES):
         """(x, y, z) positions [m] as float32 arrays."""
         pos = self.box.pos[:max_n] * self.box.R_p
