@@ -186,6 +186,19 @@ def _grid_maxima(W, n):
     return vmax, numax, rmax
 
 
+@njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
+def _mach_split(M, p):
+    """Liou-Steffen (AUSM) split of the Mach number M and pressure p: (M+, M-, p+, p-)."""
+    sub = abs(M) <= 1.0
+    a = 0.25 * (M + 1.0) * (M + 1.0)
+    b = 0.25 * (M - 1.0) * (M - 1.0)
+    Mp = a if sub else 0.5 * (M + abs(M))
+    Mm = -b if sub else 0.5 * (M - abs(M))
+    pp = p * a * (2.0 - M) if sub else (p if M > 0.0 else 0.0)
+    pm = p * b * (2.0 + M) if sub else (0.0 if M > 0.0 else p)
+    return Mp, Mm, pp, pm
+
+
 @njit(cache=True, error_model="numpy", fastmath=_FM)
 def _split_fluxes(U, W):
     """Loop A2: Liou-Steffen (AUSM) flux vector splitting F = F+ + F- at every node.
@@ -206,14 +219,7 @@ def _split_fluxes(U, W):
     for i in range(N):
         c = wc[i]
         p = wp[i]
-        M = wu[i] / c
-        sub = abs(M) <= 1.0
-        a = 0.25 * (M + 1.0) * (M + 1.0)
-        b = 0.25 * (M - 1.0) * (M - 1.0)
-        Mp = a if sub else 0.5 * (M + abs(M))
-        Mm = -b if sub else 0.5 * (M - abs(M))
-        pp = p * a * (2.0 - M) if sub else (p if M > 0.0 else 0.0)
-        pm = p * b * (2.0 + M) if sub else (0.0 if M > 0.0 else p)
+        Mp, Mm, pp, pm = _mach_split(wu[i] / c, p)
         cp = Mp * c
         cm = Mm * c
         fp0[i] = cp * s_[i]
@@ -229,14 +235,7 @@ def _split_fluxes(U, W):
         c = wc[i]
         p = wp[i]
         u = wu[i]
-        M = u / c
-        sub = abs(M) <= 1.0
-        a = 0.25 * (M + 1.0) * (M + 1.0)
-        b = 0.25 * (M - 1.0) * (M - 1.0)
-        Mp = a if sub else 0.5 * (M + abs(M))
-        Mm = -b if sub else 0.5 * (M - abs(M))
-        pp = p * a * (2.0 - M) if sub else (p if M > 0.0 else 0.0)
-        pm = p * b * (2.0 + M) if sub else (0.0 if M > 0.0 else p)
+        Mp, Mm, pp, pm = _mach_split(u / c, p)
         fp3[i] = Mp * c * e_[i] + pp * u
         fm3[i] = Mm * c * e_[i] + pm * u
 

@@ -24,6 +24,13 @@ import math
 from numba import njit
 
 
+@njit(cache=True, inline="always")
+def bin_window(k, h):
+    """Fourier transform (sin(k h/2)/(k h/2))^2 of linear (cloud-in-cell) binning with bin width h."""
+    arg = 0.5 * k * h
+    return 1.0 if arg == 0.0 else (math.sin(arg) / arg) ** 2
+
+
 @njit(cache=True)
 def density_modes(pos, L_x, m_lo, m_hi, rho, coef):
     """Bin the particles (CIC, periodic) and return the mode coefficients a_m, b_m in ``coef``.
@@ -64,11 +71,9 @@ def density_modes(pos, L_x, m_lo, m_hi, rho, coef):
             sm = sm * c1 + cm * s1
             cm = cn
     for j in range(nm):
-        m = m_lo + j
-        arg = 0.5 * k1 * m * h
-        w = 1.0 if arg == 0.0 else (math.sin(arg) / arg) ** 2
-        coef[0, j] /= N * w
-        coef[1, j] /= N * w
+        w = N * bin_window(k1 * (m_lo + j), h)
+        coef[0, j] /= w
+        coef[1, j] /= w
 
 
 @njit(cache=True)
@@ -80,8 +85,7 @@ def kick_selfgravity(pos, vel, dt, g, L_x, m_lo, m_hi, rho, force, coef):
     k1 = 2.0 * math.pi / L_x
     nm = m_hi - m_lo + 1
     for j in range(nm):  # deconvolve the interpolation step as well
-        arg = 0.5 * k1 * (m_lo + j) * h
-        w = 1.0 if arg == 0.0 else (math.sin(arg) / arg) ** 2
+        w = bin_window(k1 * (m_lo + j), h)
         coef[0, j] /= w
         coef[1, j] /= w
     for b in range(nb):
