@@ -1,0 +1,179 @@
+"""The engine contract: one small interface that :class:`~ringcore.hydro.Hydro1D` and
+:class:`~ringcore.nbody.ShearingBox` both satisfy, and that every caller (command line,
+recipes, checkpoints, sweeps, the web app) uses exclusively.
+
+>>> eng = Hydro1D(p, opt, initial="noise")         # or ShearingBox(p, opt, seed=1)
+>>> eng.on_sample(lambda eng, s: print(s["orbit"], s["e_kin"]))
+>>> eng.advance(orbits=10, max_wall_s=0.05)         # returns the orbits advanced
+>>> st = eng.snapshot(); eng2 = type(eng).restore(st)   # bit-identical continuation
+>>> eng.diagnostics(); eng.orbits; eng.steps
+
+Rules of the contract
+---------------------
+- ``snapshot()`` returns a :class:`State`: plain numpy arrays and JSON-able metadata, a deep
+  copy (cheap to keep, to pickle and to send to another process).  ``restore(state)`` (a
+  classmethod) rebuilds an engine that continues bit for bit.  Run files are written from a
+  ``State`` and read into one (:mod:`ringcore.io`); no caller touches an engine's private
+  attributes.
+- ``advance(orbits=None, *, until=None, max_wall_s=None, stop=None, progress=False)`` integrates
+  for ``orbits`` more orbits or up to orbit ``until`` (exactly one), returning early (in a
+  consistent, continuable state) when ``max_wall_s`` seconds of wall time have passed or
+  ``stop()`` returns True.  It returns the number of orbits advanced.  How a run is split into
+  ``advance`` calls never changes its numbers.
+- Sample callbacks registered with ``on_sample(fn)`` are called as ``fn(engine, sample)`` after
+  every recorded sample, with ``sample`` a dict of the scalars just recorded (always ``orbit``,
+  ``e_kin``, ``lambda_p_m``).  ``on_sample`` returns a handle; ``remove_callback(handle)``.
+- ``diagnostics()`` (a method on both) returns the current scalars; ``orbits`` and ``steps``
+  are read-only properties with the same meaning on both engines.
+- A numerical failure raises a subclass of :class:`BlowUp` with ``what``, ``where_m``,
+  ``orbit`` and ``step`` and leaves the engine at its last good state.
+"""
+from __future__ import annotations
+
+import copy
+import dataclasses
+import hashlib
+import json
+from typing import Any, Callable, ClassVar, Protocol, runtime_checkable
+
+import numpy as np
+
+from .params import RingParams
+
+SampleCallback = Callable[[Any, dict], None]
+
+
+class BlowUp(RuntimeError):
+    """A step produced a non-finite or unphysical state; the engine keeps the last good state.
+
+    Attributes
+    ----------
+    what : str
+        The quantity that failed (e.g. ``"sigma"``, ``"T"``, ``"dt"``, ``"v_x"``).
+    where_m : float
+        Radial position of the failure (or of the last good position) [m].
+    orbit : float
+        Time of the last good state [orbits].
+    step : int
+        Number of the failed step (or the first step of the failed chunk).
+    value : float
+        The offending value (nan where not finite).
+    """
+
+    engine: ClassVar[str] = "engine"
+
+    def __init__(self, what: str, where_m: float, orbit: float, step: int, value: float = float("nan"),
+                 detail: str = ""):
+        self.what, self.where_m, self.orbit, self.step, self.value = what, float(where_m), float(orbit), \
+            int(step), float(value)
+        self.detail = detail
+        bad = "not finite" if not np.isfinite(value) else f"out of range ({value:.3g})"
+        msg = (f"{self.engine} blow-up: {what} became {bad} at x = {self.where_m:.2f} m in step {self.step} "
+               f"after t = {self.orbit:.4f} orbits; the last good state is kept")
+        super().__init__(msg + (f" ({detail})" if detail else ""))
+
+    def fields(self) -> dict:
+        """The failure as a JSON-able dict (for run-file attributes and messages)."""
+        return dict(engine=self.engine, what=self.what, where_m=self.where_m, orbit=self.orbit,
+                    step=self.step, value=self.value, message=str(self))
+
+
+@dataclasses.dataclass
+class State:
+    """Everything needed to continue a run bit for bit, as plain data.
+
+    Attributes
+    ----------
+    kind : str
+        ``"hydro"`` or ``"nbody"``.
+    params : RingParams
+        Physics.
+    options : dataclass
+        The engine's numerical options (``HydroOptions`` / ``NBodyOptions``).
+    arrays : dict of str -> numpy.ndarray
+        The exact kernel state and the recorder's raw series (engine-specific names, documented
+        by each engine's ``snapshot``).
+    meta : dict
+        JSON-able scalars: counters, time, buffer zone, random-generator state ...
+    """
+
+    kind: str
+    params: RingParams
+    options: Any
+    arrays: dict
+    meta: dict
+
+    def copy(self) -> "State":
+        """A deep copy."""
+        return State(self.kind, self.params, self.options, {k: np.array(v, copy=True) for k, v in self.arrays.items()},
+                     copy.deepcopy(self.meta))
+
+    def checksum(self) -> str:
+        """SHA-256 over every array (name, dtype, shape, bytes) and the metadata."""
+        h = hashlib.sha256()
+        for k in sorted(self.arrays):
+            a = np.ascontiguousarray(self.arrays[k])
+            h.update(f"{k}|{a.dtype.str}|{a.shape}".encode())
+            h.update(a.tobytes())
+        h.update(json.dumps(self.meta, sort_keys=True, default=str).encode())
+        return h.hexdigest()
+
+
+@runtime_checkable
+class Engine(Protocol):
+    """The interface both engines provide (see the module docstring for the rules)."""
+
+    kind: ClassVar[str]
+    params: RingParams
+    options: Any
+
+    @property
+    def orbits(self) -> float: ...
+
+    @property
+    def steps(self) -> int: ...
+
+    def advance(self, orbits: float | None = None, *, until: float | None = None,
+                max_wall_s: float | None = None, stop: Callable[[], bool] | None = None,
+                progress: bool = False) -> float: ...
+
+    def on_sample(self, fn: SampleCallback) -> int: ...
+
+    def remove_callback(self, handle: int) -> None: ...
+
+    def diagnostics(self) -> dict: ...
+
+    def snapshot(self) -> State: ...
+
+    @classmethod
+    def restore(cls, state: State) -> "Engine": ...
+
+    def save(self, path, *, complete: bool = True, **attrs): ...
+
+    @classmethod
+    def load(cls, path) -> "Engine": ...
+
+
+class SampleHub:
+    """Registered sample callbacks of one engine (a small helper both engines own)."""
+
+    def __init__(self):
+        self._fns: dict[int, SampleCallback] = {}
+        self._next = 0
+
+    def add(self, fn: SampleCallback) -> int:
+        if not callable(fn):
+            raise ValueError(f"fn = {fn!r} is not valid: give a callable fn(engine, sample)")
+        self._next += 1
+        self._fns[self._next] = fn
+        return self._next
+
+    def remove(self, handle: int) -> None:
+        self._fns.pop(handle, None)
+
+    def emit(self, engine, sample: dict) -> None:
+        for fn in list(self._fns.values()):
+            fn(engine, sample)
+
+    def __bool__(self):
+        return bool(self._fns)
