@@ -13,8 +13,9 @@ Rules of the contract
 - ``snapshot()`` returns a :class:`State`: plain numpy arrays and JSON-able metadata, a deep
   copy (cheap to keep, to pickle and to send to another process).  ``restore(state)`` (a
   classmethod) rebuilds an engine that continues bit for bit.  Run files are written from a
-  ``State`` and read into one (:mod:`ringcore.io`); no caller touches an engine's private
-  attributes.
+  ``State`` and read into one by the engine's run-file module (:data:`RUNFILES`, which imports
+  the engine, never the reverse; :func:`save_state`, :func:`load`); no caller touches an
+  engine's private attributes.
 - ``advance(orbits=None, *, until=None, max_wall_s=None, stop=None, progress=False)`` integrates
   for ``orbits`` more orbits or up to orbit ``until`` (exactly one), returning early (in a
   consistent, continuable state) when ``max_wall_s`` seconds of wall time have passed or
@@ -33,6 +34,7 @@ from __future__ import annotations
 import copy
 import dataclasses
 import hashlib
+import importlib
 import json
 from typing import Any, Callable, ClassVar, Protocol, runtime_checkable
 
@@ -177,3 +179,54 @@ class SampleHub:
 
     def __bool__(self):
         return bool(self._fns)
+
+
+# kind -> (package, engine class); kind -> run-file module providing dataset_from_state(state),
+# state_from_dataset(ds) -> State and save_state(state, path, complete=, **attrs)
+ENGINES = {"hydro": ("ringcore.hydro", "Hydro1D"), "nbody": ("ringcore.nbody", "ShearingBox")}
+RUNFILES = {"hydro": "ringcore.hydro.runfile"}
+
+
+def _check_kind(kind, table):
+    if kind not in table:
+        raise ValueError(f"kind = {kind!r} is not valid: choose one of {', '.join(table)}")
+    return kind
+
+
+def engine_class(kind: str):
+    """The engine class of a run ``kind`` ("hydro" or "nbody")."""
+    mod, name = ENGINES[_check_kind(kind, ENGINES)]
+    return getattr(importlib.import_module(mod), name)
+
+
+def _runfile(kind: str):
+    return importlib.import_module(RUNFILES[_check_kind(kind, RUNFILES)])
+
+
+def read_dataset(path, kind: str | None = None):
+    """A checked run file as an ``xarray.Dataset`` (:func:`ringcore.io.read_run`)."""
+    from .io import read_run
+    return read_run(path, kind=kind)
+
+
+def state_to_dataset(state: State):
+    """The run file's ``xarray.Dataset`` of ``state`` (written by the engine's run-file module)."""
+    return _runfile(state.kind).dataset_from_state(state)
+
+
+def state_from_dataset(ds, kind: str) -> State:
+    """The :class:`State` saved in a run file (a Dataset or a path) of ``kind``."""
+    if not hasattr(ds, "data_vars"):
+        ds = read_dataset(ds, kind)
+    return _runfile(kind).state_from_dataset(ds)
+
+
+def save_state(state: State, path, *, complete: bool = True, **attrs):
+    """Write ``state`` to the run file ``path`` (``complete`` flag, summary and ``attrs`` as attributes)."""
+    return _runfile(state.kind).save_state(state, path, complete=complete, **attrs)
+
+
+def load(path, kind: str | None = None):
+    """The engine continuing the run file ``path`` (its ``kind`` attribute picks the class)."""
+    ds = read_dataset(path, kind)
+    return engine_class(ds.attrs.get("kind")).from_dataset(ds)

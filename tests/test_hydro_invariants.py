@@ -128,10 +128,10 @@ def test_buffer_zone_switches_on_and_damps():
     assert not sim.buffer_active
     sim.run(orbits=1.5)
     assert sim.buffer_active and sim.buffer == (-100.0, 100.0, -0.5)
-    beta = sim._beta[6:-6]
+    beta = sim.snapshot().arrays["beta"]
     assert np.all(beta[np.abs(sim.x_m) <= 100] == -0.5) and np.all(beta[np.abs(sim.x_m) > 100] == p.beta)
     sim.clear_buffer()
-    assert not sim.buffer_active and np.all(sim._beta == p.beta)
+    assert not sim.buffer_active and np.all(sim.snapshot().arrays["beta"] == p.beta)
     # a uniform buffer everywhere turns growth into decay
     a = Hydro1D(p, HydroOptions(L_x=200, h=2.0, track_modes=(1,), timestep="cfl"), initial="mode",
                 wavelength=200, amplitude=1e-4)
@@ -139,5 +139,5 @@ def test_buffer_zone_switches_on_and_damps():
                 initial="mode", wavelength=200, amplitude=1e-4)
     a.run(orbits=2)
     b.run(orbits=2)
-    amp = lambda s: np.abs(s.diagnostics["mode_sigma"][:, 0])
+    amp = lambda s: np.abs(s.series()["mode_sigma"][:, 0])
     assert amp(a)[-1] > amp(a)[0] and amp(b)[-1] < amp(b)[0]

@@ -47,7 +47,7 @@ def test_restore_continues_bit_exactly(run_and_file):
     a.run(orbits=0.3)
     sim2.run(orbits=0.3)
     assert np.array_equal(a.U, sim2.U)
-    assert len(a.diagnostics["t"]) == 25 + 6
+    assert len(a.series()["t"]) == 25 + 6
 
 
 def test_psd_and_prevalent_wavelength():
@@ -63,7 +63,7 @@ def test_strobe_rows_are_at_full_orbits():
     p = params.get("tau15", sigma0=0, isothermal=True)
     sim = Hydro1D(p, HydroOptions(L_x=200, h=2.0, samples_per_orbit=7, timestep="cfl"), initial="noise", seed=5)
     sim.run(orbits=3)
-    a = sim.diagnostics
+    a = sim.series()
     assert np.allclose(a["t_strobe"] / (2 * math.pi), [0, 1, 2, 3], atol=1e-12)
     assert np.allclose(np.diff(a["t"]), 2 * math.pi / 7, atol=1e-9)
 

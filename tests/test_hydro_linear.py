@@ -19,7 +19,7 @@ def measure(p, lam, orbits=4.0, timestep="cfl", gravity="mode", replicas=0, bin_
                        timestep=timestep, gravity=gravity, replicas=replicas, bin_correction=bin_correction)
     sim = Hydro1D(p, opt, initial="mode", wavelength=lam, amplitude=1e-6)
     sim.run(orbits=orbits)
-    a = sim.diagnostics
+    a = sim.series()
     t = a["t"]
     amp = np.abs(a["mode_sigma"][:, 0])
     gr = growth_rate(t, amp)
@@ -64,7 +64,7 @@ def test_wire_kernel_with_replicas_and_bin_correction():
                        timestep="cfl", gravity="wire", replicas=5, bin_correction=True)
     sim = Hydro1D(p, opt, initial="mode", wavelength=100.0, amplitude=1e-6)
     sim.run(orbits=4)
-    a = sim.diagnostics
+    a = sim.series()
     gr = growth_rate(a["t"], np.abs(a["mode_sigma"][:, 0]))
     fr = lomb_frequency(a["t"], a["probe_u"][:, 0] * np.exp(-gr * a["t"]), 0.5, 1.5)
     d = linear.dispersion(p, [100.0])

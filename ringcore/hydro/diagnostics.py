@@ -79,9 +79,17 @@ FIELDS = ("sigma", "u", "v", "T")
 
 
 class Recorder:
-    """Collects diagnostics of a :class:`~ringcore.hydro.Hydro1D` run (dimensionless values)."""
+    """Collects diagnostics of a :class:`~ringcore.hydro.Hydro1D` run (dimensionless values).
 
-    def __init__(self, n: int, L_x_m: float, track_modes=(), probe_index=(), isothermal=False):
+    Bounded if ``max_samples`` / ``max_rows`` are set: when a sample (a strobe or space-time
+    row) makes its list longer than the limit, every second entry is dropped, keeping the
+    first and the latest (deterministic; ``thinned`` becomes True).  Unbounded by default.
+    """
+
+    def __init__(self, n: int, L_x_m: float, track_modes=(), probe_index=(), isothermal=False,
+                 max_samples: int | None = None, max_rows: int | None = None):
+        self.max_samples, self.max_rows = max_samples, max_rows
+        self.thinned = False
         self.n = n
         self.L_x_m = L_x_m
         self.track_modes = np.asarray(track_modes, int)
@@ -110,16 +118,32 @@ class Recorder:
         self.mode_u.append(fourier_coefficients(u)[self.track_modes] if self.track_modes.size else cs[:0])
         self.probe_sigma.append(sigma[self.probe_index])
         self.probe_u.append(u[self.probe_index])
+        if self.max_samples is not None and len(self.t) > self.max_samples:
+            for lst in self._per_sample():
+                lst[:] = lst[:-1:2] + lst[-1:]
+            self.thinned = True
+
+    def _per_sample(self):
+        return ([self.t, self.dt, self.steps, self.e_kin, self.lambda_p, self.mode_sigma, self.mode_u,
+                 self.probe_sigma, self.probe_u] + list(self.fmin.values()) + list(self.fmax.values()))
+
+    def _add_row(self, times, rows, t, sigma):
+        times.append(t)
+        row = np.asarray(sigma, np.float32).copy()
+        rows.append(row)
+        if self.max_rows is not None and len(times) > self.max_rows:
+            times[:] = times[:-1:2] + times[-1:]
+            rows[:] = rows[:-1:2] + rows[-1:]
+            self.thinned = True
+        return row
 
     def add_strobe(self, t, sigma):
-        """Stroboscopic row (one per orbit at orbital phase 0)."""
-        self.t_strobe.append(t)
-        self.strobe.append(np.asarray(sigma, np.float32).copy())
+        """Stroboscopic row (one per orbit at orbital phase 0); returns the stored float32 row."""
+        return self._add_row(self.t_strobe, self.strobe, t, sigma)
 
     def add_spacetime(self, t, sigma):
-        """Orbit-resolved space-time row."""
-        self.t_spacetime.append(t)
-        self.spacetime.append(np.asarray(sigma, np.float32).copy())
+        """Orbit-resolved space-time row; returns the stored float32 row."""
+        return self._add_row(self.t_spacetime, self.spacetime, t, sigma)
 
     # ------------------------------------------------------------------ arrays
     def arrays(self) -> dict:

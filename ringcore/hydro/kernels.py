@@ -37,6 +37,7 @@ import math
 import numpy as np
 from numba import njit
 
+from .convert import temperature_nb
 from .fastmath import vexp, vlog
 
 NG = 6  # ghost nodes per side (MP5 and the 6th-order central differences need 3)
@@ -151,7 +152,7 @@ def _primitives(U, W, beta, par):
             s = s_[i]
             rs = 1.0 / s
             u = mx_[i] * rs
-            T = (2.0 / 3.0) * (e_[i] * rs - 0.5 * u * u)
+            T = temperature_nb(e_[i] * rs, u)
             ls = vlog(s)
             lt = vlog(T * invT0)
             p = vexp(ps * ls + pT * lt)
@@ -441,7 +442,7 @@ def check_state(U):
         if not math.isfinite(U[2, i] / s):
             return 2, i - NG
         if nv == 4:
-            T = (2.0 / 3.0) * (U[3, i] / s - 0.5 * u * u)
+            T = temperature_nb(U[3, i] / s, u)
             if not (T > 0.0) or not math.isfinite(T):
                 return 3, i - NG
     return -1, -1
@@ -460,10 +461,10 @@ def apply_temperature_floor(U, T_min):
     hits = 0
     for i in range(NG, NG + n):
         s = U[0, i]
-        ek = 0.5 * U[1, i] * U[1, i] / s
-        T = (2.0 / 3.0) * (U[3, i] - ek) / s
+        u = U[1, i] / s
+        T = temperature_nb(U[3, i] / s, u)
         if T < T_min:
-            U[3, i] = ek + 1.5 * s * T_min
+            U[3, i] = 0.5 * U[1, i] * U[1, i] / s + 1.5 * s * T_min
             hits += 1
     return hits
 

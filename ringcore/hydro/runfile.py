@@ -1,5 +1,9 @@
 """Run files of :class:`~ringcore.hydro.Hydro1D`: the layout of its ``xarray.Dataset``.
 
+Written from a :class:`ringcore.engine.State` (:func:`dataset_from_state`, :func:`save_state`)
+and read into one (:func:`state_from_dataset`; then ``Hydro1D.restore``).  This module imports
+the solver's helpers, never the reverse, and touches no private attribute.
+
 Files are written and read only through :mod:`ringcore.io` (``write_run(ds, path, "hydro")``,
 ``read_run(path, "hydro")``: schema, version and kind checks; parameters and options as
 ``param_*`` / ``option_*`` attributes plus ``params_json`` / ``options_json``).
@@ -23,9 +27,13 @@ import math
 
 import numpy as np
 
-from ..io import attrs_from_dict, dict_from_attrs, read_run, status_attrs, write_run
+from ..engine import State
+from ..io import attrs_from_dict, dict_from_attrs, status_attrs, write_run
 from ..params import RingParams
 from ..units import R_P, time_to_orbits
+from .convert import cons_to_prim
+from .diagnostics import psd
+from .options import HydroOptions
 
 VAR_NAMES = ("sigma", "sigma_u", "sigma_v", "e")
 FIELDS = ("sigma", "u", "v", "T")
@@ -50,28 +58,31 @@ def _restart_series(a: dict) -> np.ndarray:
     return np.concatenate(parts, axis=1) if n else np.zeros((0, sum(p.shape[1] for p in parts)))
 
 
-def to_dataset(sim):
-    """The run of ``sim`` as an ``xarray.Dataset`` (see module docstring)."""
+def dataset_from_state(st: State):
+    """The run of the hydro state ``st`` as an ``xarray.Dataset`` (see module docstring)."""
     import xarray as xr
 
-    p, opt = sim.params, sim.options
+    p, opt, m = st.params, st.options, st.meta
     sc = p.scales
-    a = sim.recorder.arrays()
+    a = {k[4:]: v for k, v in st.arrays.items() if k.startswith("rec_")}
+    U = np.asarray(st.arrays["U"], float)
+    nv, n = U.shape
+    x_m = -0.5 * opt.L_x + opt.h * np.arange(n)  # [m], as the solver's grid
     sig_unit = "kg m-2" if p.sigma0 > 0 else "sigma0"
     s_sig = p.sigma0 if p.sigma0 > 0 else 1.0
-    sigma, u, v, T = sim.primitives()
-    wl, P = sim.psd()
+    sigma, u, v, T = cons_to_prim(U)
+    wl, P = psd(U[0], opt.L_x)
     e_si = a["e_kin"] * s_sig * sc.velocity ** 2
     nm, npr = len(opt.track_modes), len(opt.probes_m)
     coords = dict(
-        x=("x", sim.x_m, {"units": "m", "long_name": "radial position"}),
+        x=("x", x_m, {"units": "m", "long_name": "radial position"}),
         t=("t", time_to_orbits(a["t"]), {"units": "orbits", "long_name": "sample time"}),
         t_strobe=("t_strobe", time_to_orbits(a["t_strobe"]), {"units": "orbits"}),
         t_spacetime=("t_spacetime", time_to_orbits(a["t_spacetime"]), {"units": "orbits"}),
         mode=("mode", np.asarray(opt.track_modes, int), {"long_name": "Fourier mode number m (lambda = L_x/m)"}),
         probe=("probe", np.asarray(opt.probes_m, float), {"units": "m", "long_name": "probe position"}),
         wavelength=("wavelength", wl, {"units": "m"}),
-        var=("var", list(VAR_NAMES[:sim.nv])),
+        var=("var", list(VAR_NAMES[:nv])),
         restart_field=("restart_field", _restart_columns(nm, npr)),
     )
     dv = dict(
@@ -79,9 +90,9 @@ def to_dataset(sim):
         u=("x", u * sc.velocity, {"units": "m s-1", "long_name": "radial velocity"}),
         v=("x", v * sc.velocity, {"units": "m s-1", "long_name": "azimuthal velocity (deviation from shear)"}),
         T=("x", T * sc.temperature, {"units": "m2 s-2", "long_name": "granular temperature"}),
-        state=(("var", "x"), sim.U.copy(), {"units": "dimensionless (sigma0, c0, c0^2 scalings)",
+        state=(("var", "x"), U.copy(), {"units": "dimensionless (sigma0, c0, c0^2 scalings)",
                                             "long_name": "conservative state (exact, for continuation)"}),
-        beta=("x", sim._beta[6:6 + sim.n].copy(), {"long_name": "viscosity exponent per node"}),
+        beta=("x", np.array(st.arrays["beta"], float), {"long_name": "viscosity exponent per node"}),
         psd=("wavelength", P, {"long_name": "normalised PSD of sigma (final state)"}),
         e_kin=("t", a["e_kin"], {"units": "sigma0 c0^2", "long_name": "mean kinetic energy density, eq. (ekin)"}),
         e_kin_si=("t", e_si, {"units": "J m-2" if p.sigma0 > 0 else "sigma0 m2 s-2"}),
@@ -113,24 +124,12 @@ def to_dataset(sim):
             dv[f"{f}_{w}"] = ("t", a[f"{f}_{w}"] * scale[f], {"units": units[f], "long_name": f"{w} of {f}"})
     attrs = attrs_from_dict("param", p.as_dict())
     attrs.update(attrs_from_dict("option", opt.as_dict()))
-    attrs.update(time_orbits=sim.orbits, time_dimensionless=sim.t, steps=sim.steps, k_sample=sim._k_sample,
-                 dt_dimensionless=sim.dt, floor_hits=sim.floor_hits, buffer_active=int(sim.buffer_active),
-                 buffer=json.dumps(sim.buffer), length_unit_m=sc.length, c0_m_s=sc.velocity,
-                 Omega_per_s=p.Omega, model=p.model, n=sim.n,
+    attrs.update(time_orbits=time_to_orbits(m["t"]), time_dimensionless=m["t"], steps=m["steps"],
+                 k_sample=m["k_sample"], dt_dimensionless=m["dt"], floor_hits=m["floor_hits"],
+                 buffer_active=int(m["buffer_active"]), buffer=json.dumps(m["buffer"]), length_unit_m=sc.length,
+                 c0_m_s=sc.velocity, Omega_per_s=p.Omega, model=p.model, n=n,
                  title="ringcore 1D hydrodynamics (Lehmann, Schmidt & Salo 2017)")
     return xr.Dataset(dv, coords=coords, attrs=attrs)
-
-
-def state_from_dataset(ds):
-    """(sigma, u, v, T) dimensionless primitive arrays of the state saved in ``ds``."""
-    U = np.asarray(ds["state"].values, float)
-    s = U[0]
-    u, v = U[1] / s, U[2] / s
-    if U.shape[0] == 4:
-        T = (2.0 / 3.0) * (U[3] / s - 0.5 * u * u)
-    else:
-        T = np.ones_like(s)
-    return s, u, v, T
 
 
 def _recorder_arrays(ds, n_modes, n_probes) -> dict:
@@ -142,7 +141,7 @@ def _recorder_arrays(ds, n_modes, n_probes) -> dict:
     for f in FIELDS:
         for w in ("min", "max"):
             a[f"{f}_{w}"] = R[:, cols[f"{f}_{w}"]].copy()
-    j = cols["mode_sigma_re_0"] if n_modes else 10
+    j = len(_restart_columns(0, 0))  # the per-field columns come first
     for name in ("mode_sigma", "mode_u"):
         block = R[:, j:j + 2 * n_modes].reshape(n, n_modes, 2)
         a[name] = block[:, :, 0] + 1j * block[:, :, 1]
@@ -156,73 +155,42 @@ def _recorder_arrays(ds, n_modes, n_probes) -> dict:
     return a
 
 
-def from_dataset(ds):
-    """Rebuild a :class:`Hydro1D` from :func:`to_dataset` output (a Dataset or a run-file path)."""
-    from .options import HydroOptions
-    from .solver import NG, Hydro1D
+def _beta_of(ds, p: RingParams, opt: HydroOptions, buf) -> np.ndarray:
+    """Viscosity exponent per node: the stored array, or (older files) rebuilt from the buffer attribute."""
+    if "beta" in ds.data_vars:
+        return np.asarray(ds["beta"].values, float).copy()
+    beta = np.full(opt.n, p.dimensionless()["beta"])
+    if buf is not None:
+        x_m = -0.5 * opt.L_x + opt.h * np.arange(opt.n)
+        beta[(x_m >= buf[0]) & (x_m <= buf[1])] = float(buf[2])
+    return beta
 
-    if not hasattr(ds, "data_vars"):
-        ds = read_run(ds, kind="hydro")
+
+def state_from_dataset(ds) -> State:
+    """The :class:`ringcore.engine.State` saved by :func:`dataset_from_state` (a loaded Dataset)."""
     p = RingParams(**dict_from_attrs(ds, "param"))
     opt = HydroOptions(**dict_from_attrs(ds, "option"))
-    sim = Hydro1D(p, opt, initial=ds)
-    sim._U[0][:, NG:NG + sim.n] = np.asarray(ds["state"].values, float)  # bit-exact state
     at = ds.attrs
-    sim.t = float(at["time_dimensionless"])
-    sim.steps = int(at["steps"])
-    sim.dt = float(at["dt_dimensionless"])
-    sim.floor_hits = int(at.get("floor_hits", 0))
-    sim.clear_buffer()
     buf = json.loads(at["buffer"]) if isinstance(at.get("buffer"), str) else None
-    if int(at.get("buffer_active", 0)) and buf is not None:
-        sim.set_buffer(*buf)
-    sim.recorder.load(_recorder_arrays(ds, len(opt.track_modes), len(opt.probes_m)))
-    if "k_sample" in at:
-        sim._k_sample = int(at["k_sample"])
-    else:
-        sim._k_sample = int(np.floor(sim.t / (TWO_PI / opt.samples_per_orbit) + 1e-9)) + 1
-    return sim
+    active = bool(int(at.get("buffer_active", 0)) and buf is not None)
+    t = float(at["time_dimensionless"])
+    k = int(at["k_sample"]) if "k_sample" in at else int(np.floor(t / (TWO_PI / opt.samples_per_orbit) + 1e-9)) + 1
+    arrays = {"U": np.asarray(ds["state"].values, float).copy(),
+              "beta": _beta_of(ds, p, opt, buf if active else None)}
+    arrays.update({f"rec_{k_}": v for k_, v in _recorder_arrays(ds, len(opt.track_modes), len(opt.probes_m)).items()})
+    meta = dict(t=t, dt=float(at["dt_dimensionless"]), steps=int(at["steps"]), k_sample=k,
+                floor_hits=int(at.get("floor_hits", 0)), buffer_active=active,
+                buffer=[float(b) for b in buf] if active else None, max_samples=None, max_rows=None,
+                thinned=False)
+    return State("hydro", p, opt, arrays, meta)
 
 
-def summary(sim, last_fraction: float = 0.25) -> dict:
-    """Saturation summary of a run over its last ``last_fraction`` (by time).
+def save_state(st: State, path, *, complete: bool = True, **attrs):
+    """Write the hydro state ``st`` to ``path`` with :func:`ringcore.io.write_run` (kind "hydro"),
+    with the ``complete`` flag, the :func:`ringcore.analysis.summary.summary` and ``attrs``."""
+    from ..analysis.summary import summary
 
-    Keys: ``lambda_p_m`` most frequent sampled prevalent wavelength [m];
-    ``lambda_p_mean_m`` its mean [m]; ``lambda_p_psd_m`` peak of the time-averaged PSD of the
-    stroboscopic sigma rows [m] (nan without strobe rows); ``e_kin`` mean kinetic energy density
-    [sigma0 c0^2] and ``e_kin_rp`` [sigma0 (R_p Omega)^2, R_p = 1 m]; ``c_mean`` mass-weighted
-    mean velocity dispersion sqrt(T) of the final state [m/s]; ``orbits``; ``steps``.
-    """
-    from .diagnostics import psd
-
-    a = sim.recorder.arrays()
-    t = a["t"]
-    out = dict(orbits=sim.orbits, steps=sim.steps)
-    if t.size:
-        sel = t >= t[-1] - last_fraction * (t[-1] - t[0])
-        vals, counts = np.unique(a["lambda_p"][sel], return_counts=True)
-        out.update(lambda_p_m=float(vals[np.argmax(counts)]), lambda_p_mean_m=float(a["lambda_p"][sel].mean()),
-                   e_kin=float(a["e_kin"][sel].mean()))
-    else:
-        out.update(lambda_p_m=math.nan, lambda_p_mean_m=math.nan, e_kin=math.nan)
-    sc = sim.params.scales
-    out["e_kin_rp"] = out["e_kin"] * sc.velocity ** 2 / (R_P * sim.params.Omega) ** 2
-    ts = a["t_strobe"]
-    rows = a["strobe"][ts >= ts[-1] - last_fraction * (ts[-1] - ts[0])] if ts.size > 1 else a["strobe"][:0]
-    if rows.shape[0]:
-        spec = np.mean([psd(r.astype(float), sim.options.L_x)[1] for r in rows], axis=0)
-        wl = psd(rows[0].astype(float), sim.options.L_x)[0]
-        out["lambda_p_psd_m"] = float(wl[np.argmax(spec)])
-    else:
-        out["lambda_p_psd_m"] = math.nan
-    sig, T = sim.sigma, sim.T
-    out["c_mean"] = float(np.sum(sig * np.sqrt(np.maximum(T, 0.0))) / np.sum(sig)) * sc.velocity
-    return out
-
-
-def save(sim, path, *, complete: bool = True, **attrs):
-    """Write ``sim`` to ``path`` with :func:`ringcore.io.write_run` (kind "hydro")."""
-    ds = to_dataset(sim)
-    ds.attrs.update(status_attrs(summary(sim), complete))
+    ds = dataset_from_state(st)
+    ds.attrs.update(status_attrs(summary(st), complete))
     ds.attrs.update(attrs)
     return write_run(ds, path, kind="hydro")

@@ -1,61 +1,66 @@
-"""The 1D axisymmetric shearing-sheet hydro solver :class:`Hydro1D`.
+"""The 1D axisymmetric shearing-sheet hydro solver :class:`Hydro1D` (an :class:`ringcore.engine.Engine`).
 
 >>> from ringcore import params
 >>> from ringcore.hydro import Hydro1D, HydroOptions
 >>> sim = Hydro1D(params.get("tau15", sigma0=400), HydroOptions(L_x=5000, h=2.5), initial="noise", seed=1)
->>> sim.run(orbits=100, progress=True)                       # doctest: +SKIP
+>>> sim.advance(orbits=100, progress=True)                   # doctest: +SKIP
 >>> sim.e_kin_series()                                        # doctest: +SKIP
 
 The class owns the state and all preallocated work arrays and unpacks the
 parameters into a float vector for the compiled kernels of
 :mod:`ringcore.hydro.kernels`.  One step = 5 SSPRK(5,4) stages, each one FFT
 self-gravity evaluation (:mod:`ringcore.hydro.gravity`) plus one compiled
-:func:`~ringcore.hydro.kernels.rk_stage` call; nothing is allocated per step.
+:func:`~ringcore.hydro.kernels.rk_stage` call, driven by one loop over the tableau of
+:mod:`ringcore.hydro.timestep`; nothing is allocated per step.  The state goes in and
+out as a :class:`ringcore.engine.State` (:meth:`Hydro1D.snapshot`, :meth:`Hydro1D.restore`);
+run files are written from it by :mod:`ringcore.hydro.runfile` (this module does not import it).
 
 References: eqs. (nleq), (hcl), (timestep); Section "Numerical Methods".
 """
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 
-from ..checks import check_real
+from .. import engine as _engine
+from ..checks import check_int, check_real
+from ..engine import BlowUp, SampleHub, State
 from ..params import RingParams
 from ..units import time_to_orbits
 from . import kernels as K
+from .convert import cons_to_prim
 from .diagnostics import Recorder, e_kin, prevalent_wavelength, psd
 from .gravity import SelfGravity
 from .initial import INITIAL_KINDS, make_initial
 from .options import HydroOptions
-from .timestep import SSPRK54_ALPHA as _A
-from .timestep import SSPRK54_BETA as _B
+from .timestep import stage_plan
 
 NG = K.NG
 FIELD_NAMES = ("sigma", "u", "v", "T")
 TWO_PI = 2.0 * math.pi
+STAGES = stage_plan()  # SSPRK(5,4) as (input, L slot, Lprev slot, (U index, alpha) x 3, beta_self, beta_prev)
 
 
-class HydroBlowUp(RuntimeError):
+class HydroBlowUp(BlowUp):
     """A step produced a non-finite or non-positive field; the solver keeps the last good state.
 
-    Attributes
-    ----------
-    field : str
-        ``"sigma"``, ``"u"``, ``"v"`` or ``"T"``.
-    x_m : float
-        Position of the first bad node [m].
-    orbit : float
-        Time of the last good state [orbits].
-    step : int
-        Number of the failed step.
+    Attributes as :class:`ringcore.engine.BlowUp`: ``what`` (``"sigma"``, ``"u"``, ``"v"``,
+    ``"T"`` or ``"dt"``), ``where_m`` (first bad node [m]), ``orbit`` (last good state
+    [orbits]), ``step`` (number of the failed step), ``value``; ``field`` and ``x_m`` are
+    the older names of ``what`` and ``where_m``.
     """
 
-    def __init__(self, field, x_m, orbit, step, value):
-        self.field, self.x_m, self.orbit, self.step, self.value = field, x_m, orbit, step, value
-        what = "not finite" if not np.isfinite(value) else f"non-positive ({value:.3g})"
-        super().__init__(f"hydro blow-up: {field} became {what} at x = {x_m:.2f} m in step {step} "
-                         f"after t = {orbit:.4f} orbits; the last good state is kept")
+    engine = "hydro"
+
+    @property
+    def field(self) -> str:
+        return self.what
+
+    @property
+    def x_m(self) -> float:
+        return self.where_m
 
 
 class Hydro1D:
@@ -75,9 +80,22 @@ class Hydro1D:
         dataset written by :meth:`to_dataset` (its last state; time restarts at 0).
     """
 
+    kind = "hydro"
+
     def __init__(self, params: RingParams, options: HydroOptions | None = None, initial="ground", *,
                  seed: int = 0, amplitude: float | None = None, lambda_min: float = 50.0,
-                 wavelength: float | None = None, direction: str = "left", phase: float = 0.0, state=None):
+                 wavelength: float | None = None, direction: str = "left", phase: float = 0.0, state=None,
+                 max_samples: int | None = None, max_rows: int | None = None):
+        self._allocate(params, options)
+        self.limit_records(max_samples, max_rows)
+        self._set_initial(initial, seed=seed, amplitude=amplitude, lambda_min=lambda_min,
+                          wavelength=wavelength, direction=direction, phase=phase, state=state)
+        if self.options.buffer is not None and self.options.buffer_on_orbit <= 0.0:
+            self.set_buffer(*self.options.buffer)
+        self._record(force=True)
+
+    def _allocate(self, params, options):
+        """Parameters, grid, work arrays and an empty recorder (no initial state yet)."""
         if not isinstance(params, RingParams):
             raise ValueError(f"params = {params!r} is not valid: give a ringcore.params.RingParams")
         self.params = params
@@ -95,7 +113,7 @@ class Hydro1D:
         self.x = self.x_m / self.length_unit
         N = n + 2 * NG
         self._U = [np.zeros((self.nv, N)) for _ in range(6)]  # u0 .. u4, result
-        self._L = [np.zeros((self.nv, N)) for _ in range(2)]
+        self._L = [np.zeros((self.nv, N)) for _ in range(1 + max(st[1] for st in STAGES))]
         self._W = np.zeros((K.NW, N))
         self._beta = np.full(N, d["beta"])
         self.buffer_active = False
@@ -115,16 +133,20 @@ class Hydro1D:
         self.floor_hits = 0  # node-steps raised by the optional temperature floor
         self.gravity = SelfGravity(n, self.h, d["inv_Q0"], opt.gravity, opt.replicas, opt.bin_correction)
         self.t = 0.0  # [1/Omega]
-        self.steps = 0
+        self._steps = 0
         self.dt = 0.0  # last time step [1/Omega]
         self._k_sample = 0
+        self._hub = SampleHub()
         probes = [int(round((xp + 0.5 * opt.L_x) / opt.h)) % n for xp in opt.probes_m]
         self.recorder = Recorder(n, opt.L_x, opt.track_modes, probes, self.isothermal)
-        self._set_initial(initial, seed=seed, amplitude=amplitude, lambda_min=lambda_min,
-                          wavelength=wavelength, direction=direction, phase=phase, state=state)
-        if opt.buffer is not None and opt.buffer_on_orbit <= 0.0:
-            self.set_buffer(*opt.buffer)
-        self._record(force=True)
+
+    def limit_records(self, max_samples: int | None = None, max_rows: int | None = None) -> None:
+        """Bound the recorder: at most ``max_samples`` samples and ``max_rows`` strobe (and space-time)
+        rows; beyond that every second one is dropped (keeping the first and the latest), so a
+        long live run keeps flat memory.  ``None``: unbounded (the default)."""
+        rec = self.recorder
+        rec.max_samples = None if max_samples is None else check_int("max_samples", max_samples, 2, 10**9)
+        rec.max_rows = None if max_rows is None else check_int("max_rows", max_rows, 2, 10**9)
 
     # ------------------------------------------------------------------ set-up
     def _set_initial(self, initial, state=None, **kw):
@@ -138,8 +160,7 @@ class Hydro1D:
                                  f"{', '.join(INITIAL_KINDS + ('state',))} or an xarray.Dataset")
             prim = make_initial(initial, self.params, self.x, self.options.L_x, **kw)
         elif hasattr(initial, "data_vars"):
-            from .runfile import state_from_dataset
-            prim = state_from_dataset(initial)
+            prim = cons_to_prim(initial["state"].values)  # a run file's exact conservative state
         else:
             raise ValueError(f"initial = {initial!r} is not valid: choose one of "
                              f"{', '.join(INITIAL_KINDS + ('state',))} or an xarray.Dataset")
@@ -206,15 +227,17 @@ class Hydro1D:
     @property
     def T(self):
         """T/c0^2 at the nodes (T0 everywhere for the isothermal model)."""
-        if self.isothermal:
-            return np.full(self.n, self._par[K.P_T0])
-        u = self.u
-        return (2.0 / 3.0) * (self.U[3] / self.U[0] - 0.5 * u * u)
+        return cons_to_prim(self.U, self._par[K.P_T0])[3]
 
     @property
     def orbits(self) -> float:
         """Elapsed time [orbits]."""
         return time_to_orbits(self.t)
+
+    @property
+    def steps(self) -> int:
+        """Time steps taken."""
+        return self._steps
 
     @property
     def dt_orbits(self) -> float:
@@ -223,7 +246,7 @@ class Hydro1D:
 
     def primitives(self):
         """(sigma, u, v, T) dimensionless arrays."""
-        return self.sigma, self.u, self.v, self.T
+        return cons_to_prim(self.U, self._par[K.P_T0])
 
     def e_kin(self) -> float:
         """Current mean kinetic energy density [sigma0 c0^2], eq. (ekin)."""
@@ -244,72 +267,63 @@ class Hydro1D:
 
     # ------------------------------------------------------------------ stepping
     def step(self, dt_cap: float = math.inf) -> float:
-        """Advance one SSPRK(5,4) step (dt from the criterion, at most ``dt_cap``); returns dt."""
-        U0, U1, U2, U3, U4, U5 = self._U
-        La, L3 = self._L
-        W, beta, par, n = self._W, self._beta, self._par, self.n
-        grav = self.gravity.force
-        s = slice(NG, NG + n)
-        stage = K.rk_stage
-        fl = self._T_floor
-        dt = stage(U0, W, beta, grav(U0[0, s]), par, La, La, U0, 1.0, U0, 0.0, U0, 0.0,
-                   _B[0, 0], 0.0, -1.0, dt_cap, U1)
-        if fl > 0.0:
-            self.floor_hits += K.apply_temperature_floor(U1, fl)
-        stage(U1, W, beta, grav(U1[0, s]), par, La, La, U0, _A[1, 0], U1, _A[1, 1], U1, 0.0,
-              _B[1, 1], 0.0, dt, dt_cap, U2)
-        if fl > 0.0:
-            self.floor_hits += K.apply_temperature_floor(U2, fl)
-        stage(U2, W, beta, grav(U2[0, s]), par, La, La, U0, _A[2, 0], U2, _A[2, 2], U2, 0.0,
-              _B[2, 2], 0.0, dt, dt_cap, U3)
-        if fl > 0.0:
-            self.floor_hits += K.apply_temperature_floor(U3, fl)
-        stage(U3, W, beta, grav(U3[0, s]), par, L3, L3, U0, _A[3, 0], U3, _A[3, 3], U3, 0.0,
-              _B[3, 3], 0.0, dt, dt_cap, U4)
-        if fl > 0.0:
-            self.floor_hits += K.apply_temperature_floor(U4, fl)
-        stage(U4, W, beta, grav(U4[0, s]), par, La, L3, U2, _A[4, 2], U3, _A[4, 3], U4, _A[4, 4],
-              _B[4, 4], _B[4, 3], dt, dt_cap, U5)
-        if fl > 0.0:
-            self.floor_hits += K.apply_temperature_floor(U5, fl)
-        field, j = K.check_state(U5)
+        """Advance one SSPRK(5,4) step (dt from the criterion, at most ``dt_cap``); returns dt.
+
+        The stages follow :data:`STAGES` (the tableau of :mod:`.timestep`).  On failure raises
+        :class:`HydroBlowUp` and leaves the state, time, counters and floor hits untouched.
+        """
+        U, Ls = self._U, self._L
+        W, beta, par = self._W, self._beta, self._par
+        grav, s = self.gravity.force, slice(NG, NG + self.n)
+        stage, fl = K.rk_stage, self._T_floor
+        hits = 0
+        dt = -1.0  # the first stage chooses it
+        for i, li, lp, ((ja, a0), (jb, a1), (jc, a2)), b1, b2 in STAGES:
+            Uin, out = U[i], U[i + 1]
+            dt = stage(Uin, W, beta, grav(Uin[0, s]), par, Ls[li], Ls[lp], U[ja], a0, U[jb], a1, U[jc], a2,
+                       b1, b2, dt, dt_cap, out)
+            if fl > 0.0:
+                hits += K.apply_temperature_floor(out, fl)
+        field, j = K.check_state(U[5])
         if field >= 0:
-            for Us in (U1, U2, U3, U4, U5):  # earliest stage: before gravity spreads a NaN
+            for Us in U[1:]:  # earliest stage: before gravity spreads a NaN
                 field, j = K.check_state(Us)
                 if field >= 0:
                     break
-            c = Us[:, NG + j]
-            with np.errstate(all="ignore"):
-                vals = [c[0], c[1] / c[0], c[2] / c[0],
-                        (2.0 / 3.0) * (c[-1] / c[0] - 0.5 * (c[1] / c[0]) ** 2) if self.nv == 4 else np.nan]
-            raise HydroBlowUp(FIELD_NAMES[field], float(self.x_m[j]), self.orbits, self.steps + 1,
-                              float(vals[field]))
+            val = cons_to_prim(Us[:, NG + j], self._par[K.P_T0])[field]
+            raise HydroBlowUp(FIELD_NAMES[field], float(self.x_m[j]), self.orbits, self._steps + 1,
+                              float(val) if self.nv == 4 or field < 3 else math.nan)
         if not (dt > 0.0 and math.isfinite(dt)):
-            raise HydroBlowUp("dt", float(self.x_m[0]), self.orbits, self.steps + 1, float(dt))
-        self._U[0], self._U[5] = U5, U0
+            raise HydroBlowUp("dt", float(self.x_m[0]), self.orbits, self._steps + 1, float(dt))
+        U[0], U[5] = U[5], U[0]
+        self.floor_hits += hits
         self.t += dt
-        self.steps += 1
+        self._steps += 1
         self.dt = dt
         return dt
 
-    def run(self, orbits: float | None = None, *, until: float | None = None, progress: bool = False,
-            max_steps: int | None = None, stop=None) -> "Hydro1D":
-        """Integrate for ``orbits`` more orbits (or up to orbit ``until``), recording diagnostics.
+    def advance(self, orbits: float | None = None, *, until: float | None = None,
+                max_wall_s: float | None = None, stop=None, progress: bool = False,
+                max_steps: int | None = None) -> float:
+        """Integrate for ``orbits`` more orbits (or up to orbit ``until``); returns the orbits advanced.
 
+        Diagnostics are recorded at the sample times (and pushed to :meth:`on_sample` callbacks).
         An end time within 1e-9 sample intervals of a sample time is moved onto it, so a run
-        split into pieces that end on sample times (e.g. whole orbits) is bit-for-bit the
-        uninterrupted run.  ``stop``: optional callable polled after every step (e.g. a
-        :class:`ringcore.io.StopRequest`); the run returns early, in a consistent state, when
-        it returns True.  Raises :class:`HydroBlowUp` (last good state kept) if a field goes bad.
+        split into pieces is bit-for-bit the uninterrupted run.  Returns early, in a consistent
+        continuable state, after ``max_wall_s`` seconds of wall time, after ``max_steps`` steps,
+        or when ``stop()`` (polled after every step, e.g. a :class:`ringcore.io.StopRequest`)
+        returns True.  Raises :class:`HydroBlowUp` (last good state kept) if a field goes bad.
         """
         if (orbits is None) == (until is None):
             raise ValueError("give exactly one of orbits (duration) or until (end time), in orbits")
         if until is None:
             until = self.orbits + check_real("orbits", orbits, 0.0, math.inf, unit="orbits")
         until = check_real("until", until, self.orbits, math.inf, unit="orbits")
+        if max_wall_s is not None:
+            max_wall_s = check_real("max_wall_s", max_wall_s, 0.0, math.inf, unit="s")
         t_end = until * TWO_PI
         ds = TWO_PI / self.options.samples_per_orbit
-        k_end = round(t_end / ds)
+        k_end = round(t_end / ds) if math.isfinite(t_end) else 0
         if abs(k_end * ds - t_end) <= 1e-9 * ds:
             t_end = k_end * ds  # the same float the sample grid uses
         opt = self.options
@@ -319,11 +333,11 @@ class Hydro1D:
         if progress:
             from tqdm.auto import tqdm
             bar = tqdm(total=round(until - self.orbits, 6), unit="orbit", desc="hydro")
-        o0 = self.orbits
-        steps0 = self.steps
+        o0, steps0 = self.orbits, self._steps
+        t_wall = time.perf_counter() + max_wall_s if max_wall_s is not None else math.inf
         try:
             while self.t < t_end * (1.0 - 1e-15):
-                if max_steps is not None and self.steps - steps0 >= max_steps:
+                if max_steps is not None and self._steps - steps0 >= max_steps:
                     break
                 t_next = min(t_end, self._k_sample * ds, t_buf)
                 cap = t_next - self.t
@@ -336,13 +350,32 @@ class Hydro1D:
                 self._record()
                 if stop is not None and stop():
                     break
-                if bar is not None and self.steps % 200 == 0:
+                if time.perf_counter() >= t_wall:
+                    break
+                if bar is not None and self._steps % 200 == 0:
                     bar.update(round(self.orbits - o0 - bar.n, 6))
         finally:
             if bar is not None:
                 bar.update(round(self.orbits - o0 - bar.n, 6))
                 bar.close()
+        return self.orbits - o0
+
+    def run(self, orbits: float | None = None, *, until: float | None = None, progress: bool = False,
+            max_steps: int | None = None, stop=None, max_wall_s: float | None = None) -> "Hydro1D":
+        """:meth:`advance`, returning the solver (for chaining; the older name)."""
+        self.advance(orbits, until=until, max_wall_s=max_wall_s, stop=stop, progress=progress, max_steps=max_steps)
         return self
+
+    def on_sample(self, fn) -> int:
+        """Call ``fn(sim, sample)`` after every recorded sample; returns a handle for
+        :meth:`remove_callback`.  ``sample``: ``orbit``, ``t`` [1/Omega], ``steps``, ``dt_orbits``,
+        ``e_kin`` [sigma0 c0^2], ``lambda_p_m`` [m], ``strobe_row`` and ``spacetime_row`` (the
+        float32 sigma/sigma0 row just added, or None)."""
+        return self._hub.add(fn)
+
+    def remove_callback(self, handle: int) -> None:
+        """Unregister a callback of :meth:`on_sample`."""
+        self._hub.remove(handle)
 
     def _record(self, force=False):
         """Record the diagnostics if the state sits on the next sample time (or if forced, at t = 0)."""
@@ -351,18 +384,29 @@ class Hydro1D:
         if not force and self.t < k * ds:
             return
         sig, u, v, T = self.primitives()
-        self.recorder.sample(self.t, self.dt, self.steps, sig, u, v, T)
+        rec = self.recorder
+        rec.sample(self.t, self.dt, self._steps, sig, u, v, T)
         S = self.options.samples_per_orbit
-        if self.options.strobe and k % S == 0:
-            self.recorder.add_strobe(self.t, sig)
+        strobe = rec.add_strobe(self.t, sig) if self.options.strobe and k % S == 0 else None
         r = self.options.spacetime_rows_per_orbit
-        if r and k % (S // r) == 0:
-            self.recorder.add_spacetime(self.t, sig)
+        st_row = rec.add_spacetime(self.t, sig) if r and k % (S // r) == 0 else None
         self._k_sample = k + 1
+        if self._hub:
+            self._hub.emit(self, dict(orbit=self.orbits, t=self.t, steps=self._steps, dt_orbits=self.dt_orbits,
+                                      e_kin=rec.e_kin[-1], lambda_p_m=rec.lambda_p[-1], strobe_row=strobe,
+                                      spacetime_row=st_row))
 
     # ------------------------------------------------------------------ output
-    @property
     def diagnostics(self) -> dict:
+        """Current scalars: ``orbit``, ``steps``, ``dt_orbits``, ``e_kin`` [sigma0 c0^2], ``lambda_p_m`` [m],
+        ``sigma_min``/``sigma_max`` [sigma0], ``T_min``/``T_max`` [c0^2], ``floor_hits``."""
+        sig, u, v, T = self.primitives()
+        return dict(orbit=self.orbits, steps=self._steps, dt_orbits=self.dt_orbits, e_kin=e_kin(sig, u, v),
+                    lambda_p_m=prevalent_wavelength(sig, self.options.L_x), sigma_min=float(sig.min()),
+                    sigma_max=float(sig.max()), T_min=float(T.min()), T_max=float(T.max()),
+                    floor_hits=self.floor_hits)
+
+    def series(self) -> dict:
         """Recorded diagnostics as numpy arrays (dimensionless; see :meth:`to_dataset` for units)."""
         return self.recorder.arrays()
 
@@ -371,35 +415,76 @@ class Hydro1D:
         a = self.recorder.arrays()
         return time_to_orbits(a["t"]), a["e_kin"]
 
+    def summary(self, last_fraction: float = 0.25) -> dict:
+        """Saturation summary over the last ``last_fraction`` of the run (:func:`ringcore.analysis.summary.summary`)."""
+        from ..analysis.summary import summary
+        return summary(self.snapshot(), last_fraction)
+
+    # ------------------------------------------------------------------ state in and out
+    def snapshot(self) -> State:
+        """The exact state as a :class:`ringcore.engine.State` (deep copy).
+
+        ``arrays``: ``U`` (nv, n) conservative state of the interior nodes (dimensionless),
+        ``beta`` (n,) viscosity exponent per node, ``rec_<name>`` the recorder's raw series
+        (:meth:`Recorder.arrays` names).  ``meta``: ``t``, ``dt`` [1/Omega], ``steps``,
+        ``k_sample`` (next sample number), ``floor_hits``, ``buffer_active``, ``buffer``
+        ([x_min_m, x_max_m, beta] or None), ``max_samples``, ``max_rows``, ``thinned``.
+        """
+        n, rec = self.n, self.recorder
+        arrays = {"U": self._U[0][:, NG:NG + n].copy(), "beta": self._beta[NG:NG + n].copy()}
+        arrays.update({f"rec_{k}": np.array(v, copy=True) for k, v in rec.arrays().items()})
+        meta = dict(t=self.t, dt=self.dt, steps=self._steps, k_sample=self._k_sample, floor_hits=self.floor_hits,
+                    buffer_active=bool(self.buffer_active), buffer=None if self.buffer is None else list(self.buffer),
+                    max_samples=rec.max_samples, max_rows=rec.max_rows, thinned=bool(rec.thinned))
+        return State(self.kind, self.params, self.options, arrays, meta)
+
+    @classmethod
+    def restore(cls, state: State) -> "Hydro1D":
+        """A solver that continues ``state`` (from :meth:`snapshot`) bit for bit."""
+        if not isinstance(state, State) or state.kind != cls.kind:
+            raise ValueError(f"state = {state!r} is not valid: give a State of kind {cls.kind!r}")
+        sim = cls.__new__(cls)
+        sim._allocate(state.params, state.options)
+        n, a, m = sim.n, state.arrays, state.meta
+        U = np.asarray(a["U"], float)
+        if U.shape != (sim.nv, n) or np.shape(a["beta"]) != (n,):
+            raise ValueError(f"state arrays U {U.shape}, beta {np.shape(a['beta'])} are not valid: "
+                             f"allowed ({sim.nv}, {n}) and ({n},) for these options")
+        sim._U[0][:, NG:NG + n] = U
+        K.fill_ghosts(sim._U[0], n)
+        sim._beta[NG:NG + n] = a["beta"]
+        sim._fill_beta_ghosts()
+        sim.buffer_active = bool(m.get("buffer_active", False))
+        sim.buffer = tuple(m["buffer"]) if sim.buffer_active and m.get("buffer") is not None else None
+        sim.t, sim.dt = float(m["t"]), float(m["dt"])
+        sim._steps, sim._k_sample = int(m["steps"]), int(m["k_sample"])
+        sim.floor_hits = int(m.get("floor_hits", 0))
+        sim.limit_records(m.get("max_samples"), m.get("max_rows"))
+        sim.recorder.load({k[4:]: np.array(v, copy=True) for k, v in a.items() if k.startswith("rec_")})
+        sim.recorder.thinned = bool(m.get("thinned", False))
+        return sim
+
     def to_dataset(self):
-        """The run as an ``xarray.Dataset`` (meters, orbits, unit attrs; parameters as attrs)."""
-        from .runfile import to_dataset
-        return to_dataset(self)
+        """The run as an ``xarray.Dataset`` (meters, orbits, unit attrs; parameters as attrs;
+        :mod:`ringcore.hydro.runfile`)."""
+        return _engine.state_to_dataset(self.snapshot())
 
     @classmethod
     def from_dataset(cls, ds) -> "Hydro1D":
         """Restore a solver (state, time, step count, buffer and records) from :meth:`to_dataset`
         (a Dataset, or a path read with :func:`ringcore.io.read_run`)."""
-        from .runfile import from_dataset
-        return from_dataset(ds)
-
-    def summary(self, last_fraction: float = 0.25) -> dict:
-        """Saturation summary over the last ``last_fraction`` of the run (see :func:`.runfile.summary`)."""
-        from .runfile import summary
-        return summary(self, last_fraction)
+        return cls.restore(_engine.state_from_dataset(ds, cls.kind))
 
     def save(self, path, *, complete: bool = True, **attrs):
         """Write the run file ``path`` (:func:`ringcore.io.write_run`, kind "hydro") with everything
         needed to continue bit-for-bit; ``complete`` and ``summary_json`` attributes, plus ``attrs``."""
-        from .runfile import save
-        return save(self, path, complete=complete, **attrs)
+        return _engine.save_state(self.snapshot(), path, complete=complete, **attrs)
 
     @classmethod
     def load(cls, path) -> "Hydro1D":
         """Continue a run from its file; :class:`ringcore.io.RunFileError` for missing, corrupt,
         foreign, non-hydro or newer files."""
-        from ..io import read_run
-        return cls.from_dataset(read_run(path, kind="hydro"))
+        return cls.from_dataset(_engine.read_dataset(path, cls.kind))
 
     def __repr__(self):
         return (f"Hydro1D({self.params.name}, {self.params.model}, sigma0={self.params.sigma0:g} kg/m^2, "

@@ -67,6 +67,32 @@ def ssprk54_step(f, y, dt):
     return u[5]
 
 
+def stage_plan(alpha=SSPRK54_ALPHA, beta=SSPRK54_BETA) -> tuple:
+    """The arguments of :func:`ringcore.hydro.kernels.rk_stage` for each stage of a Shu-Osher tableau.
+
+    Stage s reads ``u_s`` and writes ``u_{s+1}`` as ``a0 u_i + a1 u_j + a2 u_k + dt (b1 L(u_s) +
+    b2 L(u_p))``.  Returns one tuple per stage ``(s, L_slot, Lprev_slot, ((i, a0), (j, a1), (k, a2)),
+    b1, b2)``: the non-zero alphas in ascending order of the state they weigh (padded with
+    ``(s, 0.0)``, a term the kernel skips), ``b1 = beta[s, s]``, and at most one earlier
+    ``L(u_p)`` with ``b2 = beta[s, p]``.  ``L_slot`` is where L(u_s) is written: slot 0 is
+    scratch, an L an later stage needs gets its own slot (1, 2, ...).  The number of slots is
+    ``1 + max(L_slot)``.
+    """
+    ns = alpha.shape[0]
+    keep = [s for s in range(ns) if any(beta[r, s] != 0.0 for r in range(s + 1, ns))]
+    slot = {s: (1 + keep.index(s) if s in keep else 0) for s in range(ns)}
+    plan = []
+    for s in range(ns):
+        terms = [(j, float(alpha[s, j])) for j in range(s + 1) if alpha[s, j] != 0.0]
+        prev = [j for j in range(s) if beta[s, j] != 0.0]
+        if len(terms) > 3 or len(prev) > 1 or beta[s, s] == 0.0 or any(beta[s, j] for j in range(s + 1, ns)):
+            raise ValueError(f"stage {s} of the tableau does not fit rk_stage: at most 3 alphas, one earlier L")
+        terms += [(s, 0.0)] * (3 - len(terms))
+        p = prev[0] if prev else s
+        plan.append((s, slot[s], slot[p], tuple(terms), float(beta[s, s]), float(beta[s, p]) if prev else 0.0))
+    return tuple(plan)
+
+
 def default_dt_factor(mode: str) -> float:
     """Default f_t of a time-step mode."""
     return PAPER_DT_FACTOR if mode == "paper" else FAST_DT_FACTOR

@@ -1,0 +1,81 @@
+"""Saturation summary of a run: the numbers a run file's ``summary_json`` and the sweeps report.
+
+:func:`series_summary` and :func:`strobe_wavelength` work on plain recorded series of either
+engine; :func:`summary` applies them to a hydro :class:`ringcore.engine.State` (or to a
+:class:`~ringcore.hydro.Hydro1D`, through its ``snapshot()``).
+
+References: Section "Saturation Wavelength"; eqs. (ekin), (fourier).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..engine import State
+from ..units import R_P
+
+
+def _last(t, last_fraction: float):
+    """Mask of the samples in the last ``last_fraction`` (by time) of the series ``t``."""
+    return t >= t[-1] - last_fraction * (t[-1] - t[0])
+
+
+def series_summary(t, lambda_p, e_kin, last_fraction: float = 0.25) -> dict:
+    """``lambda_p_m`` (most frequent finite value [m]), ``lambda_p_mean_m`` [m] and ``e_kin`` (mean,
+    units of the input) over the last ``last_fraction`` of the sample times ``t`` (any unit); nan if empty."""
+    t = np.asarray(t, float)
+    out = dict(lambda_p_m=math.nan, lambda_p_mean_m=math.nan, e_kin=math.nan)
+    if t.size == 0:
+        return out
+    sel = _last(t, last_fraction)
+    lam = np.asarray(lambda_p, float)[sel]
+    lam = lam[np.isfinite(lam)]
+    if lam.size:
+        vals, counts = np.unique(lam, return_counts=True)
+        out.update(lambda_p_m=float(vals[np.argmax(counts)]), lambda_p_mean_m=float(lam.mean()))
+    out["e_kin"] = float(np.asarray(e_kin, float)[sel].mean())
+    return out
+
+
+def strobe_wavelength(t_rows, rows, L_x_m: float, last_fraction: float = 0.25) -> float:
+    """Peak wavelength [m] of the time-averaged normalised PSD of the stroboscopic rows (sigma/sigma0)
+    in the last ``last_fraction`` of their times; nan with fewer than two rows."""
+    from ..hydro.diagnostics import psd
+
+    t_rows = np.asarray(t_rows, float)
+    if t_rows.size <= 1:
+        return math.nan
+    sel_rows = rows[_last(t_rows, last_fraction)]
+    if not sel_rows.shape[0]:
+        return math.nan
+    spec = np.mean([psd(r.astype(float), L_x_m)[1] for r in sel_rows], axis=0)
+    wl = psd(sel_rows[0].astype(float), L_x_m)[0]
+    return float(wl[np.argmax(spec)])
+
+
+def summary(run, last_fraction: float = 0.25) -> dict:
+    """Saturation summary of a hydro run (a ``State`` of kind "hydro" or an engine) over its last
+    ``last_fraction`` (by time).
+
+    Keys: ``lambda_p_m`` most frequent sampled prevalent wavelength [m];
+    ``lambda_p_mean_m`` its mean [m]; ``lambda_p_psd_m`` peak of the time-averaged PSD of the
+    stroboscopic sigma rows [m] (nan without strobe rows); ``e_kin`` mean kinetic energy density
+    [sigma0 c0^2] and ``e_kin_rp`` [sigma0 (R_p Omega)^2, R_p = 1 m]; ``c_mean`` mass-weighted
+    mean velocity dispersion sqrt(T) of the final state [m/s]; ``orbits``; ``steps``.
+    """
+    from ..hydro.convert import cons_to_prim
+    from ..units import time_to_orbits
+
+    st = run if isinstance(run, State) else run.snapshot()
+    if st.kind != "hydro":
+        raise ValueError(f"run of kind {st.kind!r} is not valid here: give a hydro State or engine")
+    a, m, p = st.arrays, st.meta, st.params
+    out = dict(orbits=time_to_orbits(m["t"]), steps=int(m["steps"]))
+    out.update(series_summary(a["rec_t"], a["rec_lambda_p"], a["rec_e_kin"], last_fraction))
+    sc = p.scales
+    out["e_kin_rp"] = out["e_kin"] * sc.velocity ** 2 / (R_P * p.Omega) ** 2
+    out["lambda_p_psd_m"] = strobe_wavelength(a["rec_t_strobe"], a["rec_strobe"], st.options.L_x, last_fraction)
+    sig, _, _, T = cons_to_prim(a["U"])
+    out["c_mean"] = float(np.sum(sig * np.sqrt(np.maximum(T, 0.0))) / np.sum(sig)) * sc.velocity
+    return out
