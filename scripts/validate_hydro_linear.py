@@ -25,7 +25,7 @@ def measure(p, lam, gravity="mode", nwave=1, orbits=5.0):
                        timestep="cfl", gravity=gravity, replicas=5, bin_correction=True)
     sim = Hydro1D(p, opt, initial="mode", wavelength=lam, amplitude=1e-6)
     sim.run(orbits=orbits)
-    a = sim.diagnostics
+    a = sim.series()
     t = a["t"]
     gr = growth_rate(t, np.abs(a["mode_sigma"][:, 0]))
     fr = lomb_frequency(t, a["probe_u"][:, 0] * np.exp(-gr * t), 0.5, 1.5)

@@ -82,7 +82,7 @@ print(f"{run1}: {wall1:.0f} s wall time, {run1.steps / run1.orbits:.0f} steps pe
 
 # %%
 t, ekin = run1.e_kin_series()
-lam_p_t = run1.diagnostics["lambda_p"]            # prevalent wavelength at each sample [m]
+lam_p_t = run1.series()["lambda_p"]            # prevalent wavelength at each sample [m]
 amp = np.sqrt(ekin)                              # wave amplitude ~ sqrt(e_kin)
 fit = analysis.growth_rate(t, amp, window=(15, 30))  # per orbit
 fit_rate = fit.value / (2 * np.pi)                # in Omega
@@ -154,7 +154,7 @@ def count_sources_sinks(d):
 
 
 def strobe_panels(sim, windows, title):
-    a = sim.diagnostics
+    a = sim.series()
     strobe = a["strobe"]
     ts = np.arange(strobe.shape[0])  # one row per orbit, row 0 = orbit 0
     d = travel_direction(strobe, sim.options.h)
@@ -218,7 +218,7 @@ run2 = Hydro1D(p, HydroOptions(L_x=L_x, h=h, timestep="cfl", samples_per_orbit=2
 run2.run(orbits=orbits_mode)
 print(f"{run2}: {time.perf_counter() - t0:.0f} s wall time")
 t2, ekin2 = run2.e_kin_series()
-lp2 = run2.diagnostics["lambda_p"]
+lp2 = run2.series()["lambda_p"]
 first_change = t2[np.argmax(lp2 != lp2[0])]
 e_before = np.median(ekin2[(t2 > 200) & (t2 < 1000)])
 fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 3.6))
@@ -293,7 +293,7 @@ print(f"{run3}: {time.perf_counter() - t0:.0f} s wall time")
 ts3, src3, snk3, d3 = strobe_panels(run3, [(0, 300), (orbits_buffer - 300, orbits_buffer)],
                                     f"with a buffer zone β = −0.5 on [{buffer[0]:.0f} m, {buffer[1]:.0f} m]")
 t3, ekin3 = run3.e_kin_series()
-lp3 = run3.diagnostics["lambda_p"]
+lp3 = run3.series()["lambda_p"]
 late = t3 > orbits_buffer / 2
 inside = (run3.x_m >= buffer[0]) & (run3.x_m <= buffer[1])
 sig = run3.sigma

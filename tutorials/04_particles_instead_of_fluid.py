@@ -128,7 +128,7 @@ print(f"N-body: N = {nb.N}, {time.perf_counter() - t0:.0f} s; growth {g.growth_r
 hy = Hydro1D(q, HydroOptions(L_x=lam, h=1.0, samples_per_orbit=20, strobe=False, track_modes=(1,), probes_m=(0.0,)),
              initial="mode", wavelength=lam, amplitude=1e-3)
 hy.run(orbits=lin_orbits)
-a = hy.diagnostics
+a = hy.series()
 t_h = a["t"] / (2 * np.pi)
 from ringcore import analysis  # noqa: E402  (growth_rate, lomb_frequency)
 gr_h = analysis.growth_rate(t_h, np.abs(a["mode_sigma"][:, 0]), window=(2, lin_orbits)).value / (2 * np.pi)

@@ -141,7 +141,7 @@ def hydro_frequency(p: RingParams, wavelength_m: float, *, amplitude: float = 0.
         sim.run(orbits=orbits)
     except HydroBlowUp as exc:
         status = f"blow-up at orbit {exc.orbit:.1f}"
-    a = sim.diagnostics
+    a = sim.series()
     t = a["t"]
     use = t >= discard * TWO_PI
     lin = float(linear.dispersion(p, [lam]).frequency[0])

@@ -171,7 +171,7 @@ def vgpert(mode, out):
     kw["T_floor"] = 0.01
     w = np.array([hydro_frequency(p, lam, **kw).frequency for lam in lams])
     vg = float(group_velocity(lams, w, p.Omega)[1])  # [m/s] at lambda_p
-    a = sim.diagnostics
+    a = sim.series()
     ts = a["t_strobe"] / (2 * math.pi)
     sel = ts >= orbits
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5), gridspec_kw=dict(width_ratios=(2, 1)))

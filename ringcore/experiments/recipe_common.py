@@ -97,7 +97,7 @@ def series_dataset(runs: dict) -> xr.Dataset:
     for i, k in enumerate(labels):
         t, e = tt[i]
         T[i, :t.size], E[i, :t.size] = t, e
-        L[i, :t.size] = runs[k].diagnostics["lambda_p"]
+        L[i, :t.size] = runs[k].series()["lambda_p"]
     return xr.Dataset({"time": (("run", "sample"), T, {"units": "orbits"}),
                        "e_kin": (("run", "sample"), E, {"units": "sigma0 (R_p Omega)^2, R_p = 1 m"}),
                        "lambda_p": (("run", "sample"), L, {"units": "m"})},
@@ -106,7 +106,7 @@ def series_dataset(runs: dict) -> xr.Dataset:
 
 def strobe_dataset(sim, prefix: str = "", lam_max=None) -> xr.Dataset:
     """Stroboscopic sigma rows, final sigma profile and final normalised PSD (wavelengths <= lam_max)."""
-    a = sim.diagnostics
+    a = sim.series()
     wl, P = psd_below(sim.sigma, sim.options.L_x, lam_max)
     tname, lname = prefix + "t_strobe", prefix + "wavelength"
     return xr.Dataset({prefix + "strobe_sigma": ((tname, prefix + "x"), a["strobe"], {"units": "sigma0"}),
@@ -156,7 +156,7 @@ def plot_psd(ax, wl, P, title="final PSD of sigma"):
 
 def strobe_psd_figure(sim, suptitle: str, lam_max=None):
     """Figure "tau15nga"-type: stroboscopic space-time diagram (left) and final PSD (right)."""
-    a = sim.diagnostics
+    a = sim.series()
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5))
     plot_spacetime(ax1, a["t_strobe"] / (2 * math.pi), sim.x_m, a["strobe"], "stroboscopic (1/orbit) sigma/sigma0")
     wl, P = psd_below(sim.sigma, sim.options.L_x, lam_max)

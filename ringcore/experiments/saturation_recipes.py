@@ -56,7 +56,7 @@ def saturation_points(mode, set_name="tau15", sigmas=(250.0, 400.0, 600.0, 800.0
     lam_p = []
     for s in sigmas:
         sim, _ = hydro_run(params.get(set_name, sigma0=s), L, h, orbits, initial="noise", seed=1)
-        a = sim.diagnostics
+        a = sim.series()
         last = a["lambda_p"][a["t"] >= a["t"][-1] * 0.75]
         vals, counts = np.unique(last, return_counts=True)
         lam_p.append(float(vals[np.argmax(counts)]))
@@ -233,7 +233,7 @@ def osfrat(mode, out):
         r = nonlinear_curve(p, lams, mode)
         lz_nl, _ = frequency_minimum(lams, r["frequency"])
         sim, _ = hydro_run(p, L, 2.5, orbits, initial="noise", seed=1, buffer=(-L / 16, L / 16, -0.5))
-        a = sim.diagnostics
+        a = sim.series()
         rows_ = a["strobe"][a["t_strobe"] >= 0.75 * a["t_strobe"][-1]]
         lp = float(min(wl[np.argmax(P)] for wl, P in (psd_below(r, L, L / 4) for r in rows_)))
         rows.append((s, lz, lz_nl, lp))
