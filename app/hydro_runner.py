@@ -4,11 +4,12 @@ It owns a :class:`ringcore.hydro.Hydro1D` and the session's periodic callback.  
 numba kernels of ``ringcore.hydro`` hold the GIL (no ``nogil=True``), so a background
 thread would not let the server breathe; instead every callback tick computes for a
 fixed wall-time budget (``budget_s``, ~60 ms of a 100 ms period) and then hands the new
-state to the view.  Each step goes through ``Hydro1D.run(max_steps=1)`` so the solver's
-own recorder samples e_kin, lambda_p and the stroboscopic rows at exact sample times;
-after every sample the runner copies what the plots need into bounded buffers
-(:mod:`app.live_buffers`).  The solver's recorder is thinned when it gets long, so a
-session that runs for hours keeps flat memory.
+state to the view.  Each tick calls ``Hydro1D.advance(max_wall_s=budget_s)`` (the engine
+contract, :mod:`ringcore.engine`): the solver's own recorder samples e_kin, lambda_p and the
+stroboscopic rows at exact sample times and pushes every sample to :meth:`HydroRunner._on_sample`
+(``on_sample``), which copies what the plots need into bounded buffers
+(:mod:`app.live_buffers`).  The solver's recorder is bounded by the core (``max_samples``,
+``max_rows``: thinned by 2 when full), so a session that runs for hours keeps flat memory.
 
 Setup changes (parameters, grid, initial seed) rebuild the run at t = 0 (still running
 if it was); buffer-zone changes apply to the running state; invalid combinations leave
@@ -28,6 +29,7 @@ import numpy as np
 import panel as pn
 import param
 
+from ringcore.engine import state_to_dataset
 from ringcore.hydro import Hydro1D, HydroBlowUp
 
 from .export import run_file_bytes
@@ -41,29 +43,6 @@ MAX_RECORD_SAMPLES = 5000  # solver recorder samples kept (older ones thinned by
 MAX_STROBE_BYTES = 16e6  # stroboscopic rows kept by the solver's recorder
 STEP_ORBITS = 1.0  # the "Step" button advances this many orbits (or STEP_MAX_S of wall time)
 STEP_MAX_S = 1.0
-_PER_SAMPLE = ("t", "dt", "steps", "e_kin", "lambda_p", "mode_sigma", "mode_u", "probe_sigma", "probe_u")
-
-
-def thin_recorder(rec, max_samples: int, max_strobe: int) -> bool:
-    """Drop every second sample (and strobe row) of a ``ringcore.hydro`` Recorder that is too long.
-
-    Returns True if anything was thinned.  Keeps the first and the latest samples.
-    """
-    done = False
-    if len(rec.t) > max_samples:
-        for name in _PER_SAMPLE:
-            lst = getattr(rec, name)
-            if lst:
-                lst[:] = lst[:-1:2] + lst[-1:]
-        for d in (rec.fmin, rec.fmax):
-            for lst in d.values():
-                lst[:] = lst[:-1:2] + lst[-1:]
-        done = True
-    if len(rec.t_strobe) > max_strobe:
-        rec.t_strobe[:] = rec.t_strobe[:-1:2] + rec.t_strobe[-1:]
-        rec.strobe[:] = rec.strobe[:-1:2] + rec.strobe[-1:]
-        done = True
-    return done
 
 
 class HydroRunner(LiveLoop, HydroSettings):
@@ -81,7 +60,7 @@ class HydroRunner(LiveLoop, HydroSettings):
         self.sim = None
         self._callback = None
         self._rates = collections.deque(maxlen=40)  # (wall, orbits, steps) at ticks
-        self.thinned = False
+        self._dts = collections.deque(maxlen=20)  # time steps [orbits] of the latest samples
         self.buffer_events = []  # (orbit, beta or None)
         self._rebuild()
 
@@ -101,16 +80,19 @@ class HydroRunner(LiveLoop, HydroSettings):
         kw = dict(seed=self.seed, amplitude=self.amplitude)
         if self.initial == "mode":
             kw["wavelength"] = self.wavelength
-        self.sim = sim = Hydro1D(p, opt, initial=self.initial, **kw)
+        max_rows = max(100, int(MAX_STROBE_BYTES / (4 * opt.n)))
+        self.sim = sim = Hydro1D(p, opt, initial=self.initial, max_samples=MAX_RECORD_SAMPLES, max_rows=max_rows,
+                                 **kw)
         self.numbers = characteristic_numbers(self.settings())
         self.strobe_image = SpaceTimeImage(sim.n, 1.0)
         self.orbit_image = RollingImage(sim.n, 1.0 / opt.samples_per_orbit)  # last 25 orbits
         self.series = SeriesBuffer(("e_kin", "lambda_p"))
-        self._n_samples = self._n_strobe = 0
-        self._max_strobe = max(100, int(MAX_STROBE_BYTES / (4 * sim.n)))
-        self._collect()
+        self._dts.clear()
+        d = sim.diagnostics()  # the sample at t = 0 was recorded before the callback existed
+        self._on_sample(sim, dict(orbit=d["orbit"], e_kin=d["e_kin"], lambda_p_m=d["lambda_p_m"], dt_orbits=0.0,
+                                  strobe_row=sim.sigma.astype(np.float32) if opt.strobe else None))
+        sim.on_sample(self._on_sample)
         self.blowup = ""
-        self.thinned = False
         self.buffer_events = []
         self._rates.clear()
         self._apply_buffer()
@@ -193,48 +175,40 @@ class HydroRunner(LiveLoop, HydroSettings):
         Returns the number of steps taken.  A HydroBlowUp pauses the run and sets ``blowup``.
         """
         sim = self.sim
-        t0 = time.perf_counter()
         steps0 = sim.steps
         try:
-            while time.perf_counter() - t0 < budget_s:
-                if until is not None:
-                    if sim.orbits >= until - 1e-12:
-                        break
-                    sim.run(until=until, max_steps=1)
-                else:
-                    sim.run(orbits=1e9, max_steps=1)
-                if len(sim.recorder.t) != self._n_samples:
-                    self._collect()
+            if until is None:
+                sim.advance(orbits=1e9, max_wall_s=budget_s)
+            elif sim.orbits < until - 1e-12:
+                sim.advance(until=until, max_wall_s=budget_s)
         except HydroBlowUp as exc:
-            self._collect()
             self.blowup = (f"{exc}. The run is paused at the last good state (orbit {sim.orbits:.2f}). "
                            f"Smaller h, a smaller σ₀, or the 'paper' time step may help; press Reset to start again.")
             self.pause()
             self.status = "Blown up: paused at the last good state."
         self._rates.append((time.perf_counter(), sim.orbits, sim.steps))
-        if thin_recorder(sim.recorder, MAX_RECORD_SAMPLES, self._max_strobe):
-            self.thinned = True
-            self._n_samples, self._n_strobe = len(sim.recorder.t), len(sim.recorder.t_strobe)
         return sim.steps - steps0
 
-    def _collect(self):
-        """Copy new recorder samples into the live buffers (called right after a sample)."""
-        rec, sim = self.sim.recorder, self.sim
-        if len(rec.t) != self._n_samples:
-            t = sim.orbits
-            self.series.add(t, e_kin=rec.e_kin[-1], lambda_p=rec.lambda_p[-1])
-            self.orbit_image.add(t, sim.U[0])
-            self._n_samples = len(rec.t)
-        if len(rec.t_strobe) != self._n_strobe:
-            self.strobe_image.add(sim.orbits, rec.strobe[-1])
-            self._n_strobe = len(rec.t_strobe)
+    def _on_sample(self, sim, sample: dict) -> None:
+        """Copy a new sample (pushed by the solver right after recording it) into the live buffers."""
+        t = sample["orbit"]
+        self.series.add(t, e_kin=sample["e_kin"], lambda_p=sample["lambda_p_m"])
+        self.orbit_image.add(t, sim.U[0])
+        if sample["dt_orbits"] > 0.0:
+            self._dts.append(sample["dt_orbits"])
+        if sample.get("strobe_row") is not None:
+            self.strobe_image.add(t, sample["strobe_row"])
+
+    @property
+    def thinned(self) -> bool:
+        """True once the solver's bounded recorder dropped older samples or strobe rows."""
+        return self.sim is not None and self.sim.recorder.thinned
 
     # ------------------------------------------------------------------ readouts
     def typical_dt_orbits(self) -> float:
         """Time step [orbits] set by the criterion: the largest of the last 20 recorded steps (steps
         shortened to land on a sample time are smaller); nan before the first step."""
-        dts = self.sim.recorder.dt[-20:]
-        return max(dts) / (2.0 * math.pi) if dts and max(dts) > 0 else math.nan
+        return max(self._dts) if self._dts else math.nan
 
     def saturated_lambda_p(self, last_fraction: float = 0.25) -> float:
         """Median lambda_p [m] over the last ``last_fraction`` of the run (nan before 1 orbit)."""
@@ -247,11 +221,13 @@ class HydroRunner(LiveLoop, HydroSettings):
     # ------------------------------------------------------------------ export
     def to_dataset(self):
         """The current run as the project's xarray.Dataset, with the app's settings as attributes."""
-        ds = self.sim.to_dataset()
+        st = self.sim.snapshot()
+        ds = state_to_dataset(st)
+        thinned = st.meta["thinned"]
         ds.attrs["app_settings_json"] = self.settings_json()
-        ds.attrs["app_recorder_thinned"] = int(self.thinned)
-        if self.thinned:
-            ds.attrs["app_note"] = ("older samples and stroboscopic rows were thinned by the app to keep memory "
+        ds.attrs["app_recorder_thinned"] = int(thinned)
+        if thinned:
+            ds.attrs["app_note"] = ("older samples and stroboscopic rows were thinned to keep memory "
                                     "bounded: sample times are not equally spaced")
         if self.blowup:
             ds.attrs["app_blowup"] = self.blowup

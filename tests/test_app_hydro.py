@@ -10,7 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.hydro_runner import HydroRunner, thin_recorder
+from app.hydro_runner import HydroRunner
 from app.hydro_settings import HydroSettings
 from app.hydro_view import HydroView
 from app.live_buffers import RollingImage, SeriesBuffer, SpaceTimeImage, bin_columns
@@ -196,13 +196,18 @@ def test_memory_stays_bounded():
         s.add(float(k), y=2.0 * k)
     assert s.size <= 64 and s.get("t")[0] == 0.0 and s.get("y")[-1] == 2.0 * s.get("t")[-1]
     np.testing.assert_allclose(bin_columns(np.arange(10.0), 4), [1.0, 4.0, 7.0, 9.0])
-    sim = Hydro1D(params.get("tau15", 400.0), HydroOptions(L_x=400.0, h=2.5, samples_per_orbit=50), initial="noise")
-    sim.run(orbits=3.0)
-    n = len(sim.recorder.t)
-    assert thin_recorder(sim.recorder, 100, 2)
-    a = sim.recorder.arrays()
-    assert len(a["t"]) == (n - 1 + 1) // 2 + 1 and a["t"][-1] == pytest.approx(sim.t)
+    opt = HydroOptions(L_x=400.0, h=2.5, samples_per_orbit=50)
+    full = Hydro1D(params.get("tau15", 400.0), opt, initial="noise")
+    sim = Hydro1D(params.get("tau15", 400.0), opt, initial="noise", max_samples=100, max_rows=2)  # bounded by the core
+    full.advance(orbits=3.0)
+    sim.advance(orbits=3.0)
+    a, b = sim.series(), full.series()
+    assert sim.recorder.thinned and not full.recorder.thinned and len(b["t"]) == 151
+    assert 50 <= len(a["t"]) <= 100 and a["t"][0] == 0.0 and a["t"][-1] == pytest.approx(sim.t)
+    assert set(a["t"]) <= set(b["t"]) and np.all(np.diff(a["t"]) > 0)  # a subset of the samples, in order
     assert all(len(a[k]) == len(a["t"]) for k in ("e_kin", "lambda_p", "sigma_min", "T_max", "steps"))
+    assert len(a["t_strobe"]) <= 2 and a["t_strobe"][-1] == b["t_strobe"][-1]
+    assert np.array_equal(sim.U, full.U)  # thinning the records never changes the run
 
 
 def test_view_fills_the_plots_and_readouts():
