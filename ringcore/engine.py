@@ -20,7 +20,9 @@ Rules of the contract
   for ``orbits`` more orbits or up to orbit ``until`` (exactly one), returning early (in a
   consistent, continuable state) when ``max_wall_s`` seconds of wall time have passed or
   ``stop()`` returns True.  It returns the number of orbits advanced.  How a run is split into
-  ``advance`` calls never changes its numbers.
+  ``advance`` calls never changes its numbers, as long as each piece ends on the engine's grid
+  (hydro: a sample time, a multiple of 1/``samples_per_orbit`` orbits, as whole orbits are;
+  N-body: whole steps) or is cut short by ``max_wall_s`` / ``stop`` and then continued.
 - Sample callbacks registered with ``on_sample(fn)`` are called as ``fn(engine, sample)`` after
   every recorded sample, with ``sample`` a dict of the scalars just recorded (always ``orbit``,
   ``e_kin``, ``lambda_p_m``).  ``on_sample`` returns a handle; ``remove_callback(handle)``.
