@@ -40,7 +40,8 @@ from .timestep import stage_plan
 NG = K.NG
 FIELD_NAMES = ("sigma", "u", "v", "T")
 TWO_PI = 2.0 * math.pi
-STAGES = stage_plan()  # SSPRK(5,4) as (input, L slot, Lprev slot, (U index, alpha) x 3, beta_self, beta_prev)
+# SSPRK(5,4), flat per stage: input, L slot, Lprev slot, (U index, alpha) x 3, beta_self, beta_prev
+STAGES = tuple((i, li, lp, *terms[0], *terms[1], *terms[2], b1, b2) for i, li, lp, terms, b1, b2 in stage_plan())
 
 
 class HydroBlowUp(BlowUp):
@@ -278,7 +279,7 @@ class Hydro1D:
         stage, fl = K.rk_stage, self._T_floor
         hits = 0
         dt = -1.0  # the first stage chooses it
-        for i, li, lp, ((ja, a0), (jb, a1), (jc, a2)), b1, b2 in STAGES:
+        for i, li, lp, ja, a0, jb, a1, jc, a2, b1, b2 in STAGES:
             Uin, out = U[i], U[i + 1]
             dt = stage(Uin, W, beta, grav(Uin[0, s]), par, Ls[li], Ls[lp], U[ja], a0, U[jb], a1, U[jc], a2,
                        b1, b2, dt, dt_cap, out)
