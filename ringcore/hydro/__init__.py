@@ -3,14 +3,16 @@
 >>> from ringcore import params
 >>> from ringcore.hydro import Hydro1D, HydroOptions
 >>> sim = Hydro1D(params.get("tau15", sigma0=400), HydroOptions(L_x=5000, h=2.5), initial="noise", seed=1)
->>> sim.run(orbits=100, progress=True)               # doctest: +SKIP
+>>> sim.advance(orbits=100, progress=True)           # doctest: +SKIP
 >>> sim.save("run.nc")                                # doctest: +SKIP
->>> sim = Hydro1D.load("run.nc").run(orbits=100)     # continues bit-for-bit  # doctest: +SKIP
+>>> sim = Hydro1D.load("run.nc"); sim.advance(orbits=100)   # continues bit-for-bit  # doctest: +SKIP
+
+``Hydro1D`` is a :class:`ringcore.engine.Engine` (snapshot/restore, advance, on_sample, diagnostics()).
 
 Modules: :mod:`.kernels` (compiled MP5 / AUSM / central differences / RK stage),
 :mod:`.gravity` (FFT self-gravity), :mod:`.timestep` (SSPRK(5,4), dt criteria),
-:mod:`.initial`, :mod:`.options`, :mod:`.solver`, :mod:`.diagnostics`, :mod:`.runfile`,
-:mod:`.bench`.
+:mod:`.convert` (conservative <-> primitive), :mod:`.initial`, :mod:`.options`, :mod:`.solver`,
+:mod:`.state_io` (State in and out), :mod:`.diagnostics`, :mod:`.runfile` (State <-> run file), :mod:`.bench`.
 """
 from .diagnostics import e_kin, growth_rate, lomb_frequency, prevalent_wavelength, psd
 from .gravity import SelfGravity

@@ -24,9 +24,8 @@ import time
 
 import numpy as np
 
-from .. import engine as _engine
 from ..checks import check_int, check_real
-from ..engine import BlowUp, SampleHub, State
+from ..engine import BlowUp, SampleHub
 from ..params import RingParams
 from ..units import time_to_orbits
 from . import kernels as K
@@ -34,6 +33,7 @@ from .convert import cons_to_prim
 from .diagnostics import Recorder, e_kin, prevalent_wavelength, psd
 from .gravity import SelfGravity
 from .initial import INITIAL_KINDS, make_initial
+from .state_io import StateIO
 from .options import HydroOptions
 from .timestep import stage_plan
 
@@ -64,7 +64,7 @@ class HydroBlowUp(BlowUp):
         return self.where_m
 
 
-class Hydro1D:
+class Hydro1D(StateIO):
     """Axisymmetric 1D hydrodynamics of a dense ring in a periodic box.
 
     Parameters
@@ -420,72 +420,6 @@ class Hydro1D:
         """Saturation summary over the last ``last_fraction`` of the run (:func:`ringcore.analysis.summary.summary`)."""
         from ..analysis.summary import summary
         return summary(self.snapshot(), last_fraction)
-
-    # ------------------------------------------------------------------ state in and out
-    def snapshot(self) -> State:
-        """The exact state as a :class:`ringcore.engine.State` (deep copy).
-
-        ``arrays``: ``U`` (nv, n) conservative state of the interior nodes (dimensionless),
-        ``beta`` (n,) viscosity exponent per node, ``rec_<name>`` the recorder's raw series
-        (:meth:`Recorder.arrays` names).  ``meta``: ``t``, ``dt`` [1/Omega], ``steps``,
-        ``k_sample`` (next sample number), ``floor_hits``, ``buffer_active``, ``buffer``
-        ([x_min_m, x_max_m, beta] or None), ``max_samples``, ``max_rows``, ``thinned``.
-        """
-        n, rec = self.n, self.recorder
-        arrays = {"U": self._U[0][:, NG:NG + n].copy(), "beta": self._beta[NG:NG + n].copy()}
-        arrays.update({f"rec_{k}": np.array(v, copy=True) for k, v in rec.arrays().items()})
-        meta = dict(t=self.t, dt=self.dt, steps=self._steps, k_sample=self._k_sample, floor_hits=self.floor_hits,
-                    buffer_active=bool(self.buffer_active), buffer=None if self.buffer is None else list(self.buffer),
-                    max_samples=rec.max_samples, max_rows=rec.max_rows, thinned=bool(rec.thinned))
-        return State(self.kind, self.params, self.options, arrays, meta)
-
-    @classmethod
-    def restore(cls, state: State) -> "Hydro1D":
-        """A solver that continues ``state`` (from :meth:`snapshot`) bit for bit."""
-        if not isinstance(state, State) or state.kind != cls.kind:
-            raise ValueError(f"state = {state!r} is not valid: give a State of kind {cls.kind!r}")
-        sim = cls.__new__(cls)
-        sim._allocate(state.params, state.options)
-        n, a, m = sim.n, state.arrays, state.meta
-        U = np.asarray(a["U"], float)
-        if U.shape != (sim.nv, n) or np.shape(a["beta"]) != (n,):
-            raise ValueError(f"state arrays U {U.shape}, beta {np.shape(a['beta'])} are not valid: "
-                             f"allowed ({sim.nv}, {n}) and ({n},) for these options")
-        sim._U[0][:, NG:NG + n] = U
-        K.fill_ghosts(sim._U[0], n)
-        sim._beta[NG:NG + n] = a["beta"]
-        sim._fill_beta_ghosts()
-        sim.buffer_active = bool(m.get("buffer_active", False))
-        sim.buffer = tuple(m["buffer"]) if sim.buffer_active and m.get("buffer") is not None else None
-        sim.t, sim.dt = float(m["t"]), float(m["dt"])
-        sim._steps, sim._k_sample = int(m["steps"]), int(m["k_sample"])
-        sim.floor_hits = int(m.get("floor_hits", 0))
-        sim.limit_records(m.get("max_samples"), m.get("max_rows"))
-        sim.recorder.load({k[4:]: np.array(v, copy=True) for k, v in a.items() if k.startswith("rec_")})
-        sim.recorder.thinned = bool(m.get("thinned", False))
-        return sim
-
-    def to_dataset(self):
-        """The run as an ``xarray.Dataset`` (meters, orbits, unit attrs; parameters as attrs;
-        :mod:`ringcore.hydro.runfile`)."""
-        return _engine.state_to_dataset(self.snapshot())
-
-    @classmethod
-    def from_dataset(cls, ds) -> "Hydro1D":
-        """Restore a solver (state, time, step count, buffer and records) from :meth:`to_dataset`
-        (a Dataset, or a path read with :func:`ringcore.io.read_run`)."""
-        return cls.restore(_engine.state_from_dataset(ds, cls.kind))
-
-    def save(self, path, *, complete: bool = True, **attrs):
-        """Write the run file ``path`` (:func:`ringcore.io.write_run`, kind "hydro") with everything
-        needed to continue bit-for-bit; ``complete`` and ``summary_json`` attributes, plus ``attrs``."""
-        return _engine.save_state(self.snapshot(), path, complete=complete, **attrs)
-
-    @classmethod
-    def load(cls, path) -> "Hydro1D":
-        """Continue a run from its file; :class:`ringcore.io.RunFileError` for missing, corrupt,
-        foreign, non-hydro or newer files."""
-        return cls.from_dataset(_engine.read_dataset(path, cls.kind))
 
     def __repr__(self):
         return (f"Hydro1D({self.params.name}, {self.params.model}, sigma0={self.params.sigma0:g} kg/m^2, "
