@@ -6,6 +6,7 @@ above the engines reaching into their private attributes (a grep).
 """
 from __future__ import annotations
 
+import json
 import math
 import pickle
 import re
@@ -86,6 +87,7 @@ def test_snapshot_restore_continues_bit_identically(factory):
     st = a.snapshot()
     ref = st.checksum()
     assert isinstance(st, State) and st.kind == a.kind
+    assert json.loads(json.dumps(st.meta)) == st.meta  # JSON-able metadata
     b = type(a).restore(pickle.loads(pickle.dumps(st)))  # plain data: survives another process
     _same(b.snapshot(), st)
     a.advance(orbits=dur)

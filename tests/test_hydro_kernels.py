@@ -95,3 +95,20 @@ def test_ground_state_equilibrium_heating_balances_cooling():
     assert np.max(np.abs(L[:, K.NG:-K.NG])) < 1e-15
     d = p.dimensionless()
     assert d["nu0"] * 1.5 ** 2 == pytest.approx(d["Gamma0"], rel=1e-15)
+
+
+def test_cons_to_prim_inverts_to_conservative():
+    """One temperature formula: cons_to_prim(to_conservative(prim)) = prim; isothermal T = T0."""
+    from ringcore.hydro.convert import cons_to_prim, temperature
+
+    rng = np.random.default_rng(4)
+    n = 50
+    prim = (1.0 + 0.5 * rng.random(n), rng.normal(size=n), rng.normal(size=n), 0.5 + rng.random(n))
+    for nv in (4, 3):
+        U = np.zeros((nv, n + 2 * K.NG))
+        K.to_conservative(*prim, U)
+        back = cons_to_prim(U[:, K.NG:K.NG + n], T0=0.7)
+        for k in range(3):
+            np.testing.assert_allclose(back[k], prim[k], rtol=1e-14, atol=1e-14)
+        np.testing.assert_allclose(back[3], prim[3] if nv == 4 else 0.7, rtol=1e-13)
+    assert temperature(3.0, 2.0) == (2.0 / 3.0) * (3.0 - 2.0)  # e/sigma = u^2/2 + 3T/2

@@ -59,3 +59,40 @@ def test_solver_time_order():
     ref = run(0.075)
     errs = [np.max(np.abs(run(f) - ref)) for f in (1.2, 0.6, 0.3)]
     assert min(_order(errs)) > 3.5
+
+
+def _plan_step(f, y, dt, plan):
+    """One step driven by the stage plan, with rk_stage's arithmetic: a0 A + c1 L, + a1 B, + a2 C, + c2 Lprev."""
+    U = [y] + [None] * 5
+    slots = [None] * (1 + max(st[1] for st in plan))
+    for s, li, lp, ((ja, a0), (jb, a1), (jc, a2)), b1, b2 in plan:
+        slots[li] = f(U[s])
+        out = a0 * U[ja] + dt * b1 * slots[li]
+        if a1 != 0.0:
+            out = out + a1 * U[jb]
+        if a2 != 0.0:
+            out = out + a2 * U[jc]
+        if b2 != 0.0:
+            out = out + dt * b2 * slots[lp]
+        U[s + 1] = out
+    return U[5]
+
+
+def test_stage_plan_is_the_tableau():
+    """The one stage loop of Hydro1D.step follows the plan; the plan reproduces the Shu-Osher tableau."""
+    from ringcore.hydro.timestep import stage_plan
+
+    plan = stage_plan()
+    assert len(plan) == 5 and [st[0] for st in plan] == list(range(5))
+    assert [st[1] for st in plan] == [0, 0, 0, 1, 0] and plan[4][2] == 1  # L(u3) kept for the last stage
+    for s, _, _, terms, b1, b2 in plan:
+        a = np.zeros(5)
+        for j, c in terms:
+            a[j] += c
+        np.testing.assert_array_equal(a, SSPRK54_ALPHA[s])
+        assert b1 == SSPRK54_BETA[s, s] and b2 == (SSPRK54_BETA[4, 3] if s == 4 else 0.0)
+    f = lambda y: np.array([y[1], -np.sin(y[0])])  # noqa: E731  pendulum
+    y0 = np.array([1.0, 0.3])
+    np.testing.assert_allclose(_plan_step(f, y0, 0.1, plan), ssprk54_step(f, y0, 0.1), rtol=0, atol=1e-15)
+    with pytest.raises(ValueError, match="stage"):
+        stage_plan(np.tril(np.ones((5, 5))) / np.arange(1, 6)[:, None], SSPRK54_BETA)  # 4 alphas in a stage
