@@ -292,8 +292,7 @@ class Hydro1D(StateIO):
                 if field >= 0:
                     break
             val = cons_to_prim(Us[:, NG + j], self._par[K.P_T0])[field]
-            raise HydroBlowUp(FIELD_NAMES[field], float(self.x_m[j]), self.orbits, self._steps + 1,
-                              float(val) if self.nv == 4 or field < 3 else math.nan)
+            raise HydroBlowUp(FIELD_NAMES[field], float(self.x_m[j]), self.orbits, self._steps + 1, float(val))
         if not (dt > 0.0 and math.isfinite(dt)):
             raise HydroBlowUp("dt", float(self.x_m[0]), self.orbits, self._steps + 1, float(dt))
         U[0], U[5] = U[5], U[0]
@@ -310,7 +309,9 @@ class Hydro1D(StateIO):
 
         Diagnostics are recorded at the sample times (and pushed to :meth:`on_sample` callbacks).
         An end time within 1e-9 sample intervals of a sample time is moved onto it, so a run
-        split into pieces is bit-for-bit the uninterrupted run.  Returns early, in a consistent
+        split into pieces that end on sample times (e.g. whole orbits), or cut short by
+        ``max_wall_s`` / ``stop`` / ``max_steps`` and continued, is bit-for-bit the
+        uninterrupted run (other end times shorten a step to land on them).  Returns early, in a consistent
         continuable state, after ``max_wall_s`` seconds of wall time, after ``max_steps`` steps,
         or when ``stop()`` (polled after every step, e.g. a :class:`ringcore.io.StopRequest`)
         returns True.  Raises :class:`HydroBlowUp` (last good state kept) if a field goes bad.
