@@ -60,7 +60,6 @@ class HydroRunner(LiveLoop, HydroSettings):
         self.sim = None
         self._callback = None
         self._rates = collections.deque(maxlen=40)  # (wall, orbits, steps) at ticks
-        self._dts = collections.deque(maxlen=20)  # time steps [orbits] of the latest samples
         self.buffer_events = []  # (orbit, beta or None)
         self._rebuild()
 
@@ -87,7 +86,6 @@ class HydroRunner(LiveLoop, HydroSettings):
         self.strobe_image = SpaceTimeImage(sim.n, 1.0)
         self.orbit_image = RollingImage(sim.n, 1.0 / opt.samples_per_orbit)  # last 25 orbits
         self.series = SeriesBuffer(("e_kin", "lambda_p"))
-        self._dts.clear()
         d = sim.diagnostics()  # the sample at t = 0 was recorded before the callback existed
         self._on_sample(sim, dict(orbit=d["orbit"], e_kin=d["e_kin"], lambda_p_m=d["lambda_p_m"], dt_orbits=0.0,
                                   strobe_row=sim.sigma.astype(np.float32) if opt.strobe else None))
@@ -194,8 +192,6 @@ class HydroRunner(LiveLoop, HydroSettings):
         t = sample["orbit"]
         self.series.add(t, e_kin=sample["e_kin"], lambda_p=sample["lambda_p_m"])
         self.orbit_image.add(t, sim.U[0])
-        if sample["dt_orbits"] > 0.0:
-            self._dts.append(sample["dt_orbits"])
         if sample.get("strobe_row") is not None:
             self.strobe_image.add(t, sample["strobe_row"])
 
@@ -206,9 +202,10 @@ class HydroRunner(LiveLoop, HydroSettings):
 
     # ------------------------------------------------------------------ readouts
     def typical_dt_orbits(self) -> float:
-        """Time step [orbits] set by the criterion: the largest of the last 20 recorded steps (steps
-        shortened to land on a sample time are smaller); nan before the first step."""
-        return max(self._dts) if self._dts else math.nan
+        """Time step [orbits] the criterion sets for the current state (recorded steps are mostly the
+        ones shortened to land on a sample time); nan before the first step or without a run."""
+        sim = self.sim
+        return sim.stable_dt() / (2.0 * math.pi) if sim is not None and sim.steps > 0 else math.nan
 
     def saturated_lambda_p(self, last_fraction: float = 0.25) -> float:
         """Median lambda_p [m] over the last ``last_fraction`` of the run (nan before 1 orbit)."""
