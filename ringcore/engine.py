@@ -20,9 +20,13 @@ Rules of the contract
   for ``orbits`` more orbits or up to orbit ``until`` (exactly one), returning early (in a
   consistent, continuable state) when ``max_wall_s`` seconds of wall time have passed or
   ``stop()`` returns True.  It returns the number of orbits advanced.  How a run is split into
-  ``advance`` calls never changes its numbers, as long as each piece ends on the engine's grid
-  (hydro: a sample time, a multiple of 1/``samples_per_orbit`` orbits, as whole orbits are;
-  N-body: whole steps) or is cut short by ``max_wall_s`` / ``stop`` and then continued.
+  ``advance`` calls (and resumed from snapshots or run files) never changes its numbers: the
+  step sequence belongs to the run, never to the caller's end time.  An end time on the engine's
+  grid is reached exactly (hydro: a sample time, a multiple of 1/``samples_per_orbit`` orbits, as
+  whole orbits are; N-body: whole steps).  Any other end time: N-body rounds it to the nearest
+  whole step; hydro stops at the first step boundary at or after it (less than one time step
+  later: hydro steps are shortened only to land on the run's own events, its sample times and
+  buffer switch-on time), and an end time it has passed by less than its last step returns 0.
 - Sample callbacks registered with ``on_sample(fn)`` are called as ``fn(engine, sample)`` after
   every recorded sample, with ``sample`` a dict of the scalars just recorded (always ``orbit``,
   ``e_kin``, ``lambda_p_m``).  ``on_sample`` returns a handle; ``remove_callback(handle)``.

@@ -69,6 +69,32 @@ def test_hydro_restart_is_bit_identical(tmp_path, split):
     assert c.buffer_active
 
 
+def _cli(*args):
+    r = subprocess.run([sys.executable, "-m", "ringcore.cli.main", *args, "--no-progress"],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    return r
+
+
+def test_hydro_resume_at_a_non_grid_orbit_across_processes_is_bit_identical(tmp_path):
+    """hydro --orbits and resume --until at orbits off the sample grid, each in its own process."""
+    a, b, c = tmp_path / "a.nc", tmp_path / "b.nc", tmp_path / "c.nc"
+    _cli("hydro", "--set", "tau15", "--sigma0", "400", "--lx", "500", "--h", "2.5", "--timestep", "cfl",
+         "--init", "noise", "--seed", "3", "--amplitude", "1e-2", "--samples", "20", "--orbits", "0.4321",
+         "--out", str(a))
+    _cli("resume", str(a), "--until", "0.8765", "--checkpoint-every", "0.3", "--out", str(b))
+    _cli("resume", str(b), "--until", "1.5", "--out", str(c))
+    ref = Hydro1D(params.get("tau15", sigma0=400), HydroOptions(L_x=500, h=2.5, timestep="cfl"),
+                  initial="noise", seed=3, amplitude=1e-2)
+    ref.run(until=0.8765)  # stops on the same step boundary just after 0.8765
+    assert 0.8765 <= ref.orbits < 0.8765 + ref.dt_orbits
+    assert_same_hydro(ref, load_model(b))
+    ref.run(until=1.5)
+    assert ref.orbits == 1.5
+    assert_same_hydro(ref, load_model(c))
+    assert read_run(c).attrs["complete"] == 1
+
+
 @pytest.mark.parametrize("split", [0.25, 0.23])  # on / off the record grid
 def test_nbody_restart_is_bit_identical(tmp_path, split):
     a = _nbody().run(0.5)

@@ -110,6 +110,51 @@ def test_split_advance_equals_one_advance(factory):
     assert a.orbits == pytest.approx(2 * dur, abs=1e-9) and a.steps == b.steps > 0
 
 
+@pytest.mark.parametrize("pieces", [[1.2345], [0.0137, 0.333, 0.5, 0.9876, 1.05, 1.4999], "random"])
+def test_hydro_split_at_any_point_equals_one_advance(pieces):
+    """End times off the sample grid (and a duration ending off it) never change the step sequence."""
+    end = 1.5  # a sample time: the uninterrupted run ends exactly there
+    a, b = _hydro(), _hydro()
+    a.advance(orbits=end)
+    assert a.orbits == end
+    if pieces == "random":
+        pieces = np.sort(np.random.default_rng(11).uniform(0.0, end, 7)).tolist()
+    b.advance(orbits=pieces[0])  # a duration, then end times
+    for u in pieces[1:]:
+        b.advance(until=u)
+        assert u - 1e-12 <= b.orbits < u + b.dt_orbits  # the first step boundary at or after u
+    b.advance(until=end)
+    assert b.orbits == end
+    _same(a.snapshot(), b.snapshot())
+    # an end time off the grid: both ways stop on the same step boundary after it
+    a.advance(until=2.0123)
+    assert 2.0123 <= a.orbits < 2.0123 + a.dt_orbits
+    b.advance(orbits=0.2)
+    b.advance(until=2.0123)
+    _same(a.snapshot(), b.snapshot())
+    assert b.advance(until=2.0123) == 0.0 and b.advance(orbits=0.0) == 0.0  # passed already: no step
+    with pytest.raises(ValueError, match="until"):
+        b.advance(until=1.9)
+
+
+def test_hydro_split_with_budget_stop_and_buffer_switch_on():
+    """Early returns (wall budget, stop, max_steps) between events, and the buffer switch-on event."""
+    opt = HydroOptions(L_x=500, h=2.5, buffer=(-100.0, 100.0, -0.5), buffer_on_orbit=0.3123,
+                       samples_per_orbit=7)
+    make = lambda: Hydro1D(params.get("tau15", sigma0=400), opt, initial="noise", seed=5, amplitude=1e-2)
+    a, b = make(), make()
+    a.advance(until=1.0)
+    b.advance(until=0.05, max_wall_s=0.0)
+    b.advance(until=0.3, max_steps=3)
+    b.advance(until=0.3124)  # just after the switch-on
+    assert b.buffer_active
+    n = [0]
+    b.advance(until=0.7777, stop=lambda: n.__setitem__(0, n[0] + 1) or n[0] > 4)
+    b.advance(until=0.91)
+    b.advance(until=1.0)
+    _same(a.snapshot(), b.snapshot())
+
+
 def test_wall_budget_and_stop_return_early_in_a_continuable_state(factory):
     make, _, dur = factory
     a, b, c = make(), make(), make()

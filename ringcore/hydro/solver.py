@@ -307,20 +307,28 @@ class Hydro1D(StateIO):
                 max_steps: int | None = None) -> float:
         """Integrate for ``orbits`` more orbits (or up to orbit ``until``); returns the orbits advanced.
 
+        The step sequence belongs to the run, not to the call: a step is shortened only to land
+        on an event of the run's own grid (a sample time, a multiple of 1/``samples_per_orbit``
+        orbits, and the buffer switch-on time), never on the caller's end time.  ``advance``
+        stops at the first step boundary at or after the end time: exactly on it when it is a
+        sample time (an end time within 1e-9 sample intervals of one is moved onto it, so whole
+        orbits end exactly), otherwise up to one time step after it (``orbits`` then exceeds
+        ``until`` by less than ``dt_orbits``).  Hence how a run is split into calls -- at any
+        end time, or cut short by ``max_wall_s`` / ``stop`` / ``max_steps`` and continued --
+        never changes its numbers.  An end time the run has already passed (by less than the
+        last step, e.g. a repeated ``until``) returns 0 without stepping.
+
         Diagnostics are recorded at the sample times (and pushed to :meth:`on_sample` callbacks).
-        An end time within 1e-9 sample intervals of a sample time is moved onto it, so a run
-        split into pieces that end on sample times (e.g. whole orbits), or cut short by
-        ``max_wall_s`` / ``stop`` / ``max_steps`` and continued, is bit-for-bit the
-        uninterrupted run (other end times shorten a step to land on them).  Returns early, in a consistent
-        continuable state, after ``max_wall_s`` seconds of wall time, after ``max_steps`` steps,
-        or when ``stop()`` (polled after every step, e.g. a :class:`ringcore.io.StopRequest`)
-        returns True.  Raises :class:`HydroBlowUp` (last good state kept) if a field goes bad.
+        Returns early, in a consistent continuable state, after ``max_wall_s`` seconds of wall
+        time, after ``max_steps`` steps, or when ``stop()`` (polled after every step, e.g. a
+        :class:`ringcore.io.StopRequest`) returns True.  Raises :class:`HydroBlowUp` (last good
+        state kept) if a field goes bad.
         """
         if (orbits is None) == (until is None):
             raise ValueError("give exactly one of orbits (duration) or until (end time), in orbits")
         if until is None:
             until = self.orbits + check_real("orbits", orbits, 0.0, math.inf, unit="orbits")
-        until = check_real("until", until, self.orbits, math.inf, unit="orbits")
+        until = check_real("until", until, self.orbits - self.dt_orbits, math.inf, unit="orbits")
         if max_wall_s is not None:
             max_wall_s = check_real("max_wall_s", max_wall_s, 0.0, math.inf, unit="s")
         t_end = until * TWO_PI
@@ -334,14 +342,14 @@ class Hydro1D(StateIO):
         bar = None
         if progress:
             from tqdm.auto import tqdm
-            bar = tqdm(total=round(until - self.orbits, 6), unit="orbit", desc="hydro")
+            bar = tqdm(total=round(max(until - self.orbits, 0.0), 6), unit="orbit", desc="hydro")
         o0, steps0 = self.orbits, self._steps
         t_wall = time.perf_counter() + max_wall_s if max_wall_s is not None else math.inf
         try:
             while self.t < t_end * (1.0 - 1e-15):
                 if max_steps is not None and self._steps - steps0 >= max_steps:
                     break
-                t_next = min(t_end, self._k_sample * ds, t_buf)
+                t_next = min(self._k_sample * ds, t_buf)  # the run's own events only, never t_end
                 cap = t_next - self.t
                 dt = self.step(cap)
                 if dt >= cap * (1.0 - 1e-12):
