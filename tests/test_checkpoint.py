@@ -77,12 +77,12 @@ def _cli(*args):
 
 
 def test_hydro_resume_at_a_non_grid_orbit_across_processes_is_bit_identical(tmp_path):
-    """hydro --orbits and resume --until at orbits off the sample grid, each in its own process."""
+    """hydro --orbits, resume --until and checkpoints (0.54, 0.81) off the sample grid, each in its own process."""
     a, b, c = tmp_path / "a.nc", tmp_path / "b.nc", tmp_path / "c.nc"
     _cli("hydro", "--set", "tau15", "--sigma0", "400", "--lx", "500", "--h", "2.5", "--timestep", "cfl",
          "--init", "noise", "--seed", "3", "--amplitude", "1e-2", "--samples", "20", "--orbits", "0.4321",
          "--out", str(a))
-    _cli("resume", str(a), "--until", "0.8765", "--checkpoint-every", "0.3", "--out", str(b))
+    _cli("resume", str(a), "--until", "0.8765", "--checkpoint-every", "0.27", "--out", str(b))
     _cli("resume", str(b), "--until", "1.5", "--out", str(c))
     ref = Hydro1D(params.get("tau15", sigma0=400), HydroOptions(L_x=500, h=2.5, timestep="cfl"),
                   initial="noise", seed=3, amplitude=1e-2)
