@@ -72,7 +72,7 @@ PRESETS = {p.name: p for p in (
     Preset("linear-800", "Linear theory: tau15, σ₀ = 800 kg/m²", "linear",
            linear=dict(param_set="tau15", sigma0=800.0, isothermal=False, ps_scale=1.0, iso_p_s=1.0,
                        compare_sigma0="0, 400, 800")),
-    Preset("hydro-nosg", "Hydro: tau15 isothermal (p_s = 1), no self-gravity, white noise, 2 km box — started",
+    Preset("hydro-nosg", "Hydro: tau15 isothermal (p_s = 1), no self-gravity, white noise — started",
            "hydro", linear=_linear_of(_NOSG), hydro=_hydro(**{**_NOSG, "spacetime": "orbit-resolved"}),
            start=True, fresh=True, fast=dict(hydro=_FAST_BOX)),
     Preset("hydro-nosg-strobe", "Same run, stroboscopic diagram (the run goes on)", "hydro",
@@ -86,10 +86,10 @@ PRESETS = {p.name: p for p in (
     Preset("nbody-continue", "The same N-body box (it goes on)", "nbody", linear=_linear_of(_SG0),
            nbody=NBODY_BASE, start=True),
     Preset("hydro-buffer", "Hydro: tau15 isothermal, σ₀ = 0, buffer zone β = −0.5 in the middle — started", "hydro",
-           linear=_linear_of(_BUF), hydro=_BUF, start=True, fresh=True,
-           fast=dict(hydro=dict(_FAST_BOX, buffer_width=250.0))),
+           linear=_linear_of(_BUF), hydro=_BUF, start=True, fresh=True),  # no "fast" box: in 1 km the
+    # source/sink pattern reorganises after ~120 orbits (a 2 km box keeps it for 200+ orbits)
     Preset("hydro-buffer-continue", "The same buffer run (it goes on)", "hydro", linear=_linear_of(_BUF),
-           hydro=_BUF, start=True, fast=dict(hydro=dict(_FAST_BOX, buffer_width=250.0))),
+           hydro=_BUF, start=True),
 )}
 
 

@@ -51,6 +51,7 @@ class LessonsPanel(pn.viewable.Viewer):
     scale = param.Selector(default="classroom", objects=["classroom", "fast"],
                            doc="Preset scale: the classroom boxes or smaller, faster ones.")
     progress = param.Dict(default={}, doc="{lesson: set of steps answered correctly} of this session.")
+    attempts = param.Integer(default=0, doc="Answers checked in this session.")
 
     def __init__(self, **params):
         params.setdefault("scale", default_scale())
@@ -161,7 +162,7 @@ class LessonsPanel(pn.viewable.Viewer):
         tut = TUTORIALS / les.tutorial
         if tut.exists():
             items.append(W.FileDownload(file=str(tut), filename=les.tutorial, embed=False,
-                                        label=f"Tutorial {les.tutorial} (jupytext notebook)",
+                                        label=f"Tutorial {les.tutorial[:2]} (notebook source, .py)",
                                         sizing_mode="stretch_width", css_classes=["lesson-tutorial"]))
         return items
 
@@ -174,16 +175,29 @@ class LessonsPanel(pn.viewable.Viewer):
     def targets(self) -> Targets:
         return Targets.from_session(self.runs, self.tabs)
 
-    def setup(self, *_) -> list[str]:
-        """Apply the current step's preset; returns what was done (shown under the button)."""
+    def setup(self, *_) -> list[str] | None:
+        """Apply the current step's preset (returns what was done, shown under the button).
+
+        In a server session the preset is applied in a next-tick callback, which holds the
+        document lock: the other tabs write straight into their Bokeh sources when their
+        settings change, and a button callback does not hold the lock.
+        """
+        doc = pn.state.curdoc
+        if doc is not None and doc.session_context is not None:
+            doc.add_next_tick_callback(self._setup_now)
+            return None
+        return self._setup_now()
+
+    def _setup_now(self) -> list[str]:
         les, st = self.current
         try:
             done = apply_preset(st.preset, self.targets(), self.scale)
         except ValueError as exc:
             self._show(self.setup_msg, f"Could not set up this step: {exc}", "error", "lesson-setup-result")
             return []
-        self._show(self.setup_msg, f"Set up: {render(PRESETS[st.preset].label)}. " + "; ".join(done) + ".", "ok",
-                   "lesson-setup-result")
+        note = " (fast scale: smaller boxes than in class)" if self.scale == "fast" else ""
+        self._show(self.setup_msg, f"Set up: {render(PRESETS[st.preset].label)}{note}. " + "; ".join(done) + ".",
+                   "ok", "lesson-setup-result")
         return done
 
     def answer(self):
@@ -195,7 +209,9 @@ class LessonsPanel(pn.viewable.Viewer):
         les, st = self.current
         res = run_check(st.question, self.targets(), self.answer())
         kind = {"correct": "ok", "wrong": "error", "wait": "warn", "error": "error"}[res.status]
-        self._show(self.feedback, html.escape(res.message, quote=False), kind, f"lesson-feedback-{res.status}")
+        self.attempts += 1
+        self._show(self.feedback, html.escape(res.message, quote=False), kind, f"lesson-feedback-{res.status}",
+                   f' data-attempt="{self.attempts}"')
         if res.ok:
             prog = dict(self.progress)
             prog[self.lesson] = set(prog.get(self.lesson, set())) | {self.step}
@@ -227,9 +243,9 @@ class LessonsPanel(pn.viewable.Viewer):
             self.step = 1
 
     @staticmethod
-    def _show(pane, text: str, kind: str, element_id: str) -> None:
+    def _show(pane, text: str, kind: str, element_id: str, attrs: str = "") -> None:
         cls = {"error": "msg-error", "warn": "msg-warn", "ok": "msg-ok"}[kind]
-        pane.object = f'<div class="{cls}" id="{element_id}">{text}</div>'
+        pane.object = f'<div class="{cls}" id="{element_id}"{attrs}>{text}</div>'
 
     def __panel__(self):
         return self._layout
