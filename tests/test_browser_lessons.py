@@ -19,6 +19,7 @@ from pathlib import Path
 import pytest
 
 from app.lessons import LESSONS
+from app.lessons.worksheets import worksheet_path
 from tests.test_browser import (ARTIFACTS, CHROMIUM, FLAGS, free_port, start_server, stop_server,
                                 sync_playwright)
 
@@ -82,7 +83,7 @@ class Student:
         self.attempts += 1
         p.locator(".lesson-check button").click()
         fb = p.locator(f'[data-attempt="{self.attempts}"]')
-        fb.wait_for(timeout=40_000)  # a busy server (live N-body box) may take a few seconds
+        fb.wait_for(timeout=120_000)  # a busy server (live N-body box) may take a few seconds
         return fb.get_attribute("id").rsplit("-", 1)[1]
 
     def expect(self, value, status: str, choice: bool = False):
@@ -102,8 +103,8 @@ class Student:
 
     def pause(self, kind: str):
         self.page.locator(f".{kind}-pause button").click()
-        # the N-body box's periodic callback keeps the server busy: the click may wait ~10 s
-        self.page.locator(f"#{kind}-status", has_text="Paused").wait_for(timeout=40_000)
+        # a live N-body box keeps the server's event loop busy: on a loaded machine the click waits
+        self.page.locator(f"#{kind}-status", has_text="Paused").wait_for(timeout=120_000)
         self.page.wait_for_timeout(600)  # frames already queued are applied
 
     def shot(self, name: str):
@@ -126,7 +127,7 @@ class Student:
         self.page.locator("#lesson-progress", has_text=f"of {len(LESSONS[n - 1].steps)} answered").wait_for()
 
 
-@pytest.mark.timeout(300)
+@pytest.mark.timeout(600)
 def test_five_lessons_end_to_end(lessons_server, tmp_path):
     SHOTS.mkdir(parents=True, exist_ok=True)
     timings = {}
@@ -252,17 +253,16 @@ def test_five_lessons_end_to_end(lessons_server, tmp_path):
             s.expect(ceff, "correct")
             s.shot("L4S1")
             s.next()
-            s.set_up("N-body")
-            s.pause("nbody")
+            s.set_up("N-body")  # the box stays paused
+            page.locator("#nbody-status", has_text="Paused").wait_for()
             nu = number(s.card("nbody-nu"))
             s.expect(2 * nu, "wrong")
             s.expect(nu, "correct")
             s.shot("L4S2")
             s.next()
             s.set_up("N-body")
-            s.pause("nbody")
-            s.expect("local (particles", "wrong", choice=True)
-            s.expect("nonlocal (momentum", "correct", choice=True)
+            s.expect("local (carried", "wrong", choice=True)
+            s.expect("nonlocal (passed", "correct", choice=True)
             s.shot("L4S3")
             timings["lesson4"] = time.perf_counter() - t0
 
@@ -295,6 +295,10 @@ def test_five_lessons_end_to_end(lessons_server, tmp_path):
             assert "Lesson 5: A buffer zone" in ws.locator("h1").inner_text()
             ws.set_viewport_size({"width": 1280, "height": 720})
             ws.screenshot(path=str(SHOTS / "worksheet5.png"), full_page=True)
+            for les in LESSONS:  # every worksheet prints on one A4 page
+                ws.goto(worksheet_path(les.number).resolve().as_uri())
+                pdf = ws.pdf(format="A4", prefer_css_page_size=True)
+                assert len(re.findall(rb"/Type\s*/Page[^s]", pdf)) == 1, f"worksheet {les.number} > 1 page"
         except Exception:
             page.screenshot(path=str(SHOTS / "failure.png"))
             raise

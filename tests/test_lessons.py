@@ -78,7 +78,8 @@ def test_each_preset_sets_its_controls(panel_, name):
     assert t.tabs.active == t.tab_index[p.tab]
     if p.tab in ("hydro", "nbody"):
         run = getattr(t, p.tab)
-        assert run.running and not run.problems if p.tab == "hydro" else run.running and not run.problem
+        assert not (run.problems if p.tab == "hydro" else run.problem)
+        assert run.running == p.start
         other = t.nbody if p.tab == "hydro" else t.hydro
         assert not other.running
         if p.fresh:

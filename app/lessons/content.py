@@ -83,8 +83,8 @@ PRESETS = {p.name: p for p in (
            linear=_linear_of(_SG400), hydro=_SG400, start=True, fresh=True, fast=dict(hydro=_FAST_BOX)),
     Preset("nbody-ground", "N-body: tau15 box 50 m × 25 m, σ₀ = 0, Bridges et al. — started", "nbody",
            linear=_linear_of(_SG0), nbody=NBODY_BASE, start=True, fresh=True),
-    Preset("nbody-continue", "The same N-body box (it goes on)", "nbody", linear=_linear_of(_SG0),
-           nbody=NBODY_BASE, start=True),
+    Preset("nbody-continue", "The same N-body box (press Start in the N-body tab if it is not running)", "nbody",
+           linear=_linear_of(_SG0), nbody=NBODY_BASE),
     Preset("hydro-buffer", "Hydro: tau15 isothermal, σ₀ = 0, buffer zone β = −0.5 in the middle — started", "hydro",
            linear=_linear_of(_BUF), hydro=_BUF, start=True, fresh=True),  # no "fast" box: in 1 km the
     # source/sink pattern reorganises after ~120 orbits (a 2 km box keeps it for 200+ orbits)
@@ -132,8 +132,8 @@ LESSONS = (
            "frequency: read growth, oscillation and λ_zero off the exact dispersion relation [[matni]].",
            "01_linear_theory.py", ("beta_c", "lambda_zero", "lambda_J", "Q0", "p_s"), (
         Step("The fastest-growing wave", "linear-400",
-             "Predict: will the shortest waves grow fastest, or is there a best wavelength? Self-gravity (σ₀ = 400) "
-             "lifts the growth rate of waves of a few tens of metres.",
+             "Will the shortest waves grow fastest, or is there a best wavelength? Self-gravity (σ₀ = 400) lifts "
+             "the growth rate of waves of a few tens of metres.",
              "Look at the growth rate ω_R (top left, [[osgrate]]): where it is above zero the ring is overstable. "
              "The orange dotted line marks its maximum.",
              Question("Enter the fastest-growing wavelength (metres).", "linear_number", unit="m",
@@ -167,7 +167,7 @@ LESSONS = (
            "02_hydro_without_self_gravity.py", ("e_kin", "stroboscopic", "p_s"), (
         Step("Exponential growth", "hydro-nosg",
              "Linear theory (Linear tab, same settings) gives a largest growth rate of about 0.04 Ω at λ ≈ 60 m. "
-             "Predict: e_kin ([[ekin]]) grows as a straight line on its log axis with slope 2 ω_R.",
+             "So e_kin ([[ekin]]) should grow as a straight line on its log axis, with slope 2 ω_R.",
              "Take two points on the straight part of e_kin(t) (hover over the curve): "
              "ω_R = ln(e₂/e₁) / (2 · 2π · (t₂ − t₁)) with t in orbits.",
              Question("Enter the growth rate ω_R you measured (in units of Ω).", "hydro_growth_rate", unit="Ω",
@@ -239,8 +239,7 @@ LESSONS = (
              "across their diameter in collisions (nonlocal).",
              "The gap between ⟨c⟩ and c₀ is the nonlocal pressure; dense rings collide hundreds of times per orbit.",
              Question("Most of this box's viscosity is …", "nbody_nonlocal", kind="choice",
-                      choices=("local (particles flying between collisions)",
-                               "nonlocal (momentum passed across the particle diameter)"),
+                      choices=("local (carried in free flight)", "nonlocal (passed on in collisions)"),
                       hint="Compare ⟨c⟩ with c_eff: the difference comes from collisions.")),
     )),
     Lesson(5, "A buffer zone: one source and one sink", "A strip with β = −0.5 < β_c damps the waves "

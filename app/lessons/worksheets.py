@@ -17,9 +17,9 @@ from .refs import render
 OUT_DIR = Path(__file__).parent / "worksheets"
 
 CSS = """
-@page {size: A4; margin: 12mm 14mm;}
-body {font-family: "DejaVu Sans", Arial, sans-serif; font-size: 10.5pt; color: #111; max-width: 190mm;
-      margin: 0 auto; line-height: 1.3;}
+@page {size: A4; margin: 10mm 12mm;}
+body {font-family: "DejaVu Sans", Arial, sans-serif; font-size: 9.5pt; color: #111; max-width: 190mm;
+      margin: 0 auto; line-height: 1.25;}
 h1 {font-size: 15pt; margin: 0 0 2mm 0; color: #1f4e79;}
 .goal {margin: 0 0 2mm 0;}
 .meta {font-size: 9pt; color: #444; margin-bottom: 3mm;}
@@ -27,7 +27,8 @@ h1 {font-size: 15pt; margin: 0 0 2mm 0; color: #1f4e79;}
 .step h2 {font-size: 11.5pt; margin: 0 0 1mm 0;}
 .preset {font-size: 9pt; color: #333;}
 .label {font-weight: bold;}
-.lines {border-bottom: 1px dotted #777; height: 6mm;}
+.lines {border-bottom: 1px dotted #777; height: 5.5mm;}
+p {margin: 1mm 0;}
 .answer {border: 1px solid #333; display: inline-block; min-width: 45mm; height: 6mm; vertical-align: middle;}
 .choices {margin: 1mm 0 0 0;}
 .box {display: inline-block; width: 3.2mm; height: 3.2mm; border: 1px solid #333; margin-right: 1.5mm;}
@@ -55,10 +56,10 @@ def worksheet_html(les: Lesson) -> str:
             f'<div class="preset">In the app: Lessons → lesson {les.number}, step {i} → “Set up this step” '
             f'({html.escape(PRESETS[st.preset].label)})</div>'
             f'<p><span class="label">Predict.</span> {render(st.predict)}</p>'
-            f'<div class="lines"></div><div class="lines"></div>'
+            f'<div class="lines"></div>'
             f'<p><span class="label">Look for.</span> {render(st.look_for)}</p>'
             f'<p><span class="label">Question.</span> {render(q.text)} {answer}</p>'
-            f'<p><span class="label">What I saw / why.</span></p><div class="lines"></div></div>')
+            f'<div class="lines"><span class="label">What I saw / why:</span></div></div>')
     terms = "; ".join(f"<b>{html.escape(TERMS[k].name)}</b>" for k in les.terms if k in TERMS)
     return (f'<!DOCTYPE html>\n<html lang="en"><head><meta charset="utf-8">'
             f'<title>ringlab worksheet {les.number}: {html.escape(les.title)}</title><style>{CSS}</style></head>\n'
