@@ -54,6 +54,7 @@ class Student:
     def __init__(self, page):
         self.page = page
         self.attempts = 0
+        self.last_pause = {}
 
     def card(self, rid: str) -> str:
         loc = self.page.locator(f"#{rid} .ro-value", has_text=re.compile(r"[\d—∞]"))
@@ -68,7 +69,7 @@ class Student:
     def set_up(self, tab: str):
         p = self.page
         p.locator(".lesson-setup button").click()
-        p.locator("#lesson-setup-result.msg-ok").wait_for(timeout=30_000)
+        p.locator("#lesson-setup-result.msg-ok").wait_for(timeout=120_000)
         p.locator(".bk-tab.bk-active", has_text=tab).wait_for(timeout=10_000)
 
     def answer(self, value, choice: bool):
@@ -101,11 +102,18 @@ class Student:
             self.page.wait_for_timeout(250)
         raise AssertionError(f"#{rid} did not reach {orbits} orbits in {timeout_s} s (last {self.card(rid)})")
 
-    def pause(self, kind: str):
-        self.page.locator(f".{kind}-pause button").click()
-        # a live N-body box keeps the server's event loop busy: on a loaded machine the click waits
-        self.page.locator(f"#{kind}-status", has_text="Paused").wait_for(timeout=120_000)
-        self.page.wait_for_timeout(600)  # frames already queued are applied
+    def paused_by_lesson(self, kind: str):
+        """Wait until the run has done its classroom length and paused itself (the preset's run_for)."""
+        t0 = time.perf_counter()
+        loc = self.page.locator(f"#{kind}-status")
+        while time.perf_counter() - t0 < 150:
+            text = loc.inner_text() if loc.count() else ""
+            if "Paused by the lesson" in text and text != self.last_pause.get(kind):
+                self.last_pause[kind] = text
+                self.page.wait_for_timeout(600)  # frames already queued are applied
+                return text
+            self.page.wait_for_timeout(250)
+        raise AssertionError(f"the {kind} run did not pause itself within 150 s: {loc.inner_text()}")
 
     def shot(self, name: str):
         fb = self.page.locator('[id^="lesson-feedback-"]')
@@ -183,8 +191,7 @@ def test_five_lessons_end_to_end(lessons_server, tmp_path):
             s.lesson(2)
             s.set_up("Hydrodynamics")
             page.locator("#hydro-run-label", has_text="isothermal, σ₀ = 0 kg/m²").wait_for()
-            s.wait_orbits("hydro-orbits", 70)
-            s.pause("hydro")
+            s.paused_by_lesson("hydro")
             page.locator(".bk-tab", has_text="Linear theory").click()
             g_lin = number(s.card("ro-max-growth"))
             page.locator(".bk-tab", has_text="Hydrodynamics").click()
@@ -192,16 +199,16 @@ def test_five_lessons_end_to_end(lessons_server, tmp_path):
             s.expect(round(0.85 * g_lin, 4), "correct")
             s.shot("L2S1")
             s.next()
-            s.set_up("Hydrodynamics")  # the same run goes on
-            s.wait_orbits("hydro-orbits", 80)
-            s.pause("hydro")
+            s.set_up("Hydrodynamics")  # the same run goes on for 50 orbits
+            s.paused_by_lesson("hydro")
+            assert s.wait_orbits("hydro-orbits", 150) < 160
             lp = number(s.card("hydro-lambda-p"))
             s.expect(2.5 * lp, "wrong")
             s.expect(lp, "correct")
             s.shot("L2S2")
             s.next()
             s.set_up("Hydrodynamics")
-            s.pause("hydro")
+            s.paused_by_lesson("hydro")
             s.expect("sinks", "wrong", choice=True)
             s.expect("sources", "correct", choice=True)
             s.shot("L2S3")
@@ -211,21 +218,15 @@ def test_five_lessons_end_to_end(lessons_server, tmp_path):
             s.lesson(3)
             s.set_up("Hydrodynamics")
             page.locator("#hydro-run-label", has_text="non-isothermal, σ₀ = 0 kg/m²").wait_for()
-            for _ in range(6):  # saturation takes ~150 orbits without self-gravity
-                s.wait_orbits("hydro-orbits", 170, timeout_s=90)
-                s.pause("hydro")
-                lp0 = number(s.card("hydro-lambda-p"))
-                if s.answer(lp0 * 3, False) != "wait":
-                    break
-                page.locator(".hydro-start button").click()
+            s.paused_by_lesson("hydro")  # 220 orbits: saturated without self-gravity too
+            lp0 = number(s.card("hydro-lambda-p"))
             s.expect(lp0 * 3, "wrong")
             s.expect(lp0, "correct")
             s.shot("L3S1")
             s.next()
             s.set_up("Hydrodynamics")
             page.locator("#hydro-run-label", has_text="σ₀ = 400 kg/m²").wait_for()
-            s.wait_orbits("hydro-orbits", 70)
-            s.pause("hydro")
+            s.paused_by_lesson("hydro")
             lp = number(s.card("hydro-lambda-p"))
             s.expect(lp * 0.5, "wrong")
             text = s.expect(lp, "correct")
@@ -244,9 +245,7 @@ def test_five_lessons_end_to_end(lessons_server, tmp_path):
             s.lesson(4)
             s.set_up("N-body")
             page.locator("#nbody-run-label", has_text="σ₀ = 0 kg/m²").wait_for()
-            s.wait_orbits("nbody-orbits", 5.2, timeout_s=90)
-            page.locator("#nbody-ceff .ro-value", has_text=re.compile(r"\d")).wait_for()
-            s.pause("nbody")
+            s.paused_by_lesson("nbody")  # 6 orbits: one 5-orbit transport window
             ceff = number(s.card("nbody-ceff"))
             c_mean = number(s.card("nbody-c"))
             s.expect(c_mean, "wrong")  # the random velocity <c> is not c_eff
@@ -270,14 +269,13 @@ def test_five_lessons_end_to_end(lessons_server, tmp_path):
             s.lesson(5)
             s.set_up("Hydrodynamics")
             page.locator("#hydro-buffer .ro-value", has_text="β = -0.5").wait_for()
-            s.wait_orbits("hydro-orbits", 85)
-            s.pause("hydro")
+            s.paused_by_lesson("hydro")
             s.expect("outside the buffer zone", "wrong", choice=True)
             s.expect("inside the buffer zone", "correct", choice=True)
             s.shot("L5S1")
             s.next()
             s.set_up("Hydrodynamics")
-            s.pause("hydro")
+            s.paused_by_lesson("hydro")
             s.expect("a source", "wrong", choice=True)
             s.expect("a sink", "correct", choice=True)
             s.shot("L5S2")

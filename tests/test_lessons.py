@@ -16,7 +16,7 @@ import pytest
 from app.glossary import TERMS, glossary_html
 from app.lessons import LESSONS, PRESETS, cite, lesson
 from app.lessons.checks import is_saturated, parse_number, run_check
-from app.lessons.presets import Targets, apply_preset
+from app.lessons.presets import Targets, apply_preset, stop_target
 from app.lessons.refs import render
 from app.lessons.view import LessonsPanel
 from app.lessons.worksheets import stale, worksheet_html
@@ -88,6 +88,25 @@ def test_each_preset_sets_its_controls(panel_, name):
     assert done and all(isinstance(s, str) for s in done)
     with pytest.raises(ValueError, match="preset = 'nope' is unknown"):
         apply_preset("nope", t, FAST)
+
+
+def test_started_runs_pause_after_their_classroom_length(panel_):
+    t = panel_.targets()
+    apply_preset("hydro-nosg", t, FAST)
+    r = t.hydro
+    assert stop_target(r) == pytest.approx(100.0)
+    for _ in range(400):
+        r.tick()  # what the periodic callback does
+        if not r.running:
+            break
+    assert not r.running and 100.0 <= r.sim.orbits < 103.0 and "Paused by the lesson" in r.status
+    assert stop_target(r) is None
+    apply_preset("hydro-nosg-strobe", t, FAST)  # continues: 30 orbits more
+    assert r.running and stop_target(r) == pytest.approx(r.sim.orbits + 30.0)
+    r.pause()
+    apply_preset("nbody-ground", t, FAST)
+    assert stop_target(t.nbody) == pytest.approx(6.0)
+    t.nbody.pause()
 
 
 def test_fresh_preset_restarts_and_continue_preset_keeps_the_run(panel_):

@@ -27,7 +27,9 @@ class Preset:
     runner (HydroSettings) and the N-body runner; ``tab``: the tab to show; ``start``: start the
     run of that tab; ``fresh``: restart it at t = 0 even if its settings did not change (False:
     a run that already has these settings goes on); ``fast``: overrides used at the "fast"
-    scale (tests, slow machines) instead of the classroom scale.
+    scale (tests, slow machines) instead of the classroom scale (key "run_for" included);
+    ``run_for``: the classroom length — the started run pauses itself after this many more
+    orbits, so the class discusses a fixed state (Start goes on from there).
     """
 
     name: str
@@ -39,6 +41,11 @@ class Preset:
     start: bool = False
     fresh: bool = False
     fast: dict = field(default_factory=dict)
+    run_for: float = 0.0  # [orbits] the started run pauses itself after this many more orbits (0: never)
+
+    def length(self, scale: str = "classroom") -> float:
+        """Orbits the started run goes on for before it pauses itself (0: it does not)."""
+        return float(self.fast.get("run_for", self.run_for)) if scale == "fast" else float(self.run_for)
 
     def values(self, part: str, scale: str = "classroom") -> dict:
         """Settings of ``part`` ("linear", "hydro", "nbody") at ``scale`` ("classroom" or "fast")."""
@@ -72,24 +79,30 @@ PRESETS = {p.name: p for p in (
     Preset("linear-800", "Linear theory: tau15, σ₀ = 800 kg/m²", "linear",
            linear=dict(param_set="tau15", sigma0=800.0, isothermal=False, ps_scale=1.0, iso_p_s=1.0,
                        compare_sigma0="0, 400, 800")),
-    Preset("hydro-nosg", "Hydro: tau15 isothermal (p_s = 1), no self-gravity, white noise — started",
-           "hydro", linear=_linear_of(_NOSG), hydro=_hydro(**{**_NOSG, "spacetime": "orbit-resolved"}),
-           start=True, fresh=True, fast=dict(hydro=_FAST_BOX)),
-    Preset("hydro-nosg-strobe", "Same run, stroboscopic diagram (the run goes on)", "hydro",
-           linear=_linear_of(_NOSG), hydro=_NOSG, start=True, fast=dict(hydro=_FAST_BOX)),
+    Preset("hydro-nosg", "Hydro: tau15 isothermal (p_s = 1), no self-gravity, white noise — started", "hydro",
+           linear=_linear_of(_NOSG), hydro=_hydro(**{**_NOSG, "spacetime": "orbit-resolved"}),
+           start=True, fresh=True, run_for=100.0, fast=dict(hydro=_FAST_BOX)),
+    Preset("hydro-nosg-more", "The same run, 50 orbits more", "hydro", linear=_linear_of(_NOSG),
+           hydro=_hydro(**{**_NOSG, "spacetime": "orbit-resolved"}), start=True, run_for=50.0,
+           fast=dict(hydro=_FAST_BOX)),
+    Preset("hydro-nosg-strobe", "The same run, stroboscopic diagram, 30 orbits more", "hydro",
+           linear=_linear_of(_NOSG), hydro=_NOSG, start=True, run_for=30.0, fast=dict(hydro=_FAST_BOX)),
     Preset("hydro-sg0", "Hydro: tau15 non-isothermal, σ₀ = 0 (no self-gravity), white noise — started", "hydro",
-           linear=_linear_of(_SG0), hydro=_SG0, start=True, fresh=True, fast=dict(hydro=_FAST_BOX)),
+           linear=_linear_of(_SG0), hydro=_SG0, start=True, fresh=True, run_for=400.0,
+           fast=dict(hydro=_FAST_BOX, run_for=220.0)),
     Preset("hydro-sg400", "Hydro: the same run at σ₀ = 400 kg/m² — started", "hydro",
-           linear=_linear_of(_SG400), hydro=_SG400, start=True, fresh=True, fast=dict(hydro=_FAST_BOX)),
+           linear=_linear_of(_SG400), hydro=_SG400, start=True, fresh=True, run_for=400.0,
+           fast=dict(hydro=_FAST_BOX, run_for=100.0)),
     Preset("nbody-ground", "N-body: tau15 box 50 m × 25 m, σ₀ = 0, Bridges et al. — started", "nbody",
-           linear=_linear_of(_SG0), nbody=NBODY_BASE, start=True, fresh=True),
+           linear=_linear_of(_SG0), nbody=NBODY_BASE, start=True, fresh=True, run_for=10.0,
+           fast=dict(run_for=6.0)),
     Preset("nbody-continue", "The same N-body box (press Start in the N-body tab if it is not running)", "nbody",
            linear=_linear_of(_SG0), nbody=NBODY_BASE),
     Preset("hydro-buffer", "Hydro: tau15 isothermal, σ₀ = 0, buffer zone β = −0.5 in the middle — started", "hydro",
-           linear=_linear_of(_BUF), hydro=_BUF, start=True, fresh=True),  # no "fast" box: in 1 km the
-    # source/sink pattern reorganises after ~120 orbits (a 2 km box keeps it for 200+ orbits)
-    Preset("hydro-buffer-continue", "The same buffer run (it goes on)", "hydro", linear=_linear_of(_BUF),
-           hydro=_BUF, start=True),
+           linear=_linear_of(_BUF), hydro=_BUF, start=True, fresh=True, run_for=120.0),  # no "fast" box: in
+    # 1 km the source/sink pattern reorganises after ~120 orbits (a 2 km box keeps it for 200+ orbits)
+    Preset("hydro-buffer-continue", "The same buffer run, 30 orbits more", "hydro", linear=_linear_of(_BUF),
+           hydro=_BUF, start=True, run_for=30.0),
 )}
 
 
@@ -174,7 +187,7 @@ LESSONS = (
                       args=dict(rel_tol=0.3),
                       hint="Use two times in the straight part, e.g. where e_kin is 1e-3 and 1e-2 of its final "
                            "value; remember the factor 2: e_kin ∝ amplitude².")),
-        Step("Saturation and the prevalent wavelength", "hydro-nosg",
+        Step("Saturation and the prevalent wavelength", "hydro-nosg-more",
              "The waves cannot grow for ever: nonlinear effects stop them. Predict: is the saturated wave the "
              "fastest-growing one (about 60 m)?",
              "When e_kin is flat, read λ_p (the PSD peak, [[fourier]]). Without self-gravity it keeps climbing in "

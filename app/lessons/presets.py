@@ -8,6 +8,7 @@ runners, which tab is shown, and starting the run — all in one click.
 from __future__ import annotations
 
 import os
+import weakref
 from dataclasses import dataclass
 
 import param
@@ -123,8 +124,13 @@ def apply_preset(preset: Preset | str, targets: Targets, scale: str | None = Non
         done.append(f"{kind} settings set" + (", run restarted at t = 0" if preset.fresh or restart else
                                                ", run continues"))
         if preset.start and preset.tab == kind:
+            length = preset.length(scale)
+            if length > 0:
+                stop_after(runner, length)
+                done.append(f"{kind} run started for {length:g} orbits (it pauses itself; Start goes on)")
+            else:
+                done.append(f"{kind} run started")
             runner.start()
-            done.append(f"{kind} run started")
     if targets.tabs is not None and preset.tab in (targets.tab_index or {}):
         targets.tabs.active = targets.tab_index[preset.tab]
     return done
@@ -137,3 +143,38 @@ def _needs_restart(runner, values: dict, kind: str) -> bool:
     else:
         from ..nbody_runner import SETUP_PARAMS
     return any(getattr(runner, k) != v for k, v in values.items() if k in SETUP_PARAMS)
+
+
+# ---------------------------------------------------------------- classroom length
+_STOPS = weakref.WeakKeyDictionary()  # runner -> [watcher, target orbit]
+
+
+def stop_after(runner, orbits: float) -> float:
+    """Pause ``runner`` by itself once its run has gone ``orbits`` further (checked at every frame,
+    i.e. inside the runner's own periodic callback).  Replaces an earlier target of the same runner;
+    the target is dropped when reached, so Start afterwards runs on.  Returns the target orbit."""
+    target = runner.sim.orbits + float(orbits)
+    old = _STOPS.pop(runner, None)
+    if old is not None:
+        runner.param.unwatch(old[0])
+
+    def check(*_):
+        entry = _STOPS.get(runner)
+        if entry is None or runner.sim is None:
+            return
+        if runner.sim.orbits >= entry[1] - 1e-9 and runner.running:
+            runner.param.unwatch(entry[0])
+            _STOPS.pop(runner, None)
+            runner.pause()
+            runner.status = (f"Paused by the lesson after {runner.sim.orbits:.0f} orbits (its classroom length): "
+                             "answer the question, or press Start to go on.")
+            runner.frame += 1  # the views redraw the paused state (frames skipped while running)
+
+    _STOPS[runner] = [runner.param.watch(check, "frame"), target]
+    return target
+
+
+def stop_target(runner) -> float | None:
+    """The orbit at which ``runner`` will pause itself (None if it will not)."""
+    entry = _STOPS.get(runner)
+    return None if entry is None else entry[1]
