@@ -11,6 +11,7 @@ from __future__ import annotations
 import panel as pn
 
 from app.hydro_view import HydroView
+from app.lessons.view import LessonsPanel
 from app.linear_view import LinearView
 from app.nbody_view import NBodyView
 from app.saturation_view import SaturationView
@@ -28,7 +29,9 @@ TITLE = "ringlab: viscous overstability in Saturn's rings"
 
 def _make(factory, runs):
     params = getattr(factory, "param", None)
-    return factory(runs=runs) if params is not None and "runs" in params else factory()
+    view = factory(runs=runs) if params is not None and "runs" in params else factory()
+    runs.views = [*runs.views, view]  # lessons hook: presets reach every tab (app.session.SessionRuns.views)
+    return view
 
 
 def create_app() -> pn.template.FastListTemplate:
@@ -38,6 +41,7 @@ def create_app() -> pn.template.FastListTemplate:
                    sizing_mode="stretch_width")
     return pn.template.FastListTemplate(
         title=TITLE, main=[tabs], accent="#1f4e79", main_layout=None, theme_toggle=False,
+        sidebar=[LessonsPanel(runs=runs, tabs=tabs)], sidebar_width=360,  # lessons + glossary beside every tab
     )
 
 

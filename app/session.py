@@ -19,6 +19,10 @@ class SessionRuns(param.Parameterized):
 
     hydro = param.Parameter(default=None, doc="The session's app.hydro_runner.HydroRunner (set by the hydro tab).")
     points = param.List(default=[], doc="Added runs: dicts with sigma0, lambda_p_m, orbits, label, isothermal.")
+    # --- lessons hook (branch lessons): the session's tab views, registered by app.main._make, so the
+    # Lessons panel's presets can reach LinearView.controls and NBodyView.runner (read-only otherwise).
+    views = param.List(default=[], doc="The views of this session's tabs, in tab order (set by app.main).")
+    # --- end lessons hook
 
     def add_hydro_run(self, min_orbits: float = 20.0) -> str:
         """Add the hydro run's saturated lambda_p (median over its last quarter); returns a message.

@@ -1,0 +1,4 @@
+"""Guided lessons inside the app (issue 13, items 1 and 7): lesson data, presets, answer checks,
+the Lessons panel and printable worksheets.  See :mod:`app.lessons.content` for the lessons."""
+from .content import LESSONS, PRESETS, lesson  # noqa: F401
+from .refs import cite  # noqa: F401
