@@ -22,7 +22,8 @@ from ringcore.nbody import NBodyOptions, ShearingBox
 
 settings.register_profile("ci", max_examples=12, derandomize=True, deadline=None, database=None,
                           suppress_health_check=list(HealthCheck))
-settings.register_profile("long", max_examples=400, deadline=None, suppress_health_check=list(HealthCheck))
+settings.register_profile("long", max_examples=int(os.environ.get("RINGLAB_HYPOTHESIS_EXAMPLES", "300")),
+                          deadline=None, suppress_health_check=list(HealthCheck))
 settings.load_profile(os.environ.get("RINGLAB_HYPOTHESIS_PROFILE", "ci"))
 
 ENGINES = {"hydro": Hydro1D, "nbody": ShearingBox}
