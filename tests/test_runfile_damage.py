@@ -206,9 +206,9 @@ def test_other_kinds_need_schema_only(tmp_path):
 @pytest.mark.parametrize("kind", ["hydro", "nbody"])
 def test_from_dataset_of_a_damaged_dataset(files, kind):
     ds = read_run(files[kind])
-    name = STATE = {"hydro": "state", "nbody": "state_pos"}[kind]
+    name = {"hydro": "state", "nbody": "state_pos"}[kind]
     ds[name].values.flat[0] *= 1.5
-    with pytest.raises(RunFileError, match=f"checksum mismatch in variable '{STATE}'"):
+    with pytest.raises(RunFileError, match=f"<dataset>: checksum mismatch in variable '{name}'"):
         ENGINES[kind].from_dataset(ds)
 
 
@@ -291,7 +291,7 @@ def test_generated_dataset_damage(files, tmp_path_factory, kind, data):
         except RunFileError as exc:
             assert "\n" not in str(exc) and str(exc).startswith("<damaged>: ")
             return
-        ds = ds  # accepted: the data must be unchanged where it matters, so a file of it must load the same
+        # accepted: the damage touched nothing that matters, so a file of it must load the same state
     out = tmp_path_factory.mktemp("dmg") / "damaged.nc"
     ds.to_netcdf(out, engine="h5netcdf")
     assert_refused_or_same(kind, files[kind], out, "load" if entry in ("validate", "load") else entry)
