@@ -12,7 +12,7 @@ import h5py
 import numpy as np
 import pytest
 import xarray as xr
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 from ringcore import params
@@ -290,11 +290,12 @@ def test_generated_dataset_damage(files, tmp_path_factory, kind, data):
             validate_run(ds, kind, source="<damaged>")
         except RunFileError as exc:
             assert "\n" not in str(exc) and str(exc).startswith("<damaged>: ")
+            event(f"{m[0]}: refused by validate_run")
             return
         # accepted: the damage touched nothing that matters, so a file of it must load the same state
     out = tmp_path_factory.mktemp("dmg") / "damaged.nc"
     ds.to_netcdf(out, engine="h5netcdf")
-    assert_refused_or_same(kind, files[kind], out, "load" if entry in ("validate", "load") else entry)
+    event(f"{m[0]}: {assert_refused_or_same(kind, files[kind], out, 'load' if entry in ('validate', 'load') else entry)}")
 
 
 @pytest.mark.parametrize("kind", ["hydro", "nbody"])
@@ -318,4 +319,4 @@ def test_generated_byte_damage(files, tmp_path_factory, kind, data):
             buf[j] ^= data.draw(st.integers(1, 255), label="mask")
         out.write_bytes(bytes(buf))
     entry = data.draw(st.sampled_from(["read_run", "load", "from_dataset"]), label="entry")
-    assert_refused_or_same(kind, files[kind], out, entry)
+    event(f"bytes: {assert_refused_or_same(kind, files[kind], out, entry)}")
