@@ -5,7 +5,7 @@ Every file carries the global attributes ``schema = "ringlab-run"``, ``schema_ve
 stored as flat attributes with a prefix (``param_sigma0``, ``option_h`` ...) and, for exact
 restoration, as one JSON attribute per group (``params_json``, ``options_json``).
 
-Reading checks all of this: a missing, corrupt or foreign file, a file of another kind, or a
+Reading checks all of this (:mod:`ringcore.io.validate`): a missing, corrupt or foreign file, a file of another kind, or a
 file written by a newer schema raises :class:`RunFileError` naming the file and the problem.
 Older schema versions listed in ``_MIGRATIONS`` are upgraded on read; anything else is refused.
 """
@@ -66,28 +66,44 @@ def status_attrs(summary: dict, complete: bool) -> dict:
 
 
 def write_run(ds: xr.Dataset, path, kind: str) -> Path:
-    """Write ``ds`` to ``path`` atomically (temporary file, then rename) with the schema attributes."""
+    """Write ``ds`` to ``path`` atomically with the schema attributes (and, for the engine kinds, the
+    checksum ``state_sha256`` of :func:`ringcore.io.validate.checksum_attrs`).
+
+    The data go to ``path.part`` first and replace ``path`` only when complete (``os.replace``): a
+    failed write leaves no ``.part`` file and never touches an existing ``path``.
+    """
     from .. import __version__
+    from .validate import checksum_attrs
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     ds = ds.copy()
+    for key in ("state_sha256", "state_checksums"):  # never carry over a stale checksum
+        ds.attrs.pop(key, None)
     ds.attrs.update(schema=SCHEMA, schema_version=SCHEMA_VERSION, kind=kind, ringcore_version=__version__,
                     created=datetime.now(timezone.utc).isoformat(timespec="seconds"))
+    ds.attrs.update(checksum_attrs(ds, kind))
     tmp = path.with_name(path.name + ".part")
-    ds.to_netcdf(tmp, engine="h5netcdf")
-    os.replace(tmp, path)
+    try:
+        ds.to_netcdf(tmp, engine="h5netcdf")
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
     return path
 
 
 def read_run(path, kind: str | None = None) -> xr.Dataset:
-    """Open a run file and check that it is one; returns a loaded ``xarray.Dataset``.
+    """Open a run file and check it with :func:`ringcore.io.validate_run`; returns a loaded ``xarray.Dataset``.
 
     Raises
     ------
     RunFileError
-        With the file name and what is wrong.
+        One line with the file name and what is wrong (missing, unreadable, foreign, other kind,
+        newer schema, missing or malformed variables, inconsistent, non-finite state, checksum mismatch).
     """
+    from .validate import validate_run
+
     path = Path(path)
     if not path.is_file():
         raise RunFileError(f"{path}: no such file")
@@ -95,19 +111,6 @@ def read_run(path, kind: str | None = None) -> xr.Dataset:
         with xr.open_dataset(path, engine="h5netcdf") as f:
             ds = f.load()
     except Exception as exc:  # h5py/h5netcdf raise many types for damaged files
-        raise RunFileError(f"{path}: not a readable NetCDF/HDF5 file ({type(exc).__name__}: {exc})") from None
-    if ds.attrs.get("schema") != SCHEMA:
-        raise RunFileError(f"{path}: not a ringlab run file (attribute schema = {ds.attrs.get('schema')!r}, "
-                           f"expected {SCHEMA!r})")
-    ver = int(ds.attrs.get("schema_version", -1))
-    if ver > SCHEMA_VERSION:
-        raise RunFileError(f"{path}: written by a newer ringcore (schema_version {ver}); this version reads "
-                           f"up to {SCHEMA_VERSION}: upgrade ringcore")
-    while ver < SCHEMA_VERSION:
-        if ver not in _MIGRATIONS:
-            raise RunFileError(f"{path}: schema_version {ver} is no longer supported (current {SCHEMA_VERSION})")
-        ds = _MIGRATIONS[ver](ds)
-        ver += 1
-    if kind is not None and ds.attrs.get("kind") != kind:
-        raise RunFileError(f"{path}: is a {ds.attrs.get('kind')!r} run, expected {kind!r}")
-    return ds
+        first = str(exc).splitlines()[0] if str(exc) else ""
+        raise RunFileError(f"{path}: not a readable NetCDF/HDF5 file ({type(exc).__name__}: {first})") from None
+    return validate_run(ds, kind, source=str(path))

@@ -1,0 +1,291 @@
+"""One validation of every run file, whatever the entry point (path, ``xarray.Dataset``, CLI, app).
+
+:func:`validate_run` checks, in this order: the schema attribute, the schema version (newer:
+refused; older: upgraded through ``_MIGRATIONS`` or refused), the kind; and for the engine kinds
+in :data:`LAYOUTS` (``"hydro"``, ``"nbody"``): the attributes a continuation needs, every
+required variable with its dimensions and dtype kind, the checksum ``state_sha256`` that
+:func:`ringcore.io.write_run` stamps (files written before it existed have none and are accepted
+on the other checks), finiteness of the state arrays, the parameters and options (they must
+build) and cross-consistency (grid ``n`` vs ``L_x/h``, particle count vs array lengths, mode,
+probe, zone and accumulator dimensions).  Other kinds (``"recipe"``, ``"linear"``, ``"sweep"``)
+get the schema checks only.  Any failure raises :class:`~ringcore.io.RunFileError` with one line
+naming the file and what is wrong.
+
+The checksum covers every variable of the kind's layout present at write time (name, dims,
+dtype, shape, bytes; NaN canonicalised) and the attributes a continuation reads
+(:data:`CHECKSUM_ATTRS`); ``state_checksums`` holds one short digest per item (to name what
+changed), ``state_sha256`` the digest of that JSON text.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+
+import numpy as np
+
+from .runfile import _MIGRATIONS, SCHEMA, SCHEMA_VERSION, RunFileError
+
+# name -> (dims, dtype kinds, required); required variables are what a restore reads.
+_F, _I, _S = "f", "iu", "OUS"
+LAYOUTS: dict = {
+    "hydro": {
+        "x": (("x",), _F, True), "t": (("t",), _F, True),
+        "t_strobe": (("t_strobe",), _F, True), "t_spacetime": (("t_spacetime",), _F, True),
+        "mode": (("mode",), _I, True), "probe": (("probe",), _F, True), "wavelength": (("wavelength",), _F, False),
+        "var": (("var",), _S, True), "restart_field": (("restart_field",), _S, True),
+        "sigma": (("x",), _F, True), "u": (("x",), _F, True), "v": (("x",), _F, True), "T": (("x",), _F, True),
+        "state": (("var", "x"), _F, True), "beta": (("x",), _F, False), "psd": (("wavelength",), _F, False),
+        "e_kin": (("t",), _F, True), "e_kin_si": (("t",), _F, False), "e_kin_rp": (("t",), _F, False),
+        "lambda_p": (("t",), _F, True), "dt": (("t",), _F, False), "steps": (("t",), _I, True),
+        **{f"{q}_{part}": (("t", "mode"), _F, False) for q in ("mode_sigma", "mode_u") for part in ("amp", "phase")},
+        "probe_sigma": (("t", "probe"), _F, False), "probe_u": (("t", "probe"), _F, False),
+        "strobe_sigma": (("t_strobe", "x"), _F, True), "spacetime_sigma": (("t_spacetime", "x"), _F, True),
+        "restart_series": (("t", "restart_field"), _F, True),
+        "restart_t_strobe": (("t_strobe",), _F, True), "restart_t_spacetime": (("t_spacetime",), _F, True),
+        **{f"{f}_{w}": (("t",), _F, False) for f in ("sigma", "u", "v", "T") for w in ("min", "max")},
+    },
+    "nbody": {
+        "particle": (("particle",), _I, True), "time": (("time",), _F, True),
+        "time_profile": (("time_profile",), _F, True), "x": (("x",), _F, True),
+        **{f"{q}_{a}": (("particle",), _F, True) for q in ("pos", "vel") for a in "xyz"},
+        "particle_id": (("particle",), _I, True),
+        "state_pos": (("particle", "axis"), _F, True), "state_vel": (("particle", "axis"), _F, True),
+        **{k: (("time",), _F, True) for k in ("ekin", "c_mean", "T", "collision_frequency", "lambda_p",
+                                              "unresolved", "crossings")},
+        **{f"{k}_x": (("x",), _F, False) for k in ("sigma", "u", "v", "C_xx", "C_yy", "C_zz", "c", "z_rms")},
+        **{f"{k}_tx": (("time_profile", "x"), _F, True) for k in ("sigma", "u", "v", "c")},
+        **{k: (("acc",), _F, True) for k in ("accumulators", "accumulators_before", "accumulators_last_record")},
+        "accumulators_total": (("acc",), _F, False),
+    },
+}
+# attributes a restore reads: required ones, and the ones the checksum covers (absent ones included as absent)
+REQUIRED_ATTRS = {"hydro": ("params_json", "options_json", "time_dimensionless", "steps", "dt_dimensionless"),
+                  "nbody": ("params_json", "options_json", "t0_kernel", "step_count")}
+CHECKSUM_ATTRS = {"hydro": ("params_json", "options_json", "time_dimensionless", "steps", "k_sample",
+                            "dt_dimensionless", "floor_hits", "buffer_active", "buffer", "n"),
+                  "nbody": ("params_json", "options_json", "seed", "rng_state_json", "t0_kernel", "step_count",
+                            "t_kernel", "N")}
+STATE_ARRAYS = {"hydro": ("state",), "nbody": ("state_pos", "state_vel")}
+
+
+def _digest(name: str, item) -> str:
+    h = hashlib.sha256(name.encode() + b"\0")
+    if item is None:
+        h.update(b"<absent>")
+    elif isinstance(item, str):
+        h.update(b"str\0" + item.encode("utf-8", "surrogatepass"))
+    elif hasattr(item, "dims"):  # a variable
+        a = np.asarray(item.values)
+        h.update(repr(tuple(item.dims)).encode() + b"\0" + repr(a.shape).encode() + b"\0")
+        if a.dtype.kind in "OUS":
+            h.update(b"str\0" + "\x1f".join(str(v) for v in a.ravel()).encode("utf-8", "surrogatepass"))
+        else:
+            if a.dtype.kind == "f":
+                a = np.where(np.isnan(a), np.nan, a).astype(a.dtype)
+            a = np.ascontiguousarray(a, dtype=a.dtype.newbyteorder("<"))
+            h.update(a.dtype.str.encode() + b"\0" + a.tobytes())
+    else:  # a numeric attribute
+        a = np.asarray(item)
+        if a.dtype.kind in "biu":
+            a = a.astype("<i8")
+        elif a.dtype.kind == "f":
+            a = a.astype("<f8")
+        else:
+            a = np.asarray(str(item).encode())
+        h.update(a.dtype.str.encode() + b"\0" + repr(a.shape).encode() + b"\0" + a.tobytes())
+    return h.hexdigest()[:16]
+
+
+def checksum_attrs(ds, kind: str) -> dict:
+    """``{"state_checksums": json, "state_sha256": hex}`` for the layout variables present in ``ds``
+    and the restart attributes of ``kind`` (``{}`` for kinds without a layout)."""
+    if kind not in LAYOUTS:
+        return {}
+    items = {name: _digest(name, ds.variables[name]) for name in LAYOUTS[kind] if name in ds.variables}
+    items.update({f"@{a}": _digest(f"@{a}", ds.attrs.get(a)) for a in CHECKSUM_ATTRS[kind]})
+    text = json.dumps(items, sort_keys=True)
+    return {"state_checksums": text, "state_sha256": hashlib.sha256(text.encode()).hexdigest()}
+
+
+def _fail(source, msg):
+    raise RunFileError(f"{source}: {msg}".replace("\n", " "))
+
+
+def _check_schema(ds, kind, source):
+    if ds.attrs.get("schema") != SCHEMA:
+        _fail(source, f"not a ringlab run file (attribute schema = {ds.attrs.get('schema')!r}, expected {SCHEMA!r})")
+    try:
+        ver = int(ds.attrs.get("schema_version"))
+    except (TypeError, ValueError):
+        _fail(source, f"attribute schema_version = {ds.attrs.get('schema_version')!r} is not an integer")
+    if ver > SCHEMA_VERSION:
+        _fail(source, f"written by a newer ringcore (schema_version {ver}); this version reads up to "
+                      f"{SCHEMA_VERSION}: upgrade ringcore")
+    while ver < SCHEMA_VERSION:
+        if ver not in _MIGRATIONS:
+            _fail(source, f"schema_version {ver} is no longer supported (current {SCHEMA_VERSION})")
+        ds = _MIGRATIONS[ver](ds)
+        ver += 1
+    have = ds.attrs.get("kind")
+    if kind is not None and have != kind:
+        _fail(source, f"is a {have!r} run, expected {kind!r}")
+    if not isinstance(have, str):
+        _fail(source, f"attribute kind = {have!r} is not a run kind")
+    return ds
+
+
+def _check_variables(ds, kind, source):
+    for name, (dims, kinds, required) in LAYOUTS[kind].items():
+        if name not in ds.variables:
+            if required:
+                _fail(source, f"{kind} run file has no variable {name!r} (dimensions {dims})")
+            continue
+        v = ds.variables[name]
+        if tuple(v.dims) != dims:
+            _fail(source, f"variable {name!r} has dimensions {tuple(v.dims)}, expected {dims}")
+        if v.dtype.kind not in kinds:
+            _fail(source, f"variable {name!r} has dtype {v.dtype}, expected kind {kinds!r}")
+
+
+def _attr_number(ds, name, typ, source):
+    try:
+        val = typ(ds.attrs[name])
+    except KeyError:
+        _fail(source, f"run file has no attribute {name!r}")
+    except (TypeError, ValueError, OverflowError):
+        _fail(source, f"attribute {name} = {ds.attrs[name]!r} is not a {typ.__name__}")
+    if not np.isfinite(val):
+        _fail(source, f"attribute {name} = {val!r} is not finite")
+    return val
+
+
+def _build(ds, kind, source):
+    """(RingParams, options) of the file; RunFileError if they do not build."""
+    from ..params import RingParams
+    if kind == "hydro":
+        from ..hydro.options import HydroOptions as Options
+    else:
+        from ..nbody.options import NBodyOptions as Options
+    out = []
+    for prefix, cls in (("param", RingParams), ("option", Options)):
+        key = f"{prefix}s_json"
+        try:
+            d = json.loads(ds.attrs[key])
+            if not isinstance(d, dict):
+                raise TypeError(f"a {type(d).__name__}, not a dict")
+            out.append(cls(**d))
+        except Exception as exc:  # JSON, unknown keys, out-of-range values
+            _fail(source, f"attribute {key} does not give valid {cls.__name__} ({type(exc).__name__}: {exc})")
+    return out
+
+
+def _check_hydro(ds, source):
+    p, opt = _build(ds, "hydro", source)
+    n, sz = opt.n, ds.sizes
+    for dim, want, why in (("x", n, f"L_x/h = {opt.L_x:g}/{opt.h:g}"), ("var", 3 if p.isothermal else 4,
+                           "the model (isothermal: 3, else 4)"), ("mode", len(opt.track_modes), "track_modes"),
+                           ("probe", len(opt.probes_m), "probes_m"),
+                           ("restart_field", 10 + 4 * len(opt.track_modes) + 2 * len(opt.probes_m),
+                            "the recorder columns")):
+        if sz[dim] != want:
+            _fail(source, f"dimension {dim!r} has length {sz[dim]}, expected {want} from {why}")
+    if "n" in ds.attrs and _attr_number(ds, "n", int, source) != n:
+        _fail(source, f"attribute n = {ds.attrs['n']} does not match the grid L_x/h = {n}")
+    _attr_number(ds, "time_dimensionless", float, source)
+    _attr_number(ds, "dt_dimensionless", float, source)
+    if _attr_number(ds, "steps", int, source) < 0:
+        _fail(source, f"attribute steps = {ds.attrs['steps']} is negative")
+    if not np.all(np.asarray(ds.variables["state"].values)[0] > 0):
+        _fail(source, "state array 'state' has non-positive surface density")
+
+
+def _check_nbody(ds, source):
+    from ..nbody.kernels import N_ACC
+
+    p, opt = _build(ds, "nbody", source)
+    sz = ds.sizes
+    if "N" in ds.attrs and _attr_number(ds, "N", int, source) != sz["particle"]:
+        _fail(source, f"attribute N = {ds.attrs['N']} but the particle arrays have length {sz['particle']}")
+    for dim, want, why in (("axis", 3, "x, y, z"), ("acc", N_ACC, "the kernel accumulators"),
+                           ("x", opt.zones, "the diagnostic zones of the options")):
+        if sz[dim] != want:
+            _fail(source, f"dimension {dim!r} has length {sz[dim]}, expected {want} ({why})")
+    ids = np.asarray(ds.variables["particle_id"].values)
+    if np.unique(ids).size != ids.size:
+        _fail(source, "variable 'particle_id' has repeated particle labels")
+    _attr_number(ds, "t0_kernel", float, source)
+    if _attr_number(ds, "step_count", int, source) < 0:
+        _fail(source, f"attribute step_count = {ds.attrs['step_count']} is negative")
+    pos = np.asarray(ds.variables["state_pos"].values)
+    for a, name in enumerate("xyz"):  # SI copies of the kernel state: catch damage in files without checksum
+        si = np.asarray(ds.variables[f"pos_{name}"].values)
+        if not np.allclose(si, pos[:, a] * opt.R_p, rtol=1e-12, atol=0.0):
+            _fail(source, f"variable 'pos_{name}' disagrees with 'state_pos' (damaged particle data)")
+
+
+def _check_checksum(ds, kind, source):
+    stored, text = ds.attrs.get("state_sha256"), ds.attrs.get("state_checksums")
+    if stored is None and text is None:
+        return  # written before checksums: accepted on the other checks
+    if not isinstance(stored, str) or not isinstance(text, str):
+        _fail(source, "checksum attributes state_sha256 / state_checksums are incomplete or damaged")
+    if hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest() != stored:
+        _fail(source, "attribute state_checksums does not match state_sha256 (damaged checksum attributes)")
+    try:
+        items = json.loads(text)
+        assert isinstance(items, dict)
+    except Exception:
+        _fail(source, "attribute state_checksums is not a JSON object")
+    bad = []
+    for key, want in items.items():
+        if key.startswith("@"):
+            got = _digest(key, ds.attrs.get(key[1:]))
+        elif key in ds.variables:
+            got = _digest(key, ds.variables[key])
+        else:
+            _fail(source, f"variable {key!r} covered by the checksum is missing")
+        if got != want:
+            bad.append(f"attribute {key[1:]!r}" if key.startswith("@") else f"variable {key!r}")
+    missing = [k for k in LAYOUTS[kind] if k in ds.variables and k not in items]
+    if missing:
+        _fail(source, f"variables {', '.join(missing)} are not covered by the checksum (damaged checksum attributes)")
+    if bad:
+        _fail(source, f"checksum mismatch in {', '.join(bad[:4])}{' ...' if len(bad) > 4 else ''}: "
+                      f"the data differ from what was written (damaged file)")
+
+
+def validate_run(ds, kind: str | None = None, source: str = "<dataset>"):
+    """Check that ``ds`` is a valid run file (of ``kind`` if given); returns it (upgraded if older).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A loaded run file.
+    kind : str, optional
+        Required ``kind`` attribute (``"hydro"``, ``"nbody"``, ``"recipe"``, ...).
+    source : str
+        Name of the file (or ``"<dataset>"``) for the message.
+
+    Raises
+    ------
+    RunFileError
+        One line naming ``source`` and what is wrong (see the module docstring for the checks).
+    """
+    if not hasattr(ds, "data_vars") or not hasattr(ds, "attrs"):
+        _fail(source, f"not an xarray.Dataset (got {type(ds).__name__})")
+    ds = _check_schema(ds, kind, source)
+    kind = ds.attrs["kind"]
+    if kind not in LAYOUTS:
+        return ds
+    for name in REQUIRED_ATTRS[kind]:
+        if name not in ds.attrs:
+            _fail(source, f"{kind} run file has no attribute {name!r}")
+    _check_variables(ds, kind, source)
+    _check_checksum(ds, kind, source)
+    for name in STATE_ARRAYS[kind]:
+        a = np.asarray(ds.variables[name].values)
+        if not np.all(np.isfinite(a)):
+            bad = np.argwhere(~np.isfinite(a))[0]
+            _fail(source, f"state array {name!r} has non-finite values (first at index {tuple(int(i) for i in bad)})")
+    (_check_hydro if kind == "hydro" else _check_nbody)(ds, source)
+    return ds
