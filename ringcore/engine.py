@@ -222,8 +222,8 @@ def state_to_dataset(state: State):
 
 def state_from_dataset(ds, kind: str) -> State:
     """The :class:`State` saved in a run file (a Dataset or a path) of ``kind``."""
-    if not hasattr(ds, "data_vars"):
-        ds = read_dataset(ds, kind)
+    from .io import validate_run
+    ds = validate_run(ds, kind=kind) if hasattr(ds, "data_vars") else read_dataset(ds, kind)
     return _runfile(kind).state_from_dataset(ds)
 
 
