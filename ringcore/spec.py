@@ -72,8 +72,14 @@ class RunSpec:
     @classmethod
     def from_mapping(cls, d: dict, option_keys=()) -> "RunSpec":
         """A spec from a plain dict (a sweep task): keys ``set``, ``sigma0``, ``isothermal``, ``p_s``,
-        ``ps_scale``, ``beta``; the keys in ``option_keys`` go to ``options``; others are ignored."""
-        return cls(set=d.get("set", "tau15"), sigma0=d.get("sigma0", 0.0), isothermal=d.get("isothermal"),
+        ``ps_scale``, ``beta``; the keys in ``option_keys`` go to ``options``; others are ignored.
+
+        As for the command-line flag ``--isothermal`` and the app's check box, ``isothermal = False``
+        in a mapping means "not asked for" (the set's default model), ``True`` the isothermal model."""
+        iso = d.get("isothermal")
+        if iso is not None:
+            check_bool("isothermal", iso)
+        return cls(set=d.get("set", "tau15"), sigma0=d.get("sigma0", 0.0), isothermal=True if iso else None,
                    p_s=d.get("p_s"), ps_scale=d.get("ps_scale", 1.0), beta=d.get("beta"),
                    options={k: d[k] for k in option_keys if d.get(k) is not None})
 

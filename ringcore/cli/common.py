@@ -5,7 +5,10 @@
 """
 from __future__ import annotations
 
+import math
+
 from .. import params
+from ..units import G
 from ..spec import RunSpec, resolve
 from .errors import UsageError
 
@@ -55,3 +58,15 @@ def refuse_with(args, dests, reason: str) -> None:
     bad = [flag(d) for d in dests if d in given(args)]
     if bad:
         raise UsageError(f"{', '.join(bad)} {'has' if len(bad) == 1 else 'have'} no effect {reason}")
+
+
+Q0_MIN = 0.1  # engines refuse stronger self-gravity: the ground state collapses within a fraction of an orbit
+
+
+def check_self_gravity(p) -> None:
+    """UsageError if ``p``'s self-gravity is so strong (Q0 < Q0_MIN) that the engines cannot follow it."""
+    if p.sigma0 > 0 and p.Q0 < Q0_MIN:
+        s = p.Omega * p.c0 / (math.pi * G * Q0_MIN)
+        raise UsageError(f"--sigma0 = {p.sigma0:g} kg/m^2 gives Q0 = {p.Q0:.3g} < {Q0_MIN:g} for set {p.name!r}: "
+                         "the ground state collapses gravitationally within a fraction of an orbit, which the "
+                         f"engines do not model; allowed sigma0 <= {s:.0f} kg/m^2")

@@ -6,7 +6,7 @@ import sys
 
 from .. import params
 from ..checks import check_choice, check_real
-from .common import add_ring_arguments, given, ring_params_from_args, refuse_with
+from .common import add_ring_arguments, check_self_gravity, given, ring_params_from_args, refuse_with
 from .errors import UsageError
 from .safety import check_memory, check_output_file
 
@@ -130,6 +130,7 @@ def run(args) -> int:
     else:
         check_resolution(args)
         p = ring_params_from_args(args)
+        check_self_gravity(p)
         opt = HydroOptions(L_x=args.lx, h=args.h, gravity=args.gravity, replicas=args.replicas,
                            bin_correction=bool(args.bin_correction), timestep=args.timestep,
                            dt_factor=args.dt_factor, buffer=tuple(args.buffer) if args.buffer else None,

@@ -2,19 +2,28 @@
 from __future__ import annotations
 
 import json
+import math
 import sys
+
+from .errors import UsageError
+from .safety import check_output_file
+
+PLAN_ATTR = "equilibrate_until"  # written by ``ringcore nbody --equilibrate`` (see nbody_cmd)
 
 
 def register(sub) -> None:
     p = sub.add_parser("resume", help="continue a hydro or N-body run file",
                        description="Continue the run saved in FILE (kind hydro or nbody, from its 'kind' "
                                    "attribute) for --orbits more orbits or up to orbit --until; the result is "
-                                   "bit-for-bit the uninterrupted run. SIGINT/SIGTERM save the state.")
+                                   "bit-for-bit the uninterrupted run. Without --out, FILE itself is continued "
+                                   "in place; --out FILE2 never replaces an existing FILE2 unless --overwrite. "
+                                   "SIGINT/SIGTERM save the state.")
     p.add_argument("file", metavar="FILE", help="run file (written by ringcore hydro/nbody/sweep or save())")
     g = p.add_mutually_exclusive_group(required=True)
     g.add_argument("--orbits", type=float, default=None, help="orbits to add")
     g.add_argument("--until", type=float, default=None, metavar="ORBIT", help="end time [orbits]")
     p.add_argument("--out", default=None, metavar="FILE2", help="run file to write (default: FILE itself)")
+    p.add_argument("--overwrite", action="store_true", help="replace FILE2 if it exists (default: refuse)")
     p.add_argument("--checkpoint-every", type=float, default=None, metavar="ORBITS",
                    help="also write the run file every ORBITS orbits")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -23,16 +32,44 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..experiments.checkpoint import engine_class, kind_of, load_model, run_checkpointed
+    from ..checks import check_real
+    from ..experiments.checkpoint import ENGINES, engine_class, kind_of, run_checkpointed
+    from ..io import RunFileError, read_run
 
-    model = load_model(args.file)
-    kind = kind_of(model)
+    if args.orbits is not None:
+        check_real("--orbits", args.orbits, 0.0, math.inf, lo_open=True, unit="orbits")
+    if args.until is not None:
+        check_real("--until", args.until, 0.0, math.inf, unit="orbits")
+    ds = read_run(args.file)
+    kind = ds.attrs.get("kind")
+    if kind not in ENGINES:
+        raise RunFileError(f"{args.file}: a {kind!r} run cannot be continued: allowed kinds {', '.join(ENGINES)}")
     out = args.out or args.file
+    model = engine_class(kind).from_dataset(ds)
     start = model.orbits
+    until = start + args.orbits if args.until is None else args.until
+    if until < start:
+        raise UsageError(f"--until = {until:g} orbits is before the run's time {start:g} orbits: "
+                         f"allowed --until >= {start:g} (or give --orbits N to add N orbits)")
+    check_output_file(out, overwrite=args.overwrite, label="--out" if args.out else "FILE", same_as=args.file)
+    kw = dict(out=out, every=args.checkpoint_every, progress=not args.no_progress)
+    eq = ds.attrs.get(PLAN_ATTR)
+    tol = 1e-9 * max(1.0, until)
     try:
-        s = run_checkpointed(model, args.orbits, until=args.until, out=out, every=args.checkpoint_every,
-                             progress=not args.no_progress)
-    except engine_class(kind, 2) as exc:
+        if eq is not None and model.orbits < float(eq) - tol:
+            # an N-body run interrupted in its equilibration: reset the transport accumulators at the
+            # planned orbit, exactly as ``ringcore nbody --equilibrate`` does
+            eq = float(eq)
+            plan = {PLAN_ATTR: eq, "planned_until": ds.attrs.get("planned_until", until)}
+            if until < eq - tol:  # still equilibrating at the end: the file keeps the plan
+                s = run_checkpointed(model, until=until, **kw, **plan)
+            else:
+                run_checkpointed(model, until=eq, finish=False, **kw, **plan)
+                model.reset_accumulators()
+                s = run_checkpointed(model, until=until, **kw)
+        else:
+            s = run_checkpointed(model, until=until, **kw)
+    except engine_class(kind_of(model), 2) as exc:
         sys.stderr.write(f"ringcore resume: {exc} (saved to {out}, complete = 0)\n")
         return 1
     if args.json:
