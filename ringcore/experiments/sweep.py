@@ -134,7 +134,14 @@ def connect(address: str, timeout: float = CONNECT_TIMEOUT_S):
     """A ``dask.distributed.Client`` of the scheduler at ``address``; :class:`SchedulerUnreachable`
     (one line) if it cannot be reached within ``timeout`` seconds."""
     from dask.distributed import Client
+    from distributed.comm.addressing import parse_address, parse_host_port
 
+    try:
+        proto, loc = parse_address(address)
+        if proto in ("tcp", "tls"):
+            parse_host_port(loc)
+    except (ValueError, TypeError) as exc:
+        raise ValueError(f"scheduler = {address!r} is not a scheduler address ({exc}): give tcp://HOST:PORT") from None
     try:
         return Client(address, timeout=f"{timeout:g}s")
     except (OSError, TimeoutError, ValueError) as exc:
