@@ -36,8 +36,8 @@ def build_params(name: str, sigma0: float, isothermal: bool, ps_scale: float = 1
     sigma0 : float
         Ground-state surface density [kg/m^2], >= 0.
     isothermal : bool
-        Isothermal model (G_T -> infinity, eq. ideal); unchecked: the set's default model
-        (isothermal for isothermal-only sets such as st99), as without ``--isothermal``.
+        Isothermal model (G_T -> infinity, eq. ideal) or, unchecked, explicitly the non-isothermal
+        one (so an isothermal-only set such as st99 asks the student to check the box).
     ps_scale : float
         Factor (> 0) on the table's pressure exponent p_s; applied when ``isothermal`` is unchecked
         (the widget belongs to the non-isothermal model).
@@ -52,7 +52,7 @@ def build_params(name: str, sigma0: float, isothermal: bool, ps_scale: float = 1
     """
     if isothermal:
         return resolve_params(RunSpec(name, sigma0, isothermal=True, p_s=iso_p_s))
-    return resolve_params(RunSpec(name, sigma0, isothermal=None, ps_scale=ps_scale))
+    return resolve_params(RunSpec(name, sigma0, isothermal=False, ps_scale=ps_scale))
 
 
 def parse_sigma0_list(text: str) -> list[float]:

@@ -10,7 +10,9 @@ same parameters everywhere.
 The rule (documented once, applied everywhere)
 ----------------------------------------------
 1. ``isothermal``: ``None`` means the set's default (isothermal only for sets without a temperature
-   model, ``RingParams.isothermal_only``, e.g. ``st99``); ``True``/``False`` ask for a model.  Asking
+   model, ``RingParams.isothermal_only``, e.g. ``st99``); ``True``/``False`` ask for a model.  The
+   command line's ``--isothermal`` flag and a sweep task's ``isothermal`` key give True or None; the
+   app's check box gives True or False.  Asking
    for the non-isothermal model of an isothermal-only set is an error.  Booleans must be bools.
 2. ``p_s`` (absolute pressure exponent) belongs to the isothermal model (eq. ideal; default 1, the
    ideal gas).  Giving it for the non-isothermal model is an error (use ``ps_scale`` there) - it is

@@ -43,8 +43,8 @@ def test_controls_match_ringcore():
 
 
 def test_build_params_rejects_invalid_combinations():
-    # unchecked "isothermal" means the set's default model (ringcore.spec rule 1): st99 is isothermal-only
-    assert build_params("st99", 400, False).isothermal
+    with pytest.raises(ValueError, match="st99"):
+        build_params("st99", 400, False)
     with pytest.raises(ValueError, match="ps_scale"):
         build_params("tau15", 400, False, ps_scale=0.0)
     with pytest.raises(ValueError, match="sigma0"):

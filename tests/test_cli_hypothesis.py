@@ -34,7 +34,7 @@ settings.register_profile("long", max_examples=int(os.environ.get("HYPOTHESIS_MA
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 # per-command share of the budget (the slow commands get fewer examples)
 SCALE = {"linear": 1.5, "hydro": 2.0, "nbody": 1.5, "resume": 1.5, "reproduce": 1.0, "sweep": 0.5}
-STATS = {"cases": 0, "by_status": {}}
+STATS = {"cases": 0, "by_status": {}, "by_command": {}}
 
 
 def budget(cmd):
@@ -101,6 +101,8 @@ def check(sb, argv, *, valid, may_change=()):
     err = err.getvalue()
     STATS["cases"] += 1
     STATS["by_status"][rc] = STATS["by_status"].get(rc, 0) + 1
+    key = f"{argv[0] if argv else '-'}:{rc}"
+    STATS["by_command"][key] = STATS["by_command"].get(key, 0) + 1
     assert "Traceback" not in err, (argv, err)
     assert rc in (0, 1, 2), (argv, rc, err)
     if rc:
@@ -189,6 +191,7 @@ HYDRO_OPTS = st.tuples(
     opt("--samples", st.sampled_from(["10", "20"]), st.sampled_from(["0", "-3", "x"])),
     opt("--spacetime-rows", st.sampled_from(["0", "5"]), st.sampled_from(["3", "-1"])),
     opt("--checkpoint-every", st.sampled_from(["0.01"])),
+    opt("--dt-factor", st.sampled_from(["0.1", "1.1"]), st.sampled_from(["0", "11", "nan"])),
 )
 
 
@@ -393,4 +396,5 @@ def test_sweep_mixed(seed_files, engine, sigma0, extra, out):
 def test_report_counts(capsys):
     """Prints how many generated cases ran (shown with -s; scripts/hypothesis_long.py reports it)."""
     with capsys.disabled():
-        print(f"\nhypothesis CLI cases run: {STATS['cases']} (exit statuses {STATS['by_status']})")
+        print(f"\nhypothesis CLI cases run: {STATS['cases']} (exit statuses {STATS['by_status']}; "
+              f"command:status {dict(sorted(STATS['by_command'].items()))})")

@@ -303,3 +303,28 @@ def test_sweep_rerun_keeps_summary_complete(tmp_path, capsys):
 def test_json_output_still_parses(capsys):
     rc, out, _ = cli(capsys, ["linear", "--sigma0", "400", "--json"])
     assert rc == 0 and json.loads(out)["set"] == "tau15"
+
+
+def test_not_enough_disk_refused_before_computing(tmp_path, capsys, monkeypatch):
+    import shutil
+    from collections import namedtuple
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: usage(10**9, 10**9 - 1000, 1000))
+    rc, _, err = cli(capsys, HYDRO + ["--out", tmp_path / "x.nc"])
+    assert rc == 1 and "free" in err
+    assert not (tmp_path / "x.nc").exists()
+
+
+def test_library_import_has_no_matplotlib_side_effects():
+    import subprocess
+    import sys
+
+    code = ("import matplotlib; b = matplotlib.rcParams['backend']; import sys;"
+            "import ringcore.experiments.registry as r; r.load_all(); import ringcore.figures.saturation;"
+            "import ringcore.figures.linear;"
+            "assert 'matplotlib.pyplot' not in sys.modules, 'pyplot imported';"
+            "assert matplotlib.rcParams['backend'] == b, 'backend changed'; print('ok')")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300,
+                         env={**__import__('os').environ, "MPLBACKEND": "svg"})
+    assert out.returncode == 0 and "ok" in out.stdout, out.stderr

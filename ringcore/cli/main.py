@@ -7,6 +7,7 @@ Errors never show a traceback (unless ``--debug``, accepted anywhere on the line
 (``ValueError``, :class:`~ringcore.cli.errors.UsageError`, argparse errors) is one line on stderr
 and exit status 2; an environment or runtime problem (unwritable place, memory, disk, unreachable
 scheduler, missing optional package, numerical blow-up) one line and exit status 1; SIGINT 130.
+Python warnings are shown only with ``--debug``.
 """
 from __future__ import annotations
 
@@ -14,6 +15,7 @@ import argparse
 import importlib
 import sys
 import traceback
+import warnings
 
 from .. import __version__
 from .errors import status_and_message
@@ -73,6 +75,13 @@ def main(argv=None) -> int:
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
     argv = [a for a in argv if a != "--debug"]
+    with warnings.catch_warnings():
+        if not debug:  # numerical RuntimeWarnings etc. would break the one-line messages; --debug shows them
+            warnings.simplefilter("ignore")
+        return _run(argv, debug)
+
+
+def _run(argv: list, debug: bool) -> int:
     command = "ringcore"
     try:
         parser = build_parser()

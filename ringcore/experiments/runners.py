@@ -47,8 +47,9 @@ def _nan(x):
 
 
 def summary_attr(summary: dict) -> str:
-    """The ``summary_json`` attribute of a finished task file: the WHOLE task summary (non-finite
-    numbers as null), so that a re-run that skips the task reads back every column."""
+    """The ``summary_json`` attribute of a finished task file: the WHOLE task summary plus its wall
+    time ``wall_s`` (non-finite numbers as null), so that a re-run that skips the task reads back
+    every column of ``sweep.nc``."""
     return json.dumps({k: _nan(v) for k, v in summary.items()})
 
 
@@ -65,8 +66,7 @@ def run_linear_task(task: dict, path) -> dict:
                      "frequency": ("wavelength", d.frequency, {"units": "Omega"})},
                     coords={"wavelength": ("wavelength", lam, {"units": "m"})})
     ds.attrs.update(attrs_from_dict("param", p.as_dict()))
-    summary["wall_s"] = time.perf_counter() - t0
-    ds.attrs.update(complete=1, summary_json=summary_attr(summary))
+    ds.attrs.update(complete=1, summary_json=summary_attr({**summary, "wall_s": time.perf_counter() - t0}))
     write_run(ds, path, kind="linear")
     return summary
 
@@ -105,8 +105,9 @@ def _run_engine_task(task: dict, path, kind: str, defaults: dict, make) -> dict:
     model = _continue_or_new(path, task_json, kind, lambda: make(p, cfg, task))
     run_checkpointed(model, until=float(cfg["orbits"]), out=path, every=float(cfg["checkpoint_every"]),
                      progress=False, finish=False, task_json=task_json)
-    summary = {**model.summary(SUMMARY_FRACTION), **_theory(p), "wall_s": time.perf_counter() - t0}
-    model.save(path, complete=True, task_json=task_json, summary_json=summary_attr(summary))
+    summary = {**model.summary(SUMMARY_FRACTION), **_theory(p)}
+    model.save(path, complete=True, task_json=task_json,
+               summary_json=summary_attr({**summary, "wall_s": time.perf_counter() - t0}))
     return summary
 
 

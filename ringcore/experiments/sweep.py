@@ -69,7 +69,7 @@ def execute_task(task: dict, outdir: str) -> dict:
         summary = _resolve(task["engine"])(dict(task), path)
     except Exception as exc:  # reported, not dropped
         return {**base, "status": "failed", "error": f"{type(exc).__name__}: {exc}"}
-    summary.setdefault("wall_s", time.perf_counter() - t0)
+    summary["wall_s"] = time.perf_counter() - t0
     return {**base, **summary, "status": "done"}
 
 
