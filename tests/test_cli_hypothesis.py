@@ -33,7 +33,7 @@ settings.register_profile("ci", max_examples=12, derandomize=True, **COMMON)
 settings.register_profile("long", max_examples=int(os.environ.get("HYPOTHESIS_MAX_EXAMPLES", "400")), **COMMON)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 # per-command share of the budget (the slow commands get fewer examples)
-SCALE = {"linear": 1.5, "hydro": 2.0, "nbody": 1.5, "resume": 1.5, "reproduce": 1.0, "sweep": 0.5}
+SCALE = {"linear": 1.5, "hydro": 1.5, "nbody": 1.0, "resume": 1.0, "reproduce": 1.0, "sweep": 0.5}
 STATS = {"cases": 0, "by_status": {}, "by_command": {}}
 
 

@@ -19,10 +19,15 @@ class EnvironmentProblem(RuntimeError):
     """An environment or runtime problem that is not the user's input (exit status 1)."""
 
 
-def status_and_message(exc: BaseException) -> tuple:
-    """``(exit status, one-line message)`` for an exception reaching the command line."""
+def is_blowup(exc: BaseException) -> bool:
+    """True for an engine's numerical blow-up (``ringcore.engine.BlowUp`` or an engine's ``*BlowUp``)."""
     from ..engine import BlowUp
 
+    return isinstance(exc, BlowUp) or type(exc).__name__.endswith("BlowUp")
+
+
+def status_and_message(exc: BaseException) -> tuple:
+    """``(exit status, one-line message)`` for an exception reaching the command line."""
     msg = " ".join(str(exc).split()) or type(exc).__name__
     if isinstance(exc, EnvironmentProblem):
         return 1, msg
@@ -34,7 +39,7 @@ def status_and_message(exc: BaseException) -> tuple:
     if isinstance(exc, OSError):  # permission, disk full, connection refused/timed out ...
         where = f" ({exc.filename})" if getattr(exc, "filename", None) else ""
         return 1, f"{type(exc).__name__}{where}: {msg}"
-    if isinstance(exc, BlowUp) or type(exc).__name__.endswith("BlowUp"):
+    if is_blowup(exc):
         return 1, msg
     if isinstance(exc, ValueError):
         return 2, msg

@@ -7,7 +7,7 @@ import sys
 from .. import params
 from ..checks import check_choice, check_real
 from .common import add_ring_arguments, check_self_gravity, given, ring_params_from_args, refuse_with
-from .errors import UsageError
+from .errors import UsageError, is_blowup
 from .safety import check_memory, check_output_file
 
 # options that define a new run: refused with --init FILE.nc (the file's settings win)
@@ -114,7 +114,7 @@ def check_resolution(args) -> None:
 
 def run(args) -> int:
     from ..experiments.checkpoint import run_checkpointed
-    from ..hydro import Hydro1D, HydroBlowUp, HydroOptions
+    from ..hydro import Hydro1D, HydroOptions
 
     check_real("--orbits", args.orbits, 0.0, math.inf, lo_open=True, unit="orbits")
     check_options(args)
@@ -143,8 +143,10 @@ def run(args) -> int:
     try:
         run_checkpointed(sim, args.orbits, out=args.out, every=args.checkpoint_every,
                          progress=not args.no_progress)
-    except HydroBlowUp as exc:
-        sys.stderr.write(f"ringcore hydro: {exc} (saved to {args.out}, complete = 0)\n")
+    except Exception as exc:
+        if not is_blowup(exc):
+            raise
+        sys.stderr.write(f"ringcore hydro: error: {exc} (saved to {args.out}, complete = 0)\n")
         return 1
     print(f"{sim.orbits:.2f} orbits, {sim.steps} steps, e_kin = {sim.e_kin():.4e} sigma0 c0^2, "
           f"lambda_p = {sim.prevalent_wavelength():.1f} m -> {args.out}")

@@ -33,19 +33,18 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from ..checks import check_real
-    from ..experiments.checkpoint import ENGINES, engine_class, kind_of, run_checkpointed
-    from ..io import RunFileError, read_run
+    from ..experiments.checkpoint import kind_of, load_model, run_checkpointed
+    from ..io import read_run
+    from .errors import is_blowup
 
     if args.orbits is not None:
         check_real("--orbits", args.orbits, 0.0, math.inf, lo_open=True, unit="orbits")
     if args.until is not None:
         check_real("--until", args.until, 0.0, math.inf, unit="orbits")
-    ds = read_run(args.file)
-    kind = ds.attrs.get("kind")
-    if kind not in ENGINES:
-        raise RunFileError(f"{args.file}: a {kind!r} run cannot be continued: allowed kinds {', '.join(ENGINES)}")
+    model = load_model(args.file)  # refuses foreign, damaged and non-continuable files
+    kind = kind_of(model)
+    attrs = read_run(args.file).attrs
     out = args.out or args.file
-    model = engine_class(kind).from_dataset(ds)
     start = model.orbits
     until = start + args.orbits if args.until is None else args.until
     if until < start:
@@ -53,14 +52,14 @@ def run(args) -> int:
                          f"allowed --until >= {start:g} (or give --orbits N to add N orbits)")
     check_output_file(out, overwrite=args.overwrite, label="--out" if args.out else "FILE", same_as=args.file)
     kw = dict(out=out, every=args.checkpoint_every, progress=not args.no_progress)
-    eq = ds.attrs.get(PLAN_ATTR)
+    eq = attrs.get(PLAN_ATTR)
     tol = 1e-9 * max(1.0, until)
     try:
         if eq is not None and model.orbits < float(eq) - tol:
             # an N-body run interrupted in its equilibration: reset the transport accumulators at the
             # planned orbit, exactly as ``ringcore nbody --equilibrate`` does
             eq = float(eq)
-            plan = {PLAN_ATTR: eq, "planned_until": ds.attrs.get("planned_until", until)}
+            plan = {PLAN_ATTR: eq, "planned_until": attrs.get("planned_until", until)}
             if until < eq - tol:  # still equilibrating at the end: the file keeps the plan
                 s = run_checkpointed(model, until=until, **kw, **plan)
             else:
@@ -69,8 +68,10 @@ def run(args) -> int:
                 s = run_checkpointed(model, until=until, **kw)
         else:
             s = run_checkpointed(model, until=until, **kw)
-    except engine_class(kind_of(model), 2) as exc:
-        sys.stderr.write(f"ringcore resume: {exc} (saved to {out}, complete = 0)\n")
+    except Exception as exc:
+        if not is_blowup(exc):
+            raise
+        sys.stderr.write(f"ringcore resume: error: {exc} (saved to {out}, complete = 0)\n")
         return 1
     if args.json:
         print(json.dumps({"kind": kind, "file": str(out), **s}))
