@@ -72,6 +72,10 @@ def test_unwritable_or_invalid_outputs_refused_before_computing(tmp_path, capsys
         assert time.perf_counter() - t0 < 5.0  # refused at start-up, not after 50 orbits
     rc, _, err = cli(capsys, ["resume", hydro_file, "--orbits", "50", "--out", "/proc/y.nc"])
     assert rc == 1 and "/proc" in err
+    # found by the long Hypothesis profile: --out "" used to mean "in place" and changed FILE
+    before = fingerprint(hydro_file)
+    rc, _, err = cli(capsys, ["resume", hydro_file, "--orbits", "0.01", "--no-progress", "--out", ""])
+    assert rc == 2 and fingerprint(hydro_file) == before
     rc, _, err = cli(capsys, ["reproduce", "omega", "--out", str(afile)])
     assert rc == 2 and "folder" in err
 

@@ -65,7 +65,9 @@ def check_options(args) -> None:
     """Contradictory or ineffective options (UsageError), before anything is computed."""
     check_real("--orbits", args.orbits, 0.0, math.inf, lo_open=True, unit="orbits")
     check_real("--equilibrate", args.equilibrate, 0.0, math.inf, unit="orbits")
-    if args.from_file:
+    if args.from_file is not None:
+        if not args.from_file.strip():
+            raise UsageError("--from = '' is not valid: give a run file written by ringcore nbody")
         refuse_with(args, NEW_BOX_OPTIONS, f"with --from {args.from_file}: a continued box keeps the options "
                     "saved in the file (the file wins; only --sigma0 and --tile-x change it); to change them "
                     "start a new box without --from")
@@ -93,7 +95,7 @@ def estimate_bytes(n: float, orbits: float, o) -> tuple:
 def _build(args):
     from ..nbody import NBodyOptions, ShearingBox
 
-    if args.from_file:
+    if args.from_file is not None:
         from ..io import read_run
 
         ds = read_run(args.from_file, kind="nbody")

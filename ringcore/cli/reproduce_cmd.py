@@ -23,7 +23,7 @@ def register(sub) -> None:
 
 def run(args) -> int:
     recipes = load_all()
-    if args.list or not args.name:
+    if args.list or args.name is None:
         if args.list:
             refuse_with(args, ("name", "mode", "out", "overwrite"), "with --list (it only lists the recipes)")
         w = max(len(n) for n in recipes)

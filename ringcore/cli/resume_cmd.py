@@ -41,16 +41,19 @@ def run(args) -> int:
         check_real("--orbits", args.orbits, 0.0, math.inf, lo_open=True, unit="orbits")
     if args.until is not None:
         check_real("--until", args.until, 0.0, math.inf, unit="orbits")
+    if not args.file.strip():
+        raise UsageError("FILE = '' is not valid: give a run file (ringcore hydro/nbody/sweep)")
     model = load_model(args.file)  # refuses foreign, damaged and non-continuable files
     kind = kind_of(model)
     attrs = read_run(args.file).attrs
-    out = args.out or args.file
+    out = args.file if args.out is None else args.out  # --out "" is refused, not read as "in place"
     start = model.orbits
     until = start + args.orbits if args.until is None else args.until
     if until < start:
         raise UsageError(f"--until = {until:g} orbits is before the run's time {start:g} orbits: "
                          f"allowed --until >= {start:g} (or give --orbits N to add N orbits)")
-    check_output_file(out, overwrite=args.overwrite, label="--out" if args.out else "FILE", same_as=args.file)
+    check_output_file(out, overwrite=args.overwrite, label="FILE" if args.out is None else "--out",
+                      same_as=args.file)
     kw = dict(out=out, every=args.checkpoint_every, progress=not args.no_progress)
     eq = attrs.get(PLAN_ATTR)
     tol = 1e-9 * max(1.0, until)

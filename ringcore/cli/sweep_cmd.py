@@ -103,7 +103,7 @@ def run(args) -> int:
     from ..figures.saturation import figure_lambdap
 
     refuse_with(args, UNUSED[args.engine], f"with --engine {args.engine}")
-    if args.scheduler:
+    if args.scheduler is not None:
         refuse_with(args, ("workers",), "with --scheduler (the scheduler's workers run the tasks)")
     else:
         from ..checks import check_int

@@ -178,7 +178,7 @@ def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int = 2, p
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     cluster = None
-    if scheduler:
+    if scheduler is not None:
         client = connect(scheduler)
     else:
         cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
