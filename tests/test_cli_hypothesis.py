@@ -257,7 +257,7 @@ NBODY_OPTS = st.tuples(
     opt("--seed-mode", st.sampled_from(["0", "1", "2"]), st.sampled_from(["-2", "100"])),
     opt("--amplitude", st.sampled_from(["1"])),
     opt("--fill-fraction", st.sampled_from(["1", "0.8"]), st.sampled_from(["0", "2"])),
-    opt("--from", st.sampled_from(["n.nc"]), st.sampled_from(["h.nc", "garbage.nc", "damaged.nc", "missing.nc"])),
+    opt("--from", st.sampled_from(["n.nc"]), st.sampled_from(["h.nc", "garbage.nc", "damaged.nc", "missing.nc", ""])),
     st.one_of(st.just([]), st.just(["--tile-x"])),
     opt("--record-every", st.sampled_from(["0.01"]), st.sampled_from(["0", "1e-9"])),
     opt("--profile-every", st.sampled_from(["0.01"])),
@@ -303,7 +303,7 @@ def test_nbody_valid(seed_files, set_, sigma0, restitution, equilibrate, seed_mo
 
 # ------------------------------------------------------------------ resume
 @budget("resume")
-@given(src=st.sampled_from(["h.nc", "n.nc", "damaged.nc", "garbage.nc", "missing.nc", "sub", "precious.nc"]),
+@given(src=st.sampled_from(["h.nc", "n.nc", "damaged.nc", "garbage.nc", "missing.nc", "sub", "precious.nc", ""]),
        when=st.sampled_from([["--orbits", "0.01"], ["--until", "0.03"], ["--until", "0.001"], ["--orbits", "-1"],
                              ["--orbits", "nan"], [], ["--orbits", "0.01", "--until", "1"]]),
        out=st.sampled_from(("inplace",) + OUT_KINDS), overwrite=st.booleans(),
@@ -311,7 +311,7 @@ def test_nbody_valid(seed_files, set_, sigma0, restitution, equilibrate, seed_mo
 def test_resume_mixed(seed_files, src, when, out, overwrite, junk):
     sb = Sandbox(seed_files)
     try:
-        f = str(sb.dir / src)
+        f = str(sb.dir / src) if src else ""
         argv = ["resume", f] + when + ["--no-progress"] + junk
         may = []
         if out == "inplace":
@@ -377,7 +377,7 @@ def test_reproduce_list_valid(seed_files):
        extra=st.tuples(opt("--ps-scale", st.sampled_from(["1", "1,1.4"]), st.sampled_from(["0", "x"])),
                        opt("--h", st.sampled_from(["2.5"])), opt("--workers", st.sampled_from(["1"]),
                                                                   st.sampled_from(["0", "-2"])),
-                       opt("--scheduler", st.sampled_from(["notanaddress"]), st.sampled_from(["tcp://:x"]))),
+                       opt("--scheduler", st.sampled_from(["notanaddress"]), st.sampled_from(["tcp://:x", ""]))),
        out=st.sampled_from(["plain", "unwritable", "empty", "under_file"]))
 def test_sweep_mixed(seed_files, engine, sigma0, extra, out):
     """Invalid places or values only: a valid sweep starts a cluster (see test_cli_safety for those)."""
