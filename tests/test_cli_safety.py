@@ -165,6 +165,8 @@ def test_features_below_two_cells_refused(tmp_path, capsys):
     assert rc == 2 and "2 grid cells" in err
     rc, _, err = cli(capsys, ["hydro", "--h", "40", "--lx", "1280", "--out", tmp_path / "x.nc"])
     assert rc == 2 and "--lambda-min" in err and "2 grid cells" in err
+    rc, _, err = cli(capsys, ["sweep", "--h", "40", "--lx", "1280", "--sigma0", "0", "--out", tmp_path / "s"])
+    assert rc == 2 and "2 grid cells" in err
 
 
 def test_linear_names_the_physical_condition(capsys):

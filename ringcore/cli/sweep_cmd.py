@@ -5,7 +5,7 @@ import numpy as np
 
 from ..checks import check_real
 from .common import refuse_with
-from .errors import EnvironmentProblem
+from .errors import EnvironmentProblem, UsageError
 from .safety import check_output_dir
 
 # options that do nothing for an engine (refused when given)
@@ -85,6 +85,13 @@ def tasks_of(args) -> list:
     """The task dicts of the command line, each validated through the one resolver."""
     from ..experiments.runners import ring_params
 
+    if args.engine == "hydro" and args.h is not None:
+        from ..experiments.runners import HYDRO_DEFAULTS
+
+        lam = HYDRO_DEFAULTS["lambda_min"]
+        if args.h > 0 and 2 * args.h > lam:
+            raise UsageError(f"--h = {args.h:g} m: the sweep's noise reaches down to {lam:g} m, below 2 grid cells "
+                             f"(2 h = {2 * args.h:g} m); allowed --h <= {lam / 2:g} m")
     tasks = []
     for ps in parse_values("ps-scale", args.ps_scale):
         for s in parse_values("sigma0", args.sigma0):
