@@ -29,7 +29,7 @@ from hypothesis import strategies as st  # noqa: E402
 from ringcore.cli.main import main  # noqa: E402
 
 COMMON = dict(deadline=None, suppress_health_check=list(HealthCheck), print_blob=True)
-settings.register_profile("ci", max_examples=12, derandomize=True, **COMMON)
+settings.register_profile("ci", max_examples=10, derandomize=True, **COMMON)
 settings.register_profile("long", max_examples=int(os.environ.get("HYPOTHESIS_MAX_EXAMPLES", "400")), **COMMON)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 # per-command share of the budget (the slow commands get fewer examples)
