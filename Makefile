@@ -1,6 +1,8 @@
 # Two commands do all set-up on a fresh machine with Python 3.11 and pip:
 #   make app    install into .venv and start the main job
-#   make test   install into .venv (with test extras) and run the whole test suite
+#   make test   install into .venv (with the app and test extras) and run the whole test suite
+# Both install ".[app,test]": the core package, the web app's packages (panel, bokeh, param) and the
+# test tools (pytest, playwright, hypothesis ...); `pip install .` alone gives the core and the CLI.
 PYTHON ?= python3
 VENV   ?= .venv
 BIN     = $(VENV)/bin
@@ -14,7 +16,7 @@ $(BIN)/python:
 	$(BIN)/python -m pip install -q --upgrade pip
 
 $(STAMP): pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install -q -e ".[test]"
+	$(BIN)/python -m pip install -q -e ".[app,test]"
 	touch $(STAMP)
 
 install: $(STAMP)

@@ -16,6 +16,7 @@ import param
 from ringcore import params as ring_params
 from ringcore.checks import check_real
 from ringcore.params import RingParams
+from ringcore.spec import RunSpec, resolve_params
 
 SIGMA0_MAX = 1000.0  # [kg/m^2] upper end of the surface-density slider
 PS_SCALE_BOUNDS = (0.5, 3.0)  # factor on the table's p_s; ringcore requires > 0
@@ -25,7 +26,8 @@ MAX_OVERLAYS = 6
 
 def build_params(name: str, sigma0: float, isothermal: bool, ps_scale: float = 1.0,
                  iso_p_s: float = 1.0) -> RingParams:
-    """Validated parameters for one combination of settings.
+    """Validated parameters for one combination of settings, through the one resolver
+    :func:`ringcore.spec.resolve` (the same rule as the command line and the sweeps).
 
     Parameters
     ----------
@@ -34,11 +36,14 @@ def build_params(name: str, sigma0: float, isothermal: bool, ps_scale: float = 1
     sigma0 : float
         Ground-state surface density [kg/m^2], >= 0.
     isothermal : bool
-        Isothermal model (G_T -> infinity, eq. ideal) instead of the non-isothermal one.
+        Isothermal model (G_T -> infinity, eq. ideal) or, unchecked, explicitly the non-isothermal
+        one (so an isothermal-only set such as st99 asks the student to check the box).
     ps_scale : float
-        Factor (> 0) on the table's pressure exponent p_s; non-isothermal model only.
+        Factor (> 0) on the table's pressure exponent p_s; applied when ``isothermal`` is unchecked
+        (the widget belongs to the non-isothermal model).
     iso_p_s : float
-        Pressure exponent p_s (> 0) of the isothermal model (the paper uses 1 and 2.41).
+        Pressure exponent p_s (> 0) of the isothermal model (the paper uses 1 and 2.41); applied
+        when ``isothermal`` is checked.
 
     Raises
     ------
@@ -46,8 +51,8 @@ def build_params(name: str, sigma0: float, isothermal: bool, ps_scale: float = 1
         Naming the offending setting, its value and the allowed values.
     """
     if isothermal:
-        return ring_params.get(name, sigma0, isothermal=True).isothermal_limit(iso_p_s)
-    return ring_params.get(name, sigma0, isothermal=False).scaled_ps(ps_scale)
+        return resolve_params(RunSpec(name, sigma0, isothermal=True, p_s=iso_p_s))
+    return resolve_params(RunSpec(name, sigma0, isothermal=False, ps_scale=ps_scale))
 
 
 def parse_sigma0_list(text: str) -> list[float]:

@@ -109,7 +109,7 @@ def _set_labels() -> dict:
     out = {}
     for name in ring_params.SET_NAMES:
         p = ring_params.get(name)
-        extra = ", isothermal only" if name == "st99" else ""
+        extra = ", isothermal only" if p.isothermal_only else ""
         out[f"{name} (τ = {p.tau:g}, Ω_z/Ω = {p.omega_z:g}{extra})"] = name
     return out
 

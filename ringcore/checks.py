@@ -82,3 +82,17 @@ def check_choice(name: str, value, choices) -> str:
     if value not in choices:
         raise ValueError(f"{name} = {value!r} is not valid: choose one of {', '.join(map(str, choices))}")
     return value
+
+
+def check_bool(name: str, value) -> bool:
+    """Return ``value`` if it is a real bool (or numpy bool); strings such as ``"no"`` are refused."""
+    try:
+        import numpy as np
+
+        if isinstance(value, np.bool_):
+            return bool(value)
+    except ImportError:  # pragma: no cover
+        pass
+    if not isinstance(value, bool):
+        raise ValueError(f"{name} = {value!r} is not valid: choose one of True, False")
+    return value

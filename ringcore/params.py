@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, replace
 
-from .checks import check_choice, check_real
+from .checks import check_bool, check_choice, check_real
 from .units import G, OMEGA, Scales
 
 
@@ -76,6 +76,7 @@ class RingParams:
     Omega: float = OMEGA  # [1/s]
 
     def __post_init__(self):
+        check_bool("isothermal", self.isothermal)
         check_real("sigma0", self.sigma0, 0.0, math.inf, unit="kg/m^2")
         check_real("beta", self.beta, -1.0, math.inf, lo_open=True)
         check_real("p_s", self.p_s, 0.0, math.inf, lo_open=True)
@@ -145,6 +146,12 @@ class RingParams:
         return self.sigma0 * self.c0**2
 
     @property
+    def isothermal_only(self) -> bool:
+        """True for a set without a temperature model (no T0 / kappa0 in the table, e.g. ``st99``):
+        it exists only as the isothermal model."""
+        return not (math.isfinite(self.T0) and math.isfinite(self.kappa0))
+
+    @property
     def model(self) -> str:
         """``"isothermal"`` or ``"nonisothermal"``."""
         return "isothermal" if self.isothermal else "nonisothermal"
@@ -188,8 +195,16 @@ _TABLE = {
 
 SET_NAMES = tuple(_TABLE)
 """Names of all parameter sets."""
-NONISOTHERMAL_SETS = tuple(n for n in _TABLE if n != "st99")
+ISOTHERMAL_ONLY_SETS = tuple(n for n, row in _TABLE.items() if math.isnan(row[4]) or math.isnan(row[5]))
+"""Sets without a temperature model (no kappa0 / T0 in the table): isothermal only."""
+NONISOTHERMAL_SETS = tuple(n for n in _TABLE if n not in ISOTHERMAL_ONLY_SETS)
 """Sets that have a non-isothermal model (and tabulated F2, F3)."""
+
+
+def is_isothermal_only(name: str) -> bool:
+    """True if parameter set ``name`` exists only as the isothermal model (see ``RingParams.isothermal_only``)."""
+    check_choice("parameter set", name, SET_NAMES)
+    return name in ISOTHERMAL_ONLY_SETS
 
 
 def get(name: str = "tau15", sigma0: float = 0.0, isothermal: bool | None = None) -> RingParams:
@@ -206,12 +221,14 @@ def get(name: str = "tau15", sigma0: float = 0.0, isothermal: bool | None = None
         model here gives the table's sets in the isothermal limit with p_s = 1.
     """
     check_choice("parameter set", name, SET_NAMES)
+    if isothermal is not None:
+        check_bool("isothermal", isothermal)
     tau, oz, c0, nu0, k0, T0, gam, beta, nT, ps, pT, Gs, GT, F2, F3 = _TABLE[name]
-    iso_only = name == "st99"
+    iso_only = name in ISOTHERMAL_ONLY_SETS
     if isothermal is None:
         isothermal = iso_only
     if iso_only and not isothermal:
-        raise ValueError("isothermal = False is not valid for parameter set 'st99': "
+        raise ValueError(f"isothermal = False is not valid for parameter set {name!r}: "
                          "it is an isothermal-only set; allowed: isothermal = True")
     p = RingParams(name=name, tau=tau, omega_z=oz, c0=c0 * 1e-3, nu0=nu0 * 1e-3,
                    kappa0=k0 * 1e-3, T0=T0 * 1e-8, gamma=gam, beta=beta, n_T=nT, p_s=ps,

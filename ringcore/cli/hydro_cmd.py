@@ -4,8 +4,17 @@ from __future__ import annotations
 import math
 import sys
 
-from ..checks import check_real
-from .common import add_ring_arguments, ring_params_from_args
+from .. import params
+from ..checks import check_choice, check_real
+from .common import add_ring_arguments, check_self_gravity, given, ring_params_from_args, refuse_with
+from .errors import UsageError, is_blowup
+from .safety import check_memory, check_output_file
+
+# options that define a new run: refused with --init FILE.nc (the file's settings win)
+NEW_RUN_OPTIONS = ("set", "sigma0", "isothermal", "ps", "ps_scale", "beta", "lx", "h", "seed", "amplitude",
+                   "lambda_min", "wavelength", "direction", "gravity", "replicas", "bin_correction", "timestep",
+                   "dt_factor", "buffer", "buffer_on", "samples", "spacetime_rows", "T_floor")
+BYTES_PER_CELL = 400  # state, five SSPRK stage copies, fluxes, stresses, gravity and FFT work arrays [bytes]
 
 
 def register(sub) -> None:
@@ -39,34 +48,105 @@ def register(sub) -> None:
     p.add_argument("--spacetime-rows", type=int, default=0, help="orbit-resolved sigma rows per orbit (0: off)")
     p.add_argument("--T-floor", type=float, default=0.0, dest="T_floor",
                    help="temperature floor in units of T0 (non-isothermal; 0: off, the paper's scheme)")
-    p.add_argument("--out", required=True, metavar="FILE.nc", help="run file to write (NetCDF, h5netcdf)")
+    p.add_argument("--out", required=True, metavar="FILE.nc",
+                   help="run file to write (NetCDF, h5netcdf); an existing file is kept unless --overwrite")
+    p.add_argument("--overwrite", action="store_true", help="replace FILE.nc if it exists (default: refuse)")
     p.add_argument("--checkpoint-every", type=float, default=None, metavar="ORBITS",
                    help="also write the run file every ORBITS orbits (SIGINT/SIGTERM always write it)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
 
 
+def estimate_bytes(n: int, orbits: float, samples: int, rows: int) -> tuple:
+    """(memory, file size) [bytes] of a run of ``n`` cells for ``orbits`` orbits: the work arrays,
+    one stroboscopic row per orbit, ``rows`` space-time rows per orbit and ~40 scalars per sample."""
+    records = 8.0 * orbits * (n * (1 + rows) + 40 * samples)
+    return BYTES_PER_CELL * n + records, 8.0 * 12 * n + records
+
+
+def check_options(args) -> None:
+    """Contradictory or ineffective options (UsageError), before anything is computed."""
+    g = given(args)
+    if args.init.endswith(".nc"):
+        refuse_with(args, NEW_RUN_OPTIONS, f"with --init {args.init}: a continued run keeps the parameters "
+                    "and options saved in the file (the file wins); to change them start a new run "
+                    "(--init noise|mode|ground)")
+        return
+    check_choice("--init", args.init, ("noise", "mode", "ground", "a run file *.nc"))
+    if args.init != "mode":
+        refuse_with(args, ("wavelength", "direction"), f"with --init {args.init} (they set the --init mode wave)")
+    if args.init != "noise":
+        refuse_with(args, ("seed", "lambda_min"), f"with --init {args.init} (they set the --init noise)")
+    if args.init == "ground":
+        refuse_with(args, ("amplitude",), "with --init ground (the ground state has no perturbation)")
+    if args.gravity != "wire":
+        refuse_with(args, ("replicas", "bin_correction"),
+                    f"with --gravity {args.gravity} (they change the wire kernel; use --gravity wire)")
+    if args.sigma0 == 0:
+        refuse_with(args, ("gravity", "replicas", "bin_correction"),
+                    "with --sigma0 0 (self-gravity is off; give --sigma0 > 0)")
+    if args.buffer is None:
+        refuse_with(args, ("buffer_on",), "without --buffer XMIN XMAX BETA (there is no buffer zone to switch on)")
+    if args.isothermal or (args.set in params.SET_NAMES and params.is_isothermal_only(args.set)):
+        refuse_with(args, ("T_floor",), "with the isothermal model (there is no temperature; "
+                    "drop --isothermal for the non-isothermal model)")
+    if "dt_factor" in g:
+        check_real("--dt-factor", args.dt_factor, 0.0, 10.0, lo_open=True)
+
+
+def check_resolution(args) -> None:
+    """Features the grid cannot carry (below 2 cells) and the memory of the run."""
+    h = check_real("--h", args.h, 0.0, math.inf, lo_open=True, unit="m")
+    lx = check_real("--lx", args.lx, 0.0, math.inf, lo_open=True, unit="m")
+    checks = {"noise": ("lambda_min", "shortest noise wavelength"), "mode": ("wavelength", "--init mode wavelength")}
+    if args.init in checks:
+        dest, what = checks[args.init]
+        v = getattr(args, dest)
+        if v is not None and v < 2 * h:
+            raise UsageError(f"--{dest.replace('_', '-')} = {v:g} m ({what}) is below 2 grid cells "
+                             f"(2 h = {2 * h:g} m): the grid cannot carry it; allowed >= {2 * h:g} m "
+                             "(or a smaller --h)")
+    n = lx / h
+    mem, _ = estimate_bytes(n, args.orbits, max(args.samples, 1), max(args.spacetime_rows, 0))
+    check_memory(f"a hydro run of {n:.3g} cells (L_x / h) for {args.orbits:g} orbits", mem,
+                 "use a smaller --lx, a larger --h or fewer --orbits")
+
+
 def run(args) -> int:
     from ..experiments.checkpoint import run_checkpointed
-    from ..hydro import Hydro1D, HydroBlowUp, HydroOptions
+    from ..hydro import Hydro1D, HydroOptions
 
     check_real("--orbits", args.orbits, 0.0, math.inf, lo_open=True, unit="orbits")
+    check_options(args)
     if args.init.endswith(".nc"):
-        sim = Hydro1D.load(args.init)
+        from ..io import read_run
+
+        ds = read_run(args.init, kind="hydro")
+        n, rows = ds.sizes.get("x", 0), int(ds.attrs.get("option_spacetime_rows_per_orbit", 0) or 0)
+        mem, size = estimate_bytes(n, args.orbits, int(ds.attrs.get("option_samples_per_orbit", 20) or 20), rows)
+        check_memory(f"continuing {args.init} ({n} cells) for {args.orbits:g} orbits", mem, "use fewer --orbits")
+        check_output_file(args.out, overwrite=args.overwrite, size=size)
+        sim = Hydro1D.from_dataset(ds)
     else:
+        check_resolution(args)
         p = ring_params_from_args(args)
+        check_self_gravity(p)
         opt = HydroOptions(L_x=args.lx, h=args.h, gravity=args.gravity, replicas=args.replicas,
                            bin_correction=bool(args.bin_correction), timestep=args.timestep,
                            dt_factor=args.dt_factor, buffer=tuple(args.buffer) if args.buffer else None,
                            buffer_on_orbit=args.buffer_on, samples_per_orbit=args.samples,
                            spacetime_rows_per_orbit=args.spacetime_rows, T_floor=args.T_floor)
+        _, size = estimate_bytes(opt.n, args.orbits, opt.samples_per_orbit, opt.spacetime_rows_per_orbit)
+        check_output_file(args.out, overwrite=args.overwrite, size=size)
         sim = Hydro1D(p, opt, initial=args.init, seed=args.seed, amplitude=args.amplitude,
                       lambda_min=args.lambda_min, wavelength=args.wavelength, direction=args.direction)
     try:
         run_checkpointed(sim, args.orbits, out=args.out, every=args.checkpoint_every,
                          progress=not args.no_progress)
-    except HydroBlowUp as exc:
-        sys.stderr.write(f"ringcore hydro: {exc} (saved to {args.out}, complete = 0)\n")
+    except Exception as exc:
+        if not is_blowup(exc):
+            raise
+        sys.stderr.write(f"ringcore hydro: error: {exc} (saved to {args.out}, complete = 0)\n")
         return 1
     print(f"{sim.orbits:.2f} orbits, {sim.steps} steps, e_kin = {sim.e_kin():.4e} sigma0 c0^2, "
           f"lambda_p = {sim.prevalent_wavelength():.1f} m -> {args.out}")

@@ -2,15 +2,23 @@
 
 Each subcommand lives in its own module ``ringcore/cli/<name>_cmd.py`` exposing
 ``register(subparsers)``; the parser it adds sets ``func(args) -> int``.
-Bad input (``ValueError``) becomes a one-line message on stderr and exit status 2.
+
+Errors never show a traceback (unless ``--debug``, accepted anywhere on the line): bad input
+(``ValueError``, :class:`~ringcore.cli.errors.UsageError`, argparse errors) is one line on stderr
+and exit status 2; an environment or runtime problem (unwritable place, memory, disk, unreachable
+scheduler, missing optional package, numerical blow-up) one line and exit status 1; SIGINT 130.
+Python warnings are shown only with ``--debug``.
 """
 from __future__ import annotations
 
 import argparse
 import importlib
 import sys
+import traceback
+import warnings
 
 from .. import __version__
+from .errors import status_and_message
 
 # modules providing subcommands, in --help order
 SUBCOMMAND_MODULES = ("linear", "hydro", "nbody", "reproduce", "sweep", "resume", "bench")
@@ -18,40 +26,84 @@ SUBCOMMAND_MODULES = ("linear", "hydro", "nbody", "reproduce", "sweep", "resume"
 
 class _Parser(argparse.ArgumentParser):
     def error(self, message):  # one line, exit status 2
-        sys.stderr.write(f"ringcore: error: {message}\n")
+        sys.stderr.write(f"{self.prog}: error: {' '.join(str(message).split())}\n")
         sys.exit(2)
 
 
+class RegistryError(ImportError):
+    """A subcommand or recipe module failed to import (never skipped silently)."""
+
+
 def build_parser() -> argparse.ArgumentParser:
+    """The full parser; a subcommand module that fails to import raises :class:`RegistryError`."""
     parser = _Parser(prog="ringcore", description="Viscous overstability in dense planetary rings "
                      "(Lehmann, Schmidt & Salo 2017).")
     parser.add_argument("--version", action="version", version=f"ringcore {__version__}")
+    parser.add_argument("--debug", action="store_true",
+                        help="show the full traceback of an error (for developers; any position)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
     for name in SUBCOMMAND_MODULES:
+        modname = f"ringcore.cli.{name}_cmd"
         try:
-            mod = importlib.import_module(f"ringcore.cli.{name}_cmd")
-        except ModuleNotFoundError as exc:
-            if exc.name == f"ringcore.cli.{name}_cmd":
-                continue  # subcommand not built yet
-            raise
+            mod = importlib.import_module(modname)
+        except Exception as exc:
+            raise RegistryError(f"command module {modname} failed to import: {type(exc).__name__}: {exc}") from exc
         mod.register(sub)
     return parser
 
 
-def main(argv=None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
-    if not getattr(args, "func", None):
-        parser.print_help()
-        return 2
+def _given_dests(parser: argparse.ArgumentParser, argv: list) -> set:
+    """Destinations of the options given explicitly (defaults suppressed, parsed again)."""
+    def suppress(p):
+        for a in p._actions:
+            if isinstance(a, argparse._SubParsersAction):
+                for sp in a.choices.values():
+                    suppress(sp)
+            elif a.dest != "help":
+                a.default = argparse.SUPPRESS
+        p._defaults = {}
+    suppress(parser)
     try:
+        ns, _ = parser.parse_known_args(argv)
+    except SystemExit:  # pragma: no cover - the real parse already succeeded
+        return set()
+    return set(vars(ns)) - {"command"}
+
+
+def main(argv=None) -> int:
+    """Run ``ringcore`` with ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in argv
+    argv = [a for a in argv if a != "--debug"]
+    with warnings.catch_warnings():
+        if not debug:  # numerical RuntimeWarnings etc. would break the one-line messages; --debug shows them
+            warnings.simplefilter("ignore")
+        return _run(argv, debug)
+
+
+def _run(argv: list, debug: bool) -> int:
+    command = "ringcore"
+    try:
+        parser = build_parser()
+        try:
+            args = parser.parse_args(argv)
+        except SystemExit as exc:  # argparse: --help/--version (0) or one-line usage error (2)
+            return int(exc.code or 0) if not isinstance(exc.code, str) else 2
+        if not getattr(args, "func", None):
+            parser.print_help()
+            return 2
+        command = f"ringcore {args.command}"
+        args._given = _given_dests(build_parser(), argv)
         return int(args.func(args) or 0)
-    except ValueError as exc:
-        sys.stderr.write(f"ringcore {args.command}: error: {exc}\n")
-        return 2
     except KeyboardInterrupt:
-        sys.stderr.write(f"ringcore {args.command}: interrupted\n")
+        sys.stderr.write(f"{command}: interrupted\n")
         return 130
+    except Exception as exc:
+        status, msg = status_and_message(exc)
+        if debug:
+            traceback.print_exc()
+        sys.stderr.write(f"{command}: error: {msg}\n")
+        return status
 
 
 if __name__ == "__main__":

@@ -3,8 +3,19 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 
 from .. import params
+from ..checks import check_real
+from .common import check_self_gravity, given, refuse_with
+from .errors import UsageError
+from .safety import check_memory, check_output_file
+
+# options that define a new box: refused with --from FILE (the file's box wins)
+NEW_BOX_OPTIONS = ("set", "L_x", "L_y", "R_p", "restitution", "epsilon", "dt", "seed", "m_max", "single_mode",
+                   "seed_mode", "amplitude", "fill_fraction", "record_every", "profile_every")
+BYTES_PER_PARTICLE = 400  # state, sorted copies, ghost list and cell lists [bytes]
+PLAN_ATTR = "equilibrate_until"  # run-file attribute: transport averaging starts (accumulators reset) here
 
 
 def register(sub) -> None:
@@ -40,7 +51,9 @@ def register(sub) -> None:
     p.add_argument("--tile-x", action="store_true", help="with --from: tile the box to twice its radial size")
     p.add_argument("--record-every", type=float, default=0.1, metavar="ORBITS", help="box means interval")
     p.add_argument("--profile-every", type=float, default=1.0, metavar="ORBITS", help="profiles interval")
-    p.add_argument("--out", default="nbody.nc", metavar="FILE", help="run file to write (default nbody.nc)")
+    p.add_argument("--out", default="nbody.nc", metavar="FILE",
+                   help="run file to write (default nbody.nc); an existing file is kept unless --overwrite")
+    p.add_argument("--overwrite", action="store_true", help="replace FILE if it exists (default: refuse)")
     p.add_argument("--checkpoint-every", type=float, default=None, metavar="ORBITS",
                    help="also write the run file every ORBITS orbits (SIGINT/SIGTERM always write it)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -48,21 +61,71 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
+def check_options(args) -> None:
+    """Contradictory or ineffective options (UsageError), before anything is computed."""
+    check_real("--orbits", args.orbits, 0.0, math.inf, lo_open=True, unit="orbits")
+    check_real("--equilibrate", args.equilibrate, 0.0, math.inf, unit="orbits")
+    if args.from_file is not None:
+        if not args.from_file.strip():
+            raise UsageError("--from = '' is not valid: give a run file written by ringcore nbody")
+        refuse_with(args, NEW_BOX_OPTIONS, f"with --from {args.from_file}: a continued box keeps the options "
+                    "saved in the file (the file wins; only --sigma0 and --tile-x change it); to change them "
+                    "start a new box without --from")
+    else:
+        refuse_with(args, ("tile_x",), "without --from FILE (there is no saved box to tile)")
+        if args.restitution != "constant":
+            refuse_with(args, ("epsilon",), f"with --restitution {args.restitution} (it sets the constant law; "
+                        "use --restitution constant)")
+        if not args.seed_mode:
+            refuse_with(args, ("amplitude",), "without --seed-mode M (there is no seeded wave)")
+        if not args.sigma0:
+            refuse_with(args, ("m_max", "single_mode"), "without self-gravity (give --sigma0 > 0)")
+        if args.single_mode:
+            refuse_with(args, ("m_max",), "with --single-mode (only that mode is used)")
+    if args.sigma0 is not None:
+        check_real("--sigma0", args.sigma0, 0.0, math.inf, unit="kg/m^2")
+
+
+def estimate_bytes(n: float, orbits: float, o) -> tuple:
+    """(memory, file size) [bytes] of a box of ``n`` particles run for ``orbits`` orbits."""
+    records = 8.0 * orbits * (10.0 / o.record_every + 4.0 * o.zones / max(o.profile_every, o.dt_orbit))
+    return BYTES_PER_PARTICLE * n + 8.0 * 8 * o.bins + records, 8.0 * 8 * n + records
+
+
 def _build(args):
     from ..nbody import NBodyOptions, ShearingBox
 
-    if args.from_file:
+    if args.from_file is not None:
         from ..io import read_run
 
-        return ShearingBox.from_dataset(read_run(args.from_file, kind="nbody"), sigma0=args.sigma0,
-                                        tile_x=args.tile_x)
-    if args.tile_x:
-        raise ValueError("--tile-x is only valid with --from FILE")
+        ds = read_run(args.from_file, kind="nbody")
+        n = ds.sizes.get("particle", 0) * (2 if args.tile_x else 1)
+        o = NBodyOptions(**json.loads(ds.attrs.get("options_json", "{}")))
+        mem, size = estimate_bytes(n, args.equilibrate + args.orbits, o)
+        check_memory(f"continuing {args.from_file} ({n} particles)", mem, "use fewer --orbits")
+        check_output_file(args.out, overwrite=args.overwrite, size=size)
+        if args.sigma0 is not None:
+            from ..params import RingParams
+
+            check_self_gravity(RingParams(**json.loads(ds.attrs["params_json"])).with_sigma0(args.sigma0))
+        return ShearingBox.from_dataset(ds, sigma0=args.sigma0, tile_x=args.tile_x)
     p = params.get(args.set, sigma0=0.0 if args.sigma0 is None else args.sigma0)
+    check_self_gravity(p)
     o = NBodyOptions(L_x=args.L_x, L_y=args.L_y, R_p=args.R_p, restitution=args.restitution,
                      epsilon=args.epsilon, dt_orbit=args.dt, m_max=args.m_max, single_mode=args.single_mode,
                      record_every=args.record_every, profile_every=args.profile_every,
                      fill_fraction=args.fill_fraction)
+    n = p.tau * o.fill_fraction * o.L_x * o.L_y / (math.pi * o.R_p**2)
+    mem, size = estimate_bytes(n, args.equilibrate + args.orbits, o)
+    check_memory(f"a box of {n:.3g} particles for {args.equilibrate + args.orbits:g} orbits", mem,
+                 "use a smaller box (--L-x, --L-y) or fewer --orbits")
+    if args.seed_mode:
+        lam = o.L_x / args.seed_mode
+        if args.seed_mode < 0 or lam < 4.0 * o.R_p:
+            raise UsageError(f"--seed-mode = {args.seed_mode} is not valid: its wavelength L_x/M = {lam:g} m "
+                             f"is below 2 particle diameters ({4 * o.R_p:g} m); allowed 1 <= M <= "
+                             f"{int(o.L_x / (4 * o.R_p))}")
+    check_output_file(args.out, overwrite=args.overwrite, size=size)
     box = ShearingBox(p, o, seed=args.seed)
     if args.seed_mode:
         box.seed_mode(args.seed_mode, args.amplitude)
@@ -72,12 +135,23 @@ def _build(args):
 def run(args) -> int:
     from ..experiments.checkpoint import run_checkpointed
 
+    check_options(args)
     box = _build(args)
     kw = dict(out=args.out, every=args.checkpoint_every, progress=not args.no_progress)
+    end = box.orbits + args.equilibrate + args.orbits
     if args.equilibrate > 0:
-        run_checkpointed(box, args.equilibrate, finish=False, **kw)
+        eq_end = box.orbits + args.equilibrate
+        try:
+            # every file of this phase records where the averaging starts, so that ``ringcore resume``
+            # (whatever end it is given) resets the transport accumulators there, as this command does
+            run_checkpointed(box, until=eq_end, finish=False, **kw, **{PLAN_ATTR: eq_end, "planned_until": end})
+        except KeyboardInterrupt:
+            sys.stderr.write(f"nbody: interrupted during the equilibration; to finish the run as asked "
+                             f"(averaging over orbits {eq_end:g} .. {end:g}): ringcore resume {args.out} "
+                             f"--until {end:g}\n")
+            raise
     box.reset_accumulators()
-    run_checkpointed(box, args.orbits, **kw)
+    run_checkpointed(box, until=end, **kw)
     d = box.diagnostics()
     if args.json:
         print(json.dumps({k: (float(v) if isinstance(v, float) else v) for k, v in d.items()}))

@@ -1,12 +1,15 @@
 """``ringcore reproduce NAME --quick|--full`` and ``ringcore reproduce --list``."""
 from __future__ import annotations
 
-from ..experiments.registry import load_all, run_recipe
+from ..experiments.registry import get_recipe, load_all, outputs
+from .common import refuse_with
+from .safety import check_new_files, check_output_dir
 
 
 def register(sub) -> None:
     p = sub.add_parser("reproduce", help="re-run a figure of the paper as a named recipe",
-                       description="Each recipe writes a PNG (with a caption of what was run) and a data file.")
+                       description="Each recipe writes OUT/NAME.png (with a caption of what was run) and "
+                                   "OUT/NAME.nc; existing ones are kept unless --overwrite.")
     p.add_argument("name", nargs="?", help="recipe name (see --list)")
     p.add_argument("--list", action="store_true", help="list recipes with figure labels and costs")
     g = p.add_mutually_exclusive_group()
@@ -14,18 +17,24 @@ def register(sub) -> None:
                    help="reduced box / fewer orbits, same physics (default)")
     g.add_argument("--full", dest="mode", action="store_const", const="full", help="the paper's settings (hours)")
     p.add_argument("--out", default="reproduce-out", help="output folder (default reproduce-out)")
+    p.add_argument("--overwrite", action="store_true", help="replace OUT/NAME.png and OUT/NAME.nc if they exist")
     p.set_defaults(func=run, mode="quick")
 
 
 def run(args) -> int:
     recipes = load_all()
-    if args.list or not args.name:
+    if args.list or args.name is None:
+        if args.list:
+            refuse_with(args, ("name", "mode", "out", "overwrite"), "with --list (it only lists the recipes)")
         w = max(len(n) for n in recipes)
         print(f"{'name':<{w}}  {'figure':<22} {'quick':>8} {'full':>10}  title")
         for n in sorted(recipes):
             r = recipes[n]
             print(f"{n:<{w}}  {r.figure:<22} {r.quick_cost:>8} {r.full_cost:>10}  {r.title}")
         return 0
-    res = run_recipe(args.name, args.mode, args.out)
+    recipe = get_recipe(args.name)
+    check_output_dir(args.out)
+    check_new_files(outputs(args.name, args.out), overwrite=args.overwrite, label=f"reproduce {args.name}")
+    res = recipe.run(args.mode, args.out)
     print(f"{args.name} ({args.mode}): {res.seconds:.1f} s\n  figure: {res.png}\n  data:   {res.data}\n  {res.caption}")
     return 0

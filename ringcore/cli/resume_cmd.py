@@ -2,19 +2,28 @@
 from __future__ import annotations
 
 import json
+import math
 import sys
+
+from .errors import UsageError
+from .safety import check_output_file
+
+PLAN_ATTR = "equilibrate_until"  # written by ``ringcore nbody --equilibrate`` (see nbody_cmd)
 
 
 def register(sub) -> None:
     p = sub.add_parser("resume", help="continue a hydro or N-body run file",
                        description="Continue the run saved in FILE (kind hydro or nbody, from its 'kind' "
                                    "attribute) for --orbits more orbits or up to orbit --until; the result is "
-                                   "bit-for-bit the uninterrupted run. SIGINT/SIGTERM save the state.")
+                                   "bit-for-bit the uninterrupted run. Without --out, FILE itself is continued "
+                                   "in place; --out FILE2 never replaces an existing FILE2 unless --overwrite. "
+                                   "SIGINT/SIGTERM save the state.")
     p.add_argument("file", metavar="FILE", help="run file (written by ringcore hydro/nbody/sweep or save())")
     g = p.add_mutually_exclusive_group(required=True)
     g.add_argument("--orbits", type=float, default=None, help="orbits to add")
     g.add_argument("--until", type=float, default=None, metavar="ORBIT", help="end time [orbits]")
     p.add_argument("--out", default=None, metavar="FILE2", help="run file to write (default: FILE itself)")
+    p.add_argument("--overwrite", action="store_true", help="replace FILE2 if it exists (default: refuse)")
     p.add_argument("--checkpoint-every", type=float, default=None, metavar="ORBITS",
                    help="also write the run file every ORBITS orbits")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -23,17 +32,49 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..experiments.checkpoint import engine_class, kind_of, load_model, run_checkpointed
+    from ..checks import check_real
+    from ..experiments.checkpoint import kind_of, load_model, run_checkpointed
+    from ..io import read_run
+    from .errors import is_blowup
 
-    model = load_model(args.file)
+    if args.orbits is not None:
+        check_real("--orbits", args.orbits, 0.0, math.inf, lo_open=True, unit="orbits")
+    if args.until is not None:
+        check_real("--until", args.until, 0.0, math.inf, unit="orbits")
+    if not args.file.strip():
+        raise UsageError("FILE = '' is not valid: give a run file (ringcore hydro/nbody/sweep)")
+    model = load_model(args.file)  # refuses foreign, damaged and non-continuable files
     kind = kind_of(model)
-    out = args.out or args.file
+    attrs = read_run(args.file).attrs
+    out = args.file if args.out is None else args.out  # --out "" is refused, not read as "in place"
     start = model.orbits
+    until = start + args.orbits if args.until is None else args.until
+    if until < start:
+        raise UsageError(f"--until = {until:g} orbits is before the run's time {start:g} orbits: "
+                         f"allowed --until >= {start:g} (or give --orbits N to add N orbits)")
+    check_output_file(out, overwrite=args.overwrite, label="FILE" if args.out is None else "--out",
+                      same_as=args.file)
+    kw = dict(out=out, every=args.checkpoint_every, progress=not args.no_progress)
+    eq = attrs.get(PLAN_ATTR)
+    tol = 1e-9 * max(1.0, until)
     try:
-        s = run_checkpointed(model, args.orbits, until=args.until, out=out, every=args.checkpoint_every,
-                             progress=not args.no_progress)
-    except engine_class(kind, 2) as exc:
-        sys.stderr.write(f"ringcore resume: {exc} (saved to {out}, complete = 0)\n")
+        if eq is not None and model.orbits < float(eq) - tol:
+            # an N-body run interrupted in its equilibration: reset the transport accumulators at the
+            # planned orbit, exactly as ``ringcore nbody --equilibrate`` does
+            eq = float(eq)
+            plan = {PLAN_ATTR: eq, "planned_until": attrs.get("planned_until", until)}
+            if until < eq - tol:  # still equilibrating at the end: the file keeps the plan
+                s = run_checkpointed(model, until=until, **kw, **plan)
+            else:
+                run_checkpointed(model, until=eq, finish=False, **kw, **plan)
+                model.reset_accumulators()
+                s = run_checkpointed(model, until=until, **kw)
+        else:
+            s = run_checkpointed(model, until=until, **kw)
+    except Exception as exc:
+        if not is_blowup(exc):
+            raise
+        sys.stderr.write(f"ringcore resume: error: {exc} (saved to {out}, complete = 0)\n")
         return 1
     if args.json:
         print(json.dumps({"kind": kind, "file": str(out), **s}))

@@ -4,14 +4,22 @@ from __future__ import annotations
 import numpy as np
 
 from ..checks import check_real
+from .common import refuse_with
+from .errors import EnvironmentProblem, UsageError
+from .safety import check_output_dir
+
+# options that do nothing for an engine (refused when given)
+UNUSED = {"linear": ("lx", "h", "orbits", "seed"), "nbody": ("h",), "hydro": ()}
 
 
 def register(sub) -> None:
     from ..experiments.sweep import RUNNERS
 
     p = sub.add_parser("sweep", help="run a grid of runs on dask.distributed",
-                       description="Each finished run is written to its own file at once; re-running skips "
-                                   "finished runs; failures are reported. Aggregate: OUT/sweep.nc and OUT/lambdap.png.")
+                       description="Each finished run is written to its own file at once; re-running into "
+                                   "the same folder skips finished runs (their summaries are read back) and "
+                                   "rewrites the aggregate OUT/sweep.nc and OUT/lambdap.png; failures are "
+                                   "reported.")
     p.add_argument("--engine", default="hydro", choices=sorted(RUNNERS), help="which model to run")
     p.add_argument("--set", default="tau15", help="parameter set")
     p.add_argument("--sigma0", default="0:900:50", metavar="LIST|START:STOP:STEP",
@@ -24,9 +32,13 @@ def register(sub) -> None:
     p.add_argument("--orbits", type=float, default=None, help="orbits per run (default: hydro 300, nbody 100)")
     p.add_argument("--seed", type=int, default=1)
     p.add_argument("--workers", type=int, default=2, help="LocalCluster worker processes (default 2)")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS", help="use a running dask scheduler")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="use a running dask scheduler (given up after 5 s if unreachable)")
     p.add_argument("--out", default="sweep-out", help="output folder")
     p.set_defaults(func=run)
+
+
+MAX_TASKS = 100000
 
 
 def parse_values(name: str, text: str) -> list:
@@ -35,16 +47,25 @@ def parse_values(name: str, text: str) -> list:
         if ":" in text:
             a, b, s = (float(x) for x in text.split(":"))
             check_real(f"{name} step", s, 0.0, np.inf, lo_open=True)
+            check_real(f"{name} start", a)
+            check_real(f"{name} stop", b, a)
+            if (b - a) / s > MAX_TASKS:
+                raise ValueError(f"{name} = {text!r} gives more than {MAX_TASKS} values: use a larger step")
             return [float(x) for x in np.arange(a, b + s / 2, s)]
-        return [float(x) for x in text.split(",") if x.strip()]
+        out = [float(x) for x in text.split(",") if x.strip()]
+        if not out:
+            raise TypeError
+        for x in out:
+            check_real(name, x)
+        return out
     except (TypeError, ValueError) as exc:
-        if "step" in str(exc):
+        if any(w in str(exc) for w in ("step", "start", "stop", "values", "finite")):
             raise
         raise ValueError(f"{name} = {text!r} is not a list 'a,b,c' or a range 'start:stop:step'") from None
 
 
-def _record_provenance(ds, args) -> None:
-    """Rewrite OUT/sweep.nc with the command line, the runner defaults and the software version."""
+def provenance(args) -> dict:
+    """Attributes of OUT/sweep.nc: the command line, the runner defaults and the software version."""
     import json
     import shlex
     import sys
@@ -54,18 +75,23 @@ def _record_provenance(ds, args) -> None:
     from ..experiments import runners
 
     argv = sys.argv[1:] if sys.argv and sys.argv[0].endswith("ringcore") else None
-    ds.attrs.update(command=shlex.join(["ringcore", *argv]) if argv else f"ringcore sweep ({vars(args)})",
-                    ringcore_version=__version__, created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
-                    engine=args.engine, set=args.set, isothermal=int(bool(args.isothermal)),
-                    runner_defaults_json=json.dumps({"hydro": runners.HYDRO_DEFAULTS,
-                                                     "nbody": runners.NBODY_DEFAULTS}))
-    ds.to_netcdf(f"{args.out}/sweep.nc", engine="h5netcdf")
+    return dict(command=shlex.join(["ringcore", *argv]) if argv else f"ringcore sweep ({vars(args)})",
+                ringcore_version=__version__, created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
+                engine=args.engine, set=args.set, isothermal=int(bool(args.isothermal)),
+                runner_defaults_json=json.dumps({"hydro": runners.HYDRO_DEFAULTS, "nbody": runners.NBODY_DEFAULTS}))
 
 
-def run(args) -> int:
-    from ..experiments.sweep import run_sweep
-    from ..figures.saturation import figure_lambdap
+def tasks_of(args) -> list:
+    """The task dicts of the command line, each validated through the one resolver."""
+    from ..experiments.runners import ring_params
 
+    if args.engine == "hydro" and args.h is not None:
+        from ..experiments.runners import HYDRO_DEFAULTS
+
+        lam = HYDRO_DEFAULTS["lambda_min"]
+        if args.h > 0 and 2 * args.h > lam:
+            raise UsageError(f"--h = {args.h:g} m: the sweep's noise reaches down to {lam:g} m, below 2 grid cells "
+                             f"(2 h = {2 * args.h:g} m); allowed --h <= {lam / 2:g} m")
     tasks = []
     for ps in parse_values("ps-scale", args.ps_scale):
         for s in parse_values("sigma0", args.sigma0):
@@ -73,10 +99,30 @@ def run(args) -> int:
                  "isothermal": bool(args.isothermal), "seed": args.seed}
             for k in ("lx", "h", "orbits"):
                 if getattr(args, k) is not None:
-                    t[k] = getattr(args, k)
+                    t[k] = check_real(f"--{k}", getattr(args, k), 0.0, np.inf, lo_open=True)
+            ring_params(t)  # bad settings are refused here, not in the workers
             tasks.append(t)
-    res = run_sweep(tasks, args.out, scheduler=args.scheduler, n_workers=args.workers)
-    _record_provenance(res.dataset, args)
+    return tasks
+
+
+def run(args) -> int:
+    from ..experiments.sweep import SchedulerUnreachable, run_sweep
+    from ..figures.saturation import figure_lambdap
+
+    refuse_with(args, UNUSED[args.engine], f"with --engine {args.engine}")
+    if args.scheduler is not None:
+        refuse_with(args, ("workers",), "with --scheduler (the scheduler's workers run the tasks)")
+    else:
+        from ..checks import check_int
+
+        check_int("--workers", args.workers, 1, 512)
+    tasks = tasks_of(args)
+    check_output_dir(args.out)
+    try:
+        res = run_sweep(tasks, args.out, scheduler=args.scheduler, n_workers=args.workers,
+                        attrs=provenance(args))
+    except SchedulerUnreachable as exc:
+        raise EnvironmentProblem(str(exc)) from None
     png = figure_lambdap(res.dataset, f"{args.out}/lambdap.png", set_name=args.set, isothermal=args.isothermal)
     n_ok = len(res.rows) - len(res.failed)
     print(f"sweep: {n_ok} of {len(res.rows)} runs finished in {res.wall_s:.1f} s -> {args.out}/sweep.nc, {png}")

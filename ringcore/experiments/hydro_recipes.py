@@ -8,10 +8,10 @@ Non-isothermal long runs use the documented temperature floor T_floor = 0.01 T0 
 from __future__ import annotations
 
 
-import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
+from ..figures._mpl import subplots
 from .. import linear, params
 from ..analysis import growth_rate, lomb_frequency
 from .recipe_common import finish, hydro_run, pick, series_dataset, strobe_dataset, strobe_psd_figure
@@ -66,7 +66,7 @@ def grates(mode, out):
                                                                    400, 500, 640, 800, 1000]), float)
     curve = np.geomspace(25, 1500, 300)
     data = {}
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.8))
+    fig, (ax1, ax2) = subplots(1, 2, figsize=(11, 4.8))
     worst_g = worst_f = 0.0
     for s, c in zip(GRATES_SIGMAS, ("k", "C0", "C3")):
         p = params.get("tau15", sigma0=s)
@@ -168,7 +168,7 @@ def ekinisonosg(mode, out):
         k = f"{name} 100 m"
         runs[k], status[k] = hydro_run(p, L, 2.5, orbits, initial="mode", wavelength=100.0, amplitude=1e-3)
     ds = series_dataset(runs)
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.8))
+    fig, (ax1, ax2) = subplots(1, 2, figsize=(11, 4.8))
     for k in runs:
         i = list(runs).index(k)
         col = "C3" if "noise" in k else "k"

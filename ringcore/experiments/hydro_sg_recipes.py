@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import math
 
-import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
+from ..figures._mpl import cmap, subplots
 from .. import params
 from ..analysis.nonlinear import group_velocity, hydro_frequency
 from .recipe_common import (ekin_rp, finish, hydro_run, pick, plot_spacetime, series_dataset,
@@ -22,11 +22,11 @@ from .registry import recipe
 
 def _ekin_panels(mode, out, name, panels, L, orbits, iso, title, paper):
     """One e_kin(t) panel per parameter set; panels = {set_name: sigma0 list}."""
-    fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels), 4.8))
+    fig, axes = subplots(1, len(panels), figsize=(5.5 * len(panels), 4.8))
     axes = np.atleast_1d(axes)
     all_runs, status = {}, {}
     for ax, (set_name, sigmas) in zip(axes, panels.items()):
-        cols = plt.cm.viridis(np.linspace(0, 0.85, len(sigmas)))
+        cols = cmap("viridis")(np.linspace(0, 0.85, len(sigmas)))
         for s, c in zip(sigmas, cols):
             p = params.get(set_name, sigma0=s, isothermal=iso or None)
             k = f"{set_name} {s:g}"
@@ -76,7 +76,7 @@ def etauhydro(mode, out):
         "55 s", "2.5 h")
 def sgstable(mode, out):
     L, orbits, rows = pick(mode, 1000.0, 5000.0), pick(mode, 600, 20000), pick(mode, 150, 250)
-    fig, axes = plt.subplots(2, 2, figsize=(11, 8.5))
+    fig, axes = subplots(2, 2, figsize=(11, 8.5))
     data, status = {}, {}
     for j, s in enumerate((250.0, 400.0)):
         p = params.get("tau15", sigma0=s, isothermal=True)
@@ -130,7 +130,7 @@ def boxsizecomp01(mode, out):
     sigmas = pick(mode, (0.0, 100.0), (0.0, 50.0, 100.0))
     boxes = pick(mode, (1000.0, 3000.0), (10000.0, 30000.0))
     orbits = pick(mode, 500, 15000)
-    fig, axes = plt.subplots(2, len(sigmas), figsize=(5.5 * len(sigmas), 8))
+    fig, axes = subplots(2, len(sigmas), figsize=(5.5 * len(sigmas), 8))
     runs = {}
     data = {}
     for j, s in enumerate(sigmas):
@@ -174,7 +174,7 @@ def vgpert(mode, out):
     a = sim.series()
     ts = a["t_strobe"] / (2 * math.pi)
     sel = ts >= orbits
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5), gridspec_kw=dict(width_ratios=(2, 1)))
+    fig, (ax1, ax2) = subplots(1, 2, figsize=(11, 5), gridspec_kw=dict(width_ratios=(2, 1)))
     plot_spacetime(ax1, ts[sel], sim.x_m, a["strobe"][sel], "stroboscopic sigma/sigma0 (saturated stage)")
     v_km_orbit = vg * 2 * math.pi / p.Omega / 1e3
     t0, t1 = ts[sel][0], ts[sel][-1]

@@ -1,17 +1,14 @@
 """Recipes for the linear-theory figures ("omega", "vgroup", "vgph")."""
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
+import xarray as xr
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-
-from .. import linear, params  # noqa: E402
-from ..figures.linear import add_caption, figure_omega, figure_vgroup  # noqa: E402
-from ..io import attrs_from_dict, write_run  # noqa: E402
-from .registry import RecipeResult, recipe  # noqa: E402
+from ..figures._mpl import cmap, subplots
+from .. import linear, params
+from ..figures.linear import add_caption, figure_omega, figure_vgroup
+from ..io import attrs_from_dict, write_run
+from .registry import RecipeResult, recipe
 
 SIGMAS = (0.0, 200.0, 400.0, 600.0, 800.0, 1000.0)
 
@@ -56,7 +53,6 @@ def omega(mode, out):
     cap = (f"Exact eq. (matni), tau15, {lam.size} wavelengths 20 m - 3 km: black non-isothermal, red dashed "
            "isothermal p_s = 1, blue dashed isothermal p_s = 2.41 at sigma0 = 800 kg/m^2.")
     figure_omega(png, wavelength_m=lam, caption=cap)
-    plt.close("all")
     data = _save(_curves("tau15", lam), out, "omega", cap)
     return RecipeResult(png, data, cap)
 
@@ -68,7 +64,6 @@ def vgroup(mode, out):
     cap = ("Exact eq. (matni), tau15: group velocity eq. (vg) for sigma0 = 0..1000 kg/m^2 (dashed: isothermal "
            "p_s = 1) and lambda_zero(sigma0) from the omega_I minimum at 40 values of sigma0.")
     figure_vgroup(png, caption=cap)
-    plt.close("all")
     data = _save(_curves("tau15", lam), out, "vgroup", cap)
     return RecipeResult(png, data, cap)
 
@@ -77,8 +72,8 @@ def vgroup(mode, out):
 def vgph(mode, out):
     lam = np.geomspace(20, 3000, 300 if mode == "quick" else 1500)
     ds = _curves("tau15", lam)
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.8), sharey=True)
-    colors = plt.cm.viridis(np.linspace(0, 0.9, len(SIGMAS)))
+    fig, axes = subplots(1, 2, figsize=(11, 4.8), sharey=True)
+    colors = cmap("viridis")(np.linspace(0, 0.9, len(SIGMAS)))
     for ax, model in zip(axes, ("isothermal", "nonisothermal")):
         for i, (s, c) in enumerate(zip(SIGMAS, colors)):
             ax.plot(lam, ds[f"group_velocity_{model}"][i] * 1e3, "-", color=c, label=f"{s:g}")
@@ -97,6 +92,5 @@ def vgph(mode, out):
     add_caption(fig, "Exact eq. (matni). " + cap)
     png = out / "vgph.png"
     fig.savefig(png, dpi=110)
-    plt.close(fig)
     data = _save(ds, out, "vgph", cap)
     return RecipeResult(png, data, cap)

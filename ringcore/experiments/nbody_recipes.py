@@ -8,10 +8,10 @@ thousands of orbits.
 """
 from __future__ import annotations
 
-import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
+from ..figures._mpl import cmap, subplots
 from .. import linear, params
 from ..analysis import lambda_p_approx
 from ..nbody import NBodyOptions, ShearingBox, growth
@@ -44,7 +44,7 @@ def nblin1(mode, out):
     sets = pick(mode, ("tau15", "tau20"), ("tau10", "tau15", "tau20"))
     lams = np.array(st["lams"])
     curve = np.geomspace(40, 1200, 200)
-    fig, ax = plt.subplots(figsize=(8, 5.2))
+    fig, ax = subplots(figsize=(8, 5.2))
     data = {}
     for name, c in zip(sets, ("C0", "k", "C3")):
         for s, mk in ((0.0, "o"), (350.0, "s")):
@@ -74,8 +74,8 @@ def nblin2(mode, out):
     sigmas = pick(mode, (0.0, 600.0), (0.0, 150.0, 350.0, 600.0, 900.0))
     lams = np.array(st["lams"])
     curve = np.geomspace(40, 1200, 200)
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.8))
-    cols = plt.cm.plasma(np.linspace(0, 0.8, len(sigmas)))
+    fig, (ax1, ax2) = subplots(1, 2, figsize=(11, 4.8))
+    cols = cmap("plasma")(np.linspace(0, 0.8, len(sigmas)))
     data = {}
     for s, c in zip(sigmas, cols):
         p = params.get("tau15", sigma0=s)
@@ -131,7 +131,7 @@ def enbody(mode, out):
     sigmas = pick(mode, (0.0, 800.0), (0.0, 50.0, 100.0, 150.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
     runs, st = _overstable_runs(mode, sigmas)
     ds = _history_dataset(runs)
-    fig, ax = plt.subplots(figsize=(8, 5.2))
+    fig, ax = subplots(figsize=(8, 5.2))
     for i, s in enumerate(sigmas):
         ax.semilogy(ds.time, ds.ekin[i], lw=1, label=f"{s:g} (lambda_p = {runs[s].diagnostics()['lambda_p']:.0f} m)")
     ax.set_xlabel("t [orbits]")
@@ -149,7 +149,7 @@ def enbody(mode, out):
 def vdispnb(mode, out):
     sigmas = pick(mode, (0.0, 800.0), (0.0, 100.0, 200.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
     sets = pick(mode, ("tau15",), ("tau15", "tau15_oz2"))
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.8))
+    fig, (ax1, ax2) = subplots(1, 2, figsize=(11, 4.8))
     data = {}
     for name, mk in zip(sets, ("*", "+")):
         runs, st = _overstable_runs(mode, sigmas, name)
@@ -185,7 +185,7 @@ def boxdouble(mode, out):
     base = ShearingBox(p, NBodyOptions(L_x=L, L_y=L_y, record_every=0.5, profile_every=0.0), seed=1)
     base.run(t1)
     snap = base.to_dataset()
-    fig, ax = plt.subplots(figsize=(8, 5.2))
+    fig, ax = subplots(figsize=(8, 5.2))
     ax.semilogy(base.history["time"], base.history["ekin"], "k-", lw=1, label=f"L_x = {L:g} m, sigma0 = 150")
     data = {"ekin_base": ("time_base", np.array(base.history["ekin"]), {"units": "sigma0 (R_p Omega)^2"})}
     for s, c in ((150.0, "k"), (0.0, "C0"), (600.0, "C3")):
@@ -225,7 +225,7 @@ def radvar(mode, out):
         lam_p.append(float(vals[np.argmax(counts)]))
         c0.append(float(np.mean(box.history["c_mean"][n // 2:])))
     approx = np.array([lambda_p_approx(p) * R**2 for R in radii])  # c0 ~ R_p => lambda_J ~ R_p^2
-    fig, ax = plt.subplots(figsize=(7, 5))
+    fig, ax = subplots(figsize=(7, 5))
     ax.plot(radii, lam_p, "*", ms=12, color="k", label="N-body, periodic boundaries")
     ax.plot(radii, approx, "k--", label=r"eq. (lambdasigmaap) x $(R_p/1\,$m$)^2$")
     ax.set_xlabel(r"$R_p$ [m]")

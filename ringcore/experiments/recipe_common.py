@@ -16,16 +16,13 @@ import json
 import math
 import textwrap
 
-import matplotlib
+import numpy as np
+import xarray as xr
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-import xarray as xr  # noqa: E402
-
-from ..io import write_run  # noqa: E402
-from ..units import R_P  # noqa: E402
-from .registry import RecipeResult  # noqa: E402
+from ..figures._mpl import subplots
+from ..io import write_run
+from ..units import R_P
+from .registry import RecipeResult
 
 
 def pick(mode: str, quick, full):
@@ -48,7 +45,6 @@ def finish(fig, ds: xr.Dataset, out, name: str, caption: str, settings: dict | N
     caption_fig(fig, caption)
     png = out / f"{name}.png"
     fig.savefig(png, dpi=110)
-    plt.close(fig)
     ds = ds.copy()
     ds.attrs["caption"] = caption
     ds.attrs["recipe"] = name
@@ -157,7 +153,7 @@ def plot_psd(ax, wl, P, title="final PSD of sigma"):
 def strobe_psd_figure(sim, suptitle: str, lam_max=None):
     """Figure "tau15nga"-type: stroboscopic space-time diagram (left) and final PSD (right)."""
     a = sim.series()
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 5))
+    fig, (ax1, ax2) = subplots(1, 2, figsize=(11, 5))
     plot_spacetime(ax1, a["t_strobe"] / (2 * math.pi), sim.x_m, a["strobe"], "stroboscopic (1/orbit) sigma/sigma0")
     wl, P = psd_below(sim.sigma, sim.options.L_x, lam_max)
     plot_psd(ax2, wl, P, "final PSD of sigma" + (f" (lambda <= {lam_max:.0f} m)" if lam_max else ""))

@@ -59,15 +59,31 @@ def recipe(name: str, figure: str, title: str, quick_cost: str, full_cost: str):
     return deco
 
 
+class RecipeModuleError(ImportError):
+    """A recipe module failed to import: never skipped silently (the message names the module)."""
+
+
 def load_all() -> dict:
-    """Import every recipe module that exists and return the registry."""
+    """Import every recipe module and return the registry.
+
+    Raises
+    ------
+    RecipeModuleError
+        Naming the module that failed to import and why (a missing optional package, a bug).
+    """
     for mod in RECIPE_MODULES:
+        name = f"{__package__}.{mod}"
         try:
-            importlib.import_module(f"{__package__}.{mod}")
-        except ModuleNotFoundError as exc:
-            if exc.name != f"{__package__}.{mod}":
-                raise
+            importlib.import_module(name)
+        except Exception as exc:
+            raise RecipeModuleError(f"recipe module {name} failed to import: {type(exc).__name__}: {exc}") from exc
     return RECIPES
+
+
+def outputs(name: str, outdir) -> tuple:
+    """The files recipe ``name`` writes in ``outdir``: ``(NAME.png, NAME.nc)``."""
+    out = Path(outdir)
+    return out / f"{name}.png", out / f"{name}.nc"
 
 
 def get_recipe(name: str) -> Recipe:

@@ -14,12 +14,15 @@ from __future__ import annotations
 
 import json
 import math
+import time
 
 import numpy as np
 import xarray as xr
 
 from .. import linear, params
+from ..analysis.saturation import C_EMPIRICAL
 from ..io import RunFileError, attrs_from_dict, read_run, write_run
+from ..spec import RunSpec, resolve
 
 # hydro: L_x = 3 km (about 20 wavelengths of the saturated wave at sigma0 = 400), h = 2.5 m as in the
 # paper, 300 orbits, the fast "cfl" time step (f_t = FAST_DT_FACTOR), 10 samples per orbit, white noise
@@ -34,24 +37,25 @@ SUMMARY_FRACTION = 0.25  # summaries average over the last quarter of the run
 
 
 def ring_params(task: dict) -> params.RingParams:
-    """RingParams of a task: keys set, sigma0, isothermal, p_s, ps_scale, beta."""
-    iso = bool(task.get("isothermal", False)) or task.get("set") == "st99"
-    p = params.get(task.get("set", "tau15"), sigma0=task.get("sigma0", 0.0), isothermal=iso)
-    if iso and task.get("p_s") is not None:
-        p = p.isothermal_limit(task["p_s"])
-    if task.get("ps_scale", 1.0) != 1.0:
-        p = p.scaled_ps(task["ps_scale"])
-    if task.get("beta") is not None:
-        p = p.with_beta(task["beta"])
-    return p
+    """RingParams of a task (keys set, sigma0, isothermal, p_s, ps_scale, beta) through the one resolver
+    :func:`ringcore.spec.resolve` (``p_s`` only with the isothermal model)."""
+    return resolve(RunSpec.from_mapping(task))[0]
 
 
 def _nan(x):
     return None if x is None or (isinstance(x, float) and not math.isfinite(x)) else x
 
 
+def summary_attr(summary: dict) -> str:
+    """The ``summary_json`` attribute of a finished task file: the WHOLE task summary plus its wall
+    time ``wall_s`` (non-finite numbers as null), so that a re-run that skips the task reads back
+    every column of ``sweep.nc``."""
+    return json.dumps({k: _nan(v) for k, v in summary.items()})
+
+
 def run_linear_task(task: dict, path) -> dict:
     """Linear-theory 'run': lambda_zero, fastest-growing wavelength and rate (seconds per task)."""
+    t0 = time.perf_counter()
     p = ring_params(task)
     s = linear.summary(p)
     summary = {"lambda_zero_m": s.lambda_zero_m, "lambda_max_growth_m": s.lambda_max_growth_m,
@@ -62,17 +66,20 @@ def run_linear_task(task: dict, path) -> dict:
                      "frequency": ("wavelength", d.frequency, {"units": "Omega"})},
                     coords={"wavelength": ("wavelength", lam, {"units": "m"})})
     ds.attrs.update(attrs_from_dict("param", p.as_dict()))
-    ds.attrs.update(complete=1, summary_json=json.dumps({k: _nan(v) for k, v in summary.items()}))
+    ds.attrs.update(complete=1, summary_json=summary_attr({**summary, "wall_s": time.perf_counter() - t0}))
     write_run(ds, path, kind="linear")
     return summary
 
 
 def _theory(p) -> dict:
-    """lambda_zero and 1.4 lambda_zero (eq. lambdasigma) of the task's parameters, for comparison."""
+    """lambda_zero and C_EMPIRICAL lambda_zero (eq. lambdasigma) of the task's parameters, for comparison."""
     if p.sigma0 <= 0:
         return {"lambda_zero_m": math.nan, "lambda_p_empirical_m": math.nan}
-    lz = linear.lambda_zero(p)
-    return {"lambda_zero_m": lz, "lambda_p_empirical_m": 1.4 * lz}
+    try:
+        lz = linear.lambda_zero(p)
+    except ValueError:  # no lambda_zero (Q0 < 1): nothing to compare with
+        lz = math.nan
+    return {"lambda_zero_m": lz, "lambda_p_empirical_m": C_EMPIRICAL * lz}
 
 
 def _continue_or_new(path, task_json: str, kind: str, make):
@@ -91,6 +98,7 @@ def _continue_or_new(path, task_json: str, kind: str, make):
 def _run_engine_task(task: dict, path, kind: str, defaults: dict, make) -> dict:
     from .checkpoint import run_checkpointed
 
+    t0 = time.perf_counter()
     cfg = {**defaults, **{k: v for k, v in task.items() if k in defaults and v is not None}}
     p = ring_params(task)
     task_json = json.dumps(task, sort_keys=True)
@@ -98,7 +106,8 @@ def _run_engine_task(task: dict, path, kind: str, defaults: dict, make) -> dict:
     run_checkpointed(model, until=float(cfg["orbits"]), out=path, every=float(cfg["checkpoint_every"]),
                      progress=False, finish=False, task_json=task_json)
     summary = {**model.summary(SUMMARY_FRACTION), **_theory(p)}
-    model.save(path, complete=True, task_json=task_json)
+    model.save(path, complete=True, task_json=task_json,
+               summary_json=summary_attr({**summary, "wall_s": time.perf_counter() - t0}))
     return summary
 
 
@@ -131,5 +140,5 @@ def run_nbody_task(task: dict, path) -> dict:
     """N-body run from a uniform random state (:data:`NBODY_DEFAULTS`; task keys set, sigma0, seed, lx, ly,
     orbits).  Summary: lambda_p_m (most frequent recorded prevalent wavelength over the last quarter),
     lambda_p_mean_m, e_kin (sigma0 (R_p Omega)^2), c_mean (m/s), orbits, N, lambda_zero_m,
-    lambda_p_empirical_m.  The hydro-only keys ps_scale and isothermal change only the comparison theory."""
+    lambda_p_empirical_m.  The hydro-only keys ps_scale, p_s and isothermal change only the comparison theory."""
     return _run_engine_task(task, path, "nbody", NBODY_DEFAULTS, _make_nbody)

@@ -10,12 +10,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import matplotlib.pyplot as plt
 import numpy as np
 import xarray as xr
 
+from ..figures._mpl import cmap, subplots
 from .. import linear, params
 from ..analysis import lambda_p_empirical
+from ..analysis.saturation import C_EMPIRICAL
 from ..analysis.nonlinear import (frequency_minimum, group_velocity, hydro_frequency, nbody_frequency,
                                   to_arrays)
 from ..io import read_run
@@ -74,8 +75,8 @@ def lambdap(mode, out):
     s = np.linspace(25, 1000, 80)
     emp = np.array([lambda_p_empirical(base.with_sigma0(v)) for v in s])
     fast = np.array([linear.max_growth(base.with_sigma0(v))[0] for v in s])
-    fig, ax = plt.subplots(figsize=(7, 5.2))
-    ax.plot(s, emp, "k--", label=r"1.4 $\lambda_{zero}$, eq. (lambdasigma)")
+    fig, ax = subplots(figsize=(7, 5.2))
+    ax.plot(s, emp, "k--", label=f"{C_EMPIRICAL:g} $\\lambda_{{zero}}$, eq. (lambdasigma)")
     ax.plot(s, fast, "k:", label="fastest-growing (linear)")
     ax.plot(sig, lam_p, "o", color="C3", label=r"measured $\lambda_p$ (Hydro)")
     ax.set_yscale("log")
@@ -105,8 +106,8 @@ def nlvg(mode, out, sigmas=None, wavelengths=None):
     sigmas = sigmas or pick(mode, (400.0, 700.0), (100.0, 200.0, 300.0, 400.0, 500.0, 600.0, 700.0, 800.0))
     lams = np.array(wavelengths or pick(mode, NLVG_LAMBDAS_QUICK, tuple(np.geomspace(40, 2000, 25).round())))
     curve = np.geomspace(40, 2000, 300)
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.8))
-    cols = plt.cm.viridis(np.linspace(0, 0.85, len(sigmas)))
+    fig, (ax1, ax2) = subplots(1, 2, figsize=(11, 4.8))
+    cols = cmap("viridis")(np.linspace(0, 0.85, len(sigmas)))
     data, mins = {}, []
     for s, c in zip(sigmas, cols):
         p = params.get("tau15", sigma0=s)
@@ -187,8 +188,8 @@ def nbvga(mode, out):
     kw = pick(mode, dict(L_y=10.0, equilibrate=3.0, orbits=25.0, discard=8.0),
               dict(L_y=20.0, equilibrate=10.0, orbits=100.0, discard=40.0))
     curve = np.geomspace(40, 1000, 200)
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.8), sharey=True)
-    cols = plt.cm.plasma(np.linspace(0, 0.8, len(sigmas)))
+    fig, (ax1, ax2) = subplots(1, 2, figsize=(11, 4.8), sharey=True)
+    cols = cmap("plasma")(np.linspace(0, 0.8, len(sigmas)))
     data = {}
     for s, c in zip(sigmas, cols):
         p = params.get("tau15", sigma0=s)
@@ -238,11 +239,11 @@ def osfrat(mode, out):
         lp = float(min(wl[np.argmax(P)] for wl, P in (psd_below(r, L, L / 4) for r in rows_)))
         rows.append((s, lz, lz_nl, lp))
     s, lz, lnl, lp = np.array(rows).T
-    fig, axes = plt.subplots(2, 2, figsize=(10, 8))
+    fig, axes = subplots(2, 2, figsize=(10, 8))
     ax = axes[0, 0]
     ax.plot(s, lnl, "o-", label="nl")
     ax.plot(s, lz, "s-", label="lin")
-    ax.plot(s, 1.4 * lz, "r--", label="1.4 lin (eq. lambdasigma)")
+    ax.plot(s, C_EMPIRICAL * lz, "r--", label=f"{C_EMPIRICAL:g} lin (eq. lambdasigma)")
     ax.plot(s, lp, "k*", ms=10, label=r"$\lambda_p$ (buffer)")
     ax.set_ylabel("wavelength [m]")
     ax.legend(fontsize=8)
@@ -252,7 +253,7 @@ def osfrat(mode, out):
         ax.plot(s, y, "ko-")
         ax.set_ylabel(lab)
         ax.axhline(1.0, color="0.6", lw=0.7)
-    axes[1, 1].axhline(1.4, color="r", ls="--", lw=0.8)
+    axes[1, 1].axhline(C_EMPIRICAL, color="r", ls="--", lw=0.8)
     for ax in axes.flat:
         ax.set_xlabel(r"$\sigma_0$ [kg m$^{-2}$]")
     fig.suptitle("Figure osfrat: tau15 non-isothermal", fontsize=10)

@@ -16,6 +16,7 @@ import hashlib
 import importlib
 import json
 import math
+import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -55,7 +56,12 @@ def execute_task(task: dict, outdir: str) -> dict:
         try:
             ds = read_run(path)
             if ds.attrs.get("complete", 0):
-                return {**base, **json.loads(ds.attrs["summary_json"]), "status": "skipped"}
+                summary = json.loads(ds.attrs["summary_json"])
+                missing = _missing_keys(task, summary)
+                if not missing:
+                    return {**base, **summary, "status": "skipped"}
+                # a file of an older ringcore without the whole summary: complete it from the task
+                return {**base, **summary, **missing, "status": "skipped"}
         except (RunFileError, KeyError, ValueError):
             pass  # damaged or unfinished: run again
     t0 = time.perf_counter()
@@ -65,6 +71,19 @@ def execute_task(task: dict, outdir: str) -> dict:
         return {**base, "status": "failed", "error": f"{type(exc).__name__}: {exc}"}
     summary["wall_s"] = time.perf_counter() - t0
     return {**base, **summary, "status": "done"}
+
+
+def _missing_keys(task: dict, summary: dict) -> dict:
+    """Summary entries an older task file lacks: the comparison theory (recomputed from the task) and
+    the wall time (unknown: nan)."""
+    out = {}
+    if task.get("engine") in ("hydro", "nbody") and "lambda_zero_m" not in summary:
+        from .runners import _theory, ring_params
+
+        out.update(_theory(ring_params(task)))
+    if "wall_s" not in summary:
+        out["wall_s"] = math.nan
+    return out
 
 
 @dataclass
@@ -104,8 +123,35 @@ def aggregate(rows) -> xr.Dataset:
     return ds.sortby("sigma0") if ds.sizes.get("run", 0) else ds
 
 
+CONNECT_TIMEOUT_S = 5.0  # seconds to reach a --scheduler before giving up
+
+
+class SchedulerUnreachable(ConnectionError):
+    """The dask scheduler given by address cannot be reached (one-line message)."""
+
+
+def connect(address: str, timeout: float = CONNECT_TIMEOUT_S):
+    """A ``dask.distributed.Client`` of the scheduler at ``address``; :class:`SchedulerUnreachable`
+    (one line) if it cannot be reached within ``timeout`` seconds."""
+    from dask.distributed import Client
+    from distributed.comm.addressing import parse_address, parse_host_port
+
+    try:
+        proto, loc = parse_address(address)
+        if proto in ("tcp", "tls"):
+            parse_host_port(loc)
+    except (ValueError, TypeError) as exc:
+        raise ValueError(f"scheduler = {address!r} is not a scheduler address ({exc}): give tcp://HOST:PORT") from None
+    try:
+        return Client(address, timeout=f"{timeout:g}s")
+    except (OSError, TimeoutError, ValueError) as exc:
+        why = " ".join(str(exc).split()).split(": ")[-1][:160] or type(exc).__name__
+        raise SchedulerUnreachable(f"cannot reach the dask scheduler at {address!r} within {timeout:g} s "
+                                   f"({why}); start it (dask scheduler) or drop --scheduler") from None
+
+
 def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int = 2, progress: bool = True,
-              dashboard: bool = True) -> SweepResult:
+              dashboard: bool = True, attrs: dict | None = None) -> SweepResult:
     """Run ``tasks`` on dask.distributed and write each result file as soon as it is done.
 
     Parameters
@@ -118,6 +164,8 @@ def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int = 2, p
         Address of a running dask scheduler (``tcp://host:8786``); default: a LocalCluster.
     n_workers : int
         Worker processes of the LocalCluster (1 thread each).
+    attrs : dict, optional
+        Global attributes of ``sweep.nc`` (provenance), written atomically with it.
     """
     from dask.distributed import Client, LocalCluster, as_completed
     from tqdm.auto import tqdm
@@ -130,8 +178,8 @@ def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int = 2, p
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
     cluster = None
-    if scheduler:
-        client = Client(scheduler)
+    if scheduler is not None:
+        client = connect(scheduler)
     else:
         cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
                                dashboard_address=":0" if dashboard else None)
@@ -154,6 +202,9 @@ def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int = 2, p
         if cluster is not None:
             cluster.close()
     ds = aggregate(rows)
-    ds.to_netcdf(out / "sweep.nc", engine="h5netcdf")
+    ds.attrs.update(attrs or {})
+    tmp = out / "sweep.nc.part"  # atomic: a stopped write never leaves a half sweep.nc
+    ds.to_netcdf(tmp, engine="h5netcdf")
+    os.replace(tmp, out / "sweep.nc")
     failed = [r for r in rows if r["status"] == "failed"]
     return SweepResult(rows=rows, dataset=ds, failed=failed, wall_s=time.perf_counter() - t0)

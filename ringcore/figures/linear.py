@@ -8,13 +8,10 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from .. import linear, params  # noqa: E402
+from ._mpl import cmap, subplots
+from .. import linear, params
 
 SIGMAS = (0.0, 400.0, 800.0)  # [kg/m^2], as in Figure "omega"
 
@@ -43,7 +40,7 @@ def figure_omega(path, set_name: str = "tau15", wavelength_m=None, caption: str 
     set's p_s at sigma0 = 800 kg/m^2.  Returns the matplotlib Figure.
     """
     lam = np.geomspace(20, 3000, 600) if wavelength_m is None else np.asarray(wavelength_m)
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.8), constrained_layout=caption is None)
+    fig, (a1, a2) = subplots(1, 2, figsize=(11, 4.8), constrained_layout=caption is None)
     base = params.get(set_name)
     for s, lw in zip(SIGMAS, (1.0, 1.6, 2.2)):
         p = base.with_sigma0(s)
@@ -73,8 +70,8 @@ def figure_vgroup(path, set_name: str = "tau15", caption: str | None = None):
     """Group velocities (left) and lambda_zero(sigma0) (right), Figure "vgroup"."""
     lam = np.geomspace(20, 3000, 600)
     base = params.get(set_name)
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.8), constrained_layout=caption is None)
-    for s, c in zip((0, 200, 400, 600, 800, 1000), plt.cm.viridis(np.linspace(0, 0.9, 6))):
+    fig, (a1, a2) = subplots(1, 2, figsize=(11, 4.8), constrained_layout=caption is None)
+    for s, c in zip((0, 200, 400, 600, 800, 1000), cmap("viridis")(np.linspace(0, 0.9, 6))):
         p = base.with_sigma0(s)
         a1.plot(lam, linear.dispersion(p, lam).group_velocity_m_s * 1e3, "-", color=c, label=f"{s}")
         a1.plot(lam, linear.dispersion(p.isothermal_limit(), lam).group_velocity_m_s * 1e3, "--", color=c)

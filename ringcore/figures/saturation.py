@@ -1,14 +1,12 @@
-"""Figure "lambdap": prevalent wavelength against sigma0 with lambda_p = 1.4 lambda_zero."""
+"""Figure "lambdap": prevalent wavelength against sigma0 with lambda_p = C_EMPIRICAL lambda_zero (1.4)."""
 from __future__ import annotations
 
-import matplotlib
+import numpy as np
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from .. import linear, params  # noqa: E402
-from ..analysis import lambda_p_empirical  # noqa: E402
+from ._mpl import subplots
+from .. import linear, params
+from ..analysis import lambda_p_empirical
+from ..analysis.saturation import C_EMPIRICAL
 
 
 def figure_lambdap(ds, path, set_name: str = "tau15", isothermal: bool = False, caption: str | None = None):
@@ -16,15 +14,16 @@ def figure_lambdap(ds, path, set_name: str = "tau15", isothermal: bool = False, 
     (dashed) and the fastest-growing linear wavelength (dotted).  Returns the PNG path."""
     base = params.get(set_name, isothermal=isothermal or None)
     sig = np.linspace(25, 1000, 60)
-    fig, ax = plt.subplots(figsize=(6.5, 4.6))
-    ax.plot(sig, [lambda_p_empirical(base.with_sigma0(s)) for s in sig], "k--", label="1.4 $\\lambda_{zero}$, eq. (lambdasigma)")
+    fig, ax = subplots(figsize=(6.5, 4.6))
+    ax.plot(sig, [lambda_p_empirical(base.with_sigma0(s)) for s in sig], "k--",
+            label=f"{C_EMPIRICAL:g} $\\lambda_{{zero}}$, eq. (lambdasigma)")
     ax.plot(sig, [linear.max_growth(base.with_sigma0(s))[0] for s in sig], "k:", label="fastest-growing (linear)")
     if "lambda_p_m" in ds and ds.sizes.get("run", 0):
         ok = np.isfinite(ds.lambda_p_m.values)
         ax.plot(ds.sigma0.values[ok], ds.lambda_p_m.values[ok], "o", color="C3", label="measured $\\lambda_p$")
     elif "lambda_zero_m" in ds and ds.sizes.get("run", 0):
-        ax.plot(ds.sigma0.values, 1.4 * ds.lambda_zero_m.values, "s", mfc="none", color="C0",
-                label="sweep: 1.4 $\\lambda_{zero}$")
+        ax.plot(ds.sigma0.values, C_EMPIRICAL * ds.lambda_zero_m.values, "s", mfc="none", color="C0",
+                label=f"sweep: {C_EMPIRICAL:g} $\\lambda_{{zero}}$")
     ax.set_yscale("log")
     ax.set_xlabel("$\\sigma_0$ [kg m$^{-2}$]")
     ax.set_ylabel("$\\lambda_p$ [m]")
@@ -34,5 +33,4 @@ def figure_lambdap(ds, path, set_name: str = "tau15", isothermal: bool = False, 
         fig.text(0.01, 0.01, caption, fontsize=7, color="0.2")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
-    plt.close(fig)
     return path

@@ -14,6 +14,7 @@ import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
 from ..params import RingParams
+from ..units import G
 from .matrix import refine_branch, track_overstable
 
 # search range in wavelength [m] for band edges, maxima and lambda_zero
@@ -117,7 +118,8 @@ def overstable_band(p: RingParams):
     edges = []
     for i in np.nonzero(pos[1:] != pos[:-1])[0]:
         g0 = om[i]
-        kk = brentq(lambda x: refine_branch(p, x, g0)[0].real, k[i], k[i + 1], xtol=1e-12)
+        kk = _bracketed_root(lambda x: refine_branch(p, x, g0)[0].real, k[i], k[i + 1], p,
+                             "the overstable band", xtol=1e-12)
         edges.append((kk, bool(pos[i + 1])))  # True: band starts (going to larger k)
     bands, start = [], (k[0] if pos[0] else None)
     for kk, opens in edges:
@@ -149,8 +151,31 @@ def lambda_zero(p: RingParams) -> float:
         return math.nan
     i = int(idx[0])
     g0 = om[i]
-    kz = brentq(lambda x: refine_branch(p, x, g0)[1].imag, k[i], k[i + 1], xtol=1e-12)
+    kz = _bracketed_root(lambda x: refine_branch(p, x, g0)[1].imag, k[i], k[i + 1], p, "lambda_zero",
+                         xtol=1e-12)
     return float(_to_lambda(p, kz))
+
+
+def _bracketed_root(f, a, b, p: RingParams, what: str, **kw) -> float:
+    """``brentq(f, a, b)``; a failed bracket becomes a ValueError naming the physical condition.
+
+    The bracket comes from the tracked overstable branch on a wavenumber grid: when the ground
+    state is gravitationally unstable (Q0 < 1, Toomre) that branch merges with the Jeans branch
+    and the sign change found on the grid is not a root of the refined branch."""
+    try:
+        return brentq(f, a, b, **kw)
+    except ValueError:
+        lam = sorted((float(_to_lambda(p, a)), float(_to_lambda(p, b))))
+        where = f"between {lam[0]:.1f} m and {lam[1]:.1f} m"
+        s1 = p.Omega * p.c0 / (math.pi * G)  # sigma0 at Q0 = 1 [kg/m^2]
+        if p.Q0 < 1.0:
+            why = (f"Q0 = {p.Q0:.3g} < 1: the ground state is gravitationally (Toomre) unstable and the "
+                   f"overstable branch no longer exists as a separate branch {where}; allowed for set "
+                   f"{p.name!r}: Q0 > 1, i.e. sigma0 < {s1:.0f} kg/m^2")
+        else:
+            why = f"the overstable branch changes character {where} (Q0 = {p.Q0:.3g}, sigma0 = {p.sigma0:g} kg/m^2)"
+        raise ValueError(f"{what} is not defined for {p.name} ({p.model}) at sigma0 = {p.sigma0:g} kg/m^2: "
+                         f"{why}") from None
 
 
 @dataclass(frozen=True)

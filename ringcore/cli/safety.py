@@ -1,0 +1,125 @@
+"""Start-up checks of the command line: outputs can be created, nothing is overwritten unasked,
+and the run fits in memory and on disk.  All run before anything is computed.
+
+Rules
+-----
+- An existing file is never replaced unless ``--overwrite`` is given (the refusing message says so);
+  ``ringcore resume FILE`` without ``--out`` continues FILE in place (the resume semantics).
+- An output must have a non-empty name, must not be a directory, and its folder must exist and be
+  writable (tested by creating and removing a temporary file there, so it also holds for root and
+  read-only mounts); for folders of outputs (``reproduce --out``, ``sweep --out``) the nearest
+  existing ancestor must be a writable folder.
+- The free disk space must exceed the estimated size of what is written; the estimated memory of
+  the run must stay below :data:`MEMORY_FRACTION` of the machine's memory.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+from .errors import EnvironmentProblem, UsageError
+
+MEMORY_FRACTION = 0.5  # refuse runs whose estimated memory exceeds this fraction of the machine's RAM
+
+
+def fmt_bytes(n: float) -> str:
+    """``1.5e9`` -> ``"1.4 GiB"``."""
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB", "PiB"):
+        if abs(n) < 1024 or unit == "PiB":
+            return f"{n:.3g} {unit}" if unit != "B" else f"{int(n)} B"
+        n /= 1024.0
+    return f"{n:.3g} PiB"  # pragma: no cover
+
+
+def machine_memory() -> int:
+    """Physical memory of the machine [bytes] (0 if unknown)."""
+    try:
+        return int(os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES"))
+    except (ValueError, OSError, AttributeError):  # pragma: no cover
+        return 0
+
+
+def check_memory(what: str, nbytes: float, how: str) -> None:
+    """EnvironmentProblem if ``nbytes`` exceeds MEMORY_FRACTION of the machine's memory."""
+    total = machine_memory()
+    if total and nbytes > MEMORY_FRACTION * total:
+        raise EnvironmentProblem(f"{what} needs about {fmt_bytes(nbytes)} of memory, more than "
+                                 f"{MEMORY_FRACTION:.0%} of this machine's {fmt_bytes(total)}; {how}")
+
+
+def _writable_dir(d: Path, label: str, name: str) -> None:
+    if not d.exists():
+        raise UsageError(f"{label} {name!r}: folder {str(d)!r} does not exist (create it first)")
+    if not d.is_dir():
+        raise UsageError(f"{label} {name!r}: {str(d)!r} is not a folder")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=".ringcore-write-test-", dir=d)
+        os.close(fd)
+        os.unlink(tmp)
+    except OSError as exc:
+        raise EnvironmentProblem(f"{label} {name!r}: cannot write in folder {str(d)!r} "
+                                 f"({exc.strerror or exc}); choose another place") from None
+
+
+def _free_space(d: Path, label: str, name: str, nbytes: float) -> None:
+    try:
+        free = shutil.disk_usage(d).free
+    except OSError:  # pragma: no cover
+        return
+    if nbytes and free < 1.1 * nbytes:
+        raise EnvironmentProblem(f"{label} {name!r}: needs about {fmt_bytes(nbytes)} but only "
+                                 f"{fmt_bytes(free)} are free in {str(d)!r}")
+
+
+def check_output_file(name, *, overwrite: bool, label: str = "--out", size: float = 0.0,
+                      same_as=None) -> Path:
+    """Check that the file ``name`` can be written; return it as a Path.
+
+    ``same_as``: a file that may be replaced without ``--overwrite`` (resume in place).
+    """
+    name = "" if name is None else str(name)
+    if not name.strip():
+        raise UsageError(f"{label} = {name!r} is not valid: give a file name")
+    path = Path(name)
+    if path.is_dir():
+        raise UsageError(f"{label} {name!r} is a folder: give a file name inside it")
+    in_place = same_as is not None and path.exists() and Path(same_as).exists() and \
+        os.path.samefile(path, same_as)
+    if path.exists() and not (overwrite or in_place):
+        raise UsageError(f"{label} {name!r} exists: refusing to overwrite it "
+                         "(add --overwrite to replace it, or choose another name)")
+    d = path.parent if str(path.parent) else Path(".")
+    _writable_dir(d, label, name)
+    if path.exists() and not os.access(path, os.W_OK) and os.geteuid() != 0:
+        raise EnvironmentProblem(f"{label} {name!r}: the file is not writable")
+    _free_space(d, label, name, size)
+    return path
+
+
+def check_output_dir(name, *, label: str = "--out", size: float = 0.0) -> Path:
+    """Check that the folder ``name`` exists or can be created (its nearest existing ancestor is a
+    writable folder); nothing is created here."""
+    name = "" if name is None else str(name)
+    if not name.strip():
+        raise UsageError(f"{label} = {name!r} is not valid: give a folder name")
+    path = Path(name)
+    if path.exists() and not path.is_dir():
+        raise UsageError(f"{label} {name!r} is a file, not a folder: give a folder name")
+    d = path
+    while not d.exists():
+        d = d.parent if str(d.parent) not in ("", str(d)) else Path(".")
+    if not d.is_dir():
+        raise UsageError(f"{label} {name!r}: {str(d)!r} is a file, not a folder")
+    _writable_dir(d, label, name)
+    _free_space(d, label, name, size)
+    return path
+
+
+def check_new_files(paths, *, overwrite: bool, label: str) -> None:
+    """UsageError if any of ``paths`` exists and ``overwrite`` is False."""
+    existing = [str(p) for p in paths if Path(p).exists()]
+    if existing and not overwrite:
+        raise UsageError(f"{label}: {', '.join(existing)} exist{'s' if len(existing) == 1 else ''}: "
+                         "refusing to overwrite (add --overwrite to replace, or choose another --out)")
