@@ -1,15 +1,15 @@
 """The controller of one session's live hydrodynamic run: :class:`HydroRunner`.
 
-It owns a :class:`ringcore.hydro.Hydro1D` and the session's periodic callback.  The
-numba kernels of ``ringcore.hydro`` hold the GIL (no ``nogil=True``), so a background
-thread would not let the server breathe; instead every callback tick computes for a
-fixed wall-time budget (``budget_s``, ~60 ms of a 100 ms period) and then hands the new
-state to the view.  Each tick calls ``Hydro1D.advance(max_wall_s=budget_s)`` (the engine
-contract, :mod:`ringcore.engine`): the solver's own recorder samples e_kin, lambda_p and the
-stroboscopic rows at exact sample times and pushes every sample to :meth:`HydroRunner._on_sample`
-(``on_sample``), which copies what the plots need into bounded buffers
-(:mod:`app.live_buffers`).  The solver's recorder is bounded by the core (``max_samples``,
-``max_rows``: thinned by 2 when full), so a session that runs for hours keeps flat memory.
+It owns a :class:`ringcore.hydro.Hydro1D`.  In a server session the run advances in chunks
+of a fixed wall-time budget (``budget_s``, 60 ms) computed in the server's shared worker
+pool, off the event loop (:mod:`app.live_loop`, :mod:`app.compute`; the kernels release the
+GIL); after each chunk the new state is handed to the view on the event loop.  Each chunk
+calls ``Hydro1D.advance(max_wall_s=budget_s)`` (the engine contract, :mod:`ringcore.engine`):
+the solver's own recorder samples e_kin, lambda_p and the stroboscopic rows at exact sample
+times and pushes every sample to :meth:`HydroRunner._on_sample` (``on_sample``), which copies
+what the plots need into bounded buffers (:mod:`app.live_buffers`).  The solver's recorder is
+bounded by the core (``max_samples``, ``max_rows``: thinned by 2 when full), so a session that
+runs for hours keeps flat memory.
 
 Setup changes (parameters, grid, initial seed) rebuild the run at t = 0 (still running
 if it was); buffer-zone changes apply to the running state; invalid combinations leave
@@ -48,6 +48,8 @@ STEP_MAX_S = 1.0
 class HydroRunner(LiveLoop, HydroSettings):
     """Settings, simulation, live buffers and controls (start/pause/step/reset) of one session."""
 
+    budget_s = BUDGET_S  # one chunk of work (app.live_loop)
+
     running = param.Boolean(default=False, doc="True while the periodic callback advances the run.")
     status = param.String(default="", doc="One-line state of the run for the page.")
     problems = param.Dict(default={}, doc="Messages for invalid settings, keyed by control group.")
@@ -66,7 +68,8 @@ class HydroRunner(LiveLoop, HydroSettings):
     # ------------------------------------------------------------------ building
     @param.depends(*SETUP_PARAMS, watch=True)
     def _on_setup(self):
-        self._rebuild()
+        with self.compute_lock:  # [classroom] never while a chunk computes
+            self._rebuild()
 
     def _rebuild(self) -> bool:
         """Start a new simulation at t = 0 from the current settings (if they are valid)."""
@@ -108,15 +111,18 @@ class HydroRunner(LiveLoop, HydroSettings):
 
     def reset(self, *_):
         """Restart from t = 0 with the current settings (the last valid ones if they are invalid)."""
-        if not self._rebuild() and self.sim is not None:
+        with self.compute_lock:  # [classroom]
+            ok = self._rebuild()
+        if not ok and self.sim is not None:
             self.status = "Settings invalid: nothing reset (see the message beside the controls)."
 
     # ------------------------------------------------------------------ buffer
     @param.depends(*BUFFER_PARAMS, watch=True)
     def _on_buffer(self):
-        self.problems = self.problems_with_buffer()
-        self._apply_buffer()
-        self.frame += 1
+        with self.compute_lock:  # [classroom]
+            self.problems = self.problems_with_buffer()
+            self._apply_buffer()
+            self.frame += 1
 
     def problems_with_buffer(self) -> dict:
         probs = {k: v for k, v in self.problems.items() if k != "buffer"}
@@ -155,10 +161,15 @@ class HydroRunner(LiveLoop, HydroSettings):
         if self.running or self.sim is None or self.blowup:
             return
         target = self.sim.orbits + STEP_ORBITS
+        if self.offload(lambda: self.advance(STEP_MAX_S, until=target), self._stepped):  # [classroom] in the pool
+            return
         self.advance(STEP_MAX_S, until=target)
-        if not self.blowup:
-            self.status = f"Paused after a step to orbit {self.sim.orbits:.2f}."
+        self._stepped()
         self.frame += 1
+
+    def _stepped(self):
+        if not self.blowup and self.sim is not None:
+            self.status = f"Paused after a step to orbit {self.sim.orbits:.2f}."
 
     def tick(self):
         """One callback period: compute for BUDGET_S seconds, then signal the view."""
@@ -232,7 +243,9 @@ class HydroRunner(LiveLoop, HydroSettings):
 
     def netcdf_bytes(self) -> io.BytesIO:
         """The run file (``ringcore.io.write_run``, kind "hydro") as bytes for a download."""
-        return run_file_bytes(self.to_dataset(), "hydro")
+        with self.compute_lock:  # [classroom] a consistent state, between chunks
+            ds = self.to_dataset()
+        return run_file_bytes(ds, "hydro")
 
     def export_filename(self) -> str:
         return f"hydro_{self.param_set}_s{self.sigma0:g}_t{self.sim.orbits:.0f}orb.nc"
@@ -249,6 +262,7 @@ class HydroRunner(LiveLoop, HydroSettings):
 
     def close(self, *_):
         """Stop and free the simulation (the browser tab was closed)."""
+        self._mark_closed()  # [classroom] no more chunks or frames
         self.pause()
         if self.sim is not None:
             pn.state.log(f"hydro run of a closed session freed at orbit {self.sim.orbits:.2f}")

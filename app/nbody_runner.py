@@ -1,7 +1,7 @@
 """The controller of one session's live N-body shearing box: :class:`NBodyRunner`.
 
-Owns a :class:`ringcore.nbody.ShearingBox` and the session's periodic callback; each tick
-advances the box in chunks of ``RECORD_EVERY`` orbits (``ShearingBox.run``, which records
+Owns a :class:`ringcore.nbody.ShearingBox`; each chunk (computed in the server's shared
+worker pool, :mod:`app.live_loop`) advances the box in chunks of ``RECORD_EVERY`` orbits (``ShearingBox.run``, which records
 the box means) for a wall-time budget, like :class:`app.hydro_runner.HydroRunner`.
 Transport coefficients (effective dispersion c_eff, viscosity nu) are averaged over
 windows of ``TRANSPORT_WINDOW`` orbits and compared with the parameter set's c0 and nu0,
@@ -59,6 +59,8 @@ def thin_history(box, max_len: int) -> bool:
 class NBodyRunner(LiveLoop, param.Parameterized):
     """Settings, box, live series and controls of one session's N-body run."""
 
+    budget_s = BUDGET_S  # one chunk of work (app.live_loop)
+
     param_set = param.Selector(default="tau15", objects=_set_names(), label="Parameter set (τ, Ω_z)",
                                doc="Optical depth tau and vertical frequency enhancement of the box (and the "
                                    "hydrodynamic parameters used for the predictions).")
@@ -110,7 +112,8 @@ class NBodyRunner(LiveLoop, param.Parameterized):
 
     @param.depends(*SETUP_PARAMS, watch=True)
     def _on_setup(self):
-        self._rebuild()
+        with self.compute_lock:  # [classroom] never while a chunk computes
+            self._rebuild()
 
     def _rebuild(self) -> bool:
         self.problem = self.find_problem()
@@ -135,7 +138,9 @@ class NBodyRunner(LiveLoop, param.Parameterized):
         return True
 
     def reset(self, *_):
-        if not self._rebuild() and self.box is not None:
+        with self.compute_lock:  # [classroom]
+            ok = self._rebuild()
+        if not ok and self.box is not None:
             self.status = "Settings invalid: nothing reset (see the message beside the controls)."
 
     # ------------------------------------------------------------------ running
@@ -149,10 +154,15 @@ class NBodyRunner(LiveLoop, param.Parameterized):
         """Advance 0.1 orbit while paused."""
         if self.running or self.box is None or self.blowup:
             return
+        if self.offload(lambda: self.advance(2.0, orbits=0.1), self._stepped):  # [classroom] in the pool
+            return
         self.advance(2.0, orbits=0.1)
-        if not self.blowup:
-            self.status = f"Paused after a step to orbit {self.box.orbits:.2f}."
+        self._stepped()
         self.frame += 1
+
+    def _stepped(self):
+        if not self.blowup and self.box is not None:
+            self.status = f"Paused after a step to orbit {self.box.orbits:.2f}."
 
     def tick(self):
         if not self.running or self.box is None:
@@ -216,7 +226,8 @@ class NBodyRunner(LiveLoop, param.Parameterized):
         return ""
 
     def netcdf_bytes(self) -> io.BytesIO:
-        ds = self.box.to_dataset()
+        with self.compute_lock:  # [classroom] a consistent state, between chunks
+            ds = self.box.to_dataset()
         ds.attrs["app_settings_json"] = self.settings_json()
         ds.attrs["app_history_thinned"] = int(self.thinned)
         return run_file_bytes(ds, "nbody")
@@ -231,8 +242,9 @@ class NBodyRunner(LiveLoop, param.Parameterized):
 
     def close(self, *_):
         """Stop and free the box (the browser tab was closed)."""
+        self._mark_closed()  # [classroom] no more chunks or frames
         self.pause()
-        if self.box is not None:
+        if self.box is not None and self.box.orbits > 0:  # one line per closed session unless N-body ran
             pn.state.log(f"N-body box of a closed session freed at orbit {self.box.orbits:.2f}")
         self.box = None
         self.status = "Closed."

@@ -65,19 +65,19 @@ _FM = {"nsz"}  # no contract/arcp/afn/reassoc: their use depends on inlining, an
 # no nnan/ninf: blow-ups stay visible
 
 
-@njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM, inline="always")
 def _minmod(a, b):
     return 0.5 * (np.sign(a) + np.sign(b)) * min(abs(a), abs(b))
 
 
-@njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM, inline="always")
 def _minmod4(w, x, y, z):
     sw = np.sign(w)
     return 0.125 * (sw + np.sign(x)) * abs((sw + np.sign(y)) * (sw + np.sign(z))) * min(
         min(abs(w), abs(x)), min(abs(y), abs(z)))
 
 
-@njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM, inline="always")
 def mp5(fm2, fm1, f0, fp1, fp2):
     """MP5 value at the right interface x_{j+1/2} of node j from f_{j-2} .. f_{j+2}.
 
@@ -102,7 +102,7 @@ def mp5(fm2, fm1, f0, fp1, fp2):
     return forig if (forig - f0) * (forig - fmp) <= MP5_EPS else flim
 
 
-@njit(cache=True, error_model="numpy")
+@njit(nogil=True, cache=True, error_model="numpy")
 def fill_ghosts(U, n):
     """Periodic ghost nodes: U[:, :NG] <- last NG interior nodes, U[:, NG+n:] <- first NG."""
     for k in range(U.shape[0]):
@@ -111,7 +111,7 @@ def fill_ghosts(U, n):
             U[k, NG + n + g] = U[k, NG + g]
 
 
-@njit(cache=True, error_model="numpy", fastmath=_FM)
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
 def _primitives(U, W, beta, par):
     """Loop A: u, v, T, p, c, eta and Gamma (eqs. pres-coolfunc) at every node.
 
@@ -171,7 +171,7 @@ def _primitives(U, W, beta, par):
             wrate[i] = (2.0 / 3.0) * abs(GT) * gam * rs / T
 
 
-@njit(cache=True, error_model="numpy", fastmath=_FM)
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
 def _grid_maxima(W, n):
     """(max |u| + c, max diffusivity, max cooling rate) over the interior nodes."""
     a = W[R_SIG][NG:NG + n]
@@ -187,7 +187,7 @@ def _grid_maxima(W, n):
     return vmax, numax, rmax
 
 
-@njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM, inline="always")
 def _mach_split(M, p):
     """Liou-Steffen (AUSM) split of the Mach number M and pressure p: (M+, M-, p+, p-)."""
     sub = abs(M) <= 1.0
@@ -200,7 +200,7 @@ def _mach_split(M, p):
     return Mp, Mm, pp, pm
 
 
-@njit(cache=True, error_model="numpy", fastmath=_FM)
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
 def _split_fluxes(U, W):
     """Loop A2: Liou-Steffen (AUSM) flux vector splitting F = F+ + F- at every node.
 
@@ -241,7 +241,7 @@ def _split_fluxes(U, W):
         fm3[i] = Mm * c * e_[i] + pm * u
 
 
-@njit(cache=True, error_model="numpy", fastmath=_FM)
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
 def _numerical_flux(W, nv, n):
     """Loop B: f_{i+1/2} = MP5(F+ from i-2..i+2) + MP5(F- from i+3..i-1), stored at index i.
 
@@ -260,7 +260,7 @@ def _numerical_flux(W, nv, n):
             o[i] = mp5(a0[i], a1[i], a2[i], a3[i], a4[i]) + mp5(b4[i], b3[i], b2[i], b1[i], b0[i])
 
 
-@njit(cache=True, error_model="numpy", fastmath=_FM)
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
 def _gradients(W, iso, inv60h, inv180h2, n):
     """Loop C (interior nodes): 6th-order central first and second derivatives.
 
@@ -287,7 +287,7 @@ def _gradients(W, iso, inv60h, inv180h2, n):
                          - 490.0 * c0[i]) * inv180h2
 
 
-@njit(cache=True, error_model="numpy", fastmath=_FM)
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
 def compute_rhs(U, W, beta, g, par, L):
     """Right-hand side L(U) = -dF/dx + S of eq. (hcl) at the interior nodes.
 
@@ -368,7 +368,7 @@ def compute_rhs(U, W, beta, g, par, L):
     return vmax, numax, rmax
 
 
-@njit(cache=True, error_model="numpy")
+@njit(nogil=True, cache=True, error_model="numpy")
 def stable_dt(vmax, numax, rmax, h, mode, factor):
     """Time step from the grid maxima.
 
@@ -386,7 +386,7 @@ def stable_dt(vmax, numax, rmax, h, mode, factor):
     return factor * min(min(a, b), c)
 
 
-@njit(cache=True, error_model="numpy", fastmath=_FM)
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
 def rk_stage(Uin, W, beta, g, par, L, Lprev, A, a0, B, a1, C, a2, b1, b2, dt, dt_cap, out):
     """One SSPRK stage: ``out = a0 A + a1 B + a2 C + dt (b1 L(Uin) + b2 Lprev)``.
 
@@ -423,7 +423,7 @@ def rk_stage(Uin, W, beta, g, par, L, Lprev, A, a0, B, a1, C, a2, b1, b2, dt, dt
     return dt
 
 
-@njit(cache=True, error_model="numpy")
+@njit(nogil=True, cache=True, error_model="numpy")
 def check_state(U):
     """First bad interior node: returns (field, index) or (-1, -1) if all is well.
 
@@ -448,7 +448,7 @@ def check_state(U):
     return -1, -1
 
 
-@njit(cache=True, error_model="numpy")
+@njit(nogil=True, cache=True, error_model="numpy")
 def apply_temperature_floor(U, T_min):
     """Raise T to ``T_min`` where it is lower (adds internal energy to e); returns the node count (per RK stage).
 
@@ -469,7 +469,7 @@ def apply_temperature_floor(U, T_min):
     return hits
 
 
-@njit(cache=True, error_model="numpy")
+@njit(nogil=True, cache=True, error_model="numpy")
 def to_conservative(sigma, u, v, T, out):
     """Fill interior nodes of ``out`` (nv, N) from primitive arrays of length n."""
     n = sigma.shape[0]

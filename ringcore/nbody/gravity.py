@@ -24,14 +24,14 @@ import math
 from numba import njit
 
 
-@njit(cache=True, inline="always")
+@njit(nogil=True, cache=True, inline="always")
 def bin_window(k, h):
     """Fourier transform (sin(k h/2)/(k h/2))^2 of linear (cloud-in-cell) binning with bin width h."""
     arg = 0.5 * k * h
     return 1.0 if arg == 0.0 else (math.sin(arg) / arg) ** 2
 
 
-@njit(cache=True)
+@njit(nogil=True, cache=True)
 def density_modes(pos, L_x, m_lo, m_hi, rho, coef):
     """Bin the particles (CIC, periodic) and return the mode coefficients a_m, b_m in ``coef``.
 
@@ -76,7 +76,7 @@ def density_modes(pos, L_x, m_lo, m_hi, rho, coef):
         coef[1, j] /= w
 
 
-@njit(cache=True)
+@njit(nogil=True, cache=True)
 def kick_selfgravity(pos, vel, dt, g, L_x, m_lo, m_hi, rho, force, coef):
     """v_x += dt F_g(x) for all particles, eq. (sgmodes); ``g`` = -2 pi G sigma0 / (R_p Omega^2)."""
     density_modes(pos, L_x, m_lo, m_hi, rho, coef)

@@ -25,7 +25,7 @@ from .kernels import (A_CROSS, A_TIME, build_cell_list, drift_epicycle, resolve_
                       sample_local_stress, shear_offset, sort_by_cell, wrap_shear_periodic)
 
 
-@njit(cache=True)
+@njit(nogil=True, cache=True)
 def advance(pos, vel, t0, nsteps, dt, omega_z, L_x, L_y, n_cx, n_cy, collisions, mode, eps_const,
             v_c, g, m_lo, m_hi, rho, force, coef, gpos, gsrc, cell_start, cell_entries, cell_of, acc,
             ids, sort_every, spos, svel, sids, step0=0):

@@ -46,7 +46,7 @@ A_CROSS = 18  # radial boundary crossings
 N_ACC = 19
 
 
-@njit(cache=True)
+@njit(nogil=True, cache=True)
 def drift_epicycle(pos, vel, dt, omega_z):
     """Exact free motion of eq. (hill) (kappa = Omega = 1, no forces) over ``dt``.
 
@@ -75,13 +75,13 @@ def drift_epicycle(pos, vel, dt, omega_z):
         vel[i, 2] = -z0 * omega_z * sz + vz0 * cz
 
 
-@njit(cache=True)
+@njit(nogil=True, cache=True)
 def shear_offset(t, L_x, L_y):
     """Azimuthal offset D = 1.5 L_x t mod L_y: the image of (x, y) at x + L_x sits at y - D."""
     return (1.5 * L_x * t) % L_y
 
 
-@njit(cache=True)
+@njit(nogil=True, cache=True)
 def wrap_shear_periodic(pos, vel, L_x, L_y, D):
     """Shear-periodic radial and periodic azimuthal boundaries; returns the number of radial crossings.
 
@@ -113,7 +113,7 @@ def wrap_shear_periodic(pos, vel, L_x, L_y, D):
     return n
 
 
-@njit(cache=True)
+@njit(nogil=True, cache=True)
 def coefficient_of_restitution(vn, mode, eps_const, v_c):
     """Normal coefficient of restitution of an impact with normal speed ``vn`` >= 0.
 
@@ -127,7 +127,7 @@ def coefficient_of_restitution(vn, mode, eps_const, v_c):
     return (vn / v_c) ** -0.234
 
 
-@njit(cache=True)
+@njit(nogil=True, cache=True)
 def build_cell_list(pos, L_x, L_y, D, n_cx, n_cy, gpos, gsrc, cell_start, cell_entries, cell_of):
     """Make ghosts of the particles in the innermost column and bin all entries into cells.
 
@@ -186,7 +186,7 @@ def build_cell_list(pos, L_x, L_y, D, n_cx, n_cy, gpos, gsrc, cell_start, cell_e
     return ng
 
 
-@njit(cache=True)
+@njit(nogil=True, cache=True)
 def _collide(a, b, pos, vel, gpos, gsrc, N, L_x, L_y, dt, mode, eps_const, v_c, acc):
     """Check entries a (< N, real) and b (real or ghost) and resolve if overlapping and approaching."""
     ia = a
@@ -247,7 +247,7 @@ def _collide(a, b, pos, vel, gpos, gsrc, N, L_x, L_y, dt, mode, eps_const, v_c, 
     acc[A_PZZ_NL] += jz * dz
 
 
-@njit(cache=True)
+@njit(nogil=True, cache=True)
 def resolve_collisions(pos, vel, gpos, gsrc, cell_start, cell_entries, n_cx, n_cy, L_x, L_y, dt,
                        mode, eps_const, v_c, acc):
     """Resolve all overlapping, approaching pairs once, in cell order (hard spheres).
@@ -287,7 +287,7 @@ def resolve_collisions(pos, vel, gpos, gsrc, cell_start, cell_entries, n_cx, n_c
                             _collide(b, a, pos, vel, gpos, gsrc, N, L_x, L_y, dt, mode, eps_const, v_c, acc)
 
 
-@njit(cache=True)
+@njit(nogil=True, cache=True)
 def sample_local_stress(pos, vel, acc):
     """Add the peculiar velocities w = v - (0, -1.5 x, 0) and their products to ``acc``."""
     for i in range(pos.shape[0]):
@@ -309,7 +309,7 @@ def new_accumulators() -> np.ndarray:
     return np.zeros(N_ACC)
 
 
-@njit(cache=True)
+@njit(nogil=True, cache=True)
 def sort_by_cell(pos, vel, ids, cell_entries, n_entries, spos, svel, sids):
     """Reorder the particles (pos, vel, ids) into cell-list order for memory locality.
 

@@ -1,0 +1,275 @@
+"""Classroom load test: K simulated students on one ringlab server (issue 12; not a CI test).
+
+    python scripts/classroom_load.py --students K --seconds S [--dask] [--num-procs N] --json
+
+Starts ``panel serve app/main.py`` (subprocess, loopback, free port) and opens K real Panel
+sessions without a browser (Bokeh client sessions on one event loop).  Each student opens
+the Hydrodynamics tab, presses Start (a real button-click event) and acknowledges every
+frame the way the page does (the page's ``CustomJS`` bumps the figure's ``tags`` after a
+source changed; the client does the same), without rendering.  Orbits are read from each
+session's own "Orbits elapsed" readout, i.e. what the page shows.  One more session stays on
+the Linear-theory tab and moves its sigma0 slider every 2 s: the control latency is the time
+until its linear-theory readout shows the new value.  CPU cores and memory are summed over
+the server's process tree with psutil (and over the Dask workers with ``--dask``).
+Prints one JSON object.
+"""
+from __future__ import annotations
+
+import argparse
+import html
+import json
+import os
+import re
+import socket
+import statistics
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import psutil
+
+ROOT = Path(__file__).resolve().parents[1]
+ORBITS_RE = re.compile(r'id="hydro-orbits">.*?class="ro-value">([0-9.]+)<')
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def start_server(port: int, num_procs: int, env: dict) -> subprocess.Popen:
+    cmd = [sys.executable, "-m", "panel", "serve", "app/main.py", "--port", str(port), "--address", "127.0.0.1",
+           "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness", "--warm", "--num-procs", str(num_procs)]
+    log = open(os.environ.get("RINGLAB_LOAD_LOG", "/tmp/classroom_load_server.log"), "w")
+    proc = subprocess.Popen(cmd, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT)
+    t_end = time.time() + 120
+    while time.time() < t_end:
+        try:
+            if urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=2).status == 200:
+                return proc
+        except OSError:
+            time.sleep(0.3)
+    proc.kill()
+    raise RuntimeError("the server did not start within 120 s")
+
+
+def tree(proc_pid: int) -> list:
+    p = psutil.Process(proc_pid)
+    return [p] + p.children(recursive=True)
+
+
+def cpu_rss(procs) -> tuple[float, float]:
+    cpu = rss = 0.0
+    for p in procs:
+        try:
+            t = p.cpu_times()
+            cpu += t.user + t.system
+            rss += p.memory_info().rss
+        except psutil.Error:
+            pass
+    return cpu, rss / 2**20
+
+
+class Student:
+    """One Panel session driven like a page: switch to the hydro tab, Start, acknowledge frames."""
+
+    def __init__(self, session):
+        self.s = session
+        self.doc = session.document
+        self.samples = []  # (wall, orbits shown)
+        self.acks = 0
+        self.started = False
+        self.hooked = set()
+
+    def models(self, name):
+        return [m for m in self.doc.models if type(m).__name__ == name]
+
+    def open_hydro(self):
+        tabs = self.models("Tabs")
+        tabs[0].active = 1
+
+    def poll(self):
+        """Hook up acknowledgements and the readout once the hydro tab's models exist; press Start."""
+        from bokeh.events import ButtonClick
+        from bokeh.document.events import MessageSentEvent
+        for src_name in ("hydro-profile-source", "hydro-spacetime-source"):
+            if src_name in self.hooked:
+                continue
+            src = self.doc.select_one({"name": src_name})
+            if src is None:
+                continue
+            figs = [f for f in self.models("figure") if any(getattr(r, "data_source", None) is src
+                                                            for r in f.renderers)]
+            if not figs:
+                continue
+            fig = figs[0]
+
+            def ack(attr, old, new, fig=fig):
+                fig.tags = [(fig.tags[0] if fig.tags else 0) + 1]
+                self.acks += 1
+            src.on_change("data", ack)
+            self.hooked.add(src_name)
+        for m in self.models("HTML"):
+            if "text" in m.properties() and 'id="hydro-readouts"' in html.unescape(m.text or "") and "readouts" not in self.hooked:
+                m.on_change("text", lambda attr, old, new: self._readout(new))
+                self.hooked.add("readouts")
+        if not self.started and len(self.hooked) == 3:
+            for b in self.models("Button"):
+                if "hydro-start" in (b.css_classes or []):
+                    self.doc.callbacks.trigger_on_change(MessageSentEvent(self.doc, "bokeh_event", ButtonClick(b)))
+                    self.started = True
+
+    def _readout(self, text):
+        m = ORBITS_RE.search(html.unescape(text or ""))
+        if m:
+            self.samples.append((time.perf_counter(), float(m.group(1))))
+
+    def rate(self, t0: float, t1: float) -> float:
+        s = [(t, o) for t, o in self.samples if t0 <= t <= t1]
+        if len(s) < 2 or s[-1][0] <= s[0][0]:
+            return 0.0
+        return (s[-1][1] - s[0][1]) / (s[-1][0] - s[0][0])
+
+
+class Prober:
+    """A session on the Linear tab that moves sigma0 and times the readout update."""
+
+    def __init__(self, session):
+        self.doc = session.document
+        self.slider = next(m for m in self.doc.models if type(m).__name__ == "Slider"
+                           and "σ₀" in (m.title or "") and "Compare" not in (m.title or ""))
+        self.readout = next(m for m in self.doc.models if type(m).__name__ == "HTML"
+                            and "text" in m.properties() and 'id="linear-readouts"' in html.unescape(m.text or ""))
+        self.readout.on_change("text", self._changed)
+        self.t_sent = None
+        self.latencies = []
+        self.values = [300.0, 500.0]
+
+    def move(self):
+        if self.t_sent is not None and time.perf_counter() - self.t_sent < 10:
+            return  # still waiting for the last one
+        if self.t_sent is not None:
+            self.latencies.append(10.0)  # lost (counted as 10 s)
+        v = self.values[len(self.latencies) % 2]
+        self.t_sent = time.perf_counter()
+        from bokeh.document.events import ModelChangedEvent
+        self.slider.value = v
+        self.doc.callbacks.trigger_on_change(ModelChangedEvent(self.doc, self.slider, "value_throttled", v))
+
+    def _changed(self, attr, old, new):
+        if self.t_sent is not None:
+            self.latencies.append(time.perf_counter() - self.t_sent)
+            self.t_sent = None
+
+
+def run(args) -> dict:
+    import panel  # noqa: F401  (registers Panel's models for the client documents)
+    from bokeh.client import ClientSession
+    from tornado.ioloop import IOLoop, PeriodicCallback
+
+    env = dict(os.environ)
+    cluster = None
+    if args.dask:
+        from dask.distributed import LocalCluster
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+        env["RINGLAB_DASK_SCHEDULER"] = cluster.scheduler_address
+    port = free_port()
+    server = start_server(port, args.num_procs, env)
+    try:
+        loop = IOLoop()
+        url = f"ws://127.0.0.1:{port}/main/ws"
+
+        def connect():
+            s = ClientSession(websocket_url=url, io_loop=loop)
+            s.pull()
+            return s
+        sessions = [connect() for _ in range(args.students)]
+        probe_session = connect()
+        probe = Prober(probe_session)
+        students = [Student(s) for s in sessions]
+        for s in sessions + [probe_session]:  # keep reading every connection (as loop_until_closed does)
+            s._connection._until_predicate = None
+            loop.add_callback(s._connection._next)
+        for st in students:
+            st.open_hydro()
+        polls = PeriodicCallback(lambda: [st.poll() for st in students], 200)
+        polls.start()
+        loop.call_later(args.warmup, lambda: probes.start())
+        probes = PeriodicCallback(probe.move, 2000)
+        t_start = time.perf_counter()
+        marks = {}
+
+        def mark_start():
+            marks["t0"] = time.perf_counter()
+            marks["cpu0"], _ = cpu_rss(tree(server.pid) + worker_procs(cluster))
+        loop.call_later(args.warmup, mark_start)
+        loop.call_later(args.warmup + args.seconds, loop.stop)
+        loop.start()
+        t1 = time.perf_counter()
+        procs = tree(server.pid)
+        cpu1, rss = cpu_rss(procs)
+        wcpu1, wrss = cpu_rss(worker_procs(cluster))
+        scpu0 = marks["cpu0"]
+        rates = [st.rate(marks["t0"], t1) for st in students]
+        lat = probe.latencies or [float("nan")]
+        server_only = cpu_rss([psutil.Process(server.pid)])[0]
+        out = dict(students=args.students, seconds=round(t1 - marks["t0"], 1), num_procs=args.num_procs,
+                   dask=bool(args.dask), per_session_orbits_per_s=[round(r, 2) for r in rates],
+                   aggregate_orbits_per_s=round(sum(rates), 2),
+                   min_max_ratio=round(max(rates) / min(rates), 2) if min(rates) > 0 else None,
+                   server_cores=round((cpu1 + wcpu1 - scpu0) / (t1 - marks["t0"]), 2),
+                   server_rss_mb=round(rss, 0), control_latency_s=dict(
+                       median=round(statistics.median(lat), 3), max=round(max(lat), 3), n=len(probe.latencies)),
+                   acks=[st.acks for st in students], started=[st.started for st in students],
+                   hooked=[len(st.hooked) for st in students], load_average=[round(x, 2) for x in os.getloadavg()],
+                   setup_s=round(marks["t0"] - t_start, 1))
+        if cluster is not None:
+            out["dask_worker_rss_mb"] = round(wrss, 0)
+            out["server_process_cpu_s_total"] = round(server_only, 1)
+        for s in sessions:
+            s.close()
+        # closing all tabs: CPU back to ~0 within 5 s?
+        time.sleep(5.0)
+        c0, _ = cpu_rss(tree(server.pid) + worker_procs(cluster))
+        time.sleep(2.0)
+        c1, _ = cpu_rss(tree(server.pid) + worker_procs(cluster))
+        out["cores_5s_after_close"] = round((c1 - c0) / 2.0, 2)
+        return out
+    finally:
+        server.terminate()
+        try:
+            server.wait(10)
+        except subprocess.TimeoutExpired:
+            server.kill()
+        if cluster is not None:
+            cluster.close()
+
+
+def worker_procs(cluster) -> list:
+    if cluster is None:
+        return []
+    pids = [w.process.pid for w in cluster.workers.values() if getattr(w, "process", None) is not None]
+    return [psutil.Process(p) for p in pids if p]
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--students", type=int, default=1)
+    ap.add_argument("--seconds", type=float, default=60.0)
+    ap.add_argument("--warmup", type=float, default=8.0, help="seconds before measuring (numba, first frames)")
+    ap.add_argument("--num-procs", type=int, default=1)
+    ap.add_argument("--dask", action="store_true", help="run the simulations on a LocalCluster of 2 workers")
+    ap.add_argument("--json", action="store_true", help="print one JSON object (the default output)")
+    args = ap.parse_args(argv)
+    if not 1 <= args.students <= 200:
+        print(f"error: --students = {args.students} is not valid: allowed 1 to 200", file=sys.stderr)
+        return 2
+    print(json.dumps(run(args)))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
