@@ -33,7 +33,7 @@ from .options import NBodyOptions
 from .recorder import Recorder
 
 SORT_EVERY = 20  # steps between reorderings of the particles into cell order
-CHUNK_PARTICLE_STEPS = 1_000_000  # particle-steps per kernel call (~0.1-0.3 s): checks, stop, wall budget
+CHUNK_PARTICLE_STEPS = 250_000  # particle-steps per kernel call (<= ~0.5 s on a loaded core): checks, stop, wall budget
 
 
 class NBodyBlowUp(BlowUp):
@@ -183,6 +183,10 @@ class ShearingBox:
         if value is not None:
             self._rec.thin(self._rec.max_len)
 
+    def thin_history(self, max_len: int) -> bool:
+        """Drop every second record (keeping the last) of a history longer than ``max_len``; True if done."""
+        return self._rec.thin(check_int("max_len", max_len, 2, 10**9))
+
     @property
     def history_thinned(self) -> bool:
         """True once the recorder dropped records to stay within :attr:`history_limit`."""
@@ -253,8 +257,9 @@ class ShearingBox:
         x_max = sanity.X_MAX_BOXES * self.L_x
         bad_x = ~(np.abs(pos[:, 0]) < x_max)
         if status != I.OK and bad_x.any():
-            i, what, value, why = int(np.argmax(bad_x)), "x", pos[int(np.argmax(bad_x)), 0] * self.R_p, \
-                f"beyond {sanity.X_MAX_BOXES:g} L_x from the box"
+            i = int(np.argmax(bad_x))
+            what, value = "x", pos[i, 0] * self.R_p
+            why = f"beyond {sanity.X_MAX_BOXES:g} L_x from the box:" if np.isfinite(value) else "non-finite"
         elif not (np.isfinite(pos).all() and np.isfinite(vel).all()):
             i = int(np.flatnonzero(~(np.isfinite(pos).all(1) & np.isfinite(vel).all(1)))[0])
             if not np.isfinite(pos[i]).all():
