@@ -179,3 +179,20 @@ def test_history_limit_thins_in_the_core():
     h = box.history
     assert len(h["time"]) <= 4 and h["time"][-1] == pytest.approx(0.5) and box.history_thinned
     assert len({len(v) for v in h.values()}) == 1
+
+
+def test_no_caller_touches_a_private_attribute_of_the_box():
+    """Outside ringcore/nbody, nothing reads or writes a ShearingBox's private attributes."""
+    import pathlib
+    import re
+
+    root = pathlib.Path(__file__).resolve().parents[1]
+    private = sorted(k for k in list(vars(make())) + dir(ShearingBox) if k.startswith("_") and not k.startswith("__"))
+    pat = re.compile(r"(?<!self)\.(" + "|".join(map(re.escape, private)) + r")\b")
+    hits = []
+    for d in ("app", "ringcore/cli", "ringcore/experiments", "ringcore/io", "ringcore/analysis"):
+        for f in sorted((root / d).rglob("*.py")):
+            for n, line in enumerate(f.read_text().splitlines(), 1):
+                if pat.search(line):
+                    hits.append(f"{f.relative_to(root)}:{n}: {line.strip()}")
+    assert not hits, "\n".join(hits)

@@ -411,12 +411,13 @@ class ShearingBox:
         return tr
 
     def diagnostics(self) -> dict:
-        """Current box means (SI): ``ekin`` [sigma0 (R_p Omega)^2], ``c_mean`` [m/s], ``T`` [m^2/s^2],
-        ``lambda_p`` [m], ``z_rms`` [m], plus :meth:`transport` of the current averaging interval."""
+        """Current box means (SI): ``ekin`` (also ``e_kin``) [sigma0 (R_p Omega)^2], ``c_mean`` [m/s],
+        ``lambda_p`` (also ``lambda_p_m``) [m], ``z_rms`` [m], ``orbit``, ``steps``, ``N``, ``tau``, plus :meth:`transport` of the current averaging interval."""
         p = D.tabulate(self.pos, self.vel, self.L_x, self.options.zones)
         out = dict(orbit=self.orbits, N=self.N, tau=self.tau, ekin=D.e_kin(p),
                    c_mean=D.mean_dispersion(p) * self.v_unit, lambda_p=D.psd(p, self.L_x)[2] * self.R_p,
-                   z_rms=float(np.sqrt(np.mean(self.pos[:, 2] ** 2))) * self.R_p)
+                   z_rms=float(np.sqrt(np.mean(self.pos[:, 2] ** 2))) * self.R_p, steps=self._steps)
+        out.update(e_kin=out["ekin"], lambda_p_m=out["lambda_p"])  # the contract's names (as the hydro engine)
         if self.acc[K.A_TIME] > 0:
             out.update(self.transport())
         return out
