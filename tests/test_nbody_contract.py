@@ -196,3 +196,20 @@ def test_no_caller_touches_a_private_attribute_of_the_box():
                 if pat.search(line):
                     hits.append(f"{f.relative_to(root)}:{n}: {line.strip()}")
     assert not hits, "\n".join(hits)
+
+
+def test_cli_run_stops_within_2_s_of_sigterm_and_keeps_the_state(tmp_path):
+    import signal
+
+    out = tmp_path / "x.nc"
+    proc = subprocess.Popen([sys.executable, "-m", "ringcore.cli.main", "nbody", "--L-x", "50", "--L-y", "25",
+                             "--orbits", "200", "--sigma0", "400", "--no-progress", "--out", str(out)],
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    time.sleep(6.0)  # start-up and a few hundred steps
+    t0 = time.perf_counter()
+    proc.send_signal(signal.SIGTERM)
+    proc.wait(timeout=60)
+    waited = time.perf_counter() - t0
+    assert proc.returncode != 0 and waited < 2.0 + 1.0  # 2 s + slack for saving the file on a loaded machine
+    if out.exists():
+        assert ShearingBox.load(out).orbits < 200
