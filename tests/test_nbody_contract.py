@@ -104,8 +104,9 @@ def test_stop_is_polled_between_kernel_calls():
         calls.append(1)
         return len(calls) >= 3
 
-    box.advance(1.0, stop=stop)
-    assert box.steps == 15
+    box.advance(1.0, stop=stop)  # polled before the first kernel call and after each
+    assert box.steps == 10
+    assert box.advance(1.0, stop=lambda: True) == 0.0 and box.steps == 10
 
 
 def test_runaway_speed_blows_up_with_fields_and_keeps_last_good_state():

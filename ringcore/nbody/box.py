@@ -307,6 +307,8 @@ class ShearingBox:
         done, orbit0 = 0, self.orbits
         with tqdm(total=n_total, disable=not progress, unit="step", desc="nbody") as bar:
             while done < n_total:
+                if stop is not None and stop():
+                    break
                 n = min(chunk - self._steps % chunk, n_total - done)
                 m = self._advance_steps(n, deadline, stop)
                 done += m
