@@ -1,8 +1,10 @@
 """The controller of one session's live N-body shearing box: :class:`NBodyRunner`.
 
 Owns a :class:`ringcore.nbody.ShearingBox`; each chunk (computed in the server's shared
-worker pool, :mod:`app.live_loop`) advances the box in chunks of ``RECORD_EVERY`` orbits (``ShearingBox.run``, which records
-the box means) for a wall-time budget, like :class:`app.hydro_runner.HydroRunner`.
+worker pool off the event loop, :mod:`app.live_loop`) advances the box for a wall-time budget
+(``ShearingBox.advance(max_wall_s=...)``), like :class:`app.hydro_runner.HydroRunner`; the box
+pushes every recorded box mean (every ``RECORD_EVERY`` orbits) to :meth:`NBodyRunner._on_sample`
+and thins its own history.
 Transport coefficients (effective dispersion c_eff, viscosity nu) are averaged over
 windows of ``TRANSPORT_WINDOW`` orbits and compared with the parameter set's c0 and nu0,
 which the hydrodynamic model takes from N-body simulations of the same tau and
@@ -47,13 +49,7 @@ def _set_names():
 
 def thin_history(box, max_len: int) -> bool:
     """Drop every second recorded box mean / profile of a ShearingBox whose history got long."""
-    done = False
-    for hist in (box.history, box.profile_history):
-        if len(hist["time"]) > max_len:
-            for lst in hist.values():
-                lst[:] = lst[:-1:2] + lst[-1:]
-            done = True
-    return done
+    return box.thin_history(max_len)
 
 
 class NBodyRunner(LiveLoop, param.Parameterized):
@@ -124,8 +120,8 @@ class NBodyRunner(LiveLoop, param.Parameterized):
         self.box = box = ShearingBox(p, self.options(), seed=self.seed)
         self.numbers = characteristic_numbers((p.name, p.sigma0, p.isothermal, 1.0, p.p_s if p.isothermal else 1.0))
         self.series = SeriesBuffer(("ekin", "c_mean", "collision_frequency", "lambda_p"))
-        self._n_hist = 0
-        self._collect()
+        box.history_limit = MAX_HISTORY
+        box.on_sample(self._on_sample)
         self.transport = {}
         self._window_start = 0.0
         self.blowup = ""
@@ -171,33 +167,24 @@ class NBodyRunner(LiveLoop, param.Parameterized):
         self.frame += 1
 
     def advance(self, budget_s: float, orbits: float | None = None) -> float:
-        """Run chunks of RECORD_EVERY orbits for ``budget_s`` s (or ``orbits`` orbits); returns orbits done."""
+        """Advance the box for ``budget_s`` s of wall time (or ``orbits`` orbits); returns orbits done."""
         box = self.box
-        t0, o0 = time.perf_counter(), box.orbits
+        o0 = box.orbits
         try:
-            while time.perf_counter() - t0 < budget_s:
-                if orbits is not None and box.orbits - o0 >= orbits - 1e-9:
-                    break
-                box.run(orbits=RECORD_EVERY)
-                self._collect()
+            box.advance(orbits=1e6 if orbits is None else orbits, max_wall_s=budget_s)
         except NBodyBlowUp as exc:
             self.blowup = f"{exc}. The run is paused; press Reset to start again."
             self.pause()
             self.status = "Blown up: paused at the last good state."
-        self._rates.append((time.perf_counter(), box.orbits, round(box.t / box.dt)))
-        if thin_history(box, MAX_HISTORY):
-            self.thinned = True
-            self._n_hist = len(box.history["time"])
+        self._rates.append((time.perf_counter(), box.orbits, box.steps))
+        self.thinned = box.history_thinned
         return box.orbits - o0
 
-    def _collect(self):
-        box = self.box
-        h = box.history
-        for i in range(self._n_hist, len(h["time"])):
-            self.series.add(h["time"][i], ekin=h["ekin"][i], c_mean=h["c_mean"][i],
-                            collision_frequency=h["collision_frequency"][i], lambda_p=h["lambda_p"][i])
-        self._n_hist = len(h["time"])
-        if box.orbits - getattr(self, "_window_start", 0.0) >= TRANSPORT_WINDOW - 1e-9:
+    def _on_sample(self, box, s: dict) -> None:
+        """Called by the box after every recorded box mean: live series and transport windows."""
+        self.series.add(s["orbit"], ekin=s["e_kin"], c_mean=s["c_mean"],
+                        collision_frequency=s["collision_frequency"], lambda_p=s["lambda_p_m"])
+        if box.orbits - self._window_start >= TRANSPORT_WINDOW - 1e-9:
             self.transport = box.transport()
             box.reset_accumulators()
             self._window_start = box.orbits

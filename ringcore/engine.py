@@ -190,7 +190,7 @@ class SampleHub:
 # kind -> (package, engine class); kind -> run-file module providing dataset_from_state(state),
 # state_from_dataset(ds) -> State and save_state(state, path, complete=, **attrs)
 ENGINES = {"hydro": ("ringcore.hydro", "Hydro1D"), "nbody": ("ringcore.nbody", "ShearingBox")}
-RUNFILES = {"hydro": "ringcore.hydro.runfile"}
+RUNFILES = {"hydro": "ringcore.hydro.runfile", "nbody": "ringcore.nbody.store"}
 
 
 def _check_kind(kind, table):

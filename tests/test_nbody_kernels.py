@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from ringcore.nbody import gravity, kernels as K
-from ringcore.nbody.integrator import advance
+from ringcore.nbody import integrator as I
 
 DT = 2 * math.pi * 1e-3
 
@@ -34,10 +34,13 @@ def run_free(pos, vel, nsteps, L_x=1e6, L_y=1e6, oz=3.6, t0=0.0, collisions=Fals
         n_cx = n_cy = 3
         ws = dict(cell_start=np.zeros(13, np.int64))
     acc = K.new_accumulators() if acc is None else acc
-    t = advance(pos, vel, t0, nsteps, DT, oz, L_x, L_y, n_cx, n_cy, collisions, mode, eps, v_c, 0.0, 1, 1,
-                np.zeros(64), np.zeros(64), np.zeros((2, 1)), np.zeros((n, 3)), np.zeros(n, np.int64),
-                ws["cell_start"], np.zeros(2 * n, np.int64), np.zeros(2 * n, np.int64), acc,
-                np.arange(n), 0, np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n, np.int64))
+    fpar, ipar = I.pack_params(t0, DT, oz, L_x, L_y, eps, v_c, 0.0, math.inf, n_cx, n_cy, collisions, mode,
+                               1, 1, 0)
+    work = I.new_work(n, n_cx, n_cy, 64, 1)
+    work = work[:I.W_CELL_START] + (ws["cell_start"],) + work[I.W_CELL_START + 1:]
+    status, done = I.advance(pos, vel, np.arange(n), acc, fpar, ipar, work, 0, nsteps)
+    assert status == I.OK and done == nsteps
+    t = t0 + nsteps * DT
     return t, acc
 
 

@@ -201,8 +201,6 @@ def test_other_kinds_need_schema_only(tmp_path):
     assert "state_sha256" not in read_run(tmp_path / "recipe.nc").attrs
 
 
-@pytest.mark.xfail(reason="needs the one-line validate_run call in hydro/runfile.py and nbody/store.py "
-                          "from_dataset (engine owners); remove this mark when wired", strict=False)
 @pytest.mark.parametrize("kind", ["hydro", "nbody"])
 def test_from_dataset_of_a_damaged_dataset(files, kind):
     ds = read_run(files[kind])

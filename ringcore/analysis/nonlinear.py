@@ -203,7 +203,7 @@ def nbody_frequency(p: RingParams, wavelength_m: float, *, amplitude: float = 10
     U = np.empty(n + 1, complex)
     t[0], U[0] = box.t, velocity_mode(box.pos, box.vel, box.L_x, 1)
     for j in range(1, n + 1):
-        box.step(nstep)
+        box.advance(orbits=nstep * dt_orbit)
         t[j], U[j] = box.t, velocity_mode(box.pos, box.vel, box.L_x, 1)
     t = t - t[0]
     use = t >= discard * TWO_PI

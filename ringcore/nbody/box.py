@@ -15,35 +15,44 @@ References: eqs. (hill), (bridges), (fdecomp)-(sgmodes), (ekin); Table "tab:nbst
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 from tqdm.auto import tqdm
 
 from ..checks import check_int, check_real
+from ..engine import BlowUp, SampleHub, State
 from ..params import RingParams
 from ..units import G
 from . import diagnostics as D
 from . import initial
+from . import integrator as I
 from . import kernels as K
-from .integrator import advance
+from . import sanity
 from .options import NBodyOptions
-
+from .recorder import Recorder
 
 SORT_EVERY = 20  # steps between reorderings of the particles into cell order
+CHUNK_PARTICLE_STEPS = 250_000  # particle-steps per kernel call (<= ~0.5 s on a loaded core): checks, stop, wall budget
 
 
-class NBodyBlowUp(RuntimeError):
-    """A non-finite particle state; the box keeps the last good state."""
+class NBodyBlowUp(BlowUp):
+    """A non-finite or runaway particle state (``what``: ``"x"``, ``"v_x"``, ..., ``"peculiar speed"``;
+    ``where_m``: the particle's last good x [m]); the box keeps the last good state."""
+
+    engine = "nbody"
 
 
 class ShearingBox:
     """N identical smooth spheres in a co-moving box with shear-periodic boundaries.
 
+    Satisfies the engine contract :class:`ringcore.engine.Engine` (``kind = "nbody"``).
+
     Parameters
     ----------
     params : RingParams
         Physics: ``tau`` (sets N = tau L_x L_y / (pi R_p^2)), ``omega_z``, ``sigma0``
-        (radial self-gravity, 0: off), ``Omega``.
+        (radial self-gravity, 0: off; at most :func:`ringcore.nbody.sanity.sigma0_max`), ``Omega``.
     options : NBodyOptions
         Geometry, collision law, time step, self-gravity modes, diagnostics.
     seed : int
@@ -53,11 +62,13 @@ class ShearingBox:
     ids : array of int, optional
         Particle labels of ``state`` (particles are reordered in memory; ``ids`` follows them).
 
-    Time is ``t = t0 + step_count * dt`` and the box means are recorded when ``step_count`` is a
-    multiple of ``record_every``: a run split into pieces (checkpoints, interruptions) is
+    Time is ``t = t0 + steps * dt`` and the box means are recorded when ``steps`` is a multiple
+    of ``record_every``: a run split into pieces (checkpoints, interruptions, ``max_wall_s``) is
     bit-for-bit the same as the uninterrupted run.  ``rng`` (seeded by ``seed``) made the
     initial state; its state is saved with the run.
     """
+
+    kind = "nbody"
 
     def __init__(self, params: RingParams, options: NBodyOptions | None = None, seed: int = 0, *,
                  state=None, ids=None):
@@ -69,6 +80,7 @@ class ShearingBox:
         self.R_p, self.Omega = o.R_p, params.Omega
         self.L_x, self.L_y = o.L_x / o.R_p, o.L_y / o.R_p  # [R_p]
         self.dt = 2.0 * math.pi * o.dt_orbit  # [1/Omega]
+        sanity.check_sigma0(params.sigma0, o.R_p, params.Omega, o.L_x, o.m_hi, self.dt)
         self.rng = np.random.default_rng(self.seed)
         if state is None:
             n = int(round(params.tau * o.fill_fraction * o.L_x * o.L_y / (math.pi * o.R_p**2)))
@@ -81,33 +93,33 @@ class ShearingBox:
         self.pos = np.ascontiguousarray(pos, float)
         self.vel = np.ascontiguousarray(vel, float)
         self._t0 = float(t)  # [1/Omega] time of step 0
-        self.step_count = 0
+        self._steps = 0
         self.ids = np.arange(self.pos.shape[0], dtype=np.int64) if ids is None else np.asarray(ids, np.int64)
         self._alloc()
         self.acc = K.new_accumulators()
         self._acc_before = K.new_accumulators()  # sum of the intervals closed by reset_accumulators
-        self.history = {k: [] for k in ("time", "ekin", "c_mean", "T", "collision_frequency",
-                                        "lambda_p", "unresolved", "crossings")}
-        self.profile_history = {k: [] for k in ("time", "sigma", "u", "v", "c")}
+        self._rec = Recorder()
+        self._hub = SampleHub()
         self._last_acc = self.acc_total.copy()
 
     # ------------------------------------------------------------------ set-up
     def _alloc(self) -> None:
         o, n = self.options, self.pos.shape[0]
         self.n_cx, self.n_cy = int(self.L_x // 2.0), int(self.L_y // 2.0)
-        ncell = (self.n_cx + 1) * self.n_cy
-        self._gpos = np.zeros((n, 3))
-        self._gsrc = np.zeros(n, np.int64)
-        self._cell_start = np.zeros(ncell + 1, np.int64)
-        self._cell_entries = np.zeros(2 * n, np.int64)
-        self._cell_of = np.zeros(2 * n, np.int64)
-        self._rho = np.zeros(o.bins)
-        self._force = np.zeros(o.bins)
-        self._coef = np.zeros((2, o.m_hi - o.m_lo + 1))
         self._g = -2.0 * math.pi * G * self.params.sigma0 / (self.R_p * self.Omega**2)
         self._mode = 1 if o.restitution == "bridges" else 0
-        self._spos, self._svel = np.zeros((n, 3)), np.zeros((n, 3))
-        self._sids = np.zeros(n, np.int64)
+        self._work = w = I.new_work(n, self.n_cx, self.n_cy, o.bins, o.m_hi - o.m_lo + 1)
+        self._gpos, self._gsrc, self._cell_start = w[I.W_GPOS], w[I.W_GSRC], w[I.W_CELL_START]
+        self._cell_entries, self._cell_of = w[I.W_CELL_ENTRIES], w[I.W_CELL_OF]
+        self._good = (np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n, np.int64), K.new_accumulators())
+        self._chunk_max = max(1, CHUNK_PARTICLE_STEPS // max(n, 1))
+        self._v_max = sanity.speed_bound(self.L_x)
+
+    def _params(self):
+        o = self.options
+        return I.pack_params(self._t0, self.dt, self.params.omega_z, self.L_x, self.L_y, o.epsilon,
+                             o.v_c / self.v_unit, self._g, sanity.X_MAX_BOXES * self.L_x, self.n_cx, self.n_cy,
+                             o.collisions, self._mode, o.m_lo, o.m_hi, SORT_EVERY)
 
     @property
     def v_unit(self) -> float:
@@ -125,13 +137,18 @@ class ShearingBox:
         return self.N * math.pi / (self.L_x * self.L_y)
 
     @property
+    def steps(self) -> int:
+        """Time steps taken since the time origin t0 (read-only)."""
+        return self._steps
+
+    @property
     def t(self) -> float:
-        """Time [1/Omega] = t0 + step_count * dt."""
-        return self._t0 + self.step_count * self.dt
+        """Time [1/Omega] = t0 + steps * dt."""
+        return self._t0 + self._steps * self.dt
 
     @t.setter
     def t(self, value: float) -> None:
-        self._t0, self.step_count = float(value), 0
+        self._t0, self._steps = float(value), 0
 
     @property
     def acc_total(self) -> np.ndarray:
@@ -140,8 +157,40 @@ class ShearingBox:
 
     @property
     def orbits(self) -> float:
-        """Elapsed time [orbits]."""
+        """Elapsed time [orbits] (read-only)."""
         return self.t / (2.0 * math.pi)
+
+    @property
+    def history(self) -> dict:
+        """Recorded box means: lists ``time`` [orbits], ``ekin``, ``c_mean`` [m/s], ``T`` [m^2/s^2],
+        ``collision_frequency`` [1/orbit], ``lambda_p`` [m], ``unresolved``, ``crossings`` (read them,
+        do not edit: the core thins them, see :attr:`history_limit`)."""
+        return self._rec.series
+
+    @property
+    def profile_history(self) -> dict:
+        """Recorded radial profiles: lists ``time`` [orbits], ``sigma``, ``u``, ``v``, ``c`` [m/s] rows."""
+        return self._rec.profiles
+
+    @property
+    def history_limit(self) -> int | None:
+        """Records kept before every second one is dropped (None: unbounded)."""
+        return self._rec.max_len
+
+    @history_limit.setter
+    def history_limit(self, value: int | None) -> None:
+        self._rec.max_len = None if value is None else check_int("history_limit", value, 2, 10**9)
+        if value is not None:
+            self._rec.thin(self._rec.max_len)
+
+    def thin_history(self, max_len: int) -> bool:
+        """Drop every second record (keeping the last) of a history longer than ``max_len``; True if done."""
+        return self._rec.thin(check_int("max_len", max_len, 2, 10**9))
+
+    @property
+    def history_thinned(self) -> bool:
+        """True once the recorder dropped records to stay within :attr:`history_limit`."""
+        return self._rec.thinned
 
     def seed_mode(self, m: int, amplitude: float, phase: float = 0.0) -> None:
         """Add a radial velocity wave u = amplitude sin(2 pi m x / L_x + phase).
@@ -157,41 +206,90 @@ class ShearingBox:
         self._acc_before += self.acc
         self.acc[:] = 0.0
 
-    # ------------------------------------------------------------------ running
-    def step(self, nsteps: int = 1) -> None:
-        """Advance ``nsteps`` time steps (no recording). Raises NBodyBlowUp on a non-finite state."""
-        nsteps = check_int("nsteps", nsteps, 0, 10**9)
-        if nsteps == 0:
-            return
-        o = self.options
-        good = (self.pos.copy(), self.vel.copy(), self.step_count, self.ids.copy(), self.acc.copy())
-        advance(self.pos, self.vel, self._t0, nsteps, self.dt, self.params.omega_z, self.L_x, self.L_y,
-                self.n_cx, self.n_cy, o.collisions, self._mode, o.epsilon, o.v_c / self.v_unit,
-                self._g, o.m_lo, o.m_hi, self._rho, self._force, self._coef, self._gpos, self._gsrc,
-                self._cell_start, self._cell_entries, self._cell_of, self.acc,
-                self.ids, SORT_EVERY, self._spos, self._svel, self._sids, self.step_count)
-        self.step_count += nsteps
-        if not (np.isfinite(self.pos).all() and np.isfinite(self.vel).all()):
-            bad = np.flatnonzero(~(np.isfinite(self.pos).all(1) & np.isfinite(self.vel).all(1)))[0]
-            if not np.isfinite(self.pos[bad]).all():
-                field = ("x", "y", "z")[int(np.argmin(np.isfinite(self.pos[bad])))]
-            else:
-                field = ("v_x", "v_y", "v_z")[int(np.argmin(np.isfinite(self.vel[bad])))]
-            pid = int(self.ids[bad])
-            where = good[0][int(np.flatnonzero(good[3] == pid)[0]), 0] * self.R_p
-            t_end = self.orbits
-            self.pos, self.vel, self.step_count, self.ids = good[:4]
-            self.acc[:] = good[4]
-            raise NBodyBlowUp(f"non-finite {field} of particle {pid} (last good x = {where:.2f} m) between "
-                              f"orbit {self.orbits:.3f} and {t_end:.3f}; kept the last good state")
+    # ------------------------------------------------------------------ callbacks
+    def on_sample(self, fn) -> int:
+        """Call ``fn(box, sample)`` after every recorded box mean; returns a handle.
 
-    def run(self, orbits: float | None = None, progress: bool = False, *, until: float | None = None,
-            stop=None) -> "ShearingBox":
+        ``sample`` keys: ``orbit``, ``steps``, ``e_kin`` [sigma0 (R_p Omega)^2], ``lambda_p_m`` [m],
+        ``c_mean`` [m/s], ``T`` [m^2/s^2], ``collision_frequency`` [1/orbit], ``unresolved``,
+        ``crossings``, and ``profile`` (dict ``sigma``, ``u``, ``v``, ``c`` [m/s] zone rows) when a
+        profile was recorded too.
+        """
+        return self._hub.add(fn)
+
+    def remove_callback(self, handle: int) -> None:
+        """Unregister a callback of :meth:`on_sample`."""
+        self._hub.remove(handle)
+
+    # ------------------------------------------------------------------ running
+    def step(self) -> None:
+        """Advance ONE time step (no recording). Raises NBodyBlowUp on a non-finite or runaway state."""
+        self._advance_steps(1)
+
+    def _advance_steps(self, nsteps: int, deadline: float | None = None, stop=None) -> int:
+        """Advance up to ``nsteps`` steps in kernel calls of <= ``_chunk_max`` steps, checking the state
+        after each; return early (after >= 1 call) past ``deadline`` (perf_counter) or when ``stop()``."""
+        nsteps = check_int("nsteps", nsteps, 0, 10**12)
+        done = 0
+        fpar, ipar = self._params()
+        while done < nsteps:
+            n = min(self._chunk_max, nsteps - done)
+            good = self._good
+            np.copyto(good[0], self.pos)
+            np.copyto(good[1], self.vel)
+            np.copyto(good[2], self.ids)
+            np.copyto(good[3], self.acc)
+            status, k = I.advance(self.pos, self.vel, self.ids, self.acc, fpar, ipar, self._work, self._steps, n)
+            self._check(status, k)
+            self._steps += n
+            done += n
+            if (deadline is not None and time.perf_counter() >= deadline) or (stop is not None and stop()):
+                break
+        return done
+
+    def _check(self, status: int, k: int) -> None:
+        """Raise NBodyBlowUp (after putting back the last good state) if the chunk ran away."""
+        pos, vel = self.pos, self.vel
+        w2 = vel[:, 0] ** 2 + (vel[:, 1] + 1.5 * pos[:, 0]) ** 2 + vel[:, 2] ** 2
+        if status == I.OK and np.isfinite(pos).all() and np.isfinite(w2).all() and w2.max() <= self._v_max**2:
+            return
+        step = self._steps + (k + 1 if status != I.OK else 1)
+        x_max = sanity.X_MAX_BOXES * self.L_x
+        bad_x = ~(np.abs(pos[:, 0]) < x_max)
+        if status != I.OK and bad_x.any():
+            i = int(np.argmax(bad_x))
+            what, value = "x", pos[i, 0] * self.R_p
+            why = f"beyond {sanity.X_MAX_BOXES:g} L_x from the box:" if np.isfinite(value) else "non-finite"
+        elif not (np.isfinite(pos).all() and np.isfinite(vel).all()):
+            i = int(np.flatnonzero(~(np.isfinite(pos).all(1) & np.isfinite(vel).all(1)))[0])
+            if not np.isfinite(pos[i]).all():
+                what = ("x", "y", "z")[int(np.argmin(np.isfinite(pos[i])))]
+            else:
+                what = ("v_x", "v_y", "v_z")[int(np.argmin(np.isfinite(vel[i])))]
+            value, why = math.nan, "non-finite"
+        else:
+            i = int(np.nanargmax(w2))
+            what, value = "peculiar speed", math.sqrt(w2[i]) * self.v_unit
+            why = f"runaway: above {self._v_max * self.v_unit:.3g} m/s (sanity.speed_bound)"
+        pid = int(self.ids[i])
+        good = self._good
+        j = int(np.flatnonzero(good[2] == pid)[0])
+        where = good[0][j, 0] * self.R_p
+        np.copyto(self.pos, good[0])
+        np.copyto(self.vel, good[1])
+        np.copyto(self.ids, good[2])
+        np.copyto(self.acc, good[3])
+        raise NBodyBlowUp(what, where, self.orbits, step, value, detail=f"{why} {what} of particle {pid}")
+
+    def advance(self, orbits: float | None = None, *, until: float | None = None, max_wall_s: float | None = None,
+                stop=None, progress: bool = False) -> float:
         """Integrate for ``orbits`` more orbits (or up to orbit ``until``; rounded to whole steps).
 
         Box means are recorded whenever the step count is a multiple of ``options.record_every``
-        (profiles: of ``profile_every``).  ``stop``: optional callable polled after every record
-        interval (e.g. a :class:`ringcore.io.StopRequest`); the run returns early when it is True.
+        (profiles: of ``profile_every``) and pushed to the :meth:`on_sample` callbacks.  Returns
+        early, at a step boundary, once ``max_wall_s`` seconds of wall time are used or ``stop()``
+        (e.g. a :class:`ringcore.io.StopRequest`, polled at least every ~0.3 s) is True; the
+        numbers never depend on such splits.  Returns the orbits advanced.
         """
         if (orbits is None) == (until is None):
             raise ValueError("give exactly one of orbits (duration) or until (end time), in orbits")
@@ -199,22 +297,33 @@ class ShearingBox:
             orbits = check_real("until", until, self.orbits - 0.5 * self.options.dt_orbit, 1e7,
                                 unit="orbits") - self.orbits
         orbits = check_real("orbits", max(orbits, 0.0), 0.0, 1e7, unit="orbits")
+        deadline = None
+        if max_wall_s is not None:
+            deadline = time.perf_counter() + check_real("max_wall_s", max_wall_s, 0.0, math.inf, unit="s")
         o = self.options
         n_total = int(round(orbits / o.dt_orbit))
         chunk = max(1, int(round(o.record_every / o.dt_orbit)))
         pchunk = int(round(o.profile_every / o.dt_orbit)) if o.profile_every > 0 else 0
-        done = 0
+        done, orbit0 = 0, self.orbits
         with tqdm(total=n_total, disable=not progress, unit="step", desc="nbody") as bar:
             while done < n_total:
-                n = min(chunk - self.step_count % chunk, n_total - done)
-                self.step(n)
-                done += n
-                bar.update(n)
-                if self.step_count % chunk == 0:
-                    self._record(pchunk > 0 and self.step_count % pchunk == 0)
-                    bar.set_postfix(orbit=f"{self.orbits:.2f}", c=f"{self.history['c_mean'][-1]*1e3:.3f}mm/s")
                 if stop is not None and stop():
                     break
+                n = min(chunk - self._steps % chunk, n_total - done)
+                m = self._advance_steps(n, deadline, stop)
+                done += m
+                bar.update(m)
+                if self._steps % chunk == 0:
+                    self._record(pchunk > 0 and self._steps % pchunk == 0)
+                    bar.set_postfix(orbit=f"{self.orbits:.2f}", c=f"{self.history['c_mean'][-1]*1e3:.3f}mm/s")
+                if (stop is not None and stop()) or (deadline is not None and time.perf_counter() >= deadline):
+                    break
+        return self.orbits - orbit0
+
+    def run(self, orbits: float | None = None, progress: bool = False, *, until: float | None = None,
+            stop=None) -> "ShearingBox":
+        """:meth:`advance` (without a wall budget), returning the box (the older name)."""
+        self.advance(orbits, until=until, stop=stop, progress=progress)
         return self
 
     def _record(self, profiles: bool) -> None:
@@ -222,20 +331,57 @@ class ShearingBox:
         d = self.acc_total - self._last_acc
         self._last_acc = self.acc_total
         dorb = d[K.A_TIME] / (2.0 * math.pi)
-        h = self.history
-        h["time"].append(self.orbits)
-        h["ekin"].append(D.e_kin(prof))
-        h["c_mean"].append(D.mean_dispersion(prof) * self.v_unit)
-        h["T"].append(float(np.nanmean(prof.c**2)) * self.v_unit**2)
-        h["collision_frequency"].append(2.0 * d[K.A_NCOLL] / self.N / dorb if dorb > 0 else math.nan)
-        h["lambda_p"].append(D.psd(prof, self.L_x)[2] * self.R_p)
-        h["unresolved"].append(d[K.A_NUNRES])
-        h["crossings"].append(d[K.A_CROSS])
+        row = dict(time=self.orbits, ekin=D.e_kin(prof), c_mean=D.mean_dispersion(prof) * self.v_unit,
+                   T=float(np.nanmean(prof.c**2)) * self.v_unit**2,
+                   collision_frequency=2.0 * d[K.A_NCOLL] / self.N / dorb if dorb > 0 else math.nan,
+                   lambda_p=D.psd(prof, self.L_x)[2] * self.R_p, unresolved=d[K.A_NUNRES], crossings=d[K.A_CROSS])
+        prow = None
         if profiles:
-            ph = self.profile_history
-            ph["time"].append(self.orbits)
-            for k in ("sigma", "u", "v", "c"):
-                ph[k].append(getattr(prof, k) * (1.0 if k == "sigma" else self.v_unit))
+            prow = {k: getattr(prof, k) * (1.0 if k == "sigma" else self.v_unit) for k in ("sigma", "u", "v", "c")}
+            prow["time"] = self.orbits
+        self._rec.append(row, prow)
+        if self._hub:
+            sample = dict(orbit=row["time"], steps=self._steps, e_kin=row["ekin"], lambda_p_m=row["lambda_p"],
+                          **{k: row[k] for k in ("c_mean", "T", "collision_frequency", "unresolved", "crossings")})
+            if prow is not None:
+                sample["profile"] = {k: prow[k] for k in ("sigma", "u", "v", "c")}
+            self._hub.emit(self, sample)
+
+    # ------------------------------------------------------------------ state
+    def snapshot(self) -> State:
+        """The exact state as a :class:`ringcore.engine.State` (deep copies).
+
+        Arrays: ``pos``, ``vel`` (N, 3) [kernel units] and ``ids`` (N,) in memory order; ``acc``,
+        ``acc_before``, ``acc_last_record`` (N_ACC,); the recorder's ``history_<k>`` and
+        ``profile_time``, ``profile_<k>`` (n_prof, zones).  Meta: ``t0`` [1/Omega], ``steps``,
+        ``seed``, ``rng_state``, ``history_limit``, ``history_thinned``.
+        """
+        arrays = dict(pos=self.pos.copy(), vel=self.vel.copy(), ids=self.ids.copy(), acc=self.acc.copy(),
+                      acc_before=self._acc_before.copy(), acc_last_record=np.array(self._last_acc, copy=True))
+        arrays.update(self._rec.arrays(self.options.zones))
+        meta = dict(t0=self._t0, steps=self._steps, seed=self.seed, rng_state=self.rng.bit_generator.state,
+                    history_limit=self._rec.max_len, history_thinned=self._rec.thinned)
+        return State(self.kind, self.params, self.options, arrays, meta).copy()
+
+    @classmethod
+    def restore(cls, state: State) -> "ShearingBox":
+        """A box that continues ``state`` (from :meth:`snapshot`) bit for bit (callbacks not included)."""
+        if not isinstance(state, State) or state.kind != cls.kind:
+            raise ValueError(f"state = {state!r:.80} is not valid: give a State of kind 'nbody'")
+        a, m = state.arrays, state.meta
+        o = state.options
+        t0, steps = float(m["t0"]), int(m["steps"])
+        box = cls(state.params, o, seed=int(m["seed"]), state=(a["pos"].copy(), a["vel"].copy(),
+                                                                 t0 + steps * 2.0 * math.pi * o.dt_orbit),
+                  ids=a["ids"].copy())
+        box._t0, box._steps = t0, steps
+        box.acc[:] = a["acc"]
+        box._acc_before[:] = a["acc_before"]
+        box._last_acc = np.array(a["acc_last_record"], float, copy=True)
+        box._rec = Recorder.from_arrays(a, m.get("history_limit"), m.get("history_thinned", False))
+        if m.get("rng_state") is not None:
+            box.rng.bit_generator.state = m["rng_state"]
+        return box
 
     # ------------------------------------------------------------------ results
     def profiles(self, n_zones: int | None = None) -> D.Profiles:
@@ -267,12 +413,13 @@ class ShearingBox:
         return tr
 
     def diagnostics(self) -> dict:
-        """Current box means (SI): ``ekin`` [sigma0 (R_p Omega)^2], ``c_mean`` [m/s], ``T`` [m^2/s^2],
-        ``lambda_p`` [m], ``z_rms`` [m], plus :meth:`transport` of the current averaging interval."""
+        """Current box means (SI): ``ekin`` (also ``e_kin``) [sigma0 (R_p Omega)^2], ``c_mean`` [m/s],
+        ``lambda_p`` (also ``lambda_p_m``) [m], ``z_rms`` [m], ``orbit``, ``steps``, ``N``, ``tau``, plus :meth:`transport` of the current averaging interval."""
         p = D.tabulate(self.pos, self.vel, self.L_x, self.options.zones)
         out = dict(orbit=self.orbits, N=self.N, tau=self.tau, ekin=D.e_kin(p),
                    c_mean=D.mean_dispersion(p) * self.v_unit, lambda_p=D.psd(p, self.L_x)[2] * self.R_p,
-                   z_rms=float(np.sqrt(np.mean(self.pos[:, 2] ** 2))) * self.R_p)
+                   z_rms=float(np.sqrt(np.mean(self.pos[:, 2] ** 2))) * self.R_p, steps=self._steps)
+        out.update(e_kin=out["ekin"], lambda_p_m=out["lambda_p"])  # the contract's names (as the hydro engine)
         if self.acc[K.A_TIME] > 0:
             out.update(self.transport())
         return out

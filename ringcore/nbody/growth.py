@@ -81,7 +81,7 @@ def measure(box, m: int, orbits: float, sample_every: float = 0.05, skip: float 
     U = np.empty(n + 1, complex)
     t[0], U[0] = box.t, velocity_mode(box.pos, box.vel, box.L_x, m)
     for j in range(1, n + 1):
-        box.step(nstep)
+        box._advance_steps(nstep)
         t[j], U[j] = box.t, velocity_mode(box.pos, box.vel, box.L_x, m)
     use = (t - t[0]) >= skip * 2.0 * math.pi
     g, w, wl, eg, ew = fit_mode(t[use], U[use])

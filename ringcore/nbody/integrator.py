@@ -14,42 +14,116 @@ One step of length dt (kernel units, see :mod:`ringcore.nbody.kernels`):
 Without self-gravity and collisions the scheme is the exact flow of eq. (hill); the
 splitting is symplectic, second order in dt for the self-gravity force.
 
+The kernel takes packed parameters: a float64 vector ``fpar`` (indices ``P_*``), an int64
+vector ``ipar`` (indices ``I_*``) and the tuple ``work`` of work arrays (indices ``W_*``);
+build them with :func:`pack_params` / :func:`new_work`.
+
 References: eqs. (hill), (bridges), (sgmodes).
 """
 from __future__ import annotations
 
+import math
+
+import numpy as np
 from numba import njit
 
 from .gravity import kick_selfgravity
 from .kernels import (A_CROSS, A_TIME, build_cell_list, drift_epicycle, resolve_collisions,
                       sample_local_stress, shear_offset, sort_by_cell, wrap_shear_periodic)
 
+# float parameters fpar[P_*] (kernel units)
+P_T0 = 0  # time of step 0 [1/Omega]
+P_DT = 1  # time step [1/Omega]
+P_OMEGA_Z = 2  # vertical frequency [Omega]
+P_LX = 3  # radial box size [R_p]
+P_LY = 4  # azimuthal box size [R_p]
+P_EPS = 5  # constant coefficient of restitution (law 0)
+P_VC = 6  # Bridges et al. velocity scale v_c [R_p Omega] (law 1)
+P_G = 7  # -2 pi G sigma0 / (R_p Omega^2); 0: no self-gravity
+P_XMAX = 8  # |x| beyond which a particle is a runaway (the wrap would loop for ever) [R_p]
+N_FPAR = 9
+# integer parameters ipar[I_*]
+I_NCX = 0  # cell columns (>= 3, sides >= 2 R_p)
+I_NCY = 1  # cell rows
+I_COLLISIONS = 2  # 0/1
+I_MODE = 3  # restitution law: 0 constant, 1 Bridges et al.
+I_MLO = 4  # lowest self-gravity mode
+I_MHI = 5  # highest self-gravity mode
+I_SORT_EVERY = 6  # steps between reorderings into cell order (0: never)
+N_IPAR = 7
+# work arrays work[W_*]
+W_RHO, W_FORCE, W_COEF, W_GPOS, W_SPOS, W_SVEL = 0, 1, 2, 3, 4, 5
+W_GSRC, W_CELL_START, W_CELL_ENTRIES, W_CELL_OF, W_SIDS = 6, 7, 8, 9, 10
+
+# status codes returned by :func:`advance`
+OK = 0
+RUNAWAY_X = 1  # a particle left the box by more than P_XMAX (or became non-finite) in the wrap
+
+
+def pack_params(t0, dt, omega_z, L_x, L_y, eps, v_c, g, x_max, n_cx, n_cy, collisions, mode, m_lo, m_hi,
+                sort_every):
+    """The packed parameter vectors ``(fpar, ipar)`` (kernel units; see the ``P_*``/``I_*`` constants)."""
+    fpar = np.zeros(N_FPAR)
+    fpar[[P_T0, P_DT, P_OMEGA_Z, P_LX, P_LY, P_EPS, P_VC, P_G, P_XMAX]] = (t0, dt, omega_z, L_x, L_y, eps,
+                                                                           v_c, g, x_max)
+    ipar = np.zeros(N_IPAR, np.int64)
+    ipar[[I_NCX, I_NCY, I_COLLISIONS, I_MODE, I_MLO, I_MHI, I_SORT_EVERY]] = (n_cx, n_cy, int(bool(collisions)),
+                                                                              mode, m_lo, m_hi, sort_every)
+    return fpar, ipar
+
+
+def new_work(n, n_cx, n_cy, n_bins, n_modes):
+    """The work-array tuple for ``n`` particles (order of the ``W_*`` constants)."""
+    ncell = (n_cx + 1) * n_cy
+    return (np.zeros(n_bins), np.zeros(n_bins), np.zeros((2, n_modes)), np.zeros((n, 3)), np.zeros((n, 3)),
+            np.zeros((n, 3)), np.zeros(n, np.int64), np.zeros(ncell + 1, np.int64), np.zeros(2 * n, np.int64),
+            np.zeros(2 * n, np.int64), np.zeros(n, np.int64))
+
 
 @njit(nogil=True, cache=True)
-def advance(pos, vel, t0, nsteps, dt, omega_z, L_x, L_y, n_cx, n_cy, collisions, mode, eps_const,
-            v_c, g, m_lo, m_hi, rho, force, coef, gpos, gsrc, cell_start, cell_entries, cell_of, acc,
-            ids, sort_every, spos, svel, sids, step0=0):
-    """Advance the particles ``nsteps`` steps of ``dt``; return the new time ``t0 + (step0 + nsteps) dt``.
+def advance(pos, vel, ids, acc, fpar, ipar, work, step0, nsteps):
+    """Advance the particles ``nsteps`` steps of ``fpar[P_DT]``; return ``(status, steps_done)``.
 
-    ``t0`` is the time of step 0 and ``step0`` the number of steps already taken since then: time and
-    the sorting schedule depend on the global step count only, so a run split into calls of any
-    lengths is bit-for-bit the same as one call.
+    ``fpar[P_T0]`` is the time of step 0 and ``step0`` the number of steps already taken since
+    then: time and the sorting schedule depend on the global step count only, so a run split into
+    calls of any lengths is bit-for-bit the same as one call.  ``status`` is :data:`OK` or
+    :data:`RUNAWAY_X` (a particle beyond ``fpar[P_XMAX]``: the step ``steps_done`` + 1 failed, the
+    arrays are partly updated and must be replaced by the caller's last good copy).
 
     Parameters (kernel units: R_p, 1/Omega)
     ----------
-    pos, vel : (N, 3) float arrays, modified in place.
-    omega_z : vertical frequency [Omega].
-    L_x, L_y : box size [R_p]; n_cx, n_cy: cell counts (>= 3, cell sides >= 2 R_p).
-    collisions : bool; mode, eps_const, v_c : restitution law (see ``coefficient_of_restitution``).
-    g : -2 pi G sigma0 / (R_p Omega^2) (0: no self-gravity); m_lo..m_hi: modes used.
-    rho, force (n_bins,), coef (2, m_hi - m_lo + 1): self-gravity work arrays.
-    gpos (cap, 3), gsrc (cap,), cell_start, cell_entries, cell_of: neighbour-search work arrays.
+    pos, vel : (N, 3) float arrays, modified in place; ids (N,) particle labels (follow the sort).
     acc : (N_ACC,) accumulators (collisions, momentum fluxes, velocity moments).
-    ids (N,) particle labels; sort_every (0: never; sorts when the global step number is a multiple);
-    spos, svel (N, 3), sids (N,) scratch.
+    fpar (N_FPAR,), ipar (N_IPAR,) : packed parameters; work : tuple of work arrays (:func:`new_work`).
     """
+    dt = fpar[P_DT]
+    t0 = fpar[P_T0]
+    omega_z = fpar[P_OMEGA_Z]
+    L_x = fpar[P_LX]
+    L_y = fpar[P_LY]
+    eps_const = fpar[P_EPS]
+    v_c = fpar[P_VC]
+    g = fpar[P_G]
+    x_max = fpar[P_XMAX]
+    n_cx = ipar[I_NCX]
+    n_cy = ipar[I_NCY]
+    collisions = ipar[I_COLLISIONS] != 0
+    mode = ipar[I_MODE]
+    m_lo = ipar[I_MLO]
+    m_hi = ipar[I_MHI]
+    sort_every = ipar[I_SORT_EVERY]
+    rho = work[W_RHO]
+    force = work[W_FORCE]
+    coef = work[W_COEF]
+    gpos = work[W_GPOS]
+    spos = work[W_SPOS]
+    svel = work[W_SVEL]
+    gsrc = work[W_GSRC]
+    cell_start = work[W_CELL_START]
+    cell_entries = work[W_CELL_ENTRIES]
+    cell_of = work[W_CELL_OF]
+    sids = work[W_SIDS]
     half = 0.5 * dt
-    t = t0 + step0 * dt
     for k in range(nsteps):
         drift_epicycle(pos, vel, half, omega_z)
         if g != 0.0:
@@ -57,7 +131,10 @@ def advance(pos, vel, t0, nsteps, dt, omega_z, L_x, L_y, n_cx, n_cy, collisions,
         drift_epicycle(pos, vel, half, omega_z)
         t = t0 + (step0 + k + 1) * dt
         D = shear_offset(t, L_x, L_y)
-        acc[A_CROSS] += wrap_shear_periodic(pos, vel, L_x, L_y, D)
+        nc = wrap_shear_periodic(pos, vel, L_x, L_y, D, x_max)
+        if nc < 0:
+            return RUNAWAY_X, k
+        acc[A_CROSS] += nc
         if collisions:
             ng = build_cell_list(pos, L_x, L_y, D, n_cx, n_cy, gpos, gsrc, cell_start, cell_entries, cell_of)
             resolve_collisions(pos, vel, gpos, gsrc, cell_start, cell_entries, n_cx, n_cy, L_x, L_y, dt,
@@ -66,4 +143,5 @@ def advance(pos, vel, t0, nsteps, dt, omega_z, L_x, L_y, n_cx, n_cy, collisions,
                 sort_by_cell(pos, vel, ids, cell_entries, pos.shape[0] + ng, spos, svel, sids)
         sample_local_stress(pos, vel, acc)
         acc[A_TIME] += dt
-    return t
+    return OK, nsteps
+

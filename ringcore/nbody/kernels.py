@@ -82,17 +82,21 @@ def shear_offset(t, L_x, L_y):
 
 
 @njit(nogil=True, cache=True)
-def wrap_shear_periodic(pos, vel, L_x, L_y, D):
+def wrap_shear_periodic(pos, vel, L_x, L_y, D, x_max=math.inf):
     """Shear-periodic radial and periodic azimuthal boundaries; returns the number of radial crossings.
 
     A particle leaving at x >= L_x/2 re-enters at x - L_x with y + D and v_y + 1.5 L_x
-    (and the reverse at -L_x/2). In place; shapes (N, 3).
+    (and the reverse at -L_x/2). In place; shapes (N, 3).  Returns -1 (stopping at that
+    particle) if some |x| is not below ``x_max`` or not finite: such a runaway would make the
+    crossing loop run for ever (x - L_x == x beyond 2^53 L_x) or for hours.
     """
     hx = 0.5 * L_x
     hy = 0.5 * L_y
     n = 0
     for i in range(pos.shape[0]):
         x = pos[i, 0]
+        if not (x < x_max and x > -x_max):
+            return -1
         while x >= hx:
             x -= L_x
             pos[i, 1] += D

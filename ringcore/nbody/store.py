@@ -20,77 +20,112 @@ from dataclasses import asdict
 import numpy as np
 import xarray as xr
 
-from ..io import attrs_from_dict, dict_from_attrs, read_run, status_attrs, write_run
+from ..io import attrs_from_dict, dict_from_attrs, read_run, status_attrs, validate_run, write_run
+from ..engine import State
 from ..params import RingParams
 from . import initial
 from . import kernels as K
 from .options import NBodyOptions
+from .recorder import PROFILE_SERIES, SERIES
 
 _HIST_UNITS = dict(ekin="sigma0 (R_p Omega)^2", c_mean="m/s", T="m^2/s^2", collision_frequency="1/orbit",
                    lambda_p="m", unresolved="1", crossings="1")
 
 
-def to_dataset(box) -> xr.Dataset:
-    """Dataset of a :class:`~ringcore.nbody.box.ShearingBox` (coords in m and orbits)."""
+def _engine_and_state(src):
+    """(engine, State) of a ShearingBox or a State."""
+    from .box import ShearingBox
+
+    if isinstance(src, State):
+        return ShearingBox.restore(src), src
+    return src, src.snapshot()
+
+
+def to_dataset(src) -> xr.Dataset:
+    """Dataset of a :class:`~ringcore.nbody.box.ShearingBox` or of its :class:`~ringcore.engine.State`
+    (coords in m and orbits)."""
+    box, st = _engine_and_state(src)
+    a, m = st.arrays, st.meta
     R, vu = box.R_p, box.v_unit
+    pos, vel = a["pos"], a["vel"]
     prof = box.profiles()
     data = {}
-    for a, name in enumerate("xyz"):
-        data[f"pos_{name}"] = ("particle", box.pos[:, a] * R, dict(units="m", long_name=f"{name} position"))
-        data[f"vel_{name}"] = ("particle", box.vel[:, a] * vu,
+    for i, name in enumerate("xyz"):
+        data[f"pos_{name}"] = ("particle", pos[:, i] * R, dict(units="m", long_name=f"{name} position"))
+        data[f"vel_{name}"] = ("particle", vel[:, i] * vu,
                                dict(units="m/s", long_name=f"Hill velocity v_{name} (shear included)"))
-    data["particle_id"] = ("particle", box.ids.copy(), dict(long_name="particle label"))
-    data["state_pos"] = (("particle", "axis"), box.pos.copy(),
+    data["particle_id"] = ("particle", a["ids"], dict(long_name="particle label"))
+    data["state_pos"] = (("particle", "axis"), pos,
                          dict(units="R_p", long_name="exact kernel state (positions) for continuation"))
-    data["state_vel"] = (("particle", "axis"), box.vel.copy(),
+    data["state_vel"] = (("particle", "axis"), vel,
                          dict(units="R_p Omega", long_name="exact kernel state (velocities) for continuation"))
-    h = box.history
     for k, u in _HIST_UNITS.items():
-        data[k] = ("time", np.asarray(h[k], float), dict(units=u))
+        data[k] = ("time", a[f"history_{k}"], dict(units=u))
     for k, u in (("sigma", "1"), ("u", "m/s"), ("v", "m/s"), ("C_xx", "m^2/s^2"), ("C_yy", "m^2/s^2"),
                  ("C_zz", "m^2/s^2"), ("c", "m/s"), ("z_rms", "m")):
         data[f"{k}_x"] = ("x", getattr(prof, k), dict(units=u, long_name=f"final radial profile of {k}"))
-    ph = box.profile_history
-    nz = prof.x.size
     for k, u in (("sigma", "1"), ("u", "m/s"), ("v", "m/s"), ("c", "m/s")):
-        arr = np.asarray(ph[k], float).reshape(len(ph["time"]), nz)
-        data[f"{k}_tx"] = (("time_profile", "x"), arr, dict(units=u, long_name=f"recorded profiles of {k}"))
-    data["accumulators"] = ("acc", box.acc.copy(), dict(long_name="kernel accumulators (current interval)"))
-    data["accumulators_before"] = ("acc", box._acc_before.copy(),
+        data[f"{k}_tx"] = (("time_profile", "x"), a[f"profile_{k}"],
+                           dict(units=u, long_name=f"recorded profiles of {k}"))
+    data["accumulators"] = ("acc", a["acc"], dict(long_name="kernel accumulators (current interval)"))
+    data["accumulators_before"] = ("acc", a["acc_before"],
                                    dict(long_name="kernel accumulators of the closed intervals"))
-    data["accumulators_last_record"] = ("acc", box._last_acc.copy(),
+    data["accumulators_last_record"] = ("acc", a["acc_last_record"],
                                         dict(long_name="run accumulators at the last record"))
-    data["accumulators_total"] = ("acc", box.acc_total, dict(long_name="kernel accumulators (run)"))
-    coords = dict(particle=np.arange(box.N), time=("time", np.asarray(h["time"], float), dict(units="orbit")),
-                  time_profile=("time_profile", np.asarray(ph["time"], float), dict(units="orbit")),
+    data["accumulators_total"] = ("acc", a["acc_before"] + a["acc"], dict(long_name="kernel accumulators (run)"))
+    coords = dict(particle=np.arange(box.N), time=("time", a["history_time"], dict(units="orbit")),
+                  time_profile=("time_profile", a["profile_time"], dict(units="orbit")),
                   x=("x", prof.x, dict(units="m", long_name="zone centre")))
-    attrs = attrs_from_dict("param", box.params.as_dict())
-    attrs.update(attrs_from_dict("option", asdict(box.options)))
-    attrs.update(seed=box.seed, rng_state_json=json.dumps(box.rng.bit_generator.state),
-                 t_s=box.t / box.Omega, t_kernel=box.t, t0_kernel=box._t0, step_count=box.step_count,
+    attrs = attrs_from_dict("param", st.params.as_dict())
+    attrs.update(attrs_from_dict("option", asdict(st.options)))
+    attrs.update(seed=m["seed"], rng_state_json=json.dumps(m["rng_state"]),
+                 t_s=box.t / box.Omega, t_kernel=box.t, t0_kernel=m["t0"], step_count=m["steps"],
                  t_orbit=box.orbits, N=box.N, tau_box=box.tau,
                  kernel_units="lengths R_p, times 1/Omega, velocities R_p Omega",
                  ekin_units="sigma0 (R_p Omega)^2", engine="ringcore.nbody")
-    if box.acc[K.A_TIME] > 0:
+    if a["acc"][K.A_TIME] > 0:
         for k, v in box.transport().items():
             attrs[f"transport_{k}"] = float(v)
     return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def from_dataset(cls, ds, *, sigma0=None, tile_x: bool = False, options=None):
-    """Restore a box from :func:`to_dataset` output (a Dataset or a run-file path)."""
-    if not isinstance(ds, xr.Dataset):
-        ds = read_run(ds, kind="nbody")
+def state_from_dataset(ds) -> State:
+    """The exact :class:`~ringcore.engine.State` saved in a run file (a Dataset or a path)."""
+    ds = read_run(ds, kind="nbody") if not isinstance(ds, xr.Dataset) else validate_run(ds, kind="nbody")
     a = ds.attrs
     p = RingParams(**dict_from_attrs(ds, "param"))
-    exact = sigma0 is None and not tile_x and options is None
+    o = NBodyOptions(**dict_from_attrs(ds, "option"))
+    arrays = dict(pos=ds["state_pos"].values.copy(), vel=ds["state_vel"].values.copy(),
+                  ids=ds["particle_id"].values.astype(np.int64), acc=ds["accumulators"].values.copy(),
+                  acc_before=ds["accumulators_before"].values.copy(),
+                  acc_last_record=ds["accumulators_last_record"].values.copy())
+    for k in SERIES:
+        arrays[f"history_{k}"] = (ds["time"] if k == "time" else ds[k]).values.copy()
+    arrays["profile_time"] = ds["time_profile"].values.copy()
+    for k in PROFILE_SERIES[1:]:
+        arrays[f"profile_{k}"] = ds[f"{k}_tx"].values.reshape(-1, o.zones).copy()
+    meta = dict(t0=float(a["t0_kernel"]), steps=int(a["step_count"]), seed=int(a.get("seed", 0)),
+                rng_state=json.loads(a["rng_state_json"]) if "rng_state_json" in a else None,
+                history_limit=None, history_thinned=bool(int(a.get("app_history_thinned", 0))))
+    return State("nbody", p, o, arrays, meta)
+
+
+def from_dataset(cls, ds, *, sigma0=None, tile_x: bool = False, options=None):
+    """Restore a box from :func:`to_dataset` output (a Dataset or a run-file path).
+
+    Unchanged (no ``sigma0``, ``tile_x`` or ``options``): ``cls.restore`` of the saved State, which
+    continues bit for bit.  Otherwise a new run (time origin, accumulators and records reset) from
+    the saved particles, with the new surface density [kg/m^2], tiled box or options.
+    """
+    st = state_from_dataset(ds)
+    if sigma0 is None and not tile_x and options is None:
+        return cls.restore(st)
+    p, o, a = st.params, st.options, st.arrays
     if sigma0 is not None:
         p = p.with_sigma0(sigma0)
-    o = NBodyOptions(**dict_from_attrs(ds, "option"))
-    pos, vel = ds["state_pos"].values.copy(), ds["state_vel"].values.copy()
-    t0, steps = float(a["t0_kernel"]), int(a["step_count"])
-    t = t0 + steps * (2.0 * math.pi * o.dt_orbit)
-    ids = ds["particle_id"].values
+    pos, vel = a["pos"], a["vel"]
+    t = st.meta["t0"] + st.meta["steps"] * (2.0 * math.pi * o.dt_orbit)
+    ids = a["ids"]
     if tile_x:
         pos, vel = initial.tile_radially(pos, vel, o.L_x / o.R_p, o.L_y / o.R_p, t)
         o = o.replace(L_x=2.0 * o.L_x, n_zones=2 * o.zones)
@@ -100,22 +135,9 @@ def from_dataset(cls, ds, *, sigma0=None, tile_x: bool = False, options=None):
             raise ValueError(f"options L_x, L_y, R_p = {options.L_x:g}, {options.L_y:g}, {options.R_p:g} m "
                              f"are not valid for this state: must equal {o.L_x:g}, {o.L_y:g}, {o.R_p:g} m")
         o = options
-    box = cls(p, o, seed=int(a.get("seed", 0)), state=(pos, vel, t), ids=ids)
-    if "rng_state_json" in a:
-        box.rng.bit_generator.state = json.loads(a["rng_state_json"])
-    if exact:  # the same run, continued: time origin, step count, accumulators, records
-        box._t0, box.step_count = t0, steps
-        box.acc[:] = ds["accumulators"].values
-        box._acc_before[:] = ds["accumulators_before"].values
-        box._last_acc = ds["accumulators_last_record"].values.copy()
-        for k in box.history:
-            box.history[k] = list(ds[k].values) if k != "time" else list(ds["time"].values)
-        nz = o.zones
-        box.profile_history["time"] = list(ds["time_profile"].values)
-        for k in ("sigma", "u", "v", "c"):
-            box.profile_history[k] = [row.reshape(nz) for row in ds[f"{k}_tx"].values]
-    else:
-        box._last_acc = box.acc_total
+    box = cls(p, o, seed=st.meta["seed"], state=(pos, vel, t), ids=ids)
+    if st.meta["rng_state"] is not None:
+        box.rng.bit_generator.state = st.meta["rng_state"]
     return box
 
 
@@ -149,11 +171,17 @@ def summary(box, last_fraction: float = 0.25) -> dict:
 
 
 def save(box, path, *, complete: bool = True, **attrs):
-    """Write ``box`` to ``path`` with :func:`ringcore.io.write_run` (kind "nbody")."""
+    """Write ``box`` (a ShearingBox or its State) to ``path`` with :func:`ringcore.io.write_run` (kind "nbody")."""
+    box, _ = _engine_and_state(box)
     ds = to_dataset(box)
     ds.attrs.update(status_attrs(summary(box), complete))
     ds.attrs.update(attrs)
     return write_run(ds, path, kind="nbody")
+
+
+# the engine contract's run-file entry points (ringcore.engine.RUNFILES)
+dataset_from_state = to_dataset
+save_state = save  # accepts a ShearingBox or its State
 
 
 def orbits_of(ds: xr.Dataset) -> float:
