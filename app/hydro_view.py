@@ -22,7 +22,7 @@ from .export import ExportPanel
 from .hydro_plots import HydroPlots
 from .hydro_runner import HydroRunner
 from .hydro_settings import SETTINGS_PARAMS, SETUP_PARAMS
-from .linear_view import _set_labels, page_row, responsive_grid
+from .linear_view import _set_labels, page_row, responsive_grid, wrap_row
 from .live_common import (BUFFER_COLOR, CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, FrameGate, fmt,
                           message_pane, on_session_end, readout_cards, show_message)
 from .run_keeper import RunKeeper
@@ -171,8 +171,8 @@ class HydroView(pn.viewable.Viewer):
         top = responsive_grid(pane(P.spacetime_fig), profiles, min_px=580)
         bottom = responsive_grid(pane(P.ekin_fig), pane(P.lp_fig), pane(P.psd_fig), min_px=300)
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
-        controls = pn.Row(*self.buttons.values(), sizing_mode="stretch_width", styles={"flex-wrap": "wrap"})
-        kept = pn.Row(self.kept, self.restore_button, sizing_mode="stretch_width", styles={"flex-wrap": "wrap"})
+        controls = wrap_row(*self.buttons.values())
+        kept = wrap_row(self.kept, self.restore_button)
         return page_row(pn.Column(self._widgets(), self.export, width=340),
                         pn.Column(self.header, controls, self.status, kept, self.blowup, self.readouts, self.key,
                                   top, bottom, explanation, sizing_mode="stretch_width"))

@@ -49,15 +49,15 @@ and follows the *overstable* solution.
 All three curves are the *exact* solution of eq. (16); eqs. (21)-(22) below are its long-wave
 approximations, quoted to explain the shapes.
 
-* **Growth rate ω<sub>R</sub>** (top left): where it is above zero the ring is *viscously overstable*
+* **Growth rate ω<sub>R</sub>** (first plot): where it is above zero the ring is *viscously overstable*
   and the wave grows; ω<sub>R</sub> = 0.05 Ω means the amplitude grows by a factor e in
   1/(0.05 · 2π) ≈ 3 orbits. For long waves **eq. (21)** gives
   ω<sub>R</sub> ≈ [ν<sub>0</sub>(2 + 9β − 3γ)/6 + F<sub>3</sub>/2] k², positive only if β > β<sub>c</sub>.
-* **Oscillation frequency ω<sub>I</sub>** (top right), in units of the orbital frequency Ω,
+* **Oscillation frequency ω<sub>I</sub>** (second plot), in units of the orbital frequency Ω,
   **eq. (22)**: ω<sub>I</sub> ≈ 1 − k/Q<sub>0</sub> + (p<sub>s</sub> + F<sub>2</sub> − 1/Q<sub>0</sub>²) k²/2.
   Self-gravity (σ<sub>0</sub> > 0) lowers it at long λ, pressure raises it at short λ, so with
   self-gravity it has a minimum, at **λ<sub>zero</sub>**.
-* **Group velocity v<sub>g</sub> = dω<sub>I</sub>/dk** (bottom left), **eq. (23)**: how fast a wave packet
+* **Group velocity v<sub>g</sub> = dω<sub>I</sub>/dk** (third plot), **eq. (23)**: how fast a wave packet
   travels in radius. It changes sign at λ<sub>zero</sub>: packets of shorter waves move outward
   (v<sub>g</sub> > 0), those of longer waves inward.
 
@@ -102,7 +102,13 @@ def page_row(controls, main) -> pn.Row:
     """Controls (fixed width) beside the main column; below it when the window is narrower than
     controls + 600 px (projector at 1024 px keeps them side by side, a phone gets one column)."""
     main.styles = {**main.styles, "flex": "1 1 600px", "min-width": "0"}
-    return pn.Row(controls, main, sizing_mode="stretch_width", styles={"flex-wrap": "wrap"})
+    # a FlexBox, not a Row: a Row's minimum width is the sum of its children's (620 px on a phone)
+    return wrap_row(controls, main)
+
+
+def wrap_row(*objects) -> pn.FlexBox:
+    """Objects side by side, wrapping onto the next line when they do not fit."""
+    return pn.FlexBox(*objects, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")
 
 
 def _fmt_len(x: float) -> str:

@@ -20,7 +20,7 @@ from bokeh.models import ColumnDataSource, HoverTool, Range1d
 
 from .checked_input import CheckedInputs
 from .export import ExportPanel
-from .linear_view import page_row, responsive_grid
+from .linear_view import page_row, responsive_grid, wrap_row
 from .live_common import (CSS, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, FrameGate, fmt, message_pane,
                           new_figure, on_session_end, readout_cards, show_message, wavelength_markers)
 from .nbody_runner import SETUP_PARAMS, NBodyRunner
@@ -156,8 +156,8 @@ class NBodyView(pn.viewable.Viewer):
                             min_px=300),
             sizing_mode="stretch_width")
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
-        buttons = pn.Row(*self.buttons.values(), sizing_mode="stretch_width", styles={"flex-wrap": "wrap"})
-        kept = pn.Row(self.kept, self.restore_button, sizing_mode="stretch_width", styles={"flex-wrap": "wrap"})
+        buttons = wrap_row(*self.buttons.values())
+        kept = wrap_row(self.kept, self.restore_button)
         return page_row(pn.Column(widgets, self.export, width=340),
                         pn.Column(self.header, buttons, self.status, kept, self.blowup, self.readouts, key,
                                   self.note, plots, explanation, sizing_mode="stretch_width"))
