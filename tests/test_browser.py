@@ -165,18 +165,23 @@ def test_linear_tab_in_browser(app_server, browser_page):
     assert page.locator("#ro-lambda-zero .ro-value").inner_text().strip() == "—"
     assert page.locator("#ro-q0 .ro-value").inner_text().strip() == "∞"
 
-    # an invalid combination shows a message next to the controls, not a traceback
+    # st99 exists only as an isothermal model: choosing it switches the model, with a note (issue 14, item 4)
     select = page.locator("select").first
     select.select_option(value=select.locator("option", has_text="st99").get_attribute("value"))
+    note = page.locator("#linear-note")
+    note.wait_for(timeout=10_000)
+    assert "isothermal" in note.inner_text() and "st99" in note.inner_text()
+    page.locator("#linear-model", has_text="st99").wait_for(timeout=10_000)
+    assert page.locator("input[type=checkbox]").first.is_checked()
+
+    # unticking "Isothermal model" by hand gives a message next to the controls, not a traceback
+    page.locator("input[type=checkbox]").first.uncheck()
     msg = page.locator("#linear-message")
     msg.wait_for(timeout=10_000)
     assert "isothermal" in msg.inner_text() and "st99" in msg.inner_text()
     page.screenshot(path=str(ARTIFACTS / "linear-invalid.png"), full_page=True)
-
-    # ticking "Isothermal model" makes the combination valid: message gone, st99 readouts shown
     page.locator("input[type=checkbox]").first.check()
     msg.wait_for(state="hidden", timeout=10_000)
-    page.locator("#linear-model", has_text="st99").wait_for(timeout=10_000)
     page.wait_for_timeout(300)
     page.screenshot(path=str(ARTIFACTS / "linear-st99-isothermal.png"), full_page=True)
 
