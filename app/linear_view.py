@@ -30,8 +30,8 @@ from .linear_model import WAVELENGTH_RANGE_M, LinearTheory
 
 PLOTS = (  # key in the curve dicts, y-axis label, title
     # the curves are the exact solution of Det M = 0, eq. (16); eqs. (21), (22) are only its long-wave limits
-    ("growth_rate", "growth rate ω_R [Ω]", "Growth rate ω_R (> 0: overstable), exact: Det M = 0, eq. (16)"),
-    ("frequency", "oscillation frequency ω_I [Ω]", "Oscillation frequency ω_I, exact: Det M = 0, eq. (16)"),
+    ("growth_rate", "growth rate ω_R [Ω]", "Growth rate ω_R (exact, eq. (16))"),
+    ("frequency", "oscillation frequency ω_I [Ω]", "Oscillation frequency ω_I (exact, eq. (16))"),
     ("group_velocity_mm_s", "group velocity v_g [mm/s]", "Group velocity v_g = dω_I/dk, eq. (23)"),
 )
 TICKS_M = [10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0, 2000.0, 10000.0]
