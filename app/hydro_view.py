@@ -82,6 +82,7 @@ class HydroView(pn.viewable.Viewer):
         self.checked = {}
         self.keeper = RunKeeper(r, SETUP_PARAMS, SETTINGS_PARAMS)
         self.restore_button = pn.widgets.Button(label="Restore previous run", color="primary", width=200,
+                                                sizing_mode="fixed",
                                                 css_classes=["hydro-restore"], visible=False)
         self.restore_button.on_click(self.keeper.restore)
         self.kept = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(2, 10), visible=False)
@@ -114,7 +115,7 @@ class HydroView(pn.viewable.Viewer):
         b["step"].on_click(r.step_once)
         b["reset"].on_click(r.reset)
         for w in b.values():
-            w.width = 120
+            w.param.update(width=120, sizing_mode="fixed")
         return b
 
     def _widgets(self) -> pn.Column:
@@ -167,7 +168,9 @@ class HydroView(pn.viewable.Viewer):
         pane = lambda f: pn.pane.Bokeh(f, sizing_mode="stretch_width")  # noqa: E731
         # responsive grids (issue 14, item 7): the space-time diagram beside the profiles only on wide
         # screens; profiles at least 280 px wide each (two per row at 1024 px, one on a phone)
-        profiles = responsive_grid(*[pane(f) for f in P.profile_figs.values()], min_px=280)
+        f = [pane(fig) for fig in P.profile_figs.values()]
+        profiles = responsive_grid(responsive_grid(f[0], f[1], min_px=290), responsive_grid(f[2], f[3], min_px=290),
+                                   min_px=640)  # 2 x 2, 4 x 1 on wide screens, 1 per row on a phone
         top = responsive_grid(pane(P.spacetime_fig), profiles, min_px=580)
         bottom = responsive_grid(pane(P.ekin_fig), pane(P.lp_fig), pane(P.psd_fig), min_px=300)
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})

@@ -76,10 +76,11 @@ class NBodyView(pn.viewable.Viewer):
                             reset=pn.widgets.Button(label="Reset", css_classes=["nbody-reset"]))
         for key, fn in (("start", r.start), ("pause", r.pause), ("step", r.step_once), ("reset", r.reset)):
             self.buttons[key].on_click(fn)
-            self.buttons[key].width = 120
+            self.buttons[key].param.update(width=120, sizing_mode="fixed")
         self.export = ExportPanel(r, "nbody")
         self.keeper = RunKeeper(r, SETUP_PARAMS, SETUP_PARAMS, sim_attr="box")
         self.restore_button = pn.widgets.Button(label="Restore previous run", color="primary", width=200,
+                                                sizing_mode="fixed",
                                                 css_classes=["nbody-restore"], visible=False)
         self.restore_button.on_click(self.keeper.restore)
         self.kept = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(2, 10), visible=False)
