@@ -219,7 +219,8 @@ class LinearView(pn.viewable.Viewer):
         fig = figure(x_axis_type="log", x_range=Range1d(*WAVELENGTH_RANGE_M), y_range=Range1d(-1, 1),
                      height=320, sizing_mode="stretch_width", min_width=280, title=title,
                      x_axis_label="wavelength λ [m]", y_axis_label=ylabel,
-                     tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="above")
+                     tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="right")
+        # toolbar at the side: above, it shares a line with the title and sticks out on a phone
         lines = fig.multi_line(xs="xs", ys="ys", line_color="color", line_width="width", line_dash="dash",
                                source=self.sources[key])
         fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.marker_source)

@@ -131,6 +131,9 @@ class NBodyView(pn.viewable.Viewer):
         self.psd_fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR)
         self.psd_fig.scatter("wavelength", "power", source=self.psd_source, size=5, color=LINE_COLOR)
         self.psd_fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.psd_markers)
+        for fig in (self.xy_fig, self.xz_fig, self.sigma_fig, self.u_fig, self.ekin_fig, self.c_fig, self.coll_fig,
+                    self.psd_fig):
+            fig.toolbar_location = "right"  # above, a long title pushes the toolbar off a phone screen
 
     def _build_layout(self):
         r = self.runner

@@ -132,6 +132,7 @@ class SaturationView(pn.viewable.Viewer):
         fig.add_tools(HoverTool(renderers=[r1, r2], tooltips=[("", "@label"), ("σ₀", "@sigma0{0} kg/m²"),
                                                               ("λ_p", "@lambda_p{0.0} m")]))
         log_ticks(fig, [30, 50, 100, 200, 500, 1000, 2000, 3000])
+        fig.toolbar_location = "right"
         return fig
 
     @staticmethod
