@@ -54,7 +54,7 @@ def start_server(port: int, log_path: Path, extra=()) -> tuple[subprocess.Popen,
     log = open(log_path, "w")
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, cwd=REPO, stdout=log, stderr=subprocess.STDOUT)
-    deadline = t0 + 45.0
+    deadline = t0 + 120.0  # a loaded shared 2-core machine
     while time.perf_counter() < deadline:
         if proc.poll() is not None:
             log.close()
@@ -67,7 +67,7 @@ def start_server(port: int, log_path: Path, extra=()) -> tuple[subprocess.Popen,
             pass
         time.sleep(0.1)
     stop_server(proc)
-    raise RuntimeError(f"panel serve did not answer /liveness within 45 s:\n{log_path.read_text()}")
+    raise RuntimeError(f"panel serve did not answer /liveness within 120 s:\n{log_path.read_text()}")
 
 
 def stop_server(proc: subprocess.Popen) -> None:
@@ -135,7 +135,7 @@ def test_linear_tab_in_browser(app_server, browser_page):
     timings = {"server_start_to_liveness_s": t_live}
 
     t0 = time.perf_counter()
-    page.goto(url)
+    page.goto(url, timeout=150_000)  # building the page's models takes 20-40 s on a loaded machine
     page.locator("#ro-lambda-zero .ro-value").wait_for(timeout=30_000)
     page.locator(".bk-Canvas").nth(2).wait_for(timeout=30_000)  # all three Bokeh figures laid out
     timings["page_load_to_first_plot_s"] = time.perf_counter() - t0
