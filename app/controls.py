@@ -22,6 +22,13 @@ SIGMA0_MAX = 1000.0  # [kg/m^2] upper end of the surface-density slider
 PS_SCALE_BOUNDS = (0.5, 3.0)  # factor on the table's p_s; ringcore requires > 0
 ISO_PS_BOUNDS = (0.5, 3.0)  # p_s of the isothermal model; ringcore requires > 0
 MAX_OVERLAYS = 6
+ISOTHERMAL_ONLY = tuple(n for n in ring_params.SET_NAMES if n not in ring_params.NONISOTHERMAL_SETS)
+
+
+def isothermal_only_note(name: str) -> str:
+    """The note shown when choosing an isothermal-only set switched the isothermal model on."""
+    return (f"{name} exists only as an isothermal model (no temperature equation in its table row): "
+            "the isothermal model was switched on for you.")
 
 
 def build_params(name: str, sigma0: float, isothermal: bool, ps_scale: float = 1.0,
@@ -86,6 +93,18 @@ class RingControls(param.Parameterized):
                            doc="Pressure exponent of the isothermal model: 1 = ideal gas (eq. ideal).")
     compare_sigma0 = param.String(default="0, 400, 800", label="Compare with σ₀ [kg/m²]",
                                   doc="Comma-separated surface densities drawn as thin curves.")
+
+    model_note = param.String(default="", doc="Why a setting was changed for the user ('' if none).")
+
+    @param.depends("param_set", watch=True)
+    def _isothermal_only_sets(self):
+        """Choosing an isothermal-only set (st99) switches the isothermal model on, with a note
+        (instead of an error message about an impossible combination; issue 14, item 4)."""
+        if self.param_set in ISOTHERMAL_ONLY and not self.isothermal:
+            self.model_note = isothermal_only_note(self.param_set)
+            self.isothermal = True
+        elif self.param_set not in ISOTHERMAL_ONLY:
+            self.model_note = ""
 
     def settings(self, sigma0: float | None = None) -> tuple:
         """Plain tuple (name, sigma0, isothermal, ps_scale, iso_p_s) for :func:`build_params`."""

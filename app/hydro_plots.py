@@ -48,6 +48,12 @@ class HydroPlots:
         self._spacetime_figure()
         self._series_figures()
         self._psd_figure()
+        for fig in self.figures():  # toolbar beside the plot: above, a long title pushes it off a phone screen
+            fig.toolbar_location = "right"
+
+    def figures(self) -> list:
+        """All figures of the tab."""
+        return [*self.profile_figs.values(), self.spacetime_fig, self.ekin_fig, self.lp_fig, self.psd_fig]
 
     # ------------------------------------------------------------------ building
     def _spacetime_figure(self):

@@ -17,13 +17,15 @@ import time
 import panel as pn
 import param
 
+from .checked_input import CheckedInputs
 from .export import ExportPanel
 from .hydro_plots import HydroPlots
 from .hydro_runner import HydroRunner
-from .hydro_settings import SETTINGS_PARAMS
-from .linear_view import _set_labels
+from .hydro_settings import SETTINGS_PARAMS, SETUP_PARAMS
+from .linear_view import _set_labels, page_row, responsive_grid, wrap_row
 from .live_common import (BUFFER_COLOR, CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, FrameGate, fmt,
                           message_pane, on_session_end, readout_cards, show_message)
+from .run_keeper import RunKeeper
 
 IMAGE_PERIOD_S = 0.25  # the space-time image is sent at most 4 times per second
 
@@ -76,13 +78,24 @@ class HydroView(pn.viewable.Viewer):
         self.readouts = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.blowup = message_pane("hydro-blowup")
         self.messages = {g: message_pane(f"hydro-msg-{g}") for g in ("model", "grid", "initial", "buffer")}
+        self.model_note = message_pane("hydro-model-note")
+        self.checked = {}
+        self.keeper = RunKeeper(r, SETUP_PARAMS, SETTINGS_PARAMS)
+        self.restore_button = pn.widgets.Button(label="Restore previous run", color="primary", width=200,
+                                                sizing_mode="fixed",
+                                                css_classes=["hydro-restore"], visible=False)
+        self.restore_button.on_click(self.keeper.restore)
+        self.kept = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(2, 10), visible=False)
+        self.keeper.param.watch(self._on_kept, "kept_label")
+        r.param.watch(lambda e: show_message(self.model_note, e.new, "ok"), "model_note")
+        self._last_rate = (math.nan, math.nan)
         self.buttons = self._buttons()
         self.export = ExportPanel(r, "hydro")
         self.key = self._key_pane()
         self._layout = self._build_layout()
         r.param.watch(self._on_frame, "frame")
         r.param.watch(self._on_problems, ["problems", "blowup"])
-        r.param.watch(self._on_running, ["running", "status"])
+        r.param.watch(self._on_running, ["running", "status", "blowup"])
         r.param.watch(self._on_mode, "spacetime")
         self._on_frame()
         self._on_problems()
@@ -102,7 +115,7 @@ class HydroView(pn.viewable.Viewer):
         b["step"].on_click(r.step_once)
         b["reset"].on_click(r.reset)
         for w in b.values():
-            w.width = 120
+            w.param.update(width=120, sizing_mode="fixed")
         return b
 
     def _widgets(self) -> pn.Column:
@@ -111,8 +124,15 @@ class HydroView(pn.viewable.Viewer):
         iso = p.isothermal
         W = pn.widgets
 
-        def title(text):
-            return pn.pane.HTML(f'<div class="group-title">{text}</div>', stylesheets=[CSS], margin=(0, 10))
+        def title(text, live=False):
+            how = ("acts on the running state" if live else "a change restarts the run at orbit 0 "
+                   "(the old run stays restorable)")
+            return pn.pane.HTML(f'<div class="group-title">{text}</div><div class="buttons-note">{how}</div>',
+                                stylesheets=[CSS], margin=(0, 10))
+
+        grid = self.checked["grid"] = CheckedInputs(r, "hydro-input-grid")
+        init = self.checked["initial"] = CheckedInputs(r, "hydro-input-initial")
+        buf = self.checked["buffer"] = CheckedInputs(r, "hydro-input-buffer")
 
         return pn.Column(
             title("Ring model"),
@@ -121,24 +141,23 @@ class HydroView(pn.viewable.Viewer):
             W.Checkbox.from_param(iso, css_classes=["hydro-isothermal"]),
             W.FloatSlider.from_param(p.ps_scale, visible=iso.rx.not_(), format="0.00", throttled=True),
             W.FloatSlider.from_param(p.iso_p_s, visible=iso, format="0.00", throttled=True),
-            self.messages["model"],
+            self.model_note, self.messages["model"],
             title("Box and grid"),
-            pn.Row(W.FloatInput.from_param(p.L_x, width=145), W.FloatInput.from_param(p.h, width=145)),
+            pn.Row(grid.number("L_x", width=145), grid.number("h", width=145)), grid.pane,
             W.Select.from_param(p.timestep),
             W.Select.from_param(p.T_floor),
             self.messages["grid"],
             title("Initial state"),
             W.Select.from_param(p.initial),
-            W.FloatInput.from_param(p.wavelength, visible=p.initial.rx() == "mode"),
-            pn.Row(W.FloatInput.from_param(p.amplitude, width=145, format="0.0[00000]"),
-                   W.IntInput.from_param(p.seed, width=145)),
-            self.messages["initial"],
-            title("Buffer zone (live)"),
+            init.number("wavelength", visible=p.initial.rx() == "mode"),
+            pn.Row(init.number("amplitude", width=145, format="0.0[00000]"), init.number("seed", width=145)),
+            init.pane, self.messages["initial"],
+            title("Buffer zone", live=True),
             W.Checkbox.from_param(p.buffer_on, css_classes=["hydro-buffer-on"]),
-            pn.Row(W.FloatInput.from_param(p.buffer_x, width=145), W.FloatInput.from_param(p.buffer_width, width=145)),
+            pn.Row(buf.number("buffer_x", width=145), buf.number("buffer_width", width=145)), buf.pane,
             W.FloatSlider.from_param(p.buffer_beta, format="0.00"),
             self.messages["buffer"],
-            title("Display"),
+            title("Display", live=True),
             W.RadioButtonGroup.from_param(p.spacetime, color="primary", variant="outline",
                                           css_classes=["hydro-spacetime-mode"]),
             width=320,
@@ -147,22 +166,26 @@ class HydroView(pn.viewable.Viewer):
     def _build_layout(self):
         P = self.plots
         pane = lambda f: pn.pane.Bokeh(f, sizing_mode="stretch_width")  # noqa: E731
-        f = list(P.profile_figs.values())
-        share = {"flex": "1 1 0", "min-width": "0"}  # columns share the width and may shrink
-        profiles = pn.Column(pn.Row(pane(f[0]), pane(f[1]), sizing_mode="stretch_width"),
-                             pn.Row(pane(f[2]), pane(f[3]), sizing_mode="stretch_width"), sizing_mode="stretch_width",
-                             styles=share)
-        top = pn.Row(pn.Column(pane(P.spacetime_fig), sizing_mode="stretch_width", styles=share),
-                     profiles, sizing_mode="stretch_width")
-        bottom = pn.GridBox(pane(P.ekin_fig), pane(P.lp_fig), pane(P.psd_fig), ncols=3, sizing_mode="stretch_width")
+        # responsive grids (issue 14, item 7): the space-time diagram beside the profiles only on wide
+        # screens; profiles at least 280 px wide each (two per row at 1024 px, one on a phone)
+        f = [pane(fig) for fig in P.profile_figs.values()]
+        profiles = responsive_grid(responsive_grid(f[0], f[1], min_px=290), responsive_grid(f[2], f[3], min_px=290),
+                                   min_px=640)  # 2 x 2, 4 x 1 on wide screens, 1 per row on a phone
+        top = responsive_grid(pane(P.spacetime_fig), profiles, min_px=580)
+        bottom = responsive_grid(pane(P.ekin_fig), pane(P.lp_fig), pane(P.psd_fig), min_px=300)
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
-        controls = pn.Row(*self.buttons.values(), sizing_mode="stretch_width")
-        return pn.Row(
-            pn.Column(self._widgets(), self.export, width=340),
-            pn.Column(self.header, controls, self.status, self.blowup, self.readouts, self.key, top, bottom,
-                      explanation, sizing_mode="stretch_width"),
-            sizing_mode="stretch_width",
-        )
+        controls = wrap_row(*self.buttons.values())
+        kept = wrap_row(self.kept, self.restore_button)
+        return page_row(pn.Column(self._widgets(), self.export, width=340),
+                        pn.Column(self.header, controls, self.status, kept, self.blowup, self.readouts, self.key,
+                                  top, bottom, explanation, sizing_mode="stretch_width"))
+
+    def _on_kept(self, *_):
+        label = self.keeper.kept_label
+        if label:
+            self.kept.object = (f'<div class="msg-ok" id="hydro-kept">Previous run kept: {label}. '
+                                'Restore it with its settings and plots:</div>')
+        self.kept.visible = self.restore_button.visible = bool(label)
 
     @staticmethod
     def _key_pane() -> pn.pane.HTML:
@@ -219,11 +242,16 @@ class HydroView(pn.viewable.Viewer):
     def _readout_rows(self):
         r = self.runner
         sim = r.sim
-        steps_s, orb_s = r.rates() if r.running else (math.nan, math.nan)
+        if r.running:
+            self._last_rate = r.rates()
+        steps_s, orb_s = self._last_rate
+        # the speed measured now (last ~2 s), not a fixed figure: it falls from ~11 to ~5 orbits/s as the
+        # waves become nonlinear and the time step shrinks (issue 14, item 9)
+        when = "now, of wall-clock time" if r.running else "when last running"
         n = r.numbers
         return [
             ("hydro-orbits", "Orbits elapsed", f"{sim.orbits:.2f}", f"{sim.steps} steps"),
-            ("hydro-orbits-per-s", "Orbits per second", fmt(orb_s, ".1f"), "of wall-clock time"),
+            ("hydro-orbits-per-s", "Orbits per second", fmt(orb_s, ".1f"), when),
             ("hydro-steps-per-s", "Steps per second", fmt(steps_s, ".0f"), f"{sim.n} cells"),
             ("hydro-dt", "Time step", fmt(r.typical_dt_orbits() * 1e3, ".3g", "mOrb"),
              "eq. (timestep)" if r.timestep == "paper" else "CFL criterion"),
@@ -244,14 +272,25 @@ class HydroView(pn.viewable.Viewer):
             elif text:
                 text += ". The buffer stays off until this is fixed."
             show_message(pane, text)
-        show_message(self.blowup, r.blowup)
+        show_message(self.blowup, self.blowup_advice())
+
+    def blowup_advice(self) -> str:
+        """The runner's blow-up message, plus the temperature floor when the run had it off."""
+        r = self.runner
+        text = r.blowup
+        sim = r.sim
+        if text and sim is not None and not sim.params.isothermal and sim.options.T_floor == 0:
+            text += (" This run had the temperature floor off (the paper's scheme): strongly nonlinear runs stop "
+                     "when T reaches 0; set 'Temperature floor' to 0.01 T0 and press Reset to let it go on.")
+        return text
 
     def _on_running(self, *_):
         r = self.runner
         b = self.buttons
+        # after a blow-up only Reset can go on: Start and Step are disabled (issue 14, item 5)
         b["start"].disabled = r.running or bool(r.blowup)
         b["pause"].disabled = not r.running
-        b["step"].disabled = r.running
+        b["step"].disabled = r.running or bool(r.blowup)
         self.status.object = f'<div class="status" id="hydro-status">{r.status}</div>'
 
     def __panel__(self):

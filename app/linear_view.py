@@ -29,8 +29,9 @@ from .controls import RingControls
 from .linear_model import WAVELENGTH_RANGE_M, LinearTheory
 
 PLOTS = (  # key in the curve dicts, y-axis label, title
-    ("growth_rate", "growth rate ω_R [Ω]", "Growth rate (> 0: overstable), eq. (21)"),
-    ("frequency", "oscillation frequency ω_I [Ω]", "Oscillation frequency, eq. (22)"),
+    # the curves are the exact solution of Det M = 0, eq. (16); eqs. (21), (22) are only its long-wave limits
+    ("growth_rate", "growth rate ω_R [Ω]", "Growth rate ω_R (exact, eq. (16))"),
+    ("frequency", "oscillation frequency ω_I [Ω]", "Oscillation frequency ω_I (exact, eq. (16))"),
     ("group_velocity_mm_s", "group velocity v_g [mm/s]", "Group velocity v_g = dω_I/dk, eq. (23)"),
 )
 TICKS_M = [10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0, 2000.0, 10000.0]
@@ -45,15 +46,18 @@ like exp(ω<sub>R</sub> t) · exp[i(k x + ω<sub>I</sub> t)]. For each λ the ap
 condition Det M = 0, **eq. (16)**, with the matrix M of **eq. (17)** (4×4; 3×3 in the isothermal model)
 and follows the *overstable* solution.
 
-* **Growth rate ω<sub>R</sub>** (top left): where it is above zero the ring is *viscously overstable*
+All three curves are the *exact* solution of eq. (16); eqs. (21)-(22) below are its long-wave
+approximations, quoted to explain the shapes.
+
+* **Growth rate ω<sub>R</sub>** (first plot): where it is above zero the ring is *viscously overstable*
   and the wave grows; ω<sub>R</sub> = 0.05 Ω means the amplitude grows by a factor e in
   1/(0.05 · 2π) ≈ 3 orbits. For long waves **eq. (21)** gives
   ω<sub>R</sub> ≈ [ν<sub>0</sub>(2 + 9β − 3γ)/6 + F<sub>3</sub>/2] k², positive only if β > β<sub>c</sub>.
-* **Oscillation frequency ω<sub>I</sub>** (top right), in units of the orbital frequency Ω,
+* **Oscillation frequency ω<sub>I</sub>** (second plot), in units of the orbital frequency Ω,
   **eq. (22)**: ω<sub>I</sub> ≈ 1 − k/Q<sub>0</sub> + (p<sub>s</sub> + F<sub>2</sub> − 1/Q<sub>0</sub>²) k²/2.
   Self-gravity (σ<sub>0</sub> > 0) lowers it at long λ, pressure raises it at short λ, so with
   self-gravity it has a minimum, at **λ<sub>zero</sub>**.
-* **Group velocity v<sub>g</sub> = dω<sub>I</sub>/dk** (bottom left), **eq. (23)**: how fast a wave packet
+* **Group velocity v<sub>g</sub> = dω<sub>I</sub>/dk** (third plot), **eq. (23)**: how fast a wave packet
   travels in radius. It changes sign at λ<sub>zero</sub>: packets of shorter waves move outward
   (v<sub>g</sub> > 0), those of longer waves inward.
 
@@ -75,9 +79,36 @@ CSS = """
 .key-line {display: inline-block; width: 30px; height: 0; border-top-style: solid;}
 .key-vline {display: inline-block; width: 0; height: 16px; border-left-style: dashed; border-left-width: 2px;}
 .model-label {font-size: 16px; color: #222; margin-bottom: 4px; font-weight: 600;}
+.msg-ok {border: 1px solid #2e7d32; background: #edf7ee; color: #1b4d20; border-radius: 6px; padding: 6px 10px;
+         font-size: 14px;}
 .msg-error {border: 2px solid #b00020; background: #fdecee; color: #7a0014; border-radius: 6px;
             padding: 8px 10px; font-size: 14px;}
 """
+
+
+def responsive_grid(*objects, min_px: int = 440, **kw) -> pn.Column:
+    """Objects in as many equal columns of at least ``min_px`` pixels as fit (one on a phone).
+
+    A CSS grid with ``auto-fit`` instead of a fixed number of columns: at 1024 px the plots
+    stack instead of overlapping, on a wide screen they sit side by side (issue 14, item 7).
+    """
+    styles = {"display": "grid", "grid-template-columns": f"repeat(auto-fit, minmax(min(100%, {min_px}px), 1fr))",
+              "gap": "6px 10px", "align-items": "start"}
+    styles.update(kw.pop("styles", {}))
+    return pn.Column(*objects, sizing_mode="stretch_width", styles=styles, **kw)
+
+
+def page_row(controls, main) -> pn.Row:
+    """Controls (fixed width) beside the main column; below it when the window is narrower than
+    controls + 600 px (projector at 1024 px keeps them side by side, a phone gets one column)."""
+    main.styles = {**main.styles, "flex": "1 1 600px", "min-width": "0"}
+    # a FlexBox, not a Row: a Row's minimum width is the sum of its children's (620 px on a phone)
+    return wrap_row(controls, main)
+
+
+def wrap_row(*objects) -> pn.FlexBox:
+    """Objects side by side, wrapping onto the next line when they do not fit."""
+    return pn.FlexBox(*objects, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")
 
 
 def _fmt_len(x: float) -> str:
@@ -136,6 +167,8 @@ class LinearView(pn.viewable.Viewer):
         self.key = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.readouts = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.message = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", visible=False)
+        self.note = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", visible=False)
+        self.controls.param.watch(self._on_note, "model_note")
         self.widgets = self._widgets()
         self.model.param.watch(self._render, ["curves", "numbers", "error", "model_label"])
         self._render()
@@ -154,16 +187,40 @@ class LinearView(pn.viewable.Viewer):
             pn.widgets.Checkbox.from_param(isothermal),
             pn.widgets.FloatSlider.from_param(c.param.ps_scale, visible=isothermal.rx.not_(), format="0.00"),
             pn.widgets.FloatSlider.from_param(c.param.iso_p_s, visible=isothermal, format="0.00"),
-            pn.widgets.TextInput.from_param(c.param.compare_sigma0),
+            self._compare_input(),
+            self.note,
             self.message,
             width=320,
         )
 
+    def _compare_input(self) -> pn.widgets.TextInput:
+        """The "Compare with σ₀" field, applied to the model from a locked next-tick callback.
+
+        Pressing Enter sends a ``value`` change *and* an ``enter-pressed`` event; Panel 1.9 handles
+        the event in a coroutine without the Bokeh document lock and flushes the still pending value
+        change from there, so every plot update it causes raised "RuntimeError: _pending_writes should
+        be non-None ..." (issue 14, item 1).  ``pn.state.execute(..., schedule=True)`` runs the update
+        on the event loop with the lock held (at once outside a server, e.g. in tests).
+        """
+        c = self.controls
+        p = c.param.compare_sigma0
+        w = pn.widgets.TextInput(name=p.label, value=c.compare_sigma0, description=p.doc)
+
+        def apply(event):
+            if event.new != c.compare_sigma0:
+                pn.state.execute(lambda: setattr(c, "compare_sigma0", event.new), schedule=True)
+
+        w.param.watch(apply, "value")
+        c.param.watch(lambda e: setattr(w, "value", e.new), "compare_sigma0")
+        self.compare_input = w
+        return w
+
     def _figure(self, key: str, ylabel: str, title: str):
         fig = figure(x_axis_type="log", x_range=Range1d(*WAVELENGTH_RANGE_M), y_range=Range1d(-1, 1),
-                     height=330, sizing_mode="stretch_width", min_width=420, title=title,
+                     height=320, sizing_mode="stretch_width", min_width=280, title=title,
                      x_axis_label="wavelength λ [m]", y_axis_label=ylabel,
-                     tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="above")
+                     tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="right")
+        # toolbar at the side: above, it shares a line with the title and sticks out on a phone
         lines = fig.multi_line(xs="xs", ys="ys", line_color="color", line_width="width", line_dash="dash",
                                source=self.sources[key])
         fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.marker_source)
@@ -185,15 +242,10 @@ class LinearView(pn.viewable.Viewer):
         plots = {k: pn.pane.Bokeh(f, sizing_mode="stretch_width") for k, f in self.figures.items()}
         header = pn.pane.HTML(pn.bind(lambda s: f'<div class="model-label" id="linear-model">{s}</div>',
                                       self.model.param.model_label), stylesheets=[CSS], margin=(0, 10))
-        explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"},
-                                       min_width=420)
-        grid = pn.GridBox(plots["growth_rate"], plots["frequency"], plots["group_velocity_mm_s"], explanation,
-                          ncols=2, sizing_mode="stretch_width")
-        return pn.Row(
-            pn.Column(pn.pane.Markdown("### Settings", margin=(0, 10)), self.widgets, width=340),
-            pn.Column(header, self.readouts, self.key, grid, sizing_mode="stretch_width"),
-            sizing_mode="stretch_width",
-        )
+        explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
+        grid = responsive_grid(plots["growth_rate"], plots["frequency"], plots["group_velocity_mm_s"], explanation)
+        return page_row(pn.Column(pn.pane.Markdown("### Settings", margin=(0, 10)), self.widgets, width=340),
+                        pn.Column(header, self.readouts, self.key, grid, sizing_mode="stretch_width"))
 
     # ---------------------------------------------------------------- updating
     def _render(self, *events):
@@ -233,6 +285,12 @@ class LinearView(pn.viewable.Viewer):
             self.message.object = (f'<div class="msg-error" id="linear-message"><b>Cannot use these settings.</b> '
                                    f'{m.error}.<br>The plots still show the last valid settings.</div>')
         self.message.visible = bool(m.error)
+
+    def _on_note(self, *_):
+        """The note about a setting changed for the user (st99 -> isothermal model)."""
+        note = self.controls.model_note
+        self.note.object = f'<div class="msg-ok" id="linear-note">{note}</div>' if note else ""
+        self.note.visible = bool(note)
 
     @staticmethod
     def _key_html(curves: dict, markers: dict) -> str:

@@ -26,6 +26,18 @@ TABS = [
 
 TITLE = "ringlab: viscous overstability in Saturn's rings"
 
+# A plain page instead of a template: FastListTemplate and its Fast design load the "Open Sans" web
+# font from fonts.googleapis.com on every page load, which fails in a classroom without internet
+# (issue 14, item 8).  Everything else Panel needs is served by the app server itself (/static).
+PAGE_CSS = """
+:host, .app-header {font-family: system-ui, -apple-system, "Segoe UI", Roboto, "DejaVu Sans", sans-serif;}
+.app-header {background: #1f4e79; color: #fff; padding: 8px 16px; margin: 0 0 4px 0;}
+.app-header h1 {font-size: clamp(17px, 2.2vw, 24px); margin: 0; font-weight: 600; line-height: 1.25;}
+"""
+# a permanent vertical scrollbar: otherwise content that grows past the window height adds a scrollbar,
+# the plots shrink, the page gets shorter, the scrollbar goes, ... (the 1280 px resize loop, item 7)
+BODY_CSS = "html {overflow-y: scroll;} body {margin: 0;}"
+
 
 def _make(factory, runs):
     params = getattr(factory, "param", None)
@@ -34,17 +46,24 @@ def _make(factory, runs):
     return view
 
 
-def create_app() -> pn.template.FastListTemplate:
-    """The app for one session: a template whose main area holds one tab per entry of TABS."""
+def create_app() -> pn.Column:
+    """The app for one session: a header and one tab per entry of TABS (``app.tabs``)."""
     runs = SessionRuns()
     tabs = pn.Tabs(*[(title, _make(factory, runs)) for title, factory in TABS], dynamic=True,
-                   sizing_mode="stretch_width")
-    return pn.template.FastListTemplate(
-        title=TITLE, main=[tabs], accent="#1f4e79", main_layout=None, theme_toggle=False,
-        sidebar=[LessonsPanel(runs=runs, tabs=tabs)], sidebar_width=360,  # lessons + glossary beside every tab
-    )
+                   sizing_mode="stretch_width", stylesheets=[":host .bk-tab {font-size: 16px;}"],
+                   styles={"flex": "1 1 720px", "min-width": "0"})
+    header = pn.pane.HTML(f'<header class="app-header" id="app-header"><h1>{TITLE}</h1></header>',
+                          stylesheets=[PAGE_CSS], sizing_mode="stretch_width", margin=0)
+    # the lessons + glossary panel stays beside every tab on wide screens and wraps below on narrow ones
+    lessons = LessonsPanel(runs=runs, tabs=tabs)
+    side = pn.Column(lessons, width=360, styles={"flex": "0 1 360px"}, margin=(0, 5))
+    body = pn.FlexBox(tabs, side, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")
+    app = pn.Column(header, body, sizing_mode="stretch_width", margin=0)
+    app.tabs = tabs
+    app.lessons = lessons
+    return app
 
 
 if __name__.startswith("bokeh"):  # run by `panel serve`
-    pn.extension(sizing_mode="stretch_width", notifications=False)
-    create_app().servable()
+    pn.extension(sizing_mode="stretch_width", notifications=False, raw_css=[BODY_CSS])
+    create_app().servable(title=TITLE)

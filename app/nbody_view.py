@@ -18,10 +18,13 @@ import panel as pn
 import param
 from bokeh.models import ColumnDataSource, HoverTool, Range1d
 
+from .checked_input import CheckedInputs
 from .export import ExportPanel
+from .linear_view import page_row, responsive_grid, wrap_row
 from .live_common import (CSS, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, FrameGate, fmt, message_pane,
                           new_figure, on_session_end, readout_cards, show_message, wavelength_markers)
 from .nbody_runner import SETUP_PARAMS, NBodyRunner
+from .run_keeper import RunKeeper
 
 PARTICLE_PERIOD_S = 0.3  # particle views sent at most ~3 times per second
 C0_COLOR = "#c2185b"
@@ -73,8 +76,15 @@ class NBodyView(pn.viewable.Viewer):
                             reset=pn.widgets.Button(label="Reset", css_classes=["nbody-reset"]))
         for key, fn in (("start", r.start), ("pause", r.pause), ("step", r.step_once), ("reset", r.reset)):
             self.buttons[key].on_click(fn)
-            self.buttons[key].width = 120
+            self.buttons[key].param.update(width=120, sizing_mode="fixed")
         self.export = ExportPanel(r, "nbody")
+        self.keeper = RunKeeper(r, SETUP_PARAMS, SETUP_PARAMS, sim_attr="box")
+        self.restore_button = pn.widgets.Button(label="Restore previous run", color="primary", width=200,
+                                                sizing_mode="fixed",
+                                                css_classes=["nbody-restore"], visible=False)
+        self.restore_button.on_click(self.keeper.restore)
+        self.kept = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(2, 10), visible=False)
+        self.keeper.param.watch(self._on_kept, "kept_label")
         self._layout = self._build_layout()
         r.param.watch(self._on_frame, "frame")
         r.param.watch(self._on_state, ["running", "status", "problem", "blowup"])
@@ -121,34 +131,47 @@ class NBodyView(pn.viewable.Viewer):
         self.psd_fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR)
         self.psd_fig.scatter("wavelength", "power", source=self.psd_source, size=5, color=LINE_COLOR)
         self.psd_fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.psd_markers)
+        for fig in (self.xy_fig, self.xz_fig, self.sigma_fig, self.u_fig, self.ekin_fig, self.c_fig, self.coll_fig,
+                    self.psd_fig):
+            fig.toolbar_location = "right"  # above, a long title pushes the toolbar off a phone screen
 
     def _build_layout(self):
         r = self.runner
         p = r.param
         W = pn.widgets
         pane = lambda f: pn.pane.Bokeh(f, sizing_mode="stretch_width")  # noqa: E731
+        box = CheckedInputs(r, "nbody-input-box")
         widgets = pn.Column(
-            pn.pane.HTML('<div class="group-title">Ring and box</div>', stylesheets=[CSS], margin=(0, 10)),
+            pn.pane.HTML('<div class="group-title">Ring and box</div><div class="buttons-note">a change restarts '
+                         'the box at orbit 0 (the old run stays restorable)</div>', stylesheets=[CSS],
+                         margin=(0, 10)),
             W.Select.from_param(p.param_set),
             W.FloatSlider.from_param(p.sigma0, throttled=True, format="0"),
-            pn.Row(W.FloatInput.from_param(p.L_x, width=145), W.FloatInput.from_param(p.L_y, width=145)),
+            pn.Row(box.number("L_x", width=145), box.number("L_y", width=145)),
             W.Select.from_param(p.restitution),
-            W.IntInput.from_param(p.seed),
+            box.number("seed"), box.pane,
             self.message, width=320)
         key = pn.pane.HTML(self._key_html(), stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         plots = pn.Column(
-            pn.Row(pn.Column(pane(self.xy_fig), pane(self.xz_fig), sizing_mode="stretch_width"),
-                   pn.Column(pane(self.sigma_fig), pane(self.u_fig), sizing_mode="stretch_width"),
-                   sizing_mode="stretch_width"),
-            pn.GridBox(pane(self.ekin_fig), pane(self.c_fig), pane(self.coll_fig), pane(self.psd_fig), ncols=4,
-                       sizing_mode="stretch_width"),
+            responsive_grid(pn.Column(pane(self.xy_fig), pane(self.xz_fig), sizing_mode="stretch_width"),
+                            pn.Column(pane(self.sigma_fig), pane(self.u_fig), sizing_mode="stretch_width"),
+                            min_px=340),
+            responsive_grid(pane(self.ekin_fig), pane(self.c_fig), pane(self.coll_fig), pane(self.psd_fig),
+                            min_px=300),
             sizing_mode="stretch_width")
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
-        return pn.Row(
-            pn.Column(widgets, self.export, width=340),
-            pn.Column(self.header, pn.Row(*self.buttons.values()), self.status, self.blowup, self.readouts, key,
-                      self.note, plots, explanation, sizing_mode="stretch_width"),
-            sizing_mode="stretch_width")
+        buttons = wrap_row(*self.buttons.values())
+        kept = wrap_row(self.kept, self.restore_button)
+        return page_row(pn.Column(widgets, self.export, width=340),
+                        pn.Column(self.header, buttons, self.status, kept, self.blowup, self.readouts, key,
+                                  self.note, plots, explanation, sizing_mode="stretch_width"))
+
+    def _on_kept(self, *_):
+        label = self.keeper.kept_label
+        if label:
+            self.kept.object = (f'<div class="msg-ok" id="nbody-kept">Previous run kept: {label}. '
+                                'Restore it with its settings and plots:</div>')
+        self.kept.visible = self.restore_button.visible = bool(label)
 
     @staticmethod
     def _key_html() -> str:
@@ -244,7 +267,7 @@ class NBodyView(pn.viewable.Viewer):
         b = self.buttons
         b["start"].disabled = r.running or bool(r.blowup)
         b["pause"].disabled = not r.running
-        b["step"].disabled = r.running
+        b["step"].disabled = r.running or bool(r.blowup)  # after a blow-up only Reset goes on
         self.status.object = f'<div class="status" id="nbody-status">{r.status}</div>'
         show_message(self.message, (r.problem + ". The box shown keeps its last valid settings.") if r.problem else "")
         show_message(self.blowup, r.blowup)

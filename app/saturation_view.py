@@ -21,14 +21,15 @@ from bokeh.models import ColumnDataSource, HoverTool, Range1d
 from ringcore import linear
 from ringcore.analysis.saturation import C_EMPIRICAL, lambda_p_empirical
 
-from .controls import build_params
-from .linear_view import _set_labels
+from .controls import ISOTHERMAL_ONLY, build_params, isothermal_only_note
+from .linear_view import _set_labels, page_row
 from .live_common import CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, log_ticks, message_html, new_figure
 from .session import SessionRuns
 
 SWEEP_FILE = Path(__file__).parent / "data" / "saturation_sweep.nc"
 SIGMA0_GRID = np.linspace(25.0, 1000.0, 30)  # [kg/m^2]
 SWEEP_COLOR = "#6a1b9a"
+FADED = 0.3  # opacity of runs of another parameter set or model
 
 EXPLANATION = """
 ### What am I looking at?
@@ -103,7 +104,7 @@ class SaturationView(pn.viewable.Viewer):
         self.sweep_points, note = load_sweep()
         self.curve_source = ColumnDataSource(dict(sigma0=[], empirical=[], fastest=[]), name="sat-curve-source")
         self.sweep_source = ColumnDataSource(dict(sigma0=[], lambda_p=[], label=[], alpha=[]))
-        self.user_source = ColumnDataSource(dict(sigma0=[], lambda_p=[], label=[]), name="sat-user-source")
+        self.user_source = ColumnDataSource(dict(sigma0=[], lambda_p=[], label=[], alpha=[]), name="sat-user-source")
         self.fig = self._figure()
         self.note = pn.pane.HTML(message_html(note, "sat-note", "warn") if note else "", stylesheets=[CSS],
                                  visible=bool(note), sizing_mode="stretch_width")
@@ -112,6 +113,7 @@ class SaturationView(pn.viewable.Viewer):
                                             width=200)
         self.add_button.on_click(self._add)
         self.model_error = pn.pane.HTML("", stylesheets=[CSS], visible=False, sizing_mode="stretch_width")
+        self.model_note = pn.pane.HTML("", stylesheets=[CSS], visible=False, sizing_mode="stretch_width")
         self.runs.param.watch(self._update_points, "points")
         self._update_curves()
         self._update_points()
@@ -125,10 +127,12 @@ class SaturationView(pn.viewable.Viewer):
         fig.line("sigma0", "fastest", source=self.curve_source, line_dash="dotted", line_width=3, color=MAXG_COLOR)
         r1 = fig.scatter("sigma0", "lambda_p", source=self.sweep_source, marker="square", size=10, color=SWEEP_COLOR,
                          fill_alpha="alpha", line_alpha="alpha")
-        r2 = fig.scatter("sigma0", "lambda_p", source=self.user_source, size=13, color=LP_COLOR, line_color="black")
+        r2 = fig.scatter("sigma0", "lambda_p", source=self.user_source, size=13, color=LP_COLOR, line_color="black",
+                         fill_alpha="alpha", line_alpha="alpha")
         fig.add_tools(HoverTool(renderers=[r1, r2], tooltips=[("", "@label"), ("σ₀", "@sigma0{0} kg/m²"),
                                                               ("λ_p", "@lambda_p{0.0} m")]))
         log_ticks(fig, [30, 50, 100, 200, 500, 1000, 2000, 3000])
+        fig.toolbar_location = "right"
         return fig
 
     @staticmethod
@@ -144,6 +148,21 @@ class SaturationView(pn.viewable.Viewer):
         return pn.pane.HTML(f'<div class="key" id="sat-key">{html}</div>', stylesheets=[CSS],
                             sizing_mode="stretch_width", margin=(0, 10))
 
+    def _matches(self, point: dict) -> bool:
+        """Does a run (sweep point or the user's) belong to the chosen set and model?"""
+        return point.get("set") == self.param_set and bool(point.get("isothermal")) == self.isothermal
+
+    @param.depends("param_set", watch=True)
+    def _isothermal_only_sets(self):
+        """st99 exists only as an isothermal model: switch the model for the user, with a note."""
+        note = ""
+        if self.param_set in ISOTHERMAL_ONLY and not self.isothermal:
+            note = isothermal_only_note(self.param_set)
+            self.isothermal = True
+        if note or self.param_set not in ISOTHERMAL_ONLY:
+            self.model_note.object = message_html(note, "sat-model-note", "ok") if note else ""
+            self.model_note.visible = bool(note)
+
     @param.depends("param_set", "isothermal", watch=True)
     def _update_curves(self):
         try:
@@ -155,16 +174,19 @@ class SaturationView(pn.viewable.Viewer):
         self.model_error.visible = False
         self.curve_source.data = dict(c)
         pts = self.sweep_points
-        same = [p["set"] == self.param_set and p["isothermal"] == self.isothermal for p in pts]
+        same = [self._matches(p) for p in pts]
         self.sweep_source.data = dict(sigma0=[p["sigma0"] for p in pts], lambda_p=[p["lambda_p_m"] for p in pts],
                                       label=[f"{p['engine']} {p['set']}{' iso' if p['isothermal'] else ''}"
                                              for p in pts],
-                                      alpha=[1.0 if s else 0.3 for s in same])
+                                      alpha=[1.0 if s else FADED for s in same])
+        self._update_points()
 
     def _update_points(self, *_):
+        """The user's runs; those of another set or model greyed like the sweep's (issue 14, item 9)."""
         pts = self.runs.points
         self.user_source.data = dict(sigma0=[p["sigma0"] for p in pts], lambda_p=[p["lambda_p_m"] for p in pts],
-                                     label=[p["label"] for p in pts])
+                                     label=[p["label"] for p in pts],
+                                     alpha=[1.0 if self._matches(p) else FADED for p in pts])
 
     def _add(self, *_):
         msg = self.runs.add_hydro_run()
@@ -177,11 +199,11 @@ class SaturationView(pn.viewable.Viewer):
         controls = pn.Column(
             pn.pane.Markdown("### Theory curves for", margin=(0, 10)),
             W.Select.from_param(self.param.param_set, options=_set_labels()),
-            W.Checkbox.from_param(self.param.isothermal), self.model_error,
+            W.Checkbox.from_param(self.param.isothermal), self.model_note, self.model_error,
             pn.pane.Markdown("### Your runs", margin=(0, 10)), self.add_button, self.message, width=340)
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
-        return pn.Row(controls, pn.Column(self.note, self._key(), pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
-                                          explanation, sizing_mode="stretch_width"), sizing_mode="stretch_width")
+        return page_row(controls, pn.Column(self.note, self._key(), pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
+                                            explanation, sizing_mode="stretch_width"))
 
     def __panel__(self):
         return self._layout

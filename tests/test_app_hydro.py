@@ -8,6 +8,7 @@ Small boxes keep the suite fast.
 from __future__ import annotations
 
 import numpy as np
+import panel as pn
 import pytest
 
 from app.hydro_runner import HydroRunner
@@ -115,7 +116,6 @@ def test_buffer_switched_on_while_running(runner):
     (dict(h=10.0), "grid", "too coarse"),  # lambda_max = 66 m gets 6.6 cells
     (dict(h=3.0), "grid", "not an integer"),
     (dict(sigma0=900.0), "model", "Toomre Q0 = 0.89"),
-    (dict(param_set="st99"), "model", "isothermal"),
     (dict(initial="mode", wavelength=70.0), "initial", "does not fit the box"),
     (dict(amplitude=0.3), "initial", "white noise"),
     (dict(L_x=20000.0, h=0.5), "grid", "too many"),
@@ -253,3 +253,98 @@ def test_frame_gate_paces_frames():
     assert not gate.ready(10.1) and gate.ready(10.3)  # no server session: only the period applies
     gate._ack("tags", [], [1])
     assert gate.acks == gate.sent == 1
+
+
+def test_setup_change_keeps_the_previous_run_restorable():
+    """Issue 14, item 3: a setup change starts a new run but the old one comes back with one click."""
+    v = HydroView(runner=HydroRunner(**SMALL))
+    r = v.runner
+    r.sigma0 = 300.0  # nothing has run yet: nothing to keep
+    assert not v.restore_button.visible
+    r.start()
+    for _ in range(3):
+        r.tick()
+    old, t, sigma = r.sim, r.sim.orbits, r.sim.sigma.copy()
+    n_series = r.series.size
+    r.sigma0 = 250.0
+    assert r.sim is not old and r.sim.orbits == 0.0  # a new run at the new setting ...
+    assert v.restore_button.visible and "σ₀ = 300" in v.kept.object and f"orbit {t:.2f}" in v.kept.object
+    r.h = 10.0  # invalid: nothing rebuilt, the kept run stays the same
+    assert "σ₀ = 300" in v.kept.object
+    r.h = 2.5
+    r.tick()
+    v.restore_button.clicks += 1  # ... and the old one back with its settings, state and plots
+    assert r.sim is old and r.sim.orbits == t and r.sigma0 == 300.0 and r.series.size == n_series
+    np.testing.assert_array_equal(r.sim.sigma, sigma)
+    assert "Restored" in r.status and "σ₀ = 300" in v.header.object
+    assert "σ₀ = 250" in v.kept.object  # the replaced run is kept in turn
+    r.tick()
+    assert r.sim is old and old.orbits > t  # and it goes on
+
+
+def test_group_titles_say_what_restarts():
+    v = HydroView(runner=HydroRunner(**SMALL))
+    html = " ".join(o.object for o in v._layout.select(pn.pane.HTML) if isinstance(o.object, str))
+    assert html.count("restarts the run at orbit 0") == 3 and html.count("acts on the running state") == 2
+
+
+def test_out_of_range_input_says_why():
+    """Issue 14, item 4: L_x = 50 m is not silently replaced by the old value."""
+    v = HydroView(runner=HydroRunner(**SMALL))
+    r, grid = v.runner, v.checked["grid"]
+    w = grid.widgets["L_x"]
+    assert w.start is None and w.end is None  # the browser must not clamp the typed value
+    w.value = 50.0
+    assert r.L_x == 500.0 and r.sim.options.L_x == 500.0
+    assert grid.pane.visible and "L_x = 50 m is out of range: allowed 100 .. 20000 m" in grid.pane.object
+    assert "still using 500 m" in grid.pane.object
+    w.value = 400.0
+    assert r.sim.options.L_x == 400.0 and not grid.pane.visible
+    r.L_x = 600.0  # changed elsewhere (settings file, page address): the field follows
+    assert w.value == 600.0
+    seed = v.checked["initial"].widgets["seed"]
+    seed.value = -3
+    assert r.seed == 1 and "seed = -3 is out of range" in v.checked["initial"].pane.object
+
+
+def test_blow_up_disables_step_and_start_and_names_the_floor():
+    """Issue 14, item 5: after a blow-up only Reset goes on; the advice names the temperature floor."""
+    v = HydroView(runner=HydroRunner(T_floor=0.0, **SMALL))
+    r = v.runner
+    s, u, vv, T = r.sim.primitives()
+    s = s.copy()
+    s[100:110] = 1e6
+    r.sim.set_state(s, u, vv, T)
+    r.start()
+    r.tick()
+    assert r.blowup and v.buttons["step"].disabled and v.buttons["start"].disabled
+    assert not v.buttons["reset"].disabled
+    assert "temperature floor off" in v.blowup.object and "0.01 T0" in v.blowup.object
+    r.reset()
+    assert not v.buttons["step"].disabled and not v.buttons["start"].disabled and not v.blowup.visible
+
+
+def test_orbits_per_second_is_the_measured_figure():
+    """Issue 14, item 9: the readout is this run's measured speed (kept when paused), not a fixed number."""
+    v = HydroView(runner=HydroRunner(**SMALL))
+    r = v.runner
+    r.start()
+    for _ in range(4):
+        r.tick()
+    steps_s, orb_s = r.rates()
+    rows = {rid: (val, note) for rid, _, val, note in v._readout_rows()}
+    assert rows["hydro-orbits-per-s"] == (f"{orb_s:.1f}", "now, of wall-clock time")
+    r.pause()
+    rows = {rid: (val, note) for rid, _, val, note in v._readout_rows()}
+    assert rows["hydro-orbits-per-s"] == (f"{orb_s:.1f}", "when last running")
+
+
+def test_isothermal_only_set_switches_the_model():
+    """Issue 14, item 4: choosing st99 switches to the isothermal model with a note, no error."""
+    v = HydroView(runner=HydroRunner(**SMALL))
+    r = v.runner
+    r.param_set = "st99"
+    assert r.isothermal and r.sim.isothermal and r.sim.params.name == "st99" and "model" not in r.problems
+    assert v.model_note.visible and "switched on for you" in v.model_note.object
+    r.isothermal = False  # unticked by hand: the message beside the controls, the run stays
+    assert "isothermal" in r.problems["model"] and r.sim.params.name == "st99"

@@ -142,14 +142,20 @@ def test_parameter_set_change(view):
 def test_invalid_settings_show_message_and_keep_last_plot(view):
     c, m = view.controls, view.model
     c.param.update(param_set="tau15", sigma0=400.0, isothermal=False)
+    assert not view.message.visible and not view.note.visible
+    c.param_set = "st99"  # isothermal only: the model is switched for the user, with a note (issue 14, item 4)
+    assert c.isothermal and m.error == "" and "st99" in m.model_label and "isothermal model" in m.model_label
+    assert view.note.visible and "switched on for you" in view.note.object and not view.message.visible
     numbers, curves = m.numbers, m.curves
-    assert not view.message.visible
-    c.param_set = "st99"  # st99 exists only as an isothermal model
+    c.isothermal = False  # unticked by hand: a message, the last valid plot stays
     assert "st99" in m.error and "isothermal" in m.error
     assert view.message.visible and 'id="linear-message"' in view.message.object
     assert m.numbers is numbers and m.curves is curves
     c.isothermal = True  # valid again: message gone, st99 shown
     assert m.error == "" and not view.message.visible and "st99" in m.model_label
+    c.param_set = "tau15"
+    assert not view.note.visible and c.isothermal  # the note goes; the model stays as the user has it
+    c.param_set = "st99"
     c.compare_sigma0 = "0, lots"
     assert "compare sigma0 = 'lots' is not a number" in m.error and view.message.visible
     c.param.update(compare_sigma0="0, 400, 800", param_set="tau15", isothermal=False)
@@ -184,6 +190,31 @@ def test_app_assembles_tabs():
     from app import main
 
     assert [t for t, _ in main.TABS][0] == "Linear theory"
-    tmpl = main.create_app()
-    tabs = tmpl.main[0]
+    app = main.create_app()
+    tabs = app.tabs
+    assert tabs in app.objects
     assert isinstance(tabs, pn.Tabs) and tabs._names == [t for t, _ in main.TABS]
+
+
+def test_compare_field_applies_typed_list(view):
+    """Issue 14, item 1: the typed list reaches the model (in a server through a locked next-tick
+    callback, see LinearView._compare_input; outside a server at once)."""
+    c, m = view.controls, view.model
+    c.param.update(param_set="tau15", sigma0=400.0, isothermal=False)
+    view.compare_input.value = "100, 250, 600"
+    assert c.compare_sigma0 == "100, 250, 600"
+    assert [cv["sigma0"] for cv in m.curves] == [100.0, 250.0, 600.0, 400.0]
+    c.compare_sigma0 = "0, 400, 800"  # and back: the field follows the setting
+    assert view.compare_input.value == "0, 400, 800"
+
+
+def test_plot_titles_name_the_exact_relation(view):
+    """Issue 14, item 9: the curves solve Det M = 0 exactly; eqs. (21), (22) are long-wave limits."""
+    from app.linear_view import PLOTS
+    titles = {key: view.figures[key].title.text for key, *_ in PLOTS}
+    assert "eq. (16)" in titles["growth_rate"] and "eq. (21)" not in titles["growth_rate"]
+    assert "eq. (16)" in titles["frequency"] and "eq. (22)" not in titles["frequency"]
+    m = view.model
+    lam = m.wavelength_m
+    ref = linear.dispersion(view.controls.ring_params(), lam).growth_rate
+    np.testing.assert_array_equal(current_curve(m)["growth_rate"], ref)  # the exact solution is what is drawn

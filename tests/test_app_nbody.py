@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import panel as pn
 import pytest
 
 from app.nbody_runner import MAX_PARTICLES, NBodyRunner, thin_history
@@ -141,3 +142,23 @@ def test_view_fills_plots_and_marks_linear_wavelengths():
     r.close()
     assert r.box is None
     r.tick()
+
+
+def test_setup_change_keeps_the_box_restorable_and_blow_up_disables_step():
+    """Issue 14, items 3 and 5: a setup change keeps the old box restorable; after a blow-up only Reset."""
+    v = NBodyView(runner=NBodyRunner(**SMALL))
+    r = v.runner
+    r.step_once()
+    old, t = r.box, r.box.orbits
+    r.sigma0 = 200.0
+    assert r.box is not old and r.box.orbits == 0.0 and v.restore_button.visible and "σ₀ = 400" in v.kept.object
+    v.restore_button.clicks += 1
+    assert r.box is old and r.box.orbits == t and r.sigma0 == 400.0 and "σ₀ = 200" not in v.kept.object
+    w = v._layout.select(pn.widgets.FloatInput)[0]  # L_x: out of range says why, beside the control
+    w.value = 5.0
+    msgs = [o.object for o in v._layout.select(pn.pane.HTML) if 'id="nbody-input-box"' in str(o.object)]
+    assert r.L_x == SMALL["L_x"] and len(msgs) == 1 and "L_x = 5 m is out of range: allowed 20 .. 500 m" in msgs[0]
+    r.box.vel[3, 0] = np.nan
+    r.start()
+    r.tick()
+    assert r.blowup and v.buttons["step"].disabled and v.buttons["start"].disabled

@@ -58,11 +58,28 @@ def test_sweep_file_missing_present_and_damaged(tmp_path, monkeypatch):
 def test_invalid_model_gives_a_message_and_keeps_the_curves():
     v = SaturationView()
     before = v.curve_source.data
-    v.param_set = "st99"  # isothermal only
+    v.param_set = "st99"  # isothermal only: switched for the user with a note (issue 14, item 4)
+    assert v.isothermal and not v.model_error.visible and v.curve_source.data is not before
+    assert v.model_note.visible and "switched on for you" in v.model_note.object
+    before = v.curve_source.data
+    v.isothermal = False  # unticked by hand: a message, the curves stay
     assert v.model_error.visible and "st99" in v.model_error.object
     assert v.curve_source.data is before
     v.isothermal = True
     assert not v.model_error.visible
+
+
+def test_user_runs_of_another_set_are_greyed():
+    """Issue 14, item 9: switching to tau20 greys the user's tau15 run like the tau15 sweep points."""
+    runs = SessionRuns()
+    v = SaturationView(runs=runs)
+    runs.points = [dict(sigma0=400.0, lambda_p_m=180.0, orbits=50.0, isothermal=False, set="tau15", label="a"),
+                   dict(sigma0=300.0, lambda_p_m=200.0, orbits=50.0, isothermal=False, set="tau20", label="b")]
+    assert list(v.user_source.data["alpha"]) == [1.0, 0.3]
+    v.param_set = "tau20"
+    assert list(v.user_source.data["alpha"]) == [0.3, 1.0]
+    v.isothermal = True
+    assert list(v.user_source.data["alpha"]) == [0.3, 0.3]
 
 
 def test_add_my_run():

@@ -54,7 +54,7 @@ def start_server(port: int, log_path: Path, extra=()) -> tuple[subprocess.Popen,
     log = open(log_path, "w")
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, cwd=REPO, stdout=log, stderr=subprocess.STDOUT)
-    deadline = t0 + 45.0
+    deadline = t0 + 120.0  # a loaded shared 2-core machine
     while time.perf_counter() < deadline:
         if proc.poll() is not None:
             log.close()
@@ -67,7 +67,7 @@ def start_server(port: int, log_path: Path, extra=()) -> tuple[subprocess.Popen,
             pass
         time.sleep(0.1)
     stop_server(proc)
-    raise RuntimeError(f"panel serve did not answer /liveness within 45 s:\n{log_path.read_text()}")
+    raise RuntimeError(f"panel serve did not answer /liveness within 120 s:\n{log_path.read_text()}")
 
 
 def stop_server(proc: subprocess.Popen) -> None:
@@ -135,7 +135,7 @@ def test_linear_tab_in_browser(app_server, browser_page):
     timings = {"server_start_to_liveness_s": t_live}
 
     t0 = time.perf_counter()
-    page.goto(url)
+    page.goto(url, timeout=150_000)  # building the page's models takes 20-40 s on a loaded machine
     page.locator("#ro-lambda-zero .ro-value").wait_for(timeout=30_000)
     page.locator(".bk-Canvas").nth(2).wait_for(timeout=30_000)  # all three Bokeh figures laid out
     timings["page_load_to_first_plot_s"] = time.perf_counter() - t0
@@ -165,18 +165,23 @@ def test_linear_tab_in_browser(app_server, browser_page):
     assert page.locator("#ro-lambda-zero .ro-value").inner_text().strip() == "—"
     assert page.locator("#ro-q0 .ro-value").inner_text().strip() == "∞"
 
-    # an invalid combination shows a message next to the controls, not a traceback
+    # st99 exists only as an isothermal model: choosing it switches the model, with a note (issue 14, item 4)
     select = page.locator("select").first
     select.select_option(value=select.locator("option", has_text="st99").get_attribute("value"))
+    note = page.locator("#linear-note")
+    note.wait_for(timeout=10_000)
+    assert "isothermal" in note.inner_text() and "st99" in note.inner_text()
+    page.locator("#linear-model", has_text="st99").wait_for(timeout=10_000)
+    assert page.locator("input[type=checkbox]").first.is_checked()
+
+    # unticking "Isothermal model" by hand gives a message next to the controls, not a traceback
+    page.locator("input[type=checkbox]").first.uncheck()
     msg = page.locator("#linear-message")
     msg.wait_for(timeout=10_000)
     assert "isothermal" in msg.inner_text() and "st99" in msg.inner_text()
     page.screenshot(path=str(ARTIFACTS / "linear-invalid.png"), full_page=True)
-
-    # ticking "Isothermal model" makes the combination valid: message gone, st99 readouts shown
     page.locator("input[type=checkbox]").first.check()
     msg.wait_for(state="hidden", timeout=10_000)
-    page.locator("#linear-model", has_text="st99").wait_for(timeout=10_000)
     page.wait_for_timeout(300)
     page.screenshot(path=str(ARTIFACTS / "linear-st99-isothermal.png"), full_page=True)
 

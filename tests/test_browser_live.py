@@ -94,7 +94,7 @@ def test_live_tabs_in_browser(warm_server, browser_page):
 
     t0 = time.perf_counter()
     # a permalink: the hydro tab starts with the setting of Figure "tau15bufnosg" (isothermal, no self-gravity)
-    page.goto(url + "?hydro_isothermal=true&hydro_sigma0=0")
+    page.goto(url + "?hydro_isothermal=true&hydro_sigma0=0", timeout=150_000)
     page.locator("#ro-lambda-zero .ro-value").wait_for(timeout=30_000)
     page.locator(".bk-Canvas").nth(2).wait_for(timeout=30_000)
     m["page_load_to_interactive_s"] = time.perf_counter() - t0
