@@ -15,7 +15,8 @@ from __future__ import annotations
 
 import param
 
-_NOT_KEPT = ("_param__private", "_callback", "_rates")  # param internals, the session's callback, rates
+_NOT_KEPT = ("_param__private", "_callback", "_rates", "compute_lock", "_inflight", "_closed", "_doc",
+             "_had_connection", "chunk_waits")  # param internals, the session's callback and compute loop state
 
 
 class RunKeeper(param.Parameterized):
