@@ -70,14 +70,16 @@ lapprox = np.array([analysis.lambda_p_approx(params.get(SET, sigma0=s)) for s in
 # %% [markdown]
 # ## The empirical relation, eq. (lambdasigma)
 # λ_zero(σ0) comes from the exact linear dispersion relation (notebook 1). For Q0 ≫ 1 eq. (osfreq) gives
-# λ_zero ≈ 2(p_s − F_2) λ_J, hence the estimate eq. (lambdasigmaap), λ_p ≈ 2C(p_s − F_2) λ_J with the Jeans
-# wavelength λ_J = c0²/(Gσ0) (eq. jeans).
+# λ_zero ≈ 2(p_s + F_2) λ_J (where its group velocity dω_I/dk vanishes), hence the estimate eq. (lambdasigmaap),
+# λ_p ≈ 2C(p_s + F_2) λ_J with the Jeans wavelength λ_J = c0²/(Gσ0) (eq. jeans). The paper prints
+# eq. (lambdasigmaap) with p_s − F_2; the sign that follows from eq. (osfreq), and that agrees with the exact
+# λ_zero at large Q0, is +F_2 (`analysis.lambda_p_approx` uses it; notebook 5 has an exercise on this).
 
 # %%
 plt.figure(figsize=(6.5, 4.2))
 plt.plot(sig, 1.4 * lz, "k--", lw=2, label="λ_p = 1.4 λ_zero, eq. (lambdasigma)")
 plt.plot(sig, lz, "k-", lw=1, label="λ_zero (linear v_g = 0)")
-plt.plot(sig, lapprox, "b:", label="2C(p_s − F2) λ_J, eq. (lambdasigmaap)")
+plt.plot(sig, lapprox, "b:", label="2C(p_s + F2) λ_J, eq. (lambdasigmaap)")
 plt.plot(sig, lmax, "r-.", label="fastest linear growth")
 plt.axhspan(150, 250, color="C2", alpha=0.15, label="Cassini: 150–250 m")
 plt.yscale("log"); plt.xlabel("σ0 [kg m⁻²]"); plt.ylabel("wavelength [m]"); plt.ylim(30, 2000)
@@ -93,9 +95,9 @@ for s0 in (200, 400, 600, 800):
 #   σ0 = 200 kg m⁻² to about 120 m at 800 kg m⁻², and it crosses the Cassini band between σ0 ≈ 280 and 520 kg m⁻².
 # * The fastest-growing linear wavelength (red) is 2–4 times shorter: the saturated waves are *not* the ones that
 #   grow fastest.
-# * The Jeans-wavelength estimate (blue) follows the same trend within about 25 % (too long at small σ0, exact near
-#   σ0 ≈ 600 kg m⁻², too short at Q0 ≈ 1): it rests on the small-k expansion eq. (osfreq), which is only rough at
-#   these wavelengths. Its value is the scaling λ_p ∝ c0²/σ0, which notebook 5 uses.
+# * The Jeans-wavelength estimate (blue) is exact for Q0 ≫ 1 and falls below 1.4 λ_zero as Q0 → 1: 2 % low at
+#   σ0 = 200 kg m⁻² (Q0 = 4), 8 % at 400, 19 % at 600 (Q0 = 1.3): it rests on the small-k expansion eq. (osfreq),
+#   which is only rough at these wavelengths. Its value is the scaling λ_p ∝ c0²/σ0, which notebook 5 uses.
 
 # %% [markdown]
 # ## Large-scale runs: λ_p against σ0

@@ -224,10 +224,12 @@ def radvar(mode, out):
         vals, counts = np.unique(np.array(box.history["lambda_p"][n // 2:]), return_counts=True)
         lam_p.append(float(vals[np.argmax(counts)]))
         c0.append(float(np.mean(box.history["c_mean"][n // 2:])))
-    approx = np.array([lambda_p_approx(p) * R**2 for R in radii])  # c0 ~ R_p => lambda_J ~ R_p^2
+    # c0 ~ R_p => lambda_J ~ R_p^2; eq. (lambdasigmaap) with the sign of eq. (osfreq), 2C(p_s + F2) lambda_J
+    # (the paper prints p_s - F2; see ringcore.analysis.saturation.lambda_p_approx)
+    approx = np.array([lambda_p_approx(p) * R**2 for R in radii])
     fig, ax = plt.subplots(figsize=(7, 5))
     ax.plot(radii, lam_p, "*", ms=12, color="k", label="N-body, periodic boundaries")
-    ax.plot(radii, approx, "k--", label=r"eq. (lambdasigmaap) x $(R_p/1\,$m$)^2$")
+    ax.plot(radii, approx, "k--", label=r"eq. (lambdasigmaap), $2C(p_s+F_2)\lambda_J \times (R_p/1\,$m$)^2$")
     ax.set_xlabel(r"$R_p$ [m]")
     ax.set_ylabel(r"$\lambda_p$ [m]")
     ax.legend(fontsize=8)
@@ -238,6 +240,8 @@ def radvar(mode, out):
                     coords={"R_p": ("R_p", radii, {"units": "m"})})
     cap = (f"{mode} run: N-body with L_x = {L1:g} m (R_p/1 m)^2, L_y = {Ly1:g} m (R_p/1 m), Bridges law unchanged "
            f"(v_c = 0.077 mm/s), tau, sigma0 unchanged, {orbits:g} orbits; lambda_p = most frequent "
-           "prevalent wavelength of the second half. Paper: L_x = 2 km (R_p/1 m)^2, R_p = 1-4 m, thousands of orbits, "
+           "prevalent wavelength of the second half. Dashed: eq. (lambdasigmaap) as 2C(p_s + F2) lambda_J (R_p/1 m)^2, "
+           "the sign that follows from eq. (osfreq) (the paper prints p_s - F2; at sigma0 = 900, Q0 = 0.9, the "
+           "estimate is rough either way). Paper: L_x = 2 km (R_p/1 m)^2, R_p = 1-4 m, thousands of orbits, "
            "plus spreading-boundary runs (diamonds, not repeated here).")
     return finish(fig, ds, out, "radvar", cap, dict(L_x=L1, L_y=Ly1, orbits=orbits))
