@@ -15,7 +15,9 @@
 # # 5. Exercises
 #
 # Five open questions about Lehmann, Schmidt & Salo (2017), each with a short worked answer computed with `ringcore`.
-# Try each question yourself before running the answer cell. Equation and figure names refer to the paper's labels.
+# Try each question yourself before running the answer cell. Equation and figure numbers are the published ones
+# (`ringcore.paperrefs`, derived from the paper's source); hover over a number for the paper's LaTeX label, which
+# is the name the code and docstrings use.
 #
 # **Quick mode** keeps every check small (a handful of one-wavelength hydro boxes, one small N-body box); with
 # `QUICK = False` the checks use finer grids, longer runs and larger boxes.
@@ -63,15 +65,15 @@ print("saturated frequencies: " + ", ".join(f"{l:.0f} m: {w:.4f}" for l, w in zi
 
 # %% [markdown]
 # *Discussion.* The two agree to 6 % (printed above), well inside the ~28 % spacing of the five sample wavelengths. The paper's
-# large-scale runs scatter by about ±10–20 % around the dashed curve of Figure "lambdap", because the minimum is shallow
+# large-scale runs scatter by about ±10–20 % around the dashed curve of <abbr title="label lambdap">Figure 20</abbr>, because the minimum is shallow
 # and the final state depends on the history (Appendix "Influence of the Initial State on the Saturation Wavelength").
 # A prediction of λ_p to better than ~20 % is therefore not meaningful.
 
 # %% [markdown]
 # ## Exercise 2 — larger particles
 # All runs so far used particles of radius R_p = 1 m. How would λ_p change for R_p = 2 m at the same σ0 and τ?
-# Use eq. (lambdasigmaap), λ_p ≈ 2C(p_s + F_2) λ_J (the sign that follows from eq. (osfreq); Exercise 5), and the
-# Jeans wavelength eq. (jeans), λ_J = c0²/(Gσ0).
+# Use <abbr title="label lambdasigmaap">Eq. (56)</abbr>, λ_p ≈ 2C(p_s + F_2) λ_J (the sign that follows from <abbr title="label osfreq">Eq. (22)</abbr>; Exercise 5), and the
+# Jeans wavelength <abbr title="label jeans">Eq. (57)</abbr>, λ_J = c0²/(Gσ0).
 #
 # *Answer.* In a dense ring the pressure is mostly *nonlocal* (collisions transport momentum over a particle
 # diameter), so the effective velocity dispersion scales with the particle size, c0 ∼ R_p Ω (Section "Variation of the
@@ -110,19 +112,19 @@ def scaled_rp(p, R):
     return dataclasses.replace(p, c0=p.c0 * R, nu0=p.nu0 * R**2, kappa0=p.kappa0 * R**2, T0=p.T0 * R**2)
 
 
-sigma0 = 900.0   # the paper's Figure "radvar"
+sigma0 = 900.0   # the paper's Figure 26
 R = np.array([1.0, 1.5, 2.0, 3.0, 4.0])
 lp = np.array([analysis.lambda_p_empirical(scaled_rp(params.get("tau15", sigma0=sigma0), r)) for r in R])
 lpa = np.array([analysis.lambda_p_approx(scaled_rp(params.get("tau15", sigma0=sigma0), r)) for r in R])
 plt.figure(figsize=(5.5, 3.8))
 plt.loglog(R, lp, "ko-", label="1.4 λ_zero (exact linear)")
-plt.loglog(R, lpa, "b^--", label="eq. (lambdasigmaap)")
+plt.loglog(R, lpa, "b^--", label="Eq. (56)")
 plt.loglog(R, lp[0] * R**2, "r:", label="∝ R_p²")
 plt.xticks(R, [f"{r:g}" for r in R]); plt.minorticks_off()
 plt.xlabel("R_p [m]"); plt.ylabel("λ_p [m]"); plt.title(f"τ15 scaled, σ0 = {sigma0:.0f} kg m⁻²"); plt.legend(); plt.show()
 for r, a, b in zip(R, lp, lpa):
     print(f"R_p = {r:.1f} m: Q0 = {scaled_rp(params.get('tau15', sigma0=sigma0), r).Q0:.2f}, "
-          f"1.4 lambda_zero = {a:6.0f} m, eq. (lambdasigmaap) {b:6.0f} m")
+          f"1.4 lambda_zero = {a:6.0f} m, Eq. (56) {b:6.0f} m")
 slope = np.polyfit(np.log(R), np.log(lp), 1)[0]
 print(f"power-law slope d ln(lambda_p) / d ln(R_p) = {slope:.2f}")
 
@@ -133,13 +135,13 @@ print(f"power-law slope d ln(lambda_p) / d ln(R_p) = {slope:.2f}")
 # small-k estimate is only rough over that range (−38 % at R_p = 1 m where Q0 < 1, −3 % at 4 m). "Roughly quadratic",
 # as the paper
 # says. The paper's N-body runs with
-# R_p = 1–4 m (Figure "radvar") show the roughly quadratic growth, with boxes L_x = 2 km × (R_p/1 m)² to hold the
+# R_p = 1–4 m (<abbr title="label radvar">Figure 26</abbr>) show the roughly quadratic growth, with boxes L_x = 2 km × (R_p/1 m)² to hold the
 # longer waves. Without self-gravity the only length scale is R_p itself, and λ_p ∝ R_p (paper, same section).
 
 # %% [markdown]
 # ## Exercise 3 — what the Cassini wavelengths say about σ0
 # Cassini occultations show axisymmetric waves of λ ≈ 150–250 m in the A and B rings (Section "Introduction",
-# Section "Conclusion"). If these are saturated overstable waves obeying eq. (lambdasigma), which surface densities
+# Section "Conclusion"). If these are saturated overstable waves obeying <abbr title="label lambdasigma">Eq. (55)</abbr>, which surface densities
 # do they imply? How does the answer depend on the parameter set and on the particle size?
 #
 # *Answer.* Solve 1.4 λ_zero(σ0) = λ for σ0 (λ_zero falls monotonically with σ0, so a root finder works).
@@ -201,8 +203,8 @@ print(f"saturated (1.4 lambda_zero): lambda = {analysis.lambda_p_empirical(q4):.
 
 # %% [markdown]
 # ## Exercise 5 — check a printed formula against the exact theory
-# Section "Variation of the Particle Radius" prints eq. (lambdasigmaap) as λ_p ≈ 2C(p_s **−** F_2) λ_J and says it
-# "follows directly from Equation (osfreq) for Q0 ≫ 1". Eq. (osfreq) is the k² expansion of the overstable frequency,
+# Section "Variation of the Particle Radius" prints <abbr title="label lambdasigmaap">Eq. (56)</abbr> as λ_p ≈ 2C(p_s **−** F_2) λ_J and says it
+# "follows directly from <abbr title="label osfreq">Equation (22)</abbr> for Q0 ≫ 1". <abbr title="label osfreq">Eq. (22)</abbr> is the k² expansion of the overstable frequency,
 # ω_I = 1 − k/Q0 + ½(p_s + F_2 − 1/Q0²) k² (k in Ω/c0). Derive λ_zero (where the group velocity dω_I/dk vanishes) from
 # it, and decide with the exact linear theory which sign is right. A printed formula can carry a typo; the exact
 # theory is the referee.
