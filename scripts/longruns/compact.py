@@ -95,6 +95,9 @@ def main(argv=None):
     ap.add_argument("--rows", type=int, default=400, help="at most this many stroboscopic rows (default 400)")
     ap.add_argument("--cols", type=int, default=1000, help="at most this many columns (default 1000)")
     args = ap.parse_args(argv)
+    for name in ("rows", "cols"):
+        if getattr(args, name) < 2:
+            ap.error(f"--{name} = {getattr(args, name)} is not valid: allowed >= 2")
     for r in args.runs:
         r = Path(r)
         d = Path(args.out) if args.out else r.parent / "compact"
