@@ -237,6 +237,22 @@ def sec(label: str) -> str:
     return f"Appendix {n}" if n[:1].isalpha() else f"Section {n}"
 
 
+def ref(label: str) -> str:
+    """Printed reference for a full label: ``"eq:matni" -> "Eq. (17)"``, ``"fig:lambdap" -> "Figure 20"``,
+    ``"tab:hydropar" -> "Table 2"``, ``"sec:isonosg" -> "Section 5.1.1"``."""
+    kind = label.split(":", 1)[0] if ":" in label else ""
+    funcs = {"eq": eq, "fig": fig, "tab": tab, "sec": sec}
+    if kind not in funcs:
+        raise ValueError(f"label = {label!r} is not valid: allowed a label with one of the prefixes eq:, fig:, "
+                         f"tab:, sec:")
+    return funcs[kind](label)
+
+
+def html(label: str) -> str:
+    """``ref(label)`` as HTML with the LaTeX label as tooltip: ``<abbr title="label matni">Eq. (17)</abbr>``."""
+    return f'<abbr title="label {label.split(":", 1)[1]}">{ref(label)}</abbr>'
+
+
 if __name__ == "__main__":  # pragma: no cover - regenerate NUMBERS
     import sys
 

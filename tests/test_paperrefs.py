@@ -94,3 +94,11 @@ def test_format_table_round_trips():
     ns = {}
     exec(paperrefs.format_table(paperrefs.NUMBERS), ns)
     assert ns["NUMBERS"] == paperrefs.NUMBERS
+
+
+def test_ref_and_html_by_prefix():
+    assert paperrefs.ref("eq:matni") == "Eq. (17)" and paperrefs.ref("fig:lambdap") == "Figure 20"
+    assert paperrefs.ref("tab:hydropar") == "Table 2" and paperrefs.ref("sec:vgroup") == "Appendix C"
+    assert paperrefs.html("eq:osfreq") == '<abbr title="label osfreq">Eq. (22)</abbr>'
+    with pytest.raises(ValueError, match="prefixes"):
+        paperrefs.ref("matni")
