@@ -29,7 +29,8 @@ def lambda_zero_approx(p: RingParams, F2: float | None = None) -> float:
     paper's units (length c0/Omega), i.e. lambda_zero -> 2 (p_s + F2) lambda_J with
     lambda_J = c0^2/(G sigma0) (eq. jeans) for Q0 >> 1.  Agrees with the exact lambda_zero of
     eq. (evp) (:func:`ringcore.linear.lambda_zero`) within 0.1 % for the non-isothermal sets at
-    Q0 >= 20 (F2 from the table); the isothermal sets (F2 = 0) within 1 % at Q0 >= 32.
+    Q0 >= 20 with the tabulated F2 (tau20: 0.4 %, its tabulated F2 = 0.08 against the exact 0.09);
+    the isothermal sets (F2 = 0) within 1 % at Q0 >= 32.
 
     Parameters
     ----------
