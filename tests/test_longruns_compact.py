@@ -47,3 +47,23 @@ def test_compact_thins_and_keeps_values(run_file, tmp_path):
         assert c.attrs["lambda_p_paper_m"] == 233.0 and c.attrs["orbit"] == pytest.approx(37.0)
         assert c.attrs["lambda_p_final_m"] == pytest.approx(100.0)
         assert c.strobe.encoding["dtype"] == np.dtype("int16")
+
+
+def test_progress_reads_orbit_rate_and_target(run_file, tmp_path):
+    spec2 = importlib.util.spec_from_file_location("progress", ROOT / "scripts/longruns/progress.py")
+    progress = importlib.util.module_from_spec(spec2)
+    spec2.loader.exec_module(progress)
+    import datetime as dt
+    f = tmp_path / run_file.name
+    with xr.open_dataset(run_file) as ds:
+        ds = ds.load()
+    created = dt.datetime(2026, 1, 2, 3, 4, 5, tzinfo=dt.timezone.utc)
+    ds.attrs["created"] = created.isoformat()
+    ds.to_netcdf(f, engine="h5netcdf")
+    start = created - dt.timedelta(seconds=74)
+    f.with_suffix(".log").write_text(f"{start.strftime('%Y-%m-%dT%H:%M:%SZ')} start x: --set tau15\n")
+    r = progress.run_progress(f, target=111.0)
+    assert r["orbit"] == pytest.approx(37.0) and r["target"] == 111.0
+    assert r["orbits_per_s"] == pytest.approx(37.0 / 74, rel=0.02)     # log has whole seconds
+    assert r["hours_left"] == pytest.approx(74.0 / 37.0 * 74 / 3600, rel=0.02)
+    assert progress.run_progress(f)["target"] == 20000.0                  # default without --orbits/--until

@@ -43,7 +43,8 @@ def run_progress(path: Path, target: float | None = None) -> dict:
         a = dict(ds.attrs)
     s = json.loads(a.get("summary_json", "{}"))
     orbit, steps = float(a["time_orbits"]), int(a["steps"])
-    created = dt.datetime.fromisoformat(a["created"])
+    created = (dt.datetime.fromisoformat(a["created"]) if "created" in a   # written by the CLI's checkpoints
+               else dt.datetime.fromtimestamp(path.stat().st_mtime, dt.timezone.utc))
     start, logged = _start_and_target(path.with_suffix(".log"))
     target = logged if target is None else target
     rate = orbit / (created - start).total_seconds() if start and created > start else float("nan")
