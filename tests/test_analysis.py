@@ -41,7 +41,8 @@ def test_fourier_amplitudes_and_prevalent_wavelength():
 def test_saturation_relations():
     p = params.get("tau15", sigma0=400)
     assert analysis.lambda_p_empirical(p) == pytest.approx(1.4 * linear.lambda_zero(p))
-    assert analysis.lambda_p_approx(p) == pytest.approx(2 * 1.4 * (2.41 + 0.28) * p.lambda_J)
+    # eq. (lambdasigmaap) with the sign of eq. (osfreq): + F2 (tabulated F2 = -0.28); the paper prints - F2
+    assert analysis.lambda_p_approx(p) == pytest.approx(2 * 1.4 * (2.41 - 0.28) * p.lambda_J)
 
 
 def test_lagrange_derivative_exact_for_quadratics():

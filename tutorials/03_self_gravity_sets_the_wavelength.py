@@ -16,20 +16,21 @@
 #
 # Without self-gravity (notebook 2) the saturated waves end up hundreds of meters long. Cassini saw
 # 150–250 m. Lehmann, Schmidt & Salo (2017) show that **radial self-gravity** fixes the wavelength
-# (Section "Saturation Wavelength of Viscous Overstability"):
+# (Section "Saturation Wavelength of Viscous Overstability"; equation and figure numbers below are the published ones,
+# from `ringcore.paperrefs` — hover over a number for the paper's LaTeX label, the name the code uses):
 #
-# * the prevalent wavelength λ_p of the saturated state **falls as σ0 rises** (Figure "lambdap");
+# * the prevalent wavelength λ_p of the saturated state **falls as σ0 rises** (<abbr title="label lambdap">Figure 20</abbr>);
 # * for a wide range of σ0 it follows the empirical relation **λ_p = C λ_zero(σ0) with C = 1.4**
 #   (eq. lambdasigma), where λ_zero is the wavelength of the minimum of the *linear* frequency ω_I(k), i.e.
-#   of vanishing group velocity (Figure "vgroup");
+#   of vanishing group velocity (<abbr title="label vgroup">Figure 2</abbr>);
 # * the deeper reason: the saturated waves sit near the minimum of the **nonlinear** dispersion relation
-#   (Section "Nonlinear Dispersion Relation", Figure "nlvg"), where the group velocity vanishes, so that
+#   (Section "Nonlinear Dispersion Relation", <abbr title="label nlvg">Figure 21</abbr>), where the group velocity vanishes, so that
 #   wave patches stop talking to each other and the wavelength stops evolving.
 #
 # We use the non-isothermal τ15 parameters (τ = 1.5, Ω_z = 3.6) throughout.
 #
 # **Quick mode.** Large-scale runs need thousands of orbits in boxes of 5–20 km to saturate (the paper's
-# Figure "lambdap" runs; the project's 2,000-orbit run at σ0 = 400 kg m⁻² took 6 minutes), and a few hundred orbits
+# <abbr title="label lambdap">Figure 20</abbr> runs; the project's 2,000-orbit run at σ0 = 400 kg m⁻² took 6 minutes), and a few hundred orbits
 # in a small box stop in the middle of the climb of λ_p, which would only mislead. Quick mode therefore
 # (1) reads the shipped sweep `app/data/saturation_sweep.nc` if it exists and (2) runs a tiny sweep over three σ0
 # values of the *nonlinear dispersion relation*, which is cheap (boxes of one wavelength) and is what actually
@@ -68,16 +69,18 @@ lmax = np.array([linear.summary(params.get(SET, sigma0=s)).lambda_max_growth_m f
 lapprox = np.array([analysis.lambda_p_approx(params.get(SET, sigma0=s)) for s in sig])
 
 # %% [markdown]
-# ## The empirical relation, eq. (lambdasigma)
-# λ_zero(σ0) comes from the exact linear dispersion relation (notebook 1). For Q0 ≫ 1 eq. (osfreq) gives
-# λ_zero ≈ 2(p_s − F_2) λ_J, hence the estimate eq. (lambdasigmaap), λ_p ≈ 2C(p_s − F_2) λ_J with the Jeans
-# wavelength λ_J = c0²/(Gσ0) (eq. jeans).
+# ## The empirical relation, <abbr title="label lambdasigma">Eq. (55)</abbr>
+# λ_zero(σ0) comes from the exact linear dispersion relation (notebook 1). For Q0 ≫ 1 <abbr title="label osfreq">Eq. (22)</abbr> gives
+# λ_zero ≈ 2(p_s + F_2) λ_J (where its group velocity dω_I/dk vanishes), hence the estimate <abbr title="label lambdasigmaap">Eq. (56)</abbr>,
+# λ_p ≈ 2C(p_s + F_2) λ_J with the Jeans wavelength λ_J = c0²/(Gσ0) (eq. jeans). The paper prints
+# <abbr title="label lambdasigmaap">Eq. (56)</abbr> with p_s − F_2; the sign that follows from <abbr title="label osfreq">Eq. (22)</abbr>, and that agrees with the exact
+# λ_zero at large Q0, is +F_2 (`analysis.lambda_p_approx` uses it; notebook 5 has an exercise on this).
 
 # %%
 plt.figure(figsize=(6.5, 4.2))
-plt.plot(sig, 1.4 * lz, "k--", lw=2, label="λ_p = 1.4 λ_zero, eq. (lambdasigma)")
+plt.plot(sig, 1.4 * lz, "k--", lw=2, label="λ_p = 1.4 λ_zero, Eq. (55)")
 plt.plot(sig, lz, "k-", lw=1, label="λ_zero (linear v_g = 0)")
-plt.plot(sig, lapprox, "b:", label="2C(p_s − F2) λ_J, eq. (lambdasigmaap)")
+plt.plot(sig, lapprox, "b:", label="2C(p_s + F2) λ_J, Eq. (56)")
 plt.plot(sig, lmax, "r-.", label="fastest linear growth")
 plt.axhspan(150, 250, color="C2", alpha=0.15, label="Cassini: 150–250 m")
 plt.yscale("log"); plt.xlabel("σ0 [kg m⁻²]"); plt.ylabel("wavelength [m]"); plt.ylim(30, 2000)
@@ -85,7 +88,7 @@ plt.legend(fontsize=8); plt.title("τ15, non-isothermal"); plt.show()
 for s0 in (200, 400, 600, 800):
     q = params.get(SET, sigma0=s0)
     print(f"sigma0 = {s0}: Q0 = {q.Q0:.2f}, lambda_J = {q.lambda_J:5.1f} m, lambda_zero = {linear.lambda_zero(q):5.1f} m, "
-          f"1.4 lambda_zero = {analysis.lambda_p_empirical(q):5.1f} m, eq. (lambdasigmaap) {analysis.lambda_p_approx(q):5.1f} m")
+          f"1.4 lambda_zero = {analysis.lambda_p_empirical(q):5.1f} m, Eq. (56) {analysis.lambda_p_approx(q):5.1f} m")
 
 # %% [markdown]
 # **What to notice.**
@@ -93,9 +96,9 @@ for s0 in (200, 400, 600, 800):
 #   σ0 = 200 kg m⁻² to about 120 m at 800 kg m⁻², and it crosses the Cassini band between σ0 ≈ 280 and 520 kg m⁻².
 # * The fastest-growing linear wavelength (red) is 2–4 times shorter: the saturated waves are *not* the ones that
 #   grow fastest.
-# * The Jeans-wavelength estimate (blue) follows the same trend within about 25 % (too long at small σ0, exact near
-#   σ0 ≈ 600 kg m⁻², too short at Q0 ≈ 1): it rests on the small-k expansion eq. (osfreq), which is only rough at
-#   these wavelengths. Its value is the scaling λ_p ∝ c0²/σ0, which notebook 5 uses.
+# * The Jeans-wavelength estimate (blue) is exact for Q0 ≫ 1 and falls below 1.4 λ_zero as Q0 → 1: 2 % low at
+#   σ0 = 200 kg m⁻² (Q0 = 4), 8 % at 400, 19 % at 600 (Q0 = 1.3): it rests on the small-k expansion <abbr title="label osfreq">Eq. (22)</abbr>,
+#   which is only rough at these wavelengths. Its value is the scaling λ_p ∝ c0²/σ0, which notebook 5 uses.
 
 # %% [markdown]
 # ## Large-scale runs: λ_p against σ0
@@ -184,7 +187,7 @@ q, cols = v["q"], v["cols"]
 lam_grid = np.geomspace(60, 800, 300)
 d = linear.dispersion(q, lam_grid)
 fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4))
-a1.plot(lam_grid, d.frequency, "k--", label="linear, eq. (matni)")
+a1.plot(lam_grid, d.frequency, "k--", label="linear, Eq. (17)")
 a1.errorbar(cols["wavelength_m"], cols["frequency"], cols["frequency_err"], fmt="o-", color="C3", label="nonlinear (saturated)")
 a1.axvline(v["lam_lin"], color="k", ls=":", lw=1)
 a1.axvline(v["lam_nl"], color="C3", ls=":", lw=1)
@@ -209,12 +212,12 @@ print(f"sigma0 = {q.sigma0:.0f}, group velocity at {lam_near:.0f} m: nonlinear {
 #   the wavelength of minimal frequency is shifted by nonlinearity to larger values. For the non-isothermal model
 #   ... also the minimal frequency itself is larger". At long wavelengths the two curves meet again.
 # * At σ0 = 300 and 400 kg m⁻² the nonlinear minimum lies at 1.45 and 1.37 λ_zero (printed ratios), i.e. at the
-#   empirical 1.4 λ_zero: the factor C = 1.4 of eq. (lambdasigma) is largely the nonlinear shift of the frequency
+#   empirical 1.4 λ_zero: the factor C = 1.4 of <abbr title="label lambdasigma">Eq. (55)</abbr> is largely the nonlinear shift of the frequency
 #   minimum ("nonlinearity accounts for much of the deviation from unity of the factor C").
 # * At σ0 = 700 kg m⁻² the shift is smaller (1.12 λ_zero; the 210 m box, far from the minimum, was taken over by
 #   shorter waves, marked above). The paper sees the same: "with increasing σ0 the values of λ_p gradually depart from the minimum toward
 #   larger wavelengths" in periodic boxes, and runs with a buffer zone bring λ_p back to the nonlinear minimum
-#   (Section "Hydrodynamical Integrations with a Buffer-Zone", Figures "nlvgbuff", "osfrat").
+#   (Section "Hydrodynamical Integrations with a Buffer-Zone", <abbr title="label nlvgbuff">Figures 24</abbr>, <abbr title="label osfrat">25</abbr>).
 # * Near that wavelength the nonlinear group velocity is close to zero, while the *linear* one is not. A wave train at
 #   the minimum cannot send modulations anywhere: neighbouring patches stop interacting, so the wavelength stops
 #   evolving — the reason the large-scale runs settle there. The short-wave branch (v_g > 0) and the long-wave
@@ -228,7 +231,7 @@ print(f"sigma0 = {q.sigma0:.0f}, group velocity at {lam_near:.0f} m: nonlinear {
 
 # %%
 fig, ax = plt.subplots(figsize=(6.5, 4.2))
-ax.plot(sig, 1.4 * lz, "k--", label="1.4 λ_zero, eq. (lambdasigma)")
+ax.plot(sig, 1.4 * lz, "k--", label="1.4 λ_zero, Eq. (55)")
 ax.plot(sig, lz, "k-", lw=1, label="λ_zero (linear)")
 ax.plot(sig, lmax, "r-.", label="fastest linear growth")
 ax.plot(list(nl), [v["lam_nl"] for v in nl.values()], "D", color="C3", ms=8, label="nonlinear frequency minimum")
@@ -247,7 +250,7 @@ for s0, v in nl.items():
 # **What to notice.** The wavelength of the nonlinear frequency minimum falls as σ0 rises (240 → 177 → 101 m for
 # σ0 = 300 → 400 → 700 kg m⁻²) and follows the dashed curve 1.4 λ_zero up to σ0 ≈ 400, dropping below it at 700
 # (see above) — while the fastest-growing wavelength stays at 55–73 m. The saturated large-scale runs follow the
-# dashed curve (Figure "lambdap"; e.g. the project's
+# dashed curve (<abbr title="label lambdap">Figure 20</abbr>; e.g. the project's
 # 2,000-orbit run at σ0 = 400 kg m⁻² in a 5 km box ended at λ_p = 172 m = 0.96 × 1.4 λ_zero, README "A real nonlinear
 # run"; with `QUICK = False` this notebook's own runs are added). Stronger self-gravity (smaller Toomre Q0) means
 # shorter saturated waves; the Cassini band of 150–250 m (shaded) corresponds to σ0 of a few hundred kg m⁻²
@@ -256,7 +259,7 @@ for s0, v in nl.items():
 # %% [markdown]
 # ## Try this
 # Switch to the isothermal model with p_s = 1 (`SET` stays, but use `params.get(SET, sigma0=s0).isothermal_limit()`
-# in the nonlinear cell). The paper (Figure "nlvg" d): "In the isothermal model ... the presence of any substantial
+# in the nonlinear cell). The paper (<abbr title="label nlvg">Figure 21</abbr> d): "In the isothermal model ... the presence of any substantial
 # self-gravity force results in a nonlinear reduction of the oscillation frequencies." Does the minimum still move
 # to longer waves? The linear numbers to start from:
 

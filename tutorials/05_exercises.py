@@ -14,8 +14,10 @@
 # %% [markdown]
 # # 5. Exercises
 #
-# Four open questions about Lehmann, Schmidt & Salo (2017), each with a short worked answer computed with `ringcore`.
-# Try each question yourself before running the answer cell. Equation and figure names refer to the paper's labels.
+# Five open questions about Lehmann, Schmidt & Salo (2017), each with a short worked answer computed with `ringcore`.
+# Try each question yourself before running the answer cell. Equation and figure numbers are the published ones
+# (`ringcore.paperrefs`, derived from the paper's source); hover over a number for the paper's LaTeX label, which
+# is the name the code and docstrings use.
 #
 # **Quick mode** keeps every check small (a handful of one-wavelength hydro boxes, one small N-body box); with
 # `QUICK = False` the checks use finer grids, longer runs and larger boxes.
@@ -63,14 +65,15 @@ print("saturated frequencies: " + ", ".join(f"{l:.0f} m: {w:.4f}" for l, w in zi
 
 # %% [markdown]
 # *Discussion.* The two agree to 6 % (printed above), well inside the ~28 % spacing of the five sample wavelengths. The paper's
-# large-scale runs scatter by about ±10–20 % around the dashed curve of Figure "lambdap", because the minimum is shallow
+# large-scale runs scatter by about ±10–20 % around the dashed curve of <abbr title="label lambdap">Figure 20</abbr>, because the minimum is shallow
 # and the final state depends on the history (Appendix "Influence of the Initial State on the Saturation Wavelength").
 # A prediction of λ_p to better than ~20 % is therefore not meaningful.
 
 # %% [markdown]
 # ## Exercise 2 — larger particles
 # All runs so far used particles of radius R_p = 1 m. How would λ_p change for R_p = 2 m at the same σ0 and τ?
-# Use eq. (lambdasigmaap), λ_p ≈ 2C(p_s − F_2) λ_J, and the Jeans wavelength eq. (jeans), λ_J = c0²/(Gσ0).
+# Use <abbr title="label lambdasigmaap">Eq. (56)</abbr>, λ_p ≈ 2C(p_s + F_2) λ_J (the sign that follows from <abbr title="label osfreq">Eq. (22)</abbr>; Exercise 5), and the
+# Jeans wavelength <abbr title="label jeans">Eq. (57)</abbr>, λ_J = c0²/(Gσ0).
 #
 # *Answer.* In a dense ring the pressure is mostly *nonlocal* (collisions transport momentum over a particle
 # diameter), so the effective velocity dispersion scales with the particle size, c0 ∼ R_p Ω (Section "Variation of the
@@ -109,19 +112,19 @@ def scaled_rp(p, R):
     return dataclasses.replace(p, c0=p.c0 * R, nu0=p.nu0 * R**2, kappa0=p.kappa0 * R**2, T0=p.T0 * R**2)
 
 
-sigma0 = 900.0   # the paper's Figure "radvar"
+sigma0 = 900.0   # the paper's Figure 26
 R = np.array([1.0, 1.5, 2.0, 3.0, 4.0])
 lp = np.array([analysis.lambda_p_empirical(scaled_rp(params.get("tau15", sigma0=sigma0), r)) for r in R])
 lpa = np.array([analysis.lambda_p_approx(scaled_rp(params.get("tau15", sigma0=sigma0), r)) for r in R])
 plt.figure(figsize=(5.5, 3.8))
 plt.loglog(R, lp, "ko-", label="1.4 λ_zero (exact linear)")
-plt.loglog(R, lpa, "b^--", label="eq. (lambdasigmaap)")
+plt.loglog(R, lpa, "b^--", label="Eq. (56)")
 plt.loglog(R, lp[0] * R**2, "r:", label="∝ R_p²")
 plt.xticks(R, [f"{r:g}" for r in R]); plt.minorticks_off()
 plt.xlabel("R_p [m]"); plt.ylabel("λ_p [m]"); plt.title(f"τ15 scaled, σ0 = {sigma0:.0f} kg m⁻²"); plt.legend(); plt.show()
 for r, a, b in zip(R, lp, lpa):
     print(f"R_p = {r:.1f} m: Q0 = {scaled_rp(params.get('tau15', sigma0=sigma0), r).Q0:.2f}, "
-          f"1.4 lambda_zero = {a:6.0f} m, eq. (lambdasigmaap) {b:6.0f} m")
+          f"1.4 lambda_zero = {a:6.0f} m, Eq. (56) {b:6.0f} m")
 slope = np.polyfit(np.log(R), np.log(lp), 1)[0]
 print(f"power-law slope d ln(lambda_p) / d ln(R_p) = {slope:.2f}")
 
@@ -129,15 +132,16 @@ print(f"power-law slope d ln(lambda_p) / d ln(R_p) = {slope:.2f}")
 # *Discussion.* The N-body box confirms c0 ∝ R_p (ratio printed above: 2.00), and ν ∝ R_p² as well (ratio 4.0). Eq.
 # (lambdasigmaap) is exactly ∝ R_p² (blue, parallel to the red line), but the exact 1.4 λ_zero grows more slowly,
 # with a slope of 1.7 (printed): at σ0 = 900 kg m⁻² the ring goes from Q0 ≈ 0.9 (R_p = 1 m) to 3.5 (R_p = 4 m), and the
-# small-k estimate is only rough over that range (−20 % at R_p = 1 m, +23 % at 4 m). "Roughly quadratic", as the paper
+# small-k estimate is only rough over that range (−38 % at R_p = 1 m where Q0 < 1, −3 % at 4 m). "Roughly quadratic",
+# as the paper
 # says. The paper's N-body runs with
-# R_p = 1–4 m (Figure "radvar") show the roughly quadratic growth, with boxes L_x = 2 km × (R_p/1 m)² to hold the
+# R_p = 1–4 m (<abbr title="label radvar">Figure 26</abbr>) show the roughly quadratic growth, with boxes L_x = 2 km × (R_p/1 m)² to hold the
 # longer waves. Without self-gravity the only length scale is R_p itself, and λ_p ∝ R_p (paper, same section).
 
 # %% [markdown]
 # ## Exercise 3 — what the Cassini wavelengths say about σ0
 # Cassini occultations show axisymmetric waves of λ ≈ 150–250 m in the A and B rings (Section "Introduction",
-# Section "Conclusion"). If these are saturated overstable waves obeying eq. (lambdasigma), which surface densities
+# Section "Conclusion"). If these are saturated overstable waves obeying <abbr title="label lambdasigma">Eq. (55)</abbr>, which surface densities
 # do they imply? How does the answer depend on the parameter set and on the particle size?
 #
 # *Answer.* Solve 1.4 λ_zero(σ0) = λ for σ0 (λ_zero falls monotonically with σ0, so a root finder works).
@@ -196,6 +200,41 @@ print(f"saturated (1.4 lambda_zero): lambda = {analysis.lambda_p_empirical(q4):.
 # *Discussion.* The saturated wavelength still grows linearly, but several times more slowly than the fastest mode
 # (printed): it is not selected by growth. Its *linear* group velocity is not zero either — only the nonlinear one is
 # (notebook 3). Nonlinearity shifts the frequency minimum from λ_zero to about 1.4 λ_zero.
+
+# %% [markdown]
+# ## Exercise 5 — check a printed formula against the exact theory
+# Section "Variation of the Particle Radius" prints <abbr title="label lambdasigmaap">Eq. (56)</abbr> as λ_p ≈ 2C(p_s **−** F_2) λ_J and says it
+# "follows directly from <abbr title="label osfreq">Equation (22)</abbr> for Q0 ≫ 1". <abbr title="label osfreq">Eq. (22)</abbr> is the k² expansion of the overstable frequency,
+# ω_I = 1 − k/Q0 + ½(p_s + F_2 − 1/Q0²) k² (k in Ω/c0). Derive λ_zero (where the group velocity dω_I/dk vanishes) from
+# it, and decide with the exact linear theory which sign is right. A printed formula can carry a typo; the exact
+# theory is the referee.
+#
+# *Answer.* dω_I/dk = −1/Q0 + (p_s + F_2 − 1/Q0²) k = 0 gives k = 1/(Q0 (p_s + F_2) − 1/Q0), so for Q0 ≫ 1
+# λ_zero = 2π/k ≈ 2π Q0 (p_s + F_2) c0/Ω = 2(p_s + F_2) λ_J, because λ_J = c0²/(Gσ0) = π Q0 c0/Ω. The sign is **+**.
+# Check: compare both forms with the exact λ_zero of `linear.summary` at large Q0, where the expansion must hold,
+# for the τ15 set (F_2 = −0.28, large effect) and τ20 (F_2 = +0.08, small effect).
+
+# %%
+print(f"{'set':6s} {'Q0':>5s} {'exact':>8s} {'2(p_s+F2)lJ':>12s} {'2(p_s-F2)lJ':>12s}")
+for name in ("tau15", "tau20"):
+    base = params.get(name)
+    for Q0 in (10.0, 32.0, 100.0):
+        q5 = base.with_sigma0(base.with_sigma0(100.0).Q0 / Q0 * 100.0)   # sigma0 with this Toomre parameter
+        exact = linear.summary(q5).lambda_zero_m
+        plus = 2 * (q5.p_s + q5.F2) * q5.lambda_J
+        minus = 2 * (q5.p_s - q5.F2) * q5.lambda_J
+        print(f"{name:6s} {q5.Q0:5.0f} {exact:8.0f} {plus:8.0f} ({plus / exact - 1:+5.1%}) {minus:8.0f} ({minus / exact - 1:+5.1%})")
+q5 = params.get("tau15", sigma0=400.0)
+print(f"ringcore's lambda_p_approx (tau15, sigma0 = 400): {analysis.lambda_p_approx(q5):.0f} m "
+      f"= 2 x 1.4 x (p_s + F2) lambda_J = {2 * 1.4 * (q5.p_s + q5.F2) * q5.lambda_J:.0f} m")
+
+# %% [markdown]
+# *Discussion.* The "+" form matches the exact λ_zero to 0.1 % for τ15 at Q0 = 32 (1,891 m against the exact 1,892 m;
+# the printed form gives 2,388 m, +26 %) and to 0.4 % for τ20 (the rest is the tabulated F_2 = 0.08 against the exact
+# 0.09). The error of the printed form does not shrink with Q0, so it is not an expansion error but a sign. `ringcore.analysis.lambda_p_approx` therefore uses p_s + F_2. (At σ0 ≈ 600 kg m⁻², Q0 ≈ 1.3, the printed form
+# happens to lie closer to 1.4 λ_zero, because the expansion itself is 20 % off there — a coincidence, not support.)
+# The same test works for any printed relation: find the limit in which it is claimed to hold, and compare with the
+# exact numbers there.
 
 # %% [markdown]
 # ## Try this

@@ -15,11 +15,62 @@ def lambda_p_empirical(p: RingParams, C: float = C_EMPIRICAL) -> float:
     return C * lambda_zero(p)
 
 
+def _F2(p: RingParams, F2: float | None) -> float:
+    if F2 is not None:
+        return float(F2)
+    return 0.0 if p.isothermal else p.F2
+
+
+def lambda_zero_approx(p: RingParams, F2: float | None = None) -> float:
+    """lambda_zero ~ 2 (p_s + F2) lambda_J [m]: eq. (osfreq) for Q0 >> 1.
+
+    The zero of the group velocity d omega_I/dk of the k^2 approximation eq. (osfreq),
+    omega_I = 1 - k/Q0 + (p_s + F2 - 1/Q0^2) k^2 / 2, is k = 1/(Q0 (p_s + F2) - 1/Q0) in the
+    paper's units (length c0/Omega), i.e. lambda_zero -> 2 (p_s + F2) lambda_J with
+    lambda_J = c0^2/(G sigma0) (eq. jeans) for Q0 >> 1.  Agrees with the exact lambda_zero of
+    eq. (evp) (:func:`ringcore.linear.lambda_zero`) within 0.1 % for the non-isothermal sets at
+    Q0 >= 20 with the tabulated F2 (tau20: 0.4 %, its tabulated F2 = 0.08 against the exact 0.09);
+    the isothermal sets (F2 = 0) within 1 % at Q0 >= 32.
+
+    Parameters
+    ----------
+    p : RingParams
+        Parameter set with sigma0 > 0 (lambda_J is inf without self-gravity).
+    F2 : float, optional
+        Thermal correction of eq. (osfreq); default the tabulated value (0 if isothermal).
+
+    Returns
+    -------
+    float
+        Wavelength [m].
+    """
+    return 2.0 * (p.p_s + _F2(p, F2)) * p.lambda_J
+
+
 def lambda_p_approx(p: RingParams, C: float = C_EMPIRICAL, F2: float | None = None) -> float:
-    """lambda_p ~ 2 C (p_s - F2) lambda_J [m], eq. (lambdasigmaap) (F2 = 0 for isothermal)."""
-    if F2 is None:
-        F2 = 0.0 if p.isothermal else p.F2
-    return 2.0 * C * (p.p_s - F2) * p.lambda_J
+    """lambda_p ~ 2 C (p_s + F2) lambda_J [m]: eq. (lambdasigmaap) with the sign of eq. (osfreq).
+
+    The paper prints eq. (lambdasigmaap) as 2 C (p_s - F2) lambda_J, but it says the relation
+    "follows directly from Equation (osfreq) for Q0 >> 1", and eq. (osfreq) gives
+    lambda_zero ~ 2 (p_s + F2) lambda_J (:func:`lambda_zero_approx`).  The "+" form is the one
+    that agrees with C times the exact lambda_zero (tau15, Q0 = 32: exact lambda_zero 1,892 m,
+    "+" 1,892 m, printed "-" 2,387 m, +26 %).  For the isothermal model F2 = 0 and both agree.
+
+    Parameters
+    ----------
+    p : RingParams
+        Parameter set with sigma0 > 0.
+    C : float
+        Factor of eq. (lambdasigma) (1.4).
+    F2 : float, optional
+        Thermal correction of eq. (osfreq); default the tabulated value (0 if isothermal).
+
+    Returns
+    -------
+    float
+        Wavelength [m].
+    """
+    return C * lambda_zero_approx(p, F2)
 
 
 def lagrange_derivative(x, y) -> np.ndarray:

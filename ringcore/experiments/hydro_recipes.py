@@ -93,7 +93,7 @@ def grates(mode, out):
     ax2.set_xlabel("wavelength [m]")
     ax2.set_ylabel(r"$\omega_I$ [$\Omega$]")
     ax2.set_ylim(0.85, 1.15)
-    fig.suptitle("Figure grates: hydro (symbols) vs exact linear theory eq. (evp) (lines), tau15 non-isothermal",
+    fig.suptitle("Figure 3 (grates): hydro (symbols) vs exact linear theory eq. (evp) (lines), tau15 non-isothermal",
                  fontsize=10)
     ds = xr.Dataset(data, coords={"wavelength_growth": ("wavelength_growth", lam_g, {"units": "m"}),
                                   "wavelength_frequency": ("wavelength_frequency", lam_f, {"units": "m"})})
@@ -136,7 +136,7 @@ def _strobe_recipe(mode, out, name, p, L_q, L_f, orb_q, orb_f, title, buffer_fra
 def tau15nga(mode, out):
     p = params.get("tau15", sigma0=0.0, isothermal=True)
     return _strobe_recipe(mode, out, "tau15nga", p, 2000.0, 10000.0, 1500, 20000,
-                          "Figure tau15nga: isothermal tau15, sigma0 = 0")
+                          "Figure 7 (tau15nga): isothermal tau15, sigma0 = 0")
 
 
 @recipe("tau15bufnosg", "fig:tau15bufnosg", "Buffer zone (beta = -0.5): space-time diagram and PSD, tau15 iso, no SG",
@@ -144,7 +144,7 @@ def tau15nga(mode, out):
 def tau15bufnosg(mode, out):
     p = params.get("tau15", sigma0=0.0, isothermal=True)
     return _strobe_recipe(mode, out, "tau15bufnosg", p, 2000.0, 10000.0, 1500, 20000,
-                          "Figure tau15bufnosg: isothermal tau15, sigma0 = 0, buffer zone", buffer_frac=0.125)
+                          "Figure 9 (tau15bufnosg): isothermal tau15, sigma0 = 0, buffer zone", buffer_frac=0.125)
 
 
 @recipe("tau20nonisonosga", "fig:tau20nonisonosga", "Space-time diagram and PSD, tau20 non-isothermal, no SG",
@@ -152,7 +152,7 @@ def tau15bufnosg(mode, out):
 def tau20nonisonosga(mode, out):
     p = params.get("tau20", sigma0=0.0)
     return _strobe_recipe(mode, out, "tau20nonisonosga", p, 2000.0, 10000.0, 1500, 14000,
-                          "Figure tau20nonisonosga: non-isothermal tau20, sigma0 = 0")
+                          "Figure 11 (tau20nonisonosga): non-isothermal tau20, sigma0 = 0")
 
 
 @recipe("ekinisonosg", "fig:ekinisonosg", "e_kin(t) and lambda_p(t), isothermal, no SG (tau15, tau20, st99)",
@@ -184,7 +184,7 @@ def ekinisonosg(mode, out):
     ax2.set_xlabel("t [orbits]")
     ax2.set_ylabel(r"$\lambda_p$ [m]")
     ax2.legend(fontsize=8)
-    fig.suptitle("Figure ekinisonosg: isothermal, sigma0 = 0 (red: white noise; black: 100 m mode); "
+    fig.suptitle("Figure 8 (ekinisonosg): isothermal, sigma0 = 0 (red: white noise; black: 100 m mode); "
                  "dashed: lambda_st = 233, 455, 659 m (LO2009)", fontsize=9)
     bad = {k: v for k, v in status.items() if v != "ok"}
     cap = (f"{mode} run: isothermal (p_s = 1) tau15, tau20, st99, sigma0 = 0, L_x = {L / 1e3:g} km, h = 2.5 m, "

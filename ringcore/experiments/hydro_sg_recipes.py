@@ -55,7 +55,7 @@ def ekincompare(mode, out):
     panels = pick(mode, {"tau15": (200.0, 300.0, 400.0, 600.0), "tau20": (250.0, 400.0, 700.0)},
                   {"tau15": (200.0, 250.0, 300.0, 400.0, 600.0), "tau20": (250.0, 300.0, 350.0, 400.0, 500.0, 700.0)})
     return _ekin_panels(mode, out, "ekincompare", panels, pick(mode, 1000.0, 5000.0), pick(mode, 500, 20000), True,
-                        "Figure ekincompare: isothermal with radial self-gravity (red: largest sigma0)",
+                        "Figure 12 (ekincompare): isothermal with radial self-gravity (red: largest sigma0)",
                         "Paper: L_x = 5 km, ~20,000 orbits, f_t ~ 0.01 for the largest sigma0 (full mode: fast time "
                         "step x 0.1 for it; in quick mode that run may stop with a blow-up, as the paper's did at the "
                         "normal time step).")
@@ -68,7 +68,7 @@ def etauhydro(mode, out):
                   {"tau15": (0.0, 100.0, 200.0, 300.0, 400.0, 500.0, 600.0, 700.0, 800.0),
                    "tau20": (0.0, 200.0, 400.0, 600.0, 700.0, 800.0, 1100.0)})
     return _ekin_panels(mode, out, "etauhydro", panels, pick(mode, 1000.0, 20000.0), pick(mode, 400, 10000), False,
-                        "Figure etauhydro: non-isothermal with radial self-gravity",
+                        "Figure 14 (etauhydro): non-isothermal with radial self-gravity",
                         "Paper: L_x = 20 km (5 km, h = 1 m for sigma0 >= 700), ~10,000 orbits.")
 
 
@@ -103,7 +103,7 @@ def sgstable(mode, out):
             data[f"t_s{s:g}"] = (f"t_s{s:g}", np.array(t), {"units": "orbits"})
         for f, arr in (("sigma", sig), ("u", u), ("v", v)):
             data[f"{f}_s{s:g}"] = ("x", arr, {"units": "sigma0" if f == "sigma" else "c0"})
-    fig.suptitle("Figure sgstable: isothermal tau15 with self-gravity: snapshots (top), space-time (bottom)", fontsize=10)
+    fig.suptitle("Figure 13 (sgstable): isothermal tau15 with self-gravity: snapshots (top), space-time (bottom)", fontsize=10)
     ds = xr.Dataset(data, coords={"x": ("x", sim.x_m, {"units": "m"})})
     cap = (f"{mode} run: isothermal (p_s = 1) tau15, sigma0 = 250 and 400 kg/m^2, white noise down to 50 m, "
            f"L_x = {L / 1e3:g} km, h = 2.5 m, {orbits} orbits, then {rows} rows every 0.02 orbits. "
@@ -117,7 +117,7 @@ def tau15nonisoweaksg(mode, out):
     L, orbits = pick(mode, 2000.0, 20000.0), pick(mode, 1500, 15000)
     p = params.get("tau15", sigma0=125.0)
     sim, st = hydro_run(p, L, 2.5, orbits, initial="noise", seed=1)
-    fig = strobe_psd_figure(sim, "Figure tau15nonisoweaksg: non-isothermal tau15, sigma0 = 125 kg/m^2")
+    fig = strobe_psd_figure(sim, "Figure 15 (tau15nonisoweaksg): non-isothermal tau15, sigma0 = 125 kg/m^2")
     cap = (f"{mode} run: non-isothermal tau15, sigma0 = 125 kg/m^2, white noise down to 50 m, L_x = {L / 1e3:g} km, "
            f"h = 2.5 m, {sim.orbits:.0f} orbits, fast time step, T floor 0.01 T0. Final lambda_p = "
            f"{sim.prevalent_wavelength():.0f} m. Paper: L_x = 20 km, > 10,000 orbits." + ("" if st == "ok" else f" {st}"))
@@ -151,7 +151,7 @@ def boxsizecomp01(mode, out):
         axes[1, j].set_ylabel("final normalised PSD")
         for ax in axes[:, j]:
             ax.legend(fontsize=7)
-    fig.suptitle("Figure boxsizecomp01: tau15 non-isothermal, two box sizes", fontsize=10)
+    fig.suptitle("Figure 28 (boxsizecomp01): tau15 non-isothermal, two box sizes", fontsize=10)
     ds = series_dataset(runs).merge(xr.Dataset(data))
     cap = (f"{mode} run: non-isothermal tau15, white noise down to 50 m (same seed), h = 2.5 m, {orbits} orbits, "
            f"L_x = {boxes[0] / 1e3:g} and {boxes[1] / 1e3:g} km. Paper: 10 and 30 km, sigma0 = 0, 50, 100.")
@@ -185,7 +185,7 @@ def vgpert(mode, out):
     ax2.set_xlabel("wavelength [m]")
     ax2.set_ylabel(r"$\omega_I^{nl}$ [$\Omega$]")
     ax2.set_title(f"v_g = {vg * 1e3:.3f} mm/s at lambda_p = {lam_p:.0f} m", fontsize=9)
-    fig.suptitle(f"Figure vgpert: tau15 non-isothermal, sigma0 = {s:g} kg/m^2; red: nonlinear group velocity", fontsize=10)
+    fig.suptitle(f"Figure 30 (vgpert): tau15 non-isothermal, sigma0 = {s:g} kg/m^2; red: nonlinear group velocity", fontsize=10)
     ds = strobe_dataset(sim).merge(xr.Dataset({"omega_nl": ("wavelength_nl", w, {"units": "Omega"})},
                                               coords={"wavelength_nl": ("wavelength_nl", lams, {"units": "m"})}))
     ds.attrs.update(group_velocity_m_s=vg, lambda_p_m=lam_p)

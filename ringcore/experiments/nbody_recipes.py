@@ -59,7 +59,7 @@ def nblin1(mode, out):
     ax.set_xlabel("wavelength [m]")
     ax.set_ylabel(r"$\omega_R$ [$\Omega$]")
     ax.legend(fontsize=8)
-    ax.set_title("Figure nblin1: N-body (symbols; filled: 350 kg/m^2) vs non-isothermal hydro (lines)", fontsize=9)
+    ax.set_title("Figure 4 (nblin1): N-body (symbols; filled: 350 kg/m^2) vs non-isothermal hydro (lines)", fontsize=9)
     ds = xr.Dataset(data, coords={"wavelength": ("wavelength", lams, {"units": "m"})})
     cap = (f"{mode} run: Omega_z = 3.6, Bridges law, box L_x = lambda, L_y = {st['L_y']:g} m, {st['eq']:g} orbits "
            f"settling, m = 1 radial-velocity seed 2 R_p Omega, self-gravity from this mode only, fit over "
@@ -97,7 +97,7 @@ def nblin2(mode, out):
     for ax in (ax1, ax2):
         ax.set_xlabel("wavelength [m]")
     ax1.legend(title=r"$\sigma_0$ [kg m$^{-2}$]", fontsize=8)
-    fig.suptitle("Figure nblin2: tau = 1.5 N-body (o), hydro (solid), hydro with 1.4 p_s (dashed)", fontsize=10)
+    fig.suptitle("Figure 5 (nblin2): tau = 1.5 N-body (o), hydro (solid), hydro with 1.4 p_s (dashed)", fontsize=10)
     ds = xr.Dataset(data, coords={"wavelength": ("wavelength", lams, {"units": "m"})})
     cap = (f"{mode} run: tau = 1.5, Omega_z = 3.6, Bridges law, L_x = lambda, L_y = {st['L_y']:g} m, {st['eq']:g} "
            f"orbits settling, m = 1 seed 2 R_p Omega, single-mode self-gravity, fit over {st['orbits']:g} orbits. "
@@ -137,7 +137,7 @@ def enbody(mode, out):
     ax.set_xlabel("t [orbits]")
     ax.set_ylabel(r"$e_{kin}$ [$\sigma_0 (R_p\Omega)^2$]")
     ax.legend(title=r"$\sigma_0$ [kg m$^{-2}$]", fontsize=8)
-    ax.set_title("Figure enbody: N-body, tau = 1.5, Omega_z = 3.6, Bridges law", fontsize=10)
+    ax.set_title("Figure 17 (enbody): N-body, tau = 1.5, Omega_z = 3.6, Bridges law", fontsize=10)
     cap = (f"{mode} run: N-body from the uniform state, L_x = {st['L_x']:g} m, L_y = {st['L_y']:g} m, R_p = 1 m, "
            f"{st['orbits']:g} orbits, self-gravity eq. (sgmodes) with all modes down to 4 R_p. "
            "Paper: L_x = 5 km, L_y = 31.4 m (75,000 particles), ~5,000 orbits, tau = 1.5 and 2.")
@@ -168,7 +168,7 @@ def vdispnb(mode, out):
     ax2.set_xlabel("t [orbits]")
     ax2.set_ylabel(r"$\omega_c$ [1/orbit]")
     ax2.legend(fontsize=7)
-    fig.suptitle("Figure vdispnb: velocity dispersion (time mean of the second half) and collision frequency", fontsize=10)
+    fig.suptitle("Figure 19 (vdispnb): velocity dispersion (time mean of the second half) and collision frequency", fontsize=10)
     ds = xr.Dataset(data, coords={"sigma0": ("sigma0", np.array(sigmas), {"units": "kg m-2"}),
                                   "time": ("time", ds.time.values, {"units": "orbits"})})
     cap = (f"{mode} run: N-body tau = 1.5 ({', '.join(sets)}), Bridges law, L_x = {st['L_x']:g} m, L_y = {st['L_y']:g} m, "
@@ -200,7 +200,7 @@ def boxdouble(mode, out):
     ax.set_xlabel("t [orbits]")
     ax.set_ylabel(r"$e_{kin}$ [$\sigma_0 (R_p\Omega)^2$]")
     ax.legend(fontsize=8)
-    ax.set_title("Figure boxdouble (left): tau = 1.5, Omega_z = 3.6", fontsize=10)
+    ax.set_title("Figure 18 (boxdouble) (left): tau = 1.5, Omega_z = 3.6", fontsize=10)
     ds = xr.Dataset(data, coords={"time_base": ("time_base", np.array(base.history["time"]), {"units": "orbits"}),
                                   "time_tiled": ("time_tiled", t, {"units": "orbits"})})
     cap = (f"{mode} run: N-body, sigma0 = 150 kg/m^2 in L_x = {L:g} m x L_y = {L_y:g} m for {t1:g} orbits; the final "
@@ -224,20 +224,24 @@ def radvar(mode, out):
         vals, counts = np.unique(np.array(box.history["lambda_p"][n // 2:]), return_counts=True)
         lam_p.append(float(vals[np.argmax(counts)]))
         c0.append(float(np.mean(box.history["c_mean"][n // 2:])))
-    approx = np.array([lambda_p_approx(p) * R**2 for R in radii])  # c0 ~ R_p => lambda_J ~ R_p^2
+    # c0 ~ R_p => lambda_J ~ R_p^2; eq. (lambdasigmaap) with the sign of eq. (osfreq), 2C(p_s + F2) lambda_J
+    # (the paper prints p_s - F2; see ringcore.analysis.saturation.lambda_p_approx)
+    approx = np.array([lambda_p_approx(p) * R**2 for R in radii])
     fig, ax = subplots(figsize=(7, 5))
     ax.plot(radii, lam_p, "*", ms=12, color="k", label="N-body, periodic boundaries")
-    ax.plot(radii, approx, "k--", label=r"eq. (lambdasigmaap) x $(R_p/1\,$m$)^2$")
+    ax.plot(radii, approx, "k--", label=r"eq. (lambdasigmaap), $2C(p_s+F_2)\lambda_J \times (R_p/1\,$m$)^2$")
     ax.set_xlabel(r"$R_p$ [m]")
     ax.set_ylabel(r"$\lambda_p$ [m]")
     ax.legend(fontsize=8)
-    ax.set_title("Figure radvar: tau = 1.5, Omega_z = 3.6, sigma0 = 900 kg/m^2", fontsize=10)
+    ax.set_title("Figure 26 (radvar): tau = 1.5, Omega_z = 3.6, sigma0 = 900 kg/m^2", fontsize=10)
     ds = xr.Dataset({"lambda_p": ("R_p", np.array(lam_p), {"units": "m"}),
                      "c_mean": ("R_p", np.array(c0), {"units": "m s-1"}),
                      "lambda_p_approx": ("R_p", approx, {"units": "m"})},
                     coords={"R_p": ("R_p", radii, {"units": "m"})})
     cap = (f"{mode} run: N-body with L_x = {L1:g} m (R_p/1 m)^2, L_y = {Ly1:g} m (R_p/1 m), Bridges law unchanged "
            f"(v_c = 0.077 mm/s), tau, sigma0 unchanged, {orbits:g} orbits; lambda_p = most frequent "
-           "prevalent wavelength of the second half. Paper: L_x = 2 km (R_p/1 m)^2, R_p = 1-4 m, thousands of orbits, "
+           "prevalent wavelength of the second half. Dashed: eq. (lambdasigmaap) as 2C(p_s + F2) lambda_J (R_p/1 m)^2, "
+           "the sign that follows from eq. (osfreq) (the paper prints p_s - F2; at sigma0 = 900, Q0 = 0.9, the "
+           "estimate is rough either way). Paper: L_x = 2 km (R_p/1 m)^2, R_p = 1-4 m, thousands of orbits, "
            "plus spreading-boundary runs (diamonds, not repeated here).")
     return finish(fig, ds, out, "radvar", cap, dict(L_x=L1, L_y=Ly1, orbits=orbits))

@@ -82,7 +82,7 @@ def lambdap(mode, out):
     ax.set_yscale("log")
     ax.set_xlabel(r"$\sigma_0$ [kg m$^{-2}$]")
     ax.set_ylabel(r"$\lambda_p$ [m]")
-    ax.set_title("Figure lambdap: tau15, non-isothermal", fontsize=10)
+    ax.set_title("Figure 20 (lambdap): tau15, non-isothermal", fontsize=10)
     ax.legend(fontsize=8)
     ref = np.array([lambda_p_empirical(base.with_sigma0(v)) for v in sig])
     ds = xr.Dataset({"lambda_p": ("sigma0", lam_p, {"units": "m"}),
@@ -140,7 +140,7 @@ def nlvg(mode, out, sigmas=None, wavelengths=None):
     ax2.set_xlabel("wavelength [m]")
     ax2.set_ylabel(r"$v_g$ [mm/s]")
     ax2.set_title("group velocity: 3-point Lagrange d omega/dk (o) vs linear eq. (vg) (dashed)", fontsize=9)
-    fig.suptitle("Figure nlvg (a): tau15 non-isothermal, saturated wave trains in boxes L_x = lambda", fontsize=10)
+    fig.suptitle("Figure 21 (nlvg) (a): tau15 non-isothermal, saturated wave trains in boxes L_x = lambda", fontsize=10)
     mins = np.array(mins)
     ds = xr.Dataset(data, coords={"wavelength": ("wavelength", lams, {"units": "m"})})
     for k, v in data.items():
@@ -211,7 +211,7 @@ def nbvga(mode, out):
     ax1.legend(title=r"$\sigma_0$ [kg m$^{-2}$]", fontsize=8)
     ax1.set_title("N-body nonlinear (o) vs linear hydro (red)", fontsize=9)
     ax2.set_title("vs linear hydro (red) and hydro with 2 p_s (blue dashed)", fontsize=9)
-    fig.suptitle("Figure nbvga: tau = 1.5, Omega_z = 3.6, Bridges law", fontsize=10)
+    fig.suptitle("Figure 22 (nbvga): tau = 1.5, Omega_z = 3.6, Bridges law", fontsize=10)
     ds = xr.Dataset(data, coords={"wavelength": ("wavelength", lams, {"units": "m"})})
     cap = (f"{mode} run: N-body box L_x = lambda, L_y = {kw['L_y']:g} m, R_p = 1 m, {kw['equilibrate']:g} orbits "
            f"settling, m = 1 radial-velocity seed 10 R_p Omega, self-gravity modes down to 10 m, "
@@ -256,7 +256,7 @@ def osfrat(mode, out):
     axes[1, 1].axhline(C_EMPIRICAL, color="r", ls="--", lw=0.8)
     for ax in axes.flat:
         ax.set_xlabel(r"$\sigma_0$ [kg m$^{-2}$]")
-    fig.suptitle("Figure osfrat: tau15 non-isothermal", fontsize=10)
+    fig.suptitle("Figure 25 (osfrat): tau15 non-isothermal", fontsize=10)
     ds = xr.Dataset({"lambda_zero_linear": ("sigma0", lz, {"units": "m"}),
                      "lambda_zero_nonlinear": ("sigma0", lnl, {"units": "m"}),
                      "lambda_p_buffer": ("sigma0", lp, {"units": "m"})},

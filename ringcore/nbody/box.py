@@ -296,7 +296,8 @@ class ShearingBox:
         if until is not None:
             orbits = check_real("until", until, self.orbits - 0.5 * self.options.dt_orbit, 1e7,
                                 unit="orbits") - self.orbits
-        orbits = check_real("orbits", max(orbits, 0.0), 0.0, 1e7, unit="orbits")
+            orbits = max(orbits, 0.0)  # an end time passed by less than half a step: nothing to do
+        orbits = check_real("orbits", orbits, 0.0, 1e7, unit="orbits")
         deadline = None
         if max_wall_s is not None:
             deadline = time.perf_counter() + check_real("max_wall_s", max_wall_s, 0.0, math.inf, unit="s")

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Continue the paper's long hydro runs in a new session (issue 13 item 3), from where the checkpoints stopped.
+# Same runs, names and settings as the lead's lane.sh (started 08:31 UTC on 2026-11-23), but every resumed run
+# also checkpoints every 200 orbits (lane.sh resumes without --checkpoint-every, so a resumed run would only be
+# saved at its end or on SIGTERM).
+#
+#   scripts/longruns/resume_lanes.sh 1|2      # run one lane in the foreground (use nohup ... & for background)
+#   DRY=1 scripts/longruns/resume_lanes.sh 1  # print the commands only
+#
+# Runs niced (nice -n 19) from the frozen code copy /work/longruns/code (PYTHONPATH), files in /work/longruns.
+set -u
+DIR=${LONGRUNS:-/work/longruns}
+PY=${PY:-/work/main/.venv/bin/python}
+export PYTHONPATH=${RINGCORE_CODE:-/work/longruns/code}
+COMMON="--sigma0 0 --lx 10000 --h 2.5 --timestep cfl --samples 10"
+LANE1=("iso_tau15_mode100|20000|--set tau15 --isothermal $COMMON --init mode --wavelength 100 --amplitude 1e-3"
+       "iso_st99_mode100|20000|--set st99 --isothermal $COMMON --init mode --wavelength 100 --amplitude 1e-3"
+       "noniso_tau15_noise|14000|--set tau15 $COMMON --init noise --seed 1 --T-floor 0.01")
+LANE2=("iso_tau20_mode100|20000|--set tau20 --isothermal $COMMON --init mode --wavelength 100 --amplitude 1e-3"
+       "noniso_tau20_noise|14000|--set tau20 $COMMON --init noise --seed 1 --T-floor 0.01"
+       "iso_tau15_buffer|20000|--set tau15 --isothermal $COMMON --init noise --seed 1 --buffer -1250 1250 -0.5")
+case "${1:-}" in 1) RUNS=("${LANE1[@]}") ;; 2) RUNS=("${LANE2[@]}") ;; *) echo "usage: $0 1|2" >&2; exit 2 ;; esac
+cd "$DIR" || exit 1
+for spec in "${RUNS[@]}"; do
+  IFS='|' read -r name target opts <<<"$spec"
+  if [ -f "$name.nc" ]; then
+    t=$("$PY" -c "import sys, xarray as xr; print(float(xr.open_dataset(sys.argv[1]).attrs['time_orbits']))" "$name.nc")
+    if awk "BEGIN{exit !($t >= $target)}"; then echo "$name: done ($t orbits)"; continue; fi
+    cmd="nice -n 19 $PY -m ringcore.cli.main resume $name.nc --until $target --checkpoint-every 200 --no-progress"
+  else
+    cmd="nice -n 19 $PY -m ringcore.cli.main hydro $opts --orbits $target --out $name.nc --checkpoint-every 200 --no-progress"
+  fi
+  if [ -n "${DRY:-}" ]; then echo "$cmd"; continue; fi
+  echo "$(date -u +%FT%TZ) start $name: $cmd" >> "$name.log"
+  $cmd >> "$name.log" 2>&1
+  echo "$(date -u +%FT%TZ) end $name status $?" >> "$name.log"
+done
