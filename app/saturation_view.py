@@ -40,8 +40,9 @@ surface density σ₀: denser rings have shorter waves, settling at 100-200 m.
 
 * **Dashed blue**: the empirical relation λ<sub>p</sub> = 1.4 λ<sub>zero</sub>(σ₀), **eq. (lambdasigma)**, where
   λ<sub>zero</sub> is the wavelength at which the linear group velocity vanishes (Linear-theory tab, Figure "vgroup").
-  For large σ₀ it is close to 2.8 (p<sub>s</sub> − F<sub>2</sub>) λ<sub>J</sub>, **eq. (lambdasigmaap)**, with the
-  Jeans wavelength λ<sub>J</sub> = c<sub>0</sub>²/(Gσ₀), **eq. (jeans)**.
+  For weak self-gravity (large Q<sub>0</sub>, small σ₀) it is close to 2.8 (p<sub>s</sub> + F<sub>2</sub>) λ<sub>J</sub>,
+  **eq. (lambdasigmaap)** with the sign that follows from eq. (osfreq) (the paper prints p<sub>s</sub> − F<sub>2</sub>;
+  see README, "Departures from the paper"), with the Jeans wavelength λ<sub>J</sub> = c<sub>0</sub>²/(Gσ₀), **eq. (jeans)**.
 * **Dotted orange**: the fastest-growing linear wavelength. Saturated waves are *longer* than the waves that grow
   fastest at the start.
 * **Purple squares**: the runs shipped with the app (a `ringcore sweep`). **Green circles**: your own hydro runs —
