@@ -148,7 +148,7 @@ def run(args) -> int:
         except KeyboardInterrupt:
             sys.stderr.write(f"nbody: interrupted during the equilibration; to finish the run as asked "
                              f"(averaging over orbits {eq_end:g} .. {end:g}): ringcore resume {args.out} "
-                             f"--until {end:g}\n")
+                             f"--until {end!r}\n")
             raise
     box.reset_accumulators()
     run_checkpointed(box, until=end, **kw)

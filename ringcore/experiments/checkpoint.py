@@ -85,7 +85,7 @@ def run_checkpointed(model, orbits: float | None = None, *, out, until: float | 
             if stop.requested:
                 model.save(out, complete=False, interrupted=stop.signal, **attrs)
                 sys.stderr.write(f"\n{kind}: {stop.signal} at orbit {model.orbits:.4f}: state saved to {out}; "
-                                 f"continue with: ringcore resume {out} --until {until:g}\n")
+                                 f"continue with: ringcore resume {out} --until {until!r}\n")
                 raise KeyboardInterrupt(stop.signal)
             if model.orbits >= next_ckpt - tol:
                 model.save(out, complete=False, checkpoint_orbit=model.orbits, **attrs)

@@ -80,7 +80,8 @@ def sgstable(mode, out):
     data, status = {}, {}
     for j, s in enumerate((250.0, 400.0)):
         p = params.get("tau15", sigma0=s, isothermal=True)
-        sim, st = hydro_run(p, L, 2.5, orbits, initial="noise", seed=1)
+        # 50 samples per orbit: the 0.02-orbit rows below are sample times, so each row ends exactly on it
+        sim, st = hydro_run(p, L, 2.5, orbits, initial="noise", seed=1, samples_per_orbit=50)
         status[s] = st
         t, st_rows = [], []
         for _ in range(rows):  # orbit-resolved rows every 0.02 orbits
