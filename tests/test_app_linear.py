@@ -192,7 +192,8 @@ def test_app_assembles_tabs():
     assert [t for t, _ in main.TABS][0] == "Linear theory"
     app = main.create_app()
     tabs = app.tabs
-    assert tabs in app.objects
+    body = app.objects[1]  # header, then the tabs beside the lessons panel
+    assert tabs in body.objects and app.lessons in body.objects[1].objects
     assert isinstance(tabs, pn.Tabs) and tabs._names == [t for t, _ in main.TABS]
 
 

@@ -31,7 +31,7 @@ def _hydro():
 
 
 def _nbody():
-    return ShearingBox(params.get("tau15", sigma0=0), NBodyOptions(L_x=40, L_y=20), seed=1)
+    return ShearingBox(params.get("tau15", sigma0=0), NBodyOptions(L_x=40, L_y=20, record_every=0.01), seed=1)
 
 
 def _hydro_unstable():

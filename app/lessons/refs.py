@@ -46,13 +46,13 @@ def cite(label: str, html_out: bool = True) -> str:
     kind = "fig" if kind in _FIG else "tab" if kind in _TAB else "sec" if kind == "sec" else "eq"
     number = _published(kind, name) if kind in ("eq", "fig") else None
     if kind == "fig":
-        text = f"Figure {number}" if number else f'Figure "{name}"'
+        text = number if number else f'Figure "{name}"'
     elif kind == "tab":
         text = 'Table "Hydrodynamic Parameters"' if name == "hydropar" else f'Table "{name}"'
     elif kind == "sec":
         text = f'Section "{name}"'
     else:
-        text = f"eq. ({number})" if number else f"eq. ({name})"
+        text = number if number else f"eq. ({name})"  # paperrefs gives "Eq. (39)"
     if not html_out:
         return text
     return f'<span class="cite" title="paper label: {html.escape(label)}">{html.escape(text)}</span>'

@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from ..engine import State
-from ..io import attrs_from_dict, dict_from_attrs, status_attrs, write_run
+from ..io import attrs_from_dict, dict_from_attrs, stamp_run, status_attrs, write_run
 from ..params import RingParams
 from ..units import R_P, time_to_orbits
 from .convert import cons_to_prim
@@ -129,7 +129,7 @@ def dataset_from_state(st: State):
                  buffer_active=int(m["buffer_active"]), buffer=json.dumps(m["buffer"]), length_unit_m=sc.length,
                  c0_m_s=sc.velocity, Omega_per_s=p.Omega, model=p.model, n=n,
                  title="ringcore 1D hydrodynamics (Lehmann, Schmidt & Salo 2017)")
-    return xr.Dataset(dv, coords=coords, attrs=attrs)
+    return stamp_run(xr.Dataset(dv, coords=coords, attrs=attrs), "hydro")
 
 
 def _recorder_arrays(ds, n_modes, n_probes) -> dict:

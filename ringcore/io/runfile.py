@@ -65,6 +65,21 @@ def status_attrs(summary: dict, complete: bool) -> dict:
     return {"complete": int(bool(complete)), "summary_json": json.dumps(clean)}
 
 
+def stamp_run(ds: xr.Dataset, kind: str) -> xr.Dataset:
+    """A copy of ``ds`` with the schema attributes and (engine kinds) a fresh state checksum: what
+    :func:`write_run` stores, so an in-memory run Dataset passes :func:`validate_run` like its file."""
+    from .. import __version__
+    from .validate import checksum_attrs
+
+    ds = ds.copy()
+    for key in ("state_sha256", "state_checksums"):  # never carry over a stale checksum
+        ds.attrs.pop(key, None)
+    ds.attrs.update(schema=SCHEMA, schema_version=SCHEMA_VERSION, kind=kind, ringcore_version=__version__,
+                    created=datetime.now(timezone.utc).isoformat(timespec="seconds"))
+    ds.attrs.update(checksum_attrs(ds, kind))
+    return ds
+
+
 def write_run(ds: xr.Dataset, path, kind: str) -> Path:
     """Write ``ds`` to ``path`` atomically with the schema attributes (and, for the engine kinds, the
     checksum ``state_sha256`` of :func:`ringcore.io.validate.checksum_attrs`).
@@ -72,17 +87,9 @@ def write_run(ds: xr.Dataset, path, kind: str) -> Path:
     The data go to ``path.part`` first and replace ``path`` only when complete (``os.replace``): a
     failed write leaves no ``.part`` file and never touches an existing ``path``.
     """
-    from .. import __version__
-    from .validate import checksum_attrs
-
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    ds = ds.copy()
-    for key in ("state_sha256", "state_checksums"):  # never carry over a stale checksum
-        ds.attrs.pop(key, None)
-    ds.attrs.update(schema=SCHEMA, schema_version=SCHEMA_VERSION, kind=kind, ringcore_version=__version__,
-                    created=datetime.now(timezone.utc).isoformat(timespec="seconds"))
-    ds.attrs.update(checksum_attrs(ds, kind))
+    ds = stamp_run(ds, kind)
     tmp = path.with_name(path.name + ".part")
     try:
         ds.to_netcdf(tmp, engine="h5netcdf")

@@ -234,6 +234,11 @@ class ShearingBox:
         fpar, ipar = self._params()
         while done < nsteps:
             n = min(self._chunk_max, nsteps - done)
+            if deadline is not None:  # size the call to the time left (one step to measure the cost first)
+                cost = getattr(self, "_step_cost", None)
+                left = deadline - time.perf_counter()
+                n = min(n, 1 if cost is None else max(1, int(left / cost)))
+            t_call = time.perf_counter()
             good = self._good
             np.copyto(good[0], self.pos)
             np.copyto(good[1], self.vel)
@@ -243,6 +248,7 @@ class ShearingBox:
             self._check(status, k)
             self._steps += n
             done += n
+            self._step_cost = max((time.perf_counter() - t_call) / n, 1e-9)  # [s] per step, for the sizing above
             if (deadline is not None and time.perf_counter() >= deadline) or (stop is not None and stop()):
                 break
         return done

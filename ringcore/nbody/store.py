@@ -20,7 +20,7 @@ from dataclasses import asdict
 import numpy as np
 import xarray as xr
 
-from ..io import attrs_from_dict, dict_from_attrs, read_run, status_attrs, validate_run, write_run
+from ..io import attrs_from_dict, dict_from_attrs, read_run, stamp_run, status_attrs, validate_run, write_run
 from ..engine import State
 from ..params import RingParams
 from . import initial
@@ -86,7 +86,7 @@ def to_dataset(src) -> xr.Dataset:
     if a["acc"][K.A_TIME] > 0:
         for k, v in box.transport().items():
             attrs[f"transport_{k}"] = float(v)
-    return xr.Dataset(data, coords=coords, attrs=attrs)
+    return stamp_run(xr.Dataset(data, coords=coords, attrs=attrs), "nbody")
 
 
 def state_from_dataset(ds) -> State:
