@@ -250,6 +250,7 @@ class ShearingBox:
             done += n
             self._step_cost = max((time.perf_counter() - t_call) / n, 1e-9)  # [s] per step, for the sizing above
             if (deadline is not None and time.perf_counter() >= deadline) or (stop is not None and stop()):
+                self._stopped = True  # tells advance() to return (stop() is polled once per kernel call)
                 break
         return done
 
@@ -314,16 +315,15 @@ class ShearingBox:
         done, orbit0 = 0, self.orbits
         with tqdm(total=n_total, disable=not progress, unit="step", desc="nbody") as bar:
             while done < n_total:
-                if stop is not None and stop():
-                    break
                 n = min(chunk - self._steps % chunk, n_total - done)
+                self._stopped = False
                 m = self._advance_steps(n, deadline, stop)
                 done += m
                 bar.update(m)
                 if self._steps % chunk == 0:
                     self._record(pchunk > 0 and self._steps % pchunk == 0)
                     bar.set_postfix(orbit=f"{self.orbits:.2f}", c=f"{self.history['c_mean'][-1]*1e3:.3f}mm/s")
-                if (stop is not None and stop()) or (deadline is not None and time.perf_counter() >= deadline):
+                if self._stopped:
                     break
         return self.orbits - orbit0
 
