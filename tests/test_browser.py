@@ -30,7 +30,7 @@ FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-
          "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 
 try:
-    from playwright.sync_api import sync_playwright
+    from playwright.sync_api import expect, sync_playwright
 except ImportError:  # pragma: no cover - depends on the environment
     sync_playwright = None
 
@@ -172,10 +172,11 @@ def test_linear_tab_in_browser(app_server, browser_page):
     note.wait_for(timeout=10_000)
     assert "isothermal" in note.inner_text() and "st99" in note.inner_text()
     page.locator("#linear-model", has_text="st99").wait_for(timeout=10_000)
-    assert page.locator("input[type=checkbox]").first.is_checked()
+    iso_box = page.locator("input[type=checkbox]").first  # the Linear tab's "Isothermal model" box
+    expect(iso_box).to_be_checked(timeout=10_000)
 
     # unticking "Isothermal model" by hand gives a message next to the controls, not a traceback
-    page.locator("input[type=checkbox]").first.uncheck()
+    iso_box.uncheck()
     msg = page.locator("#linear-message")
     msg.wait_for(timeout=10_000)
     assert "isothermal" in msg.inner_text() and "st99" in msg.inner_text()
