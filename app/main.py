@@ -24,6 +24,9 @@ TABS = [
     ("Saturation", SaturationView),
 ]
 
+# short names for the ``tab`` query of the page address (``/main?tab=hydro&autostart=1``)
+TAB_KEYS = {"linear": 0, "hydro": 1, "nbody": 2, "saturation": 3}
+
 TITLE = "ringlab: viscous overstability in Saturn's rings"
 
 # A plain page instead of a template: FastListTemplate and its Fast design load the "Open Sans" web
@@ -49,7 +52,8 @@ def _make(factory, runs):
 def create_app() -> pn.Column:
     """The app for one session: a header and one tab per entry of TABS (``app.tabs``)."""
     runs = SessionRuns()
-    tabs = pn.Tabs(*[(title, _make(factory, runs)) for title, factory in TABS], dynamic=True,
+    views = [_make(factory, runs) for _, factory in TABS]
+    tabs = pn.Tabs(*[(title, view) for (title, _), view in zip(TABS, views)], dynamic=True,
                    sizing_mode="stretch_width", stylesheets=[":host .bk-tab {font-size: 16px;}"],
                    styles={"flex": "1 1 720px", "min-width": "0"})
     header = pn.pane.HTML(f'<header class="app-header" id="app-header"><h1>{TITLE}</h1></header>',
@@ -60,8 +64,33 @@ def create_app() -> pn.Column:
     body = pn.FlexBox(tabs, side, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")
     app = pn.Column(header, body, sizing_mode="stretch_width", margin=0)
     app.tabs = tabs
+    app.views = views
     app.lessons = lessons
+    apply_query(app, pn.state.session_args)
     return app
+
+
+def apply_query(app: pn.Column, args: dict) -> None:
+    """Teacher link: ``?tab=hydro`` opens that tab, ``&autostart=1`` then presses its Start.
+
+    ``args`` is the page address's query, as ``pn.state.session_args`` gives it (name -> list
+    of bytes); unknown tab names are ignored (the page opens as usual).  Autostart calls the
+    same ``runner.start`` as a click on Start, so the run uses the settings of the address
+    (``hydro_*`` queries) and the server's compute limit like any other run.
+    """
+    def first(name):
+        v = (args or {}).get(name) or [b""]
+        v = v[0]
+        return (v.decode() if isinstance(v, bytes) else str(v)).strip().lower()
+    index = TAB_KEYS.get(first("tab"))
+    if index is None:
+        return
+    app.tabs.active = index
+    if first("autostart") in ("1", "true", "yes"):
+        view = app.views[index]
+        runner = getattr(view, "runner", None)
+        if runner is not None and hasattr(runner, "start"):
+            runner.start()
 
 
 if __name__.startswith("bokeh"):  # run by `panel serve`

@@ -4,7 +4,8 @@
 
 Starts ``panel serve app/main.py`` (subprocess, loopback, free port) and opens K real Panel
 sessions without a browser (Bokeh client sessions on one event loop).  Each student opens
-the Hydrodynamics tab, presses Start (a real button-click event) and acknowledges every
+the teacher's link ``/main?tab=hydro&autostart=1`` (the app opens the Hydrodynamics tab and
+presses Start, exactly as a click would; see ``app.main.apply_query``) and acknowledges every
 frame the way the page does (the page's ``CustomJS`` bumps the figure's ``tags`` after a
 source changed; the client does the same), without rendering.  Orbits are read from each
 session's own "Orbits elapsed" readout, i.e. what the page shows.  One more session stays on
@@ -83,49 +84,46 @@ class Student:
         self.acks = 0
         self.started = False
         self.hooked = set()
+        self.ack_fig = {}  # source id -> figure to acknowledge on
+        self.doc.on_change(self._event)
+
+    def _event(self, event):
+        """A frame reached this "page": acknowledge it as the page's CustomJS does."""
+        model = getattr(event, "model", None)
+        fig = self.ack_fig.get(getattr(model, "id", None))
+        if fig is None or getattr(event, "attr", "data") != "data":
+            return
+        fig.tags = [(fig.tags[0] if fig.tags else 0) + 1]
+        self.acks += 1
 
     def models(self, name):
         return [m for m in self.doc.models if type(m).__name__ == name]
 
-    def open_hydro(self):
-        tabs = self.models("Tabs")
-        tabs[0].active = 1
-
     def poll(self):
-        """Hook up acknowledgements and the readout once the hydro tab's models exist; press Start."""
-        from bokeh.events import ButtonClick
-        from bokeh.document.events import MessageSentEvent
+        """Hook up acknowledgements and the readout once the hydro tab's models exist."""
         for src_name in ("hydro-profile-source", "hydro-spacetime-source"):
             if src_name in self.hooked:
                 continue
             src = self.doc.select_one({"name": src_name})
             if src is None:
                 continue
-            figs = [f for f in self.models("figure") if any(getattr(r, "data_source", None) is src
-                                                            for r in f.renderers)]
+            # the figure whose ``tags`` the page's CustomJS bumps (app.live_common.FrameGate)
+            figs = [cb.args.get("fig") for cb in src.js_property_callbacks.get("change:data", [])
+                    if "fig" in getattr(cb, "args", {})]
             if not figs:
                 continue
-            fig = figs[0]
-
-            def ack(attr, old, new, fig=fig):
-                fig.tags = [(fig.tags[0] if fig.tags else 0) + 1]
-                self.acks += 1
-            src.on_change("data", ack)
+            self.ack_fig[src.id] = figs[0]
             self.hooked.add(src_name)
         for m in self.models("HTML"):
             if "text" in m.properties() and 'id="hydro-readouts"' in html.unescape(m.text or "") and "readouts" not in self.hooked:
                 m.on_change("text", lambda attr, old, new: self._readout(new))
                 self.hooked.add("readouts")
-        if not self.started and len(self.hooked) == 3:
-            for b in self.models("Button"):
-                if "hydro-start" in (b.css_classes or []):
-                    self.doc.callbacks.trigger_on_change(MessageSentEvent(self.doc, "bokeh_event", ButtonClick(b)))
-                    self.started = True
 
     def _readout(self, text):
         m = ORBITS_RE.search(html.unescape(text or ""))
         if m:
             self.samples.append((time.perf_counter(), float(m.group(1))))
+            self.started = self.started or float(m.group(1)) > 0
 
     def rate(self, t0: float, t1: float) -> float:
         s = [(t, o) for t, o in self.samples if t0 <= t <= t1]
@@ -182,19 +180,17 @@ def run(args) -> dict:
         loop = IOLoop()
         url = f"ws://127.0.0.1:{port}/main/ws"
 
-        def connect():
-            s = ClientSession(websocket_url=url, io_loop=loop)
+        def connect(arguments=None):
+            s = ClientSession(websocket_url=url, io_loop=loop, arguments=arguments)
             s.pull()
             return s
-        sessions = [connect() for _ in range(args.students)]
+        sessions = [connect(dict(tab="hydro", autostart="1")) for _ in range(args.students)]
         probe_session = connect()
         probe = Prober(probe_session)
         students = [Student(s) for s in sessions]
         for s in sessions + [probe_session]:  # keep reading every connection (as loop_until_closed does)
             s._connection._until_predicate = None
             loop.add_callback(s._connection._next)
-        for st in students:
-            st.open_hydro()
         polls = PeriodicCallback(lambda: [st.poll() for st in students], 200)
         polls.start()
         loop.call_later(args.warmup, lambda: probes.start())
