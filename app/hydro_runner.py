@@ -175,7 +175,7 @@ class HydroRunner(LiveLoop, HydroSettings):
         """One callback period: compute for BUDGET_S seconds, then signal the view."""
         if not self.running or self.sim is None:
             return
-        self.advance(BUDGET_S)
+        self.advance(BUDGET_S, until=self.pause_at)
         self.frame += 1
 
     def advance(self, budget_s: float, until: float | None = None) -> int:

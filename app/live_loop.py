@@ -44,6 +44,7 @@ class LiveLoop:
         self._doc = None
         self._had_connection = False
         self.chunk_waits = []  # recent queue waits [s] (for the status and tests)
+        self.pause_at = None  # orbit a running run stops at by itself (a lesson's classroom length)
 
     # ------------------------------------------------------------------ public
     def _begin(self) -> None:
@@ -93,7 +94,7 @@ class LiveLoop:
         """One chunk of work (runs in a worker thread, never touches the document)."""
         with self.compute_lock:
             if self.running and not self._closed:
-                self.advance(self.budget_s)
+                self.advance(self.budget_s, until=self.pause_at)
 
     def _run_locked(self, work):
         with self.compute_lock:

@@ -163,13 +163,18 @@ class NBodyRunner(LiveLoop, param.Parameterized):
     def tick(self):
         if not self.running or self.box is None:
             return
-        self.advance(BUDGET_S)
+        self.advance(BUDGET_S, until=self.pause_at)
         self.frame += 1
 
-    def advance(self, budget_s: float, orbits: float | None = None) -> float:
-        """Advance the box for ``budget_s`` s of wall time (or ``orbits`` orbits); returns orbits done."""
+    def advance(self, budget_s: float, orbits: float | None = None, until: float | None = None) -> float:
+        """Advance the box for ``budget_s`` s of wall time (or ``orbits`` orbits, or up to orbit
+        ``until``); returns orbits done."""
         box = self.box
         o0 = box.orbits
+        if until is not None:
+            if box.orbits >= until - 1e-12:
+                return 0.0
+            orbits = until - box.orbits if orbits is None else min(orbits, until - box.orbits)
         try:
             box.advance(orbits=1e6 if orbits is None else orbits, max_wall_s=budget_s)
         except NBodyBlowUp as exc:

@@ -157,6 +157,7 @@ def stop_after(runner, orbits: float) -> float:
     old = _STOPS.pop(runner, None)
     if old is not None:
         runner.param.unwatch(old[0])
+    runner.pause_at = target  # the chunks stop exactly there
 
     def check(*_):
         entry = _STOPS.get(runner)
@@ -165,6 +166,7 @@ def stop_after(runner, orbits: float) -> float:
         if runner.sim.orbits >= entry[1] - 1e-9 and runner.running:
             runner.param.unwatch(entry[0])
             _STOPS.pop(runner, None)
+            runner.pause_at = None
             runner.pause()
             runner.status = (f"Paused by the lesson after {runner.sim.orbits:.0f} orbits (its classroom length): "
                              "answer the question, or press Start to go on.")
