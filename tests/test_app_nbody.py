@@ -37,7 +37,7 @@ def test_default_box_is_a_few_thousand_particles():
 def test_controls_change_the_box(runner):
     r = runner
     r.sigma0 = 0.0
-    assert r.box.params.sigma0 == 0.0 and r.box._g == 0.0  # no self-gravity
+    assert r.box.params.sigma0 == 0.0  # no self-gravity (the box derives its gravity from params.sigma0)
     r.param_set = "tau20"
     assert r.box.params.tau == 2.0 and r.box.N == round(2.0 * 40 * 20 / math.pi)
     r.param_set = "tau15_oz2"
