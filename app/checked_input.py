@@ -29,7 +29,7 @@ class CheckedInputs:
         p = self.obj.param[name]
         cls = pn.widgets.IntInput if isinstance(p, param.Integer) else pn.widgets.FloatInput
         kw.setdefault("step", p.step if getattr(p, "step", None) else (1 if cls is pn.widgets.IntInput else 0.1))
-        w = cls(name=p.label, value=getattr(self.obj, name), description=p.doc, **kw)
+        w = cls(label=p.label, value=getattr(self.obj, name), description=p.doc, **kw)
         w.param.watch(lambda e: self._typed(name, e.new), "value")
         self.obj.param.watch(lambda e: self._changed(name, e.new), name)
         self.widgets[name] = w

@@ -57,7 +57,7 @@ class LessonsPanel(pn.viewable.Viewer):
         params.setdefault("scale", default_scale())
         super().__init__(**params)
         W = pn.widgets
-        self.select = W.Select(options=_lesson_options(), value=self.lesson, name="Lesson",
+        self.select = W.Select(options=_lesson_options(), value=self.lesson, label="Lesson",
                                css_classes=["lesson-select"], sizing_mode="stretch_width")
         self.select.param.watch(lambda e: e.new != self.lesson and self._go(e.new, 1), "value")
         self.prev_btn = W.Button(label="◀ Back", width=80, css_classes=["lesson-prev"])
