@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from bokeh.models import ColorBar, ColumnDataSource, HoverTool, Legend, LinearColorMapper, Range1d
+from bokeh.models import ColorBar, ColumnDataSource, HoverTool, LinearColorMapper, Range1d
 from bokeh.palettes import Viridis256
 
 from ringcore.analysis.saturation import C_EMPIRICAL
@@ -45,9 +45,9 @@ class ComparePlots:
             fig.title.text_color = COLORS[k]
             fig.outline_line_color, fig.outline_line_width = COLORS[k], 3
             self.spacetime_figs[k] = fig
-        self.spacetime_figs["B"].add_layout(ColorBar(color_mapper=self.color_mapper, title="σ/σ₀ (A and B)",
-                                                     width=12, title_text_font_size="12px",
-                                                     major_label_text_font_size="12px"), "right")
+        for fig in self.spacetime_figs.values():  # on both: equal plot widths, and one scale is seen to be one
+            fig.add_layout(ColorBar(color_mapper=self.color_mapper, title="σ/σ₀ (A and B)", width=12,
+                                    title_text_font_size="12px", major_label_text_font_size="12px"), "right")
         self.series_sources = {k: ColumnDataSource(dict(t=[], e_kin=[], lambda_p=[]),
                                                    name=f"compare-{k.lower()}-series-source") for k in "AB"}
         self.psd_sources = {k: ColumnDataSource(dict(wavelength=[], power=[]), name=f"compare-{k.lower()}-psd-source")
@@ -61,38 +61,38 @@ class ComparePlots:
     def figures(self) -> list:
         return [*self.spacetime_figs.values(), self.ekin_fig, self.lp_fig, self.psd_fig]
 
-    def _legend(self, fig, items) -> None:
-        fig.add_layout(Legend(items=items, location="top_left", label_text_font_size="12px", spacing=0,
-                              padding=4, background_fill_alpha=0.7), "center")
-
     def _series_figures(self):
-        self.ekin_fig = new_figure("Wave kinetic energy e_kin, eq. (ekin)", "time [orbits]", "e_kin [σ₀ (R_p Ω)²]",
+        self.ekin_fig = new_figure("e_kin(t), eq. (ekin)", "time [orbits]", "e_kin [σ₀ (R_p Ω)²]",
                                    height=270, y_axis_type="log")
-        self.lp_fig = new_figure("Prevalent wavelength λ_p", "time [orbits]", "λ_p [m]", height=270,
+        self.lp_fig = new_figure("Prevalent wavelength λ_p(t)", "time [orbits]", "λ_p [m]", height=270,
                                  y_axis_type="log")
         log_ticks(self.lp_fig, [10, 20, 30, 50, 70, 100, 150, 200, 300, 500, 700, 1000, 2000, 5000, 10000])
-        self.psd_fig = new_figure("Power spectrum of σ now, eq. (fourier)", "wavelength λ [m]", "PSD (max = 1)",
+        self.psd_fig = new_figure("PSD of σ now, eq. (fourier)", "wavelength λ [m]", "PSD (max = 1)",
                                   height=270, x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
-        items = {"ekin": [], "lp": [], "psd": []}
         for k in "AB":
             c, d, src = COLORS[k], DASH[k], self.series_sources[k]
             r = self.ekin_fig.line("t", "e_kin", source=src, line_width=2.5, color=c, line_dash=d)
-            items["ekin"].append((f"run {k}", [r]))
             self.ekin_fig.add_tools(HoverTool(renderers=[r], tooltips=[("run", k), ("t", "@t{0.0} orbits"),
                                                                       ("e_kin", "@e_kin{0.000e}")]))
             r = self.lp_fig.scatter("t", "lambda_p", source=src, size=4, color=c,
                                     marker="circle" if k == "A" else "triangle")
-            items["lp"].append((f"run {k}", [r]))
             self.lp_fig.add_tools(HoverTool(renderers=[r], tooltips=[("run", k), ("t", "@t{0.0} orbits"),
                                                                     ("λ_p", "@lambda_p{0.0} m")]))
-            r = self.psd_fig.line("wavelength", "power", source=self.psd_sources[k], line_width=2.5, color=c,
-                                  line_dash=d)
-            items["psd"].append((f"run {k}", [r]))
+            self.psd_fig.line("wavelength", "power", source=self.psd_sources[k], line_width=2.5, color=c, line_dash=d)
         self.lp_fig.hspan(y="y", line_color="color", line_dash="dash", line_width=1.5, source=self.lp_markers)
         self.psd_fig.vspan(x="x", line_color="color", line_dash="dash", line_width=1.5, source=self.psd_markers)
-        self._legend(self.ekin_fig, items["ekin"])
-        self._legend(self.lp_fig, items["lp"])
-        self._legend(self.psd_fig, items["psd"])
+
+    @staticmethod
+    def key_html(tags) -> str:
+        """The legend of the overlaid plots (one line above them): which colour and dash is which run."""
+        items = "".join(
+            f'<span class="key-item"><span class="key-line" style="border-top: 3px {DASH[k]} {COLORS[k]}"></span>'
+            f'<span style="color:{COLORS[k]}; font-weight:600">run {k} ({tag})</span></span>'
+            for k, tag in zip("AB", tags))
+        return (f'<div class="key" id="compare-key">{items}<span class="key-item">'
+                '<span class="key-line" style="border-top: 2px dashed #777"></span>'
+                '<span>λ<sub>p</sub>: 1.4 λ<sub>zero</sub>; PSD: λ<sub>p</sub> now (each in its run\'s colour)</span>'
+                '</span></div>')
 
     # ------------------------------------------------------------------ updating
     def set_runs(self, sides, titles) -> None:

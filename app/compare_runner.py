@@ -20,12 +20,11 @@ from __future__ import annotations
 import collections
 import math
 import time
-from dataclasses import dataclass, field
 
-import numpy as np
 import param
 
-from .hydro_plots import R_P
+from .compare_data import run_side
+from .compare_presets import PRESETS, SHARED_NBODY, SHORT
 from .hydro_runner import HydroRunner
 from .hydro_settings import SETUP_PARAMS as HYDRO_SETUP
 from .live_buffers import SpaceTimeImage
@@ -35,32 +34,8 @@ from .nbody_runner import NBodyRunner
 
 TOL = 1.1e-3  # [orbits] a run within this of the clock has reached it (N-body steps are 0.002 orbit)
 BUDGET_S = 0.12  # wall time of one chunk for both runs [s]
+CATCH_UP_S = 3.0  # at most this wall time [s] for the run behind to reach the clock after Pause
 
-HYDRO_BASE = dict(param_set="tau15", sigma0=0.0, isothermal=False, ps_scale=1.0, iso_p_s=1.0, L_x=2000.0,
-                  h=2.5, initial="noise", amplitude=1e-4, seed=1, timestep="cfl", T_floor=0.01, buffer_on=False)
-NBODY_BASE = dict(param_set="tau15", sigma0=0.0, L_x=200.0, L_y=20.0, restitution="bridges", seed=1)
-
-
-@dataclass(frozen=True)
-class Preset:
-    """Settings of run A (hydro) and run B (``kind_b``: "hydro" or "nbody") and the frame step."""
-
-    label: str
-    kind_b: str
-    a: dict = field(default_factory=dict)
-    b: dict = field(default_factory=dict)
-    orbits_per_frame: float = 0.5
-
-
-PRESETS = {
-    "sigma0": Preset("Self-gravity: σ₀ = 0 vs 400 kg/m² (hydrodynamics)", "hydro",
-                     {**HYDRO_BASE, "sigma0": 0.0}, {**HYDRO_BASE, "sigma0": 400.0}, 0.5),
-    "engine": Preset("Hydrodynamics vs N-body: same τ set, σ₀ and box", "nbody",
-                     {**HYDRO_BASE, "L_x": 200.0}, dict(NBODY_BASE), 0.1),
-    "isothermal": Preset("Isothermal vs non-isothermal (hydrodynamics)", "hydro",
-                         {**HYDRO_BASE, "isothermal": True}, {**HYDRO_BASE, "isothermal": False}, 0.5),
-}
-SHARED_NBODY = ("param_set", "sigma0", "L_x", "seed")  # settings a hydro run and an N-body box both have
 
 
 def _orbits(r) -> float:
@@ -100,6 +75,7 @@ class CompareRunner(LiveLoop, param.Parameterized):
     def __init__(self, **params):
         super().__init__(**params)
         self._callback = None
+        self._catch_up_pending = False
         self._rates = collections.deque(maxlen=40)
         self.a = self.b = None
         self._nb_box = None
@@ -156,8 +132,9 @@ class CompareRunner(LiveLoop, param.Parameterized):
         if box is None or box is self._nb_box:
             return
         self._nb_box = box
-        self.nbody_image = SpaceTimeImage(box.options.zones, box.options.profile_every)
-        image = self.nbody_image
+        self.nbody_image = image = SpaceTimeImage(box.options.zones, box.options.profile_every)
+        if box.steps == 0:  # the initial state (the box records its first profile after one orbit)
+            image.add(0.0, box.profiles().sigma)
 
         def on_sample(_box, s):
             if "profile" in s:
@@ -182,6 +159,40 @@ class CompareRunner(LiveLoop, param.Parameterized):
             self.status = "A run blew up: press Reset to start both again."
             return
         self._begin()
+
+    def pause(self, *_):
+        """Stop both runs; the one behind first catches up with the common clock (under a frame step
+        of work), so a paused pair is always shown at the same orbit."""
+        super().pause()
+        self._catch_up_pending = not (self.blowup or self._closed or self.reached(self.clock))
+        if self._catch_up_pending and not self._inflight:
+            self._start_catch_up()
+
+    def _start_catch_up(self) -> None:
+        self._catch_up_pending = False
+        if not self.offload(self._catch_up, self._caught_up):  # outside a server session: inline
+            self._catch_up()
+            self._caught_up()
+            self.frame += 1
+
+    @param.depends("frame", watch=True)
+    def _after_frame(self):
+        # a chunk was in flight when Pause was pressed: catch up once it has been delivered
+        if self._catch_up_pending and not self._inflight and not self.running:
+            self._start_catch_up()
+
+    def _catch_up(self) -> None:
+        for name, r in zip("AB", self.runs()):
+            if r.sim is not None and _orbits(r) < self.clock - TOL and not self.blowup:
+                r.advance(CATCH_UP_S, until=self.clock)
+                if r.blowup:
+                    self.blowup = f"Run {name}: {r.blowup}"
+
+    def _caught_up(self) -> None:
+        if self.blowup:
+            self.status = "A run blew up while catching up: press Reset to start both again."
+        elif not self.running and not self._closed:
+            self.status = f"Paused: both runs at orbit {min(_orbits(r) for r in self.runs()):.2f}."
 
     def tick(self):
         """One chunk of work and a frame (what a server session does per chunk; for headless tests)."""
@@ -223,25 +234,34 @@ class CompareRunner(LiveLoop, param.Parameterized):
                 break
         self._rates.append((time.perf_counter(), min(_orbits(r) for r in self.runs()), 0))
         if until is not None and self.running and self.reached(until):
+            self.clock = until
             self.pause()
             self.status = f"Paused at orbit {until:g}."
 
     # ------------------------------------------------------------------ what to show
-    def differences(self) -> list[tuple[str, str, str]]:
-        """(control label, value in A, value in B) for every setting in which the runs differ."""
+    def differences(self) -> list[tuple[str, str, str, str]]:
+        """(control name, its label, value in A, value in B) for every setting in which the runs differ."""
         a, b = self.a, self.b
         out = []
         if isinstance(b, NBodyRunner):
-            out.append(("Model", "hydrodynamics (a fluid)", "N-body (colliding particles)"))
-            names = SHARED_NBODY
-        else:
-            names = HYDRO_SETUP
-        for k in names:
-            if k in ("ps_scale", "iso_p_s") and not isinstance(b, HydroRunner):
-                continue
+            out.append(("model", "Model", "hydrodynamics (a fluid)", "N-body (colliding particles)"))
+        for k in (SHARED_NBODY if isinstance(b, NBodyRunner) else HYDRO_SETUP):
             if getattr(a, k) != getattr(b, k):
-                out.append((a.param[k].label, _value_text(a, k), _value_text(b, k)))
+                out.append((k, a.param[k].label, _value_text(a, k), _value_text(b, k)))
         return out
+
+    def tags(self) -> tuple[str, str]:
+        """Short names of run A and run B by their first differing control (for plot titles)."""
+        d = self.differences()
+        if not d:
+            return ("same settings", "same settings")
+        name, _, ta, tb = d[0]
+        if name == "model":
+            return ("hydrodynamics", "N-body")
+        if name == "isothermal":
+            return tuple("isothermal" if r.isothermal else "non-isothermal" for r in self.runs())
+        s = SHORT.get(name, name)
+        return (f"{s} = {ta}", f"{s} = {tb}")
 
     def common_settings(self) -> str:
         """The settings both runs share (one line)."""
@@ -250,48 +270,19 @@ class CompareRunner(LiveLoop, param.Parameterized):
         if p is None:
             return ""
         diff = {d[0] for d in self.differences()}
-        parts = [f"τ set {p.name}"]
-        if a.param["sigma0"].label not in diff:
+        parts = [f"τ set {p.name}"] if "param_set" not in diff else []
+        if "sigma0" not in diff:
             parts.append(f"σ₀ = {a.sigma0:g} kg/m²")
-        if a.param["L_x"].label not in diff:
+        if "L_x" not in diff:
             parts.append(f"L_x = {a.L_x:g} m")
-        if isinstance(self.b, HydroRunner) and a.param["isothermal"].label not in diff:
+        if isinstance(self.b, HydroRunner) and "isothermal" not in diff:
             parts.append("isothermal" if a.isothermal else "non-isothermal")
         return ", ".join(parts)
 
-    def side(self, r) -> dict:
-        """What the plots and readouts of one run need (uniform for hydro and N-body), or None."""
-        if isinstance(r, HydroRunner):
-            sim = r.sim
-            if sim is None:
-                return None
-            unit = (sim.params.scales.velocity / (R_P * sim.params.Omega)) ** 2  # sigma0 c0^2 -> sigma0 (R_p Omega)^2
-            s = r.series
-            wl, P = sim.psd()
-            return dict(kind="hydro", orbits=sim.orbits, L_x=sim.options.L_x, numbers=r.numbers,
-                        t=s.get("t"), e_kin=s.get("e_kin") * unit, lambda_p=s.get("lambda_p"),
-                        lambda_p_now=sim.prevalent_wavelength(), psd=(wl, P), image=r.strobe_image)
-        box = r.box
-        if box is None:
-            return None
-        self._hook_nbody()
-        from ringcore.nbody.diagnostics import psd, tabulate
-        prof = tabulate(box.pos, box.vel, box.L_x, box.options.zones)
-        lam, P, lp = psd(prof, box.L_x)
-        s = r.series
-        return dict(kind="nbody", orbits=box.orbits, L_x=box.options.L_x, numbers=r.numbers,
-                    t=s.get("t"), e_kin=s.get("ekin"), lambda_p=s.get("lambda_p"),
-                    lambda_p_now=lp * box.R_p, psd=(lam * box.R_p, P), image=self.nbody_image)
-
     def sides(self) -> tuple:
-        """(side of A, side of B); see :meth:`side`."""
-        return (self.side(self.a), self.side(self.b))
-
-    @staticmethod
-    def last_e_kin(side: dict) -> float:
-        """Latest e_kin [sigma0 (R_p Omega)^2] of a side (nan if none)."""
-        e = side["e_kin"]
-        return float(e[-1]) if e.size and np.isfinite(e[-1]) else math.nan
+        """(A, B) as the plots and readouts need them (:func:`app.compare_data.run_side`)."""
+        self._hook_nbody()
+        return (run_side(self.a, None), run_side(self.b, self.nbody_image))
 
     def close(self, *_):
         """Stop and free both runs (the browser tab was closed)."""

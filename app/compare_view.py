@@ -19,6 +19,7 @@ import time
 import panel as pn
 import param
 
+from .compare_data import last_e_kin
 from .compare_plots import COLORS, DASH, ComparePlots
 from .compare_runner import CompareRunner
 from .hydro_runner import HydroRunner
@@ -31,6 +32,8 @@ COMPARE_CSS = CSS + """
 .differs {font-size: 16px; border-left: 5px solid #1f4e79; background: #f3f6fa; padding: 6px 10px; margin: 2px 0;}
 .run-title {font-size: 17px; font-weight: 700; margin: 4px 0 0 0;}
 .run-sub {font-size: 13px; color: #333;}
+.readouts {grid-template-columns: repeat(auto-fill, minmax(125px, 1fr)); gap: 6px;}
+.ro-value {font-size: 20px;}
 """
 
 EXPLANATION = """
@@ -70,7 +73,7 @@ class CompareView(pn.viewable.Viewer):
                                     max_in_flight=1)
         pane = lambda **kw: pn.pane.HTML("", stylesheets=[COMPARE_CSS], sizing_mode="stretch_width",  # noqa: E731
                                          margin=(0, 10), **kw)
-        self.differs, self.status = pane(), pane()
+        self.differs, self.status, self.key = pane(), pane(), pane()
         self.titles = {k: pane() for k in "AB"}
         self.readouts = {k: pane() for k in "AB"}
         self.messages = {k: message_pane(f"compare-{k.lower()}-message") for k in "AB"}
@@ -105,10 +108,10 @@ class CompareView(pn.viewable.Viewer):
             columns.append(pn.Column(self.titles[k], self.readouts[k], self.messages[k], card,
                                      fig(P.spacetime_figs[k]), sizing_mode="stretch_width"))
         sides = responsive_grid(*columns, min_px=330)
-        lines = responsive_grid(fig(P.ekin_fig), fig(P.lp_fig), fig(P.psd_fig), min_px=300)
+        lines = responsive_grid(fig(P.ekin_fig), fig(P.lp_fig), fig(P.psd_fig), min_px=270)
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
         return pn.Column(self.differs, top, wrap_row(*self.buttons.values(), self.status), self.blowup, sides,
-                         lines, explanation, sizing_mode="stretch_width")
+                         self.key, lines, explanation, sizing_mode="stretch_width")
 
     def _widgets(self, run) -> list:
         W, p = pn.widgets, run.param
@@ -151,7 +154,7 @@ class CompareView(pn.viewable.Viewer):
         if diffs:
             what = "; ".join(f"<b>{html.escape(lab)}</b>: <span style='color:{COLORS['A']}'>A = {html.escape(a)}"
                              f"</span> vs <span style='color:{COLORS['B']}'>B = {html.escape(b)}</span>"
-                             for lab, a, b in diffs)
+                             for _, lab, a, b in diffs)
             one = "one control" if len(diffs) == 1 else f"{len(diffs)} controls"
             text = f"Runs A and B differ in {one} — {what}. Same: {html.escape(r.common_settings())}."
         else:
@@ -165,13 +168,7 @@ class CompareView(pn.viewable.Viewer):
                                      f'<div class="run-sub">{html.escape(run.run_label)}</div>')
 
     def _titles(self) -> list:
-        r = self.runner
-        diffs = r.differences()
-        out = []
-        for k, run in zip("AB", r.runs()):
-            tag = ", ".join(d[1 if k == "A" else 2] for d in diffs[:1]) or self._kind(run)
-            out.append(f"Run {k} ({tag}): σ/σ₀, one row per orbit")
-        return out
+        return [f"Run {k} ({tag}): σ/σ₀, one row per orbit" for k, tag in zip("AB", self.runner.tags())]
 
     def _on_frame(self, *_):
         r = self.runner
@@ -190,6 +187,7 @@ class CompareView(pn.viewable.Viewer):
                 self._shown = sims
                 self._header()
                 self.plots.set_runs(sides, self._titles())
+                self.key.object = self.plots.key_html(self.runner.tags())
             if lines:
                 self.plots.update_lines(sides)
                 for k, s in zip("AB", sides):
@@ -206,7 +204,7 @@ class CompareView(pn.viewable.Viewer):
         return [(f"{p}-orbits", f"Run {k}: orbit", f"{s['orbits']:.2f}", f"common clock {self.runner.clock:.2f}"),
                 (f"{p}-lambda-p", f"Run {k}: λ<sub>p</sub>", fmt(s["lambda_p_now"], ".4g", "m"),
                  f"1.4 λ<sub>zero</sub> = {fmt(1.4 * lz, '.4g', 'm')}"),
-                (f"{p}-ekin", f"Run {k}: e<sub>kin</sub>", fmt(CompareRunner.last_e_kin(s), ".3g"),
+                (f"{p}-ekin", f"Run {k}: e<sub>kin</sub>", fmt(last_e_kin(s), ".3g"),
                  "σ₀ (R<sub>p</sub>Ω)², eq. (ekin)")]
 
     def _on_state(self, *_):

@@ -44,13 +44,15 @@ def test_presets_apply_the_differing_control():
     a, b = r.a.sim.params, r.b.sim.params
     assert (a.sigma0, b.sigma0) == (0.0, 400.0)
     assert (a.name, a.isothermal, r.a.sim.options.L_x) == (b.name, b.isothermal, r.b.sim.options.L_x)
-    assert [d[0] for d in r.differences()] == [r.a.param["sigma0"].label]
+    assert [d[:2] for d in r.differences()] == [("sigma0", r.a.param["sigma0"].label)]
+    assert r.tags() == ("σ₀ = 0", "σ₀ = 400")
 
     r.preset = "isothermal"
     assert isinstance(r.b, HydroRunner)
     assert (r.a.sim.params.isothermal, r.b.sim.params.isothermal) == (True, False)
     assert r.a.sim.params.sigma0 == r.b.sim.params.sigma0
-    assert [d[1:] for d in r.differences()] == [("yes", "no")]
+    assert [d[2:] for d in r.differences()] == [("yes", "no")]
+    assert r.tags() == ("isothermal", "non-isothermal")
 
     r.preset = "engine"
     assert isinstance(r.a, HydroRunner) and isinstance(r.b, NBodyRunner)
@@ -58,7 +60,7 @@ def test_presets_apply_the_differing_control():
     assert box.params.name == sim.params.name and box.params.tau == sim.params.tau
     assert box.params.sigma0 == sim.params.sigma0
     assert box.options.L_x == sim.options.L_x == PRESETS["engine"].a["L_x"]
-    assert [d[0] for d in r.differences()] == ["Model"]
+    assert [d[0] for d in r.differences()] == ["model"] and r.tags() == ("hydrodynamics", "N-body")
     assert r.orbits_per_frame == PRESETS["engine"].orbits_per_frame
     r.close()
 
@@ -95,7 +97,7 @@ def test_one_setting_change_restarts_both(small):
     r.b.sigma0 = 300.0
     assert r.b.sim.params.sigma0 == 300.0
     assert r.a.sim.orbits == 0.0 and r.b.sim.orbits == 0.0 and r.clock == 0.0
-    assert r.differences()[0][1:] == ("0", "300")
+    assert r.differences()[0][2:] == ("0", "300")
     old = r.a.sim
     r.a.h = 3.0  # 500 / 3 is not a whole number of cells: not applied, nothing restarts
     assert r.a.problems and r.a.sim is old
@@ -141,6 +143,21 @@ def test_hydro_vs_nbody_advance_together():
     s_a, s_b = r.sides()
     assert s_a["kind"] == "hydro" and s_b["kind"] == "nbody" and s_a["L_x"] == s_b["L_x"]
     assert s_b["t"].size > 0 and np.all(s_b["e_kin"] > 0)
+    r.close()
+
+
+def test_pause_brings_both_to_the_same_orbit(small):
+    r = small.runner
+    r.orbits_per_frame = 2.0
+    r.budget_s = 0.01  # chunks too short to reach the clock: the runs are mid-frame
+    r.start()
+    r.tick()
+    r.tick()
+    assert not r.reached(r.clock)
+    r.pause()
+    oa, ob = r.a.sim.orbits, r.b.sim.orbits
+    assert oa == pytest.approx(r.clock, abs=1e-9) and ob == pytest.approx(r.clock, abs=1e-9)
+    assert r.status == f"Paused: both runs at orbit {oa:.2f}."
     r.close()
 
 
