@@ -13,7 +13,8 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from bokeh.models import ColorBar, ColumnDataSource, HoverTool, LinearColorMapper, Range1d
+from bokeh.models import (ColorBar, ColumnDataSource, CustomJSTickFormatter, FixedTicker, HoverTool,
+                          LinearColorMapper, Range1d)
 from bokeh.palettes import Viridis256
 
 from ringcore.analysis.saturation import C_EMPIRICAL
@@ -69,6 +70,8 @@ class ComparePlots:
         log_ticks(self.lp_fig, [10, 20, 30, 50, 70, 100, 150, 200, 300, 500, 700, 1000, 2000, 5000, 10000])
         self.psd_fig = new_figure("PSD of σ now, eq. (fourier)", "wavelength λ [m]", "PSD (max = 1)",
                                   height=270, x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
+        self.psd_fig.xaxis.ticker = FixedTicker(ticks=[1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000])
+        self.psd_fig.xaxis.formatter = CustomJSTickFormatter(code="return tick.toString()")
         for k in "AB":
             c, d, src = COLORS[k], DASH[k], self.series_sources[k]
             r = self.ekin_fig.line("t", "e_kin", source=src, line_width=2.5, color=c, line_dash=d)

@@ -213,3 +213,19 @@ def test_sessions_are_independent_and_close_frees_both():
     r2.tick()
     assert r2.a.sim.orbits > 0  # the other session goes on
     r2.close()
+
+
+def test_teacher_link_opens_and_starts_the_compare_tab():
+    from app import main
+
+    index = [t for t, _ in main.TABS].index("Compare")
+    assert main.TAB_KEYS["compare"] == index
+    app = main.create_app()
+    main.apply_query(app, {"tab": [b"compare"], "autostart": [b"1"]})
+    view = app.views[index]
+    assert app.tabs.active == index and isinstance(view, CompareView) and view.runner.running
+    view.runner.close()
+    for v in app.views:
+        runner = getattr(v, "runner", None)
+        if runner is not None and hasattr(runner, "close"):
+            runner.close()
