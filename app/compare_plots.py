@@ -19,6 +19,7 @@ from bokeh.palettes import Viridis256
 
 from ringcore.analysis.saturation import C_EMPIRICAL
 
+from .lessons.refs import cite
 from .live_common import log_ticks, new_figure
 
 COLORS = {"A": "#0072b2", "B": "#d55e00"}  # Okabe-Ito blue and vermillion (told apart by colour-blind eyes)
@@ -63,14 +64,14 @@ class ComparePlots:
         return [*self.spacetime_figs.values(), self.ekin_fig, self.lp_fig, self.psd_fig]
 
     def _series_figures(self):
-        self.ekin_fig = new_figure("e_kin(t), eq. (ekin)", "time [orbits]", "e_kin [σ₀ (R_p Ω)²]",
+        self.ekin_fig = new_figure(f"e_kin(t), {cite('ekin', False)}", "time [orbits]", "e_kin [σ₀ (R_p Ω)²]",
                                    height=270, y_axis_type="log")
         self.lp_fig = new_figure("Prevalent wavelength λ_p(t)", "time [orbits]", "λ_p [m]", height=270,
                                  y_axis_type="log")
         log_ticks(self.lp_fig, [10, 20, 30, 50, 70, 100, 150, 200, 300, 500, 700, 1000, 2000, 5000, 10000])
-        self.psd_fig = new_figure("PSD of σ now, eq. (fourier)", "wavelength λ [m]", "PSD (max = 1)",
+        self.psd_fig = new_figure(f"PSD of σ now, {cite('fourier', False)}", "wavelength λ [m]", "PSD (max = 1)",
                                   height=270, x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
-        self.psd_fig.xaxis.ticker = FixedTicker(ticks=[1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000])
+        self.psd_fig.xaxis.ticker = FixedTicker(ticks=[1, 3, 10, 30, 100, 300, 1000, 3000, 10000])
         self.psd_fig.xaxis.formatter = CustomJSTickFormatter(code="return tick.toString()")
         for k in "AB":
             c, d, src = COLORS[k], DASH[k], self.series_sources[k]

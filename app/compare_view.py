@@ -14,6 +14,7 @@ References: eqs. (ekin), (fourier), (lambdasigma); Figures "tau15nga", "lambdap"
 from __future__ import annotations
 
 import html
+import re
 import time
 
 import panel as pn
@@ -23,6 +24,7 @@ from .compare_data import last_e_kin
 from .compare_plots import COLORS, DASH, ComparePlots
 from .compare_runner import CompareRunner
 from .hydro_runner import HydroRunner
+from .lessons.refs import cite
 from .linear_view import _set_labels, responsive_grid, wrap_row
 from .live_common import CSS, FrameGate, fmt, message_pane, on_session_end, readout_cards, show_message
 
@@ -36,24 +38,27 @@ COMPARE_CSS = CSS + """
 .ro-value {font-size: 20px;}
 """
 
-EXPLANATION = """
+EXPLANATION = re.sub(r"\[\[([^\]]+)\]\]", lambda m: cite(m.group(1)), """
 ### What am I looking at?
 Two simulations that differ in **one control** (the line at the top says which), started and advanced together:
 the common clock moves on by the chosen number of orbits per frame only when both runs have reached it, so the two
 are always shown at (nearly) the same time. Each run has its own settings (open "Settings of run A/B"); changing one
 restarts **both** at orbit 0, so the comparison stays fair.
 
-* **Space-time diagrams** (stroboscopic: one row of σ/σ₀ per orbit, as in the paper's Figure "tau15nga"): both on the
-  same radius and time axes and on **one colour scale** (the colour bar belongs to both), so equal colours mean equal
-  σ/σ₀. With self-gravity (σ₀ = 400 kg/m²) the waves are shorter and settle near **1.4 λ<sub>zero</sub>**,
-  eq. (lambdasigma), Figure "lambdap"; without it they grow longer with time.
-* **e<sub>kin</sub>(t)**, eq. (ekin), λ<sub>p</sub>(t) and the **PSD**, eq. (fourier): run A in blue (solid, circles), run B
-  in vermillion (dashed, triangles). Dashed horizontal lines: 1.4 λ<sub>zero</sub> of each run (only with σ₀ > 0).
+* **Space-time diagrams** (stroboscopic: one row of σ/σ₀ per orbit, as in the paper's [[fig:tau15nga]]): both on the
+  same radius and time axes and on **one colour scale** (both colour bars are the same), so equal colours mean
+  equal σ/σ₀. With self-gravity (σ₀ = 400 kg/m²) the waves are shorter and settle near **1.4 λ<sub>zero</sub>**,
+  [[lambdasigma]], [[fig:lambdap]]; without it they grow longer with time.
+* **e<sub>kin</sub>(t)**, [[ekin]], λ<sub>p</sub>(t) and the **PSD**, [[fourier]]: run A in blue (solid,
+  circles), run B in vermillion (dashed, triangles). Dashed lines: 1.4 λ<sub>zero</sub> of each run on the
+  λ<sub>p</sub> plot (only with σ₀ > 0), each run's λ<sub>p</sub> now on the PSD.
+* **Isothermal vs non-isothermal**: the same set without its temperature equation ([[ideal]], isothermal
+  p<sub>s</sub> as set) against the full model with the table's thermal parameters.
 * **Hydrodynamics vs N-body**: the same parameter set (τ, Ω<sub>z</sub>), σ₀ and radial box; the hydrodynamic
-  model takes its c<sub>0</sub>, ν<sub>0</sub> from N-body runs of that set (Table "Hydrodynamic Parameters"). The box
+  model takes its c<sub>0</sub>, ν<sub>0</sub> from N-body runs of that set ([[tab:hydropar]]). The box
   starts with the particles' own noise (zones of about 5 m), the fluid with a small white-noise seed, so their
   e<sub>kin</sub> start far apart; the N-body run computes much more per orbit and sets the common pace.
-"""
+""")
 
 
 class CompareView(pn.viewable.Viewer):
@@ -205,7 +210,7 @@ class CompareView(pn.viewable.Viewer):
                 (f"{p}-lambda-p", f"Run {k}: λ<sub>p</sub>", fmt(s["lambda_p_now"], ".4g", "m"),
                  f"1.4 λ<sub>zero</sub> = {fmt(1.4 * lz, '.4g', 'm')}"),
                 (f"{p}-ekin", f"Run {k}: e<sub>kin</sub>", fmt(last_e_kin(s), ".3g"),
-                 "σ₀ (R<sub>p</sub>Ω)², eq. (ekin)")]
+                 f"σ₀ (R<sub>p</sub>Ω)², {cite('ekin')}")]
 
     def _on_state(self, *_):
         r = self.runner
