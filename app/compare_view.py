@@ -177,6 +177,15 @@ class CompareView(pn.viewable.Viewer):
 
     def _on_frame(self, *_):
         r = self.runner
+        if not r.compute_lock.acquire(blocking=False):
+            return  # a chunk computes right now (the catch-up after Pause): its delivery brings the next frame
+        try:
+            self._draw()
+        finally:
+            r.compute_lock.release()
+
+    def _draw(self):
+        r = self.runner
         if r.a is None or r.b is None or r.a.sim is None or r.b.sim is None:
             return
         now = time.perf_counter()

@@ -134,6 +134,33 @@ def test_same_axes_and_colour_scale(small):
     r.close()
 
 
+def test_no_frame_is_drawn_while_a_chunk_computes(small):
+    import threading
+
+    v, r = small, small.runner
+    r.orbits_per_frame = 0.5
+    run_ticks(r, 2)
+    shown = v.readouts["A"].object
+    held, release = threading.Event(), threading.Event()
+
+    def chunk():  # what a worker holds while it computes
+        with r.compute_lock:
+            held.set()
+            release.wait(10)
+
+    worker = threading.Thread(target=chunk)
+    worker.start()
+    assert held.wait(10)
+    r.a.advance(1.0, until=r.a.sim.orbits + 0.5)  # the state changes under the worker's lock
+    r.frame += 1
+    assert v.readouts["A"].object == shown  # skipped: never read a state that is being computed
+    release.set()
+    worker.join()
+    r.frame += 1
+    assert v.readouts["A"].object != shown and f"{r.a.sim.orbits:.2f}" in v.readouts["A"].object
+    r.close()
+
+
 def test_hydro_vs_nbody_advance_together():
     r = CompareRunner(preset="engine")
     r.orbits_per_frame = 0.02
