@@ -24,6 +24,8 @@ from .live_common import log_ticks, new_figure
 
 COLORS = {"A": "#0072b2", "B": "#d55e00"}  # Okabe-Ito blue and vermillion (told apart by colour-blind eyes)
 DASH = {"A": "solid", "B": "dashed"}  # the lines differ by dash too (and in print)
+EXP_LABEL = ("const e = Math.round(Math.log10(tick) * 1e6) / 1e6;"
+             "return Number.isInteger(e) ? '1e' + e : tick.toExponential(1);")
 
 
 def _empty_image(name: str) -> ColumnDataSource:
@@ -66,6 +68,8 @@ class ComparePlots:
     def _series_figures(self):
         self.ekin_fig = new_figure(f"e_kin(t), {cite('ekin', False)}", "time [orbits]", "e_kin [σ₀ (R_p Ω)²]",
                                    height=270, y_axis_type="log")
+        self.ekin_fig.yaxis.ticker.desired_num_ticks = 5  # less than a decade shown: few, short labels
+        self.ekin_fig.yaxis.formatter = CustomJSTickFormatter(code=EXP_LABEL)
         self.lp_fig = new_figure("Prevalent wavelength λ_p(t)", "time [orbits]", "λ_p [m]", height=270,
                                  y_axis_type="log")
         log_ticks(self.lp_fig, [10, 20, 30, 50, 70, 100, 150, 200, 300, 500, 700, 1000, 2000, 5000, 10000])

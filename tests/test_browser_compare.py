@@ -76,7 +76,8 @@ def test_two_live_runs_side_by_side(tmp_path):
     ARTIFACTS.mkdir(exist_ok=True)
     SHOTS.mkdir(exist_ok=True)
     port = free_port()
-    proc, _ = start_server(port, ARTIFACTS / "panel-serve-compare.log")
+    proc, t_live = start_server(port, ARTIFACTS / "panel-serve-compare.log")
+    phases = {"server_to_liveness_s": t_live}
     try:
         with sync_playwright() as pw:
             ctx = pw.chromium.launch_persistent_context(str(tmp_path / "profile"), executable_path=str(CHROMIUM),
@@ -89,6 +90,7 @@ def test_two_live_runs_side_by_side(tmp_path):
                 page.on("pageerror", lambda exc: errors.append(str(exc)))
                 page.goto(f"http://127.0.0.1:{port}/main?tab=compare", wait_until="commit", timeout=90_000)
                 page.locator("#compare-a-orbits .ro-value").wait_for(timeout=90_000)
+                phases["page_loaded_s"] = time.perf_counter() - t0
                 differs = page.locator("#compare-differs").inner_text()
                 assert "differ in one control" in differs and "Surface density" in differs, differs
                 assert orbit(page, "a") == 0.0 and orbit(page, "b") == 0.0
@@ -100,6 +102,7 @@ def test_two_live_runs_side_by_side(tmp_path):
                         break
                     page.wait_for_timeout(250)
                 assert oa >= 3.0 and ob >= 3.0, f"orbits A {oa}, B {ob} after 30 s"
+                phases["hydro_pair_3_orbits_s"] = time.perf_counter() - t0
                 for _ in range(5):  # the same frame never shows the runs more than one step (0.5 orbit) apart
                     both = page.evaluate(ORBITS_JS)
                     assert set(both) == {"a", "b"} and abs(both["a"] - both["b"]) <= 0.5 + 2e-3, both
@@ -112,6 +115,7 @@ def test_two_live_runs_side_by_side(tmp_path):
                 page.mouse.wheel(0, page.locator("#compare-a-title").bounding_box()["y"] - 4)  # titles to the top
                 page.wait_for_timeout(500)
                 page.screenshot(path=str(SHOTS / "compare-1280x720.png"))
+                phases["first_screenshot_s"] = time.perf_counter() - t0
                 page.locator(".compare-pause button").click()
                 page.locator("#compare-status", has_text="Paused: both runs at orbit").wait_for(timeout=15_000)
                 page.wait_for_timeout(800)  # frames already queued are applied
@@ -120,10 +124,12 @@ def test_two_live_runs_side_by_side(tmp_path):
                 page.wait_for_timeout(800)
                 assert (orbit(page, "a"), orbit(page, "b")) == (a1, b1)  # paused: both clocks stand still
                 page.screenshot(path=str(SHOTS / "compare-1280x720-full.png"), full_page=True)
+                phases["paused_s"] = time.perf_counter() - t0
                 # hydrodynamics vs N-body: the preset replaces run B by a live box, both advance together
                 select = page.locator(".bk-input-group", has_text="Comparison").locator("select")
                 select.select_option(label=PRESETS["engine"].label)
                 page.locator("#compare-differs", has_text="N-body").wait_for(timeout=30_000)
+                phases["preset_switched_s"] = time.perf_counter() - t0
                 page.locator(".compare-start button").click()
                 page.locator("#compare-status", has_text="Running").wait_for(timeout=15_000)
                 deadline = time.perf_counter() + 30
@@ -136,6 +142,7 @@ def test_two_live_runs_side_by_side(tmp_path):
                 assert both["a"] == both["b"] >= 1.1, both
                 nb = page.evaluate(IMAGE_JS, "compare-b-image-source")
                 assert nb["rows"] >= 2 and nb["cols"] == 40, nb  # one row per orbit, 5 m zones in the 200 m box
+                phases["nbody_pair_paused_s"] = time.perf_counter() - t0
                 page.screenshot(path=str(SHOTS / "compare-nbody-1280x720-full.png"), full_page=True)
                 assert not errors, errors
             finally:
@@ -144,4 +151,5 @@ def test_two_live_runs_side_by_side(tmp_path):
         stop_server(proc)
     log = (ARTIFACTS / "panel-serve-compare.log").read_text(errors="replace")
     assert "Traceback" not in log, log[-3000:]
-    print(f"compare browser test: {time.perf_counter() - t0:.1f} s")
+    phases["total_s"] = time.perf_counter() - t0
+    print("compare browser test:", {k: round(v, 1) for k, v in phases.items()})
