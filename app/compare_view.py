@@ -84,12 +84,12 @@ class CompareView(pn.viewable.Viewer):
         self.messages = {k: message_pane(f"compare-{k.lower()}-message") for k in "AB"}
         self.blowup = message_pane("compare-blowup")
         self.settings = {k: pn.Column(sizing_mode="stretch_width") for k in "AB"}
-        self.buttons = dict(start=pn.widgets.Button(label="Start both", color="success", css_classes=["compare-start"]),
-                            pause=pn.widgets.Button(label="Pause both", color="warning", css_classes=["compare-pause"]),
-                            reset=pn.widgets.Button(label="Reset both", css_classes=["compare-reset"]))
+        B = pn.widgets.Button  # a width and no "fixed" sizing mode (Bokeh's W-1005 wants a height with it)
+        self.buttons = dict(start=B(label="Start both", color="success", css_classes=["compare-start"], width=130),
+                            pause=B(label="Pause both", color="warning", css_classes=["compare-pause"], width=130),
+                            reset=B(label="Reset both", css_classes=["compare-reset"], width=130))
         for key, fn in (("start", r.start), ("pause", r.pause), ("reset", r.reset)):
             self.buttons[key].on_click(fn)
-            self.buttons[key].param.update(width=130, sizing_mode="fixed")
         self._shown = None
         self._layout = self._build_layout()
         r.param.watch(self._on_runs, "runs_version")
@@ -103,9 +103,8 @@ class CompareView(pn.viewable.Viewer):
     def _build_layout(self):
         P, r = self.plots, self.runner
         fig = lambda f: pn.pane.Bokeh(f, sizing_mode="stretch_width")  # noqa: E731
-        top = wrap_row(pn.widgets.Select.from_param(r.param.preset, width=420, sizing_mode="fixed"),
-                       pn.widgets.FloatSlider.from_param(r.param.orbits_per_frame, width=260, sizing_mode="fixed",
-                                                         format="0.00"))
+        top = wrap_row(pn.widgets.Select.from_param(r.param.preset, width=420),
+                       pn.widgets.FloatSlider.from_param(r.param.orbits_per_frame, width=260, format="0.00"))
         columns = []
         for k in "AB":
             card = pn.Card(self.settings[k], title=f"Settings of run {k}", collapsed=True, sizing_mode="stretch_width",
@@ -120,7 +119,7 @@ class CompareView(pn.viewable.Viewer):
 
     def _widgets(self, run) -> list:
         W, p = pn.widgets, run.param
-        fixed = dict(width=140, sizing_mode="fixed")
+        fixed = dict(width=140)
         out = [W.Select.from_param(p.param_set, options=_set_labels()) if isinstance(run, HydroRunner)
                else W.Select.from_param(p.param_set),
                W.FloatSlider.from_param(p.sigma0, throttled=True, format="0")]
