@@ -138,8 +138,8 @@ class ComparePlots:
         self.psd_markers.data = dict(x=xs, color=cs, dash=["dashed"] * len(xs))
 
     def update_images(self, sides) -> None:
-        """Both space-time diagrams, on one time axis and one colour scale."""
-        images, t_end = {}, 0.0
+        """Both space-time diagrams, on one time axis (up to the earlier of the two ends) and one colour scale."""
+        images, ends = {}, []
         for k, s in zip("AB", sides):
             img = None if s is None else s["image"]
             if img is None or img.rows == 0:
@@ -147,14 +147,14 @@ class ComparePlots:
             data = img.image()
             t0, t1 = img.extent()
             images[k] = data
-            t_end = max(t_end, t1)
+            ends.append(t1)
             L = s["L_x"]
             self.image_sources[k].data = dict(image=[data], x=[-L / 2], y=[t0], dw=[L], dh=[t1 - t0])
         if not images:
             return
         lo, hi = self.color_limits(list(images.values()))
         self.color_mapper.update(low=lo, high=hi)
-        t_end = max(t_end, 1e-3)
+        t_end = max(min(ends), 1e-3)  # up to the time both runs have reached (a run ahead shows its row next frame)
         self.t_range.update(start=0.0, end=t_end, reset_start=0.0, reset_end=t_end)
 
     @staticmethod

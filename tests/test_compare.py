@@ -119,7 +119,7 @@ def test_same_axes_and_colour_scale(small):
     lo, hi = np.percentile(np.concatenate([ia.ravel(), ib.ravel()]), [1, 99])
     assert (P.color_mapper.low, P.color_mapper.high) == pytest.approx((lo, hi), rel=1e-6)
     assert (fa.x_range.start, fa.x_range.end) == (-250.0, 250.0)
-    t_end = max(r.a.strobe_image.extent()[1], r.b.strobe_image.extent()[1])
+    t_end = min(r.a.strobe_image.extent()[1], r.b.strobe_image.extent()[1])
     assert fa.y_range.end == pytest.approx(t_end)
     # overlays: one source per run, both filled with that run's own series
     for k, run in zip("AB", r.runs()):
