@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import panel as pn
 
+from app.compare_view import CompareView
 from app.hydro_view import HydroView
 from app.lessons.view import LessonsPanel
 from app.linear_view import LinearView
@@ -22,10 +23,11 @@ TABS = [
     ("Hydrodynamics", HydroView),
     ("N-body", NBodyView),
     ("Saturation", SaturationView),
+    ("Compare", CompareView),
 ]
 
 # short names for the ``tab`` query of the page address (``/main?tab=hydro&autostart=1``)
-TAB_KEYS = {"linear": 0, "hydro": 1, "nbody": 2, "saturation": 3}
+TAB_KEYS = {"linear": 0, "hydro": 1, "nbody": 2, "saturation": 3, "compare": 4}
 
 TITLE = "ringlab: viscous overstability in Saturn's rings"
 
