@@ -25,6 +25,7 @@ from bokeh.plotting import figure
 
 from ringcore import params as ring_params
 
+from .connect import CarryButtons
 from .controls import RingControls
 from .linear_model import WAVELENGTH_RANGE_M, LinearTheory
 
@@ -154,10 +155,13 @@ class LinearView(pn.viewable.Viewer):
 
     controls = param.ClassSelector(class_=RingControls)
     model = param.ClassSelector(class_=LinearTheory)
+    runs = param.Parameter(default=None, doc="The session's app.session.SessionRuns (the other tabs' runners).")
+    tabs = param.Parameter(default=None, doc="The main pn.Tabs (set by app.main; 'Run this in ...' shows a tab).")
 
     def __init__(self, **params):
         params.setdefault("controls", RingControls())
         super().__init__(**params)
+        self.carry = CarryButtons(self.controls, lambda: (self.runs, self.tabs), stylesheets=[CSS])
         if self.model is None:
             self.model = LinearTheory(controls=self.controls)
         self.sources = {key: ColumnDataSource(dict(xs=[], ys=[], label=[], color=[], width=[], dash=[]))
@@ -190,6 +194,7 @@ class LinearView(pn.viewable.Viewer):
             self._compare_input(),
             self.note,
             self.message,
+            self.carry.panel,
             width=320,
         )
 

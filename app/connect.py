@@ -1,0 +1,198 @@
+"""Connect what the student sees (issue 13, item 5): one tab's settings and theory in another tab.
+
+* :func:`carry_to` — "Run this in Hydrodynamics / N-body": the Linear tab's model settings applied
+  to the hydro or N-body runner with the lessons' preset machinery (:func:`app.lessons.presets.apply_preset`),
+  so a setup change rebuilds the run at t = 0 and the runner's :class:`app.run_keeper.RunKeeper`
+  keeps the replaced run restorable, exactly as for a lesson preset or a click on a control.
+* :func:`fastest_allowed_mode` and :func:`slope_line` — the linear growth of e_kin(t) predicted by
+  the exact dispersion relation for the fastest-growing wavelength the periodic box allows.
+* :func:`allowed_wavelengths` — the wavelengths L_x/n a periodic box can hold, near lambda_p.
+
+References: eqs. (evp), (matni), (osgrate), (ekin), (fourier).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ringcore import linear
+
+HYDRO_KEYS = ("param_set", "sigma0", "isothermal", "ps_scale", "iso_p_s")  # RingControls -> HydroSettings
+NBODY_KEYS = ("param_set", "sigma0")  # the N-body box has no isothermal switch or p_s
+KINDS = {"hydro": HYDRO_KEYS, "nbody": NBODY_KEYS}
+LABELS = {"hydro": "Hydrodynamics", "nbody": "N-body"}
+DOMINANT_FACTOR = 10.0  # the slope line is anchored where e_kin has grown this much above its early minimum
+
+
+def carry_values(controls, kind: str) -> dict:
+    """The settings of a :class:`app.controls.RingControls` that the ``kind`` runner ("hydro" or
+    "nbody") takes over: parameter set and sigma0, for hydro also the model (isothermal, p_s).
+
+    Raises
+    ------
+    ValueError
+        For an unknown ``kind`` or settings the Linear tab itself rejects.
+    """
+    if kind not in KINDS:
+        raise ValueError(f"kind = {kind!r} is unknown: allowed {', '.join(KINDS)}")
+    controls.ring_params()  # raises ValueError for an impossible combination
+    return {k: getattr(controls, k) for k in KINDS[kind]}
+
+
+def carry_to(controls, targets, kind: str) -> list[str]:
+    """Apply :func:`carry_values` to ``targets`` (an :class:`app.lessons.presets.Targets`) as a
+    one-off preset of tab ``kind``: the runner's settings are set in one batch (a changed setup
+    restarts it at t = 0 and keeps the old run restorable; unchanged settings let it run on), the
+    other live run is paused and tab ``kind`` is shown.  Returns one line per thing done."""
+    from .lessons.content import Preset
+    from .lessons.presets import apply_preset
+
+    values = carry_values(controls, kind)
+    preset = Preset(f"carry-{kind}", f"Linear theory settings in {LABELS[kind]}", kind, **{kind: values})
+    return apply_preset(preset, targets)
+
+
+def describe(controls, kind: str) -> str:
+    """One line naming what :func:`carry_to` sets (for the message under the buttons)."""
+    v = carry_values(controls, kind)
+    text = f"{v['param_set']}, σ₀ = {v['sigma0']:g} kg/m²"
+    if kind == "hydro":
+        text += (f", isothermal (p_s = {v['iso_p_s']:g})" if v["isothermal"] else
+                 f", non-isothermal (p_s × {v['ps_scale']:g})")
+    elif controls.isothermal or controls.ps_scale != 1.0:
+        text += " (the particles have no isothermal switch or p_s: those settings stay in the Linear tab)"
+    return text
+
+
+def fastest_allowed_mode(params, L_x_m: float, n_cells: int) -> dict:
+    """The fastest-growing wavelength a periodic box can hold, from the exact dispersion relation.
+
+    Parameters
+    ----------
+    params : ringcore.params.RingParams
+        The run's parameters (sigma0, isothermal model and p_s included).
+    L_x_m : float
+        Box size [m]; the box holds the wavelengths L_x/n, n = 1 .. n_cells/2.
+    n_cells : int
+        Grid cells (the shortest resolved wavelength is two cells).
+
+    Returns
+    -------
+    dict
+        ``wavelength_m`` [m], ``n`` (waves in the box), ``growth_rate`` omega_R [Omega] of the
+        amplitude (eq. osgrate; exact, eq. matni) and ``slope_per_orbit`` = 2 omega_R * 2 pi,
+        the growth rate of ln e_kin per orbit (e_kin ~ amplitude^2, eq. ekin).
+    """
+    n = np.arange(1, max(1, int(n_cells) // 2) + 1)
+    lam = L_x_m / n
+    rate = linear.dispersion(params, lam).growth_rate
+    i = int(np.nanargmax(rate))
+    g = float(rate[i])
+    return dict(wavelength_m=float(lam[i]), n=int(n[i]), growth_rate=g, slope_per_orbit=4.0 * math.pi * g)
+
+
+def slope_line(t, e_kin, slope_per_orbit: float, factor: float = DOMINANT_FACTOR) -> dict:
+    """A straight line on the log e_kin axis with the linear-theory slope, through the run's early e_kin.
+
+    The anchor is the first sample after the early minimum of e_kin (white noise first loses its
+    damped modes) at which e_kin has grown ``factor`` times above it — by then the fastest-growing
+    mode dominates — or the latest sample while it has not.  The line runs from the minimum to
+    the anchor and beyond, until the latest sample time or until it passes 3 x the largest e_kin
+    so far (it shows where the run leaves linear growth).  Empty without growth or samples.
+
+    Returns ``dict(t=[t0, t1], e_kin=[e0, e1], anchor_t=..., anchor_e=...)`` (t in orbits).
+    """
+    t = np.asarray(t, float)
+    e = np.asarray(e_kin, float)
+    ok = np.isfinite(e) & (e > 0)
+    t, e = t[ok], e[ok]
+    empty = dict(t=[], e_kin=[], anchor_t=math.nan, anchor_e=math.nan)
+    if t.size < 2 or not slope_per_orbit > 0:
+        return empty
+    early = t <= t[0] + 0.5 * (t[-1] - t[0]) if t[-1] > t[0] else np.ones(t.size, bool)
+    i0 = int(np.argmin(np.where(early, e, np.inf)))
+    above = np.nonzero(e[i0:] >= factor * e[i0])[0]
+    ia = i0 + int(above[0]) if above.size else t.size - 1
+    ta, ea = t[ia], e[ia]
+    t_end = min(t[-1], ta + math.log(3.0 * e.max() / ea) / slope_per_orbit)
+    t_end = max(t_end, ta)
+    ts = np.array([t[i0], t_end])
+    es = ea * np.exp(slope_per_orbit * (ts - ta))
+    return dict(t=ts.tolist(), e_kin=es.tolist(), anchor_t=float(ta), anchor_e=float(ea))
+
+
+def measured_slope(t, e_kin, anchor_t: float, width_orbits: float) -> float:
+    """Least-squares slope of ln e_kin per orbit over ``width_orbits`` orbits ending at ``anchor_t``."""
+    t = np.asarray(t, float)
+    e = np.asarray(e_kin, float)
+    sel = (t >= anchor_t - width_orbits) & (t <= anchor_t) & (e > 0)
+    if sel.sum() < 3:
+        return math.nan
+    return float(np.polyfit(t[sel], np.log(e[sel]), 1)[0])
+
+
+def allowed_wavelengths(L_x_m: float, lambda_p_m: float, each_side: int = 3) -> list[tuple[int, float]]:
+    """The wavelengths L_x/n [m] a periodic box holds next to ``lambda_p_m``: (n, L_x/n) for the
+    ``each_side`` values of n below and above the n nearest to L_x/lambda_p (n >= 1), longest first."""
+    if not (math.isfinite(lambda_p_m) and lambda_p_m > 0 and L_x_m > 0):
+        return []
+    n0 = max(1, int(round(L_x_m / lambda_p_m)))
+    return [(n, L_x_m / n) for n in range(max(1, n0 - each_side), n0 + each_side + 1)]
+
+
+class CarryButtons:
+    """"Run this in Hydrodynamics" / "Run this in N-body" under the Linear tab's settings.
+
+    ``controls`` is the Linear tab's RingControls; ``session`` a callable returning
+    ``(runs, tabs)`` at click time (the session's :class:`app.session.SessionRuns` and main
+    ``pn.Tabs``; either may be None, then there is nothing to carry to / no tab switch).
+    """
+
+    def __init__(self, controls, session, stylesheets=()):
+        import panel as pn
+
+        self.controls, self.session = controls, session
+        self.buttons = {kind: pn.widgets.Button(label=f"Run this in {LABELS[kind]}", button_type="primary",
+                                                button_style="outline", css_classes=[f"carry-{kind}"],
+                                                sizing_mode="stretch_width",
+                                                description=f"Set the {LABELS[kind]} tab to these settings "
+                                                            "and open it (a changed setup restarts its run; "
+                                                            "the old run stays restorable there)")
+                        for kind in KINDS}
+        for kind, b in self.buttons.items():
+            b.on_click(lambda e, k=kind: self.click(k))
+        self.message = pn.pane.HTML("", stylesheets=list(stylesheets), sizing_mode="stretch_width", visible=False,
+                                   margin=(0, 10))
+        self.panel = pn.Column(*self.buttons.values(), self.message, sizing_mode="stretch_width", margin=(6, 0))
+
+    def click(self, kind: str) -> None:
+        """A button press: in a server session apply from a next-tick callback (it holds the
+        document lock the other tabs' Bokeh sources need, like the lessons' "Set up"), else now."""
+        import panel as pn
+
+        doc = pn.state.curdoc
+        if doc is not None and doc.session_context is not None:
+            doc.add_next_tick_callback(lambda: self.carry(kind))
+        else:
+            self.carry(kind)
+
+    def carry(self, kind: str) -> list[str]:
+        """Carry the settings to tab ``kind`` now; returns what was done (also shown as a message)."""
+        from .lessons.presets import Targets
+
+        runs, tabs = self.session()
+        try:
+            if runs is None:
+                raise ValueError(f"this page has no {LABELS[kind]} tab")
+            what = describe(self.controls, kind)
+            done = carry_to(self.controls, Targets.from_session(runs, tabs), kind)
+        except ValueError as exc:
+            self._show(f"Not carried over: {exc}.", "msg-error")
+            return []
+        self._show(f"{LABELS[kind]} set to {what}; " + "; ".join(done) + ". Press Start there.", "msg-ok")
+        return done
+
+    def _show(self, text: str, cls: str) -> None:
+        self.message.object = f'<div class="{cls}" id="linear-carry-message">{text}</div>'
+        self.message.visible = True
