@@ -12,6 +12,7 @@ References: eqs. (evp), (matni), (osgrate), (ekin), (fourier).
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -65,6 +66,7 @@ def describe(controls, kind: str) -> str:
     return text
 
 
+@functools.lru_cache(maxsize=64)
 def fastest_allowed_mode(params, L_x_m: float, n_cells: int) -> dict:
     """The fastest-growing wavelength a periodic box can hold, from the exact dispersion relation.
 
@@ -82,7 +84,8 @@ def fastest_allowed_mode(params, L_x_m: float, n_cells: int) -> dict:
     dict
         ``wavelength_m`` [m], ``n`` (waves in the box), ``growth_rate`` omega_R [Omega] of the
         amplitude (eq. osgrate; exact, eq. matni) and ``slope_per_orbit`` = 2 omega_R * 2 pi,
-        the growth rate of ln e_kin per orbit (e_kin ~ amplitude^2, eq. ekin).
+        the growth rate of ln e_kin per orbit (e_kin ~ amplitude^2, eq. ekin).  Memoized (a
+        fresh dict per call is not needed: treat it as read-only).
     """
     n = np.arange(1, max(1, int(n_cells) // 2) + 1)
     lam = L_x_m / n
@@ -92,44 +95,63 @@ def fastest_allowed_mode(params, L_x_m: float, n_cells: int) -> dict:
     return dict(wavelength_m=float(lam[i]), n=int(n[i]), growth_rate=g, slope_per_orbit=4.0 * math.pi * g)
 
 
-def slope_line(t, e_kin, slope_per_orbit: float, factor: float = DOMINANT_FACTOR) -> dict:
-    """A straight line on the log e_kin axis with the linear-theory slope, through the run's early e_kin.
+def orbit_means(t, e_kin) -> tuple[np.ndarray, np.ndarray]:
+    """Means of e_kin over whole orbits [floor(t), floor(t) + 1) and their mean times (t in orbits).
 
-    The anchor is the first sample after the early minimum of e_kin (white noise first loses its
-    damped modes) at which e_kin has grown ``factor`` times above it — by then the fastest-growing
-    mode dominates — or the latest sample while it has not.  The line runs from the minimum to
-    the anchor and beyond, until the latest sample time or until it passes 3 x the largest e_kin
-    so far (it shows where the run leaves linear growth).  Empty without growth or samples.
-
-    Returns ``dict(t=[t0, t1], e_kin=[e0, e1], anchor_t=..., anchor_e=...)`` (t in orbits).
+    e_kin oscillates within an orbit (energy passes between the wave's motion and its compression
+    at about twice the orbital frequency), so growth is read from orbit means.  Positive finite
+    values only; orbits with fewer than 3 samples are left out.
     """
     t = np.asarray(t, float)
     e = np.asarray(e_kin, float)
-    ok = np.isfinite(e) & (e > 0)
+    ok = np.isfinite(e) & (e > 0) & np.isfinite(t)
     t, e = t[ok], e[ok]
+    if t.size == 0:
+        return t, e
+    k = np.floor(t + 1e-9).astype(np.int64)
+    keys, start, counts = np.unique(k, return_index=True, return_counts=True)
+    sums_e = np.add.reduceat(e, start)
+    sums_t = np.add.reduceat(t, start)
+    keep = counts >= 3
+    return sums_t[keep] / counts[keep], sums_e[keep] / counts[keep]
+
+
+def slope_line(t, e_kin, slope_per_orbit: float, factor: float = DOMINANT_FACTOR) -> dict:
+    """A straight line on the log e_kin axis with the linear-theory slope, through the run's early e_kin.
+
+    Works on orbit means (:func:`orbit_means`).  The anchor is the first orbit after the early
+    minimum (white noise first loses its damped modes) whose mean e_kin has grown ``factor`` times
+    above it — by then the fastest-growing mode dominates — or the latest orbit while none has.
+    The line runs from the level of that minimum through the anchor until the latest sample time or
+    until it passes 3 x the largest orbit mean so far (it shows where the run leaves linear growth).
+
+    Returns ``dict(t=[t0, t1], e_kin=[e0, e1], anchor_t=..., anchor_e=...)`` (t in orbits); empty
+    lists (and nan) before two whole orbits or without growth.
+    """
+    tm, em = orbit_means(t, e_kin)
     empty = dict(t=[], e_kin=[], anchor_t=math.nan, anchor_e=math.nan)
-    if t.size < 2 or not slope_per_orbit > 0:
+    if tm.size < 2 or not slope_per_orbit > 0:
         return empty
-    early = t <= t[0] + 0.5 * (t[-1] - t[0]) if t[-1] > t[0] else np.ones(t.size, bool)
-    i0 = int(np.argmin(np.where(early, e, np.inf)))
-    above = np.nonzero(e[i0:] >= factor * e[i0])[0]
-    ia = i0 + int(above[0]) if above.size else t.size - 1
-    ta, ea = t[ia], e[ia]
-    t_end = min(t[-1], ta + math.log(3.0 * e.max() / ea) / slope_per_orbit)
-    t_end = max(t_end, ta)
-    ts = np.array([t[i0], t_end])
+    early = tm <= tm[0] + 0.5 * (tm[-1] - tm[0])
+    i0 = int(np.argmin(np.where(early, em, np.inf)))
+    above = np.nonzero(em[i0:] >= factor * em[i0])[0]
+    ia = i0 + int(above[0]) if above.size else tm.size - 1
+    ta, ea = float(tm[ia]), float(em[ia])
+    t_last = float(np.nanmax(np.asarray(t, float)))
+    t_end = max(ta, min(t_last, ta + math.log(3.0 * em.max() / ea) / slope_per_orbit))
+    t_start = max(float(tm[i0]), ta - math.log(ea / em[i0]) / slope_per_orbit)  # where it meets the minimum
+    ts = np.array([t_start, t_end])
     es = ea * np.exp(slope_per_orbit * (ts - ta))
-    return dict(t=ts.tolist(), e_kin=es.tolist(), anchor_t=float(ta), anchor_e=float(ea))
+    return dict(t=ts.tolist(), e_kin=es.tolist(), anchor_t=ta, anchor_e=ea)
 
 
-def measured_slope(t, e_kin, anchor_t: float, width_orbits: float) -> float:
-    """Least-squares slope of ln e_kin per orbit over ``width_orbits`` orbits ending at ``anchor_t``."""
-    t = np.asarray(t, float)
-    e = np.asarray(e_kin, float)
-    sel = (t >= anchor_t - width_orbits) & (t <= anchor_t) & (e > 0)
+def measured_slope(t, e_kin, t0: float, t1: float) -> float:
+    """Least-squares slope of ln e_kin per orbit of the orbit means (:func:`orbit_means`) in [t0, t1]."""
+    tm, em = orbit_means(t, e_kin)
+    sel = (tm >= t0) & (tm <= t1)
     if sel.sum() < 3:
         return math.nan
-    return float(np.polyfit(t[sel], np.log(e[sel]), 1)[0])
+    return float(np.polyfit(tm[sel], np.log(em[sel]), 1)[0])
 
 
 def allowed_wavelengths(L_x_m: float, lambda_p_m: float, each_side: int = 3) -> list[tuple[int, float]]:
@@ -196,3 +218,14 @@ class CarryButtons:
     def _show(self, text: str, cls: str) -> None:
         self.message.object = f'<div class="{cls}" id="linear-carry-message">{text}</div>'
         self.message.visible = True
+
+
+def theory_mode(params, L_x_m: float, n_cells: int, initial: str = "noise", wavelength_m: float = math.nan) -> dict:
+    """The mode whose linear growth e_kin(t) should follow: the seeded wavelength of a single-mode
+    run (``initial == "mode"``), else :func:`fastest_allowed_mode` (white noise seeds every mode).
+    Same keys as :func:`fastest_allowed_mode`."""
+    if initial == "mode" and math.isfinite(wavelength_m) and wavelength_m > 0:
+        g = float(linear.dispersion(params, np.array([wavelength_m])).growth_rate[0])
+        return dict(wavelength_m=float(wavelength_m), n=int(round(L_x_m / wavelength_m)), growth_rate=g,
+                    slope_per_orbit=4.0 * math.pi * g)
+    return fastest_allowed_mode(params, float(L_x_m), int(n_cells))
