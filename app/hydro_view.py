@@ -20,6 +20,7 @@ import param
 from .checked_input import CheckedInputs
 from .export import ExportPanel
 from .connect import allowed_wavelengths
+from .tutorials import tab_links
 from .hydro_plots import HydroPlots
 from .hydro_runner import HydroRunner
 from .hydro_settings import SETTINGS_PARAMS, SETUP_PARAMS
@@ -178,6 +179,8 @@ class HydroView(pn.viewable.Viewer):
         bottom = responsive_grid(pane(P.ekin_fig), pane(P.lp_fig), pane(P.psd_fig), min_px=300)
         bottom = pn.Column(bottom, self.lp_note, sizing_mode="stretch_width")
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
+        explanation = pn.Column(explanation, pn.pane.HTML(tab_links("hydro"), stylesheets=[CSS], margin=(0, 10),
+                                                          sizing_mode="stretch_width"), sizing_mode="stretch_width")
         controls = wrap_row(*self.buttons.values())
         kept = wrap_row(self.kept, self.restore_button)
         return page_row(pn.Column(self._widgets(), self.export, width=340),

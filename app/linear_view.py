@@ -28,6 +28,7 @@ from ringcore import params as ring_params
 from .connect import CarryButtons
 from .controls import RingControls
 from .linear_model import WAVELENGTH_RANGE_M, LinearTheory
+from .tutorials import tab_links
 
 PLOTS = (  # key in the curve dicts, y-axis label, title
     # the curves are the exact solution of Det M = 0, eq. (16); eqs. (21), (22) are only its long-wave limits
@@ -247,7 +248,9 @@ class LinearView(pn.viewable.Viewer):
         plots = {k: pn.pane.Bokeh(f, sizing_mode="stretch_width") for k, f in self.figures.items()}
         header = pn.pane.HTML(pn.bind(lambda s: f'<div class="model-label" id="linear-model">{s}</div>',
                                       self.model.param.model_label), stylesheets=[CSS], margin=(0, 10))
-        explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
+        explanation = pn.Column(pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"}),
+                                pn.pane.HTML(tab_links("linear"), stylesheets=[CSS], sizing_mode="stretch_width"),
+                                sizing_mode="stretch_width")
         grid = responsive_grid(plots["growth_rate"], plots["frequency"], plots["group_velocity_mm_s"], explanation)
         return page_row(pn.Column(pn.pane.Markdown("### Settings", margin=(0, 10)), self.widgets, width=340),
                         pn.Column(header, self.readouts, self.key, grid, sizing_mode="stretch_width"))

@@ -26,6 +26,7 @@ from .controls import ISOTHERMAL_ONLY, build_params, isothermal_only_note
 from .linear_view import _set_labels, page_row
 from .live_common import CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, log_ticks, message_html, new_figure
 from .session import SessionRuns
+from .tutorials import tab_links
 
 SWEEP_FILE = Path(__file__).parent / "data" / "saturation_sweep.nc"
 SIGMA0_GRID = np.linspace(25.0, 1000.0, 30)  # [kg/m^2]
@@ -237,6 +238,8 @@ class SaturationView(pn.viewable.Viewer):
             W.Checkbox.from_param(self.param.isothermal), self.model_note, self.model_error,
             pn.pane.Markdown("### Your runs", margin=(0, 10)), self.add_button, self.message, width=340)
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
+        explanation = pn.Column(explanation, pn.pane.HTML(tab_links("saturation"), stylesheets=[CSS], margin=(0, 10),
+                                                          sizing_mode="stretch_width"), sizing_mode="stretch_width")
         lower = [p for p in self.sweep_points if not p.get("saturated", True)]
         lb_note = pn.pane.HTML(f'<div class="buttons-note" id="sat-lower-note">{LOWER_BOUND_NOTE}</div>',
                                stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10), visible=bool(lower))
