@@ -154,13 +154,25 @@ def measured_slope(t, e_kin, t0: float, t1: float) -> float:
     return float(np.polyfit(tm[sel], np.log(em[sel]), 1)[0])
 
 
-def allowed_wavelengths(L_x_m: float, lambda_p_m: float, each_side: int = 3) -> list[tuple[int, float]]:
-    """The wavelengths L_x/n [m] a periodic box holds next to ``lambda_p_m``: (n, L_x/n) for the
-    ``each_side`` values of n below and above the n nearest to L_x/lambda_p (n >= 1), longest first."""
+def allowed_wavelengths(L_x_m: float, lambda_p_m: float, each_side: int = 3, span=(),
+                        max_marks: int = 30) -> list[tuple[int, float]]:
+    """The wavelengths L_x/n [m] a periodic box holds next to ``lambda_p_m``: (n, L_x/n), longest first.
+
+    The ``each_side`` values of n below and above the n nearest to L_x/lambda_p (n >= 1), widened to
+    cover the wavelengths in ``span`` (e.g. the lambda_p values the run has had), at most ``max_marks``
+    values of n, those nearest to lambda_p's.
+    """
     if not (math.isfinite(lambda_p_m) and lambda_p_m > 0 and L_x_m > 0):
         return []
     n0 = max(1, int(round(L_x_m / lambda_p_m)))
-    return [(n, L_x_m / n) for n in range(max(1, n0 - each_side), n0 + each_side + 1)]
+    lo, hi = max(1, n0 - each_side), n0 + each_side
+    span = np.asarray(span, float)
+    span = span[np.isfinite(span) & (span > 0)]
+    if span.size:
+        lo = max(1, min(lo, int(round(L_x_m / span.max()))))
+        hi = max(hi, int(round(L_x_m / span.min())))
+    ns = sorted(range(lo, hi + 1), key=lambda n: (abs(n - n0), n))[:max_marks]
+    return [(n, L_x_m / n) for n in sorted(ns)]
 
 
 class CarryButtons:

@@ -86,7 +86,7 @@ class HydroPlots:
         self.slope_source = ColumnDataSource(dict(t=[], e_kin=[]), name="hydro-slope-source")
         fig.line("t", "e_kin", source=self.slope_source, line_width=3, line_dash="dashed", color=SLOPE_COLOR,
                  legend_label="linear theory")
-        fig.legend.location = "bottom_right"
+        fig.legend.location = "top_left"  # e_kin starts low and rises to the right
         fig.legend.label_text_font_size = "12px"
         fig.legend.background_fill_alpha = 0.7
         fig.legend.padding = 4
@@ -176,7 +176,8 @@ class HydroPlots:
         lp = sim.prevalent_wavelength()
         if lp != self.allowed_lp:
             self.allowed_lp = lp
-            marks = allowed_wavelengths(sim.options.L_x, lp)
+            lam = s.get("lambda_p")
+            marks = allowed_wavelengths(sim.options.L_x, lp, span=lam[t >= min(1.0, t[-1])] if t.size else ())
             self.allowed_source.data = dict(y=[w for _, w in marks], n=[k for k, _ in marks])
         self.psd_markers.data = wavelength_markers(runner.numbers, [(lp, LP_COLOR, "solid", "λ_p now")])
 

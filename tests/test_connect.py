@@ -143,12 +143,17 @@ def test_allowed_wavelength_marks_are_lx_over_n():
     data = view.plots.allowed_source.data
     lp = r.sim.prevalent_wavelength()
     n = np.asarray(data["n"])
-    assert np.array_equal(n, np.arange(n[0], n[0] + n.size)) and n.size == 7
+    assert np.array_equal(n, np.arange(n[0], n[0] + n.size)) and 7 <= n.size <= 30
     assert np.allclose(data["y"], SMALL["L_x"] / n, rtol=0, atol=1e-12)
-    assert lp in data["y"]  # lambda_p itself is one of them
+    n0 = round(SMALL["L_x"] / lp)
+    assert lp in data["y"] and set(range(n0 - 3, n0 + 4)) <= set(n)  # lambda_p and three on each side
+    t, lam = r.series.get("t"), r.series.get("lambda_p")
+    assert set(np.round(SMALL["L_x"] / lam[t >= 1.0]).astype(int)) <= set(n)  # every value it took since orbit 1
     assert "hydro-lp-note" in view.lp_note.object and f"{lp:.4g}" in view.lp_note.object
     assert connect.allowed_wavelengths(1000.0, math.nan) == []
     assert connect.allowed_wavelengths(1000.0, 900.0, 2) == [(1, 1000.0), (2, 500.0), (3, 1000.0 / 3)]
+    marks = connect.allowed_wavelengths(1000.0, 100.0, 1, span=[50.0, 125.0], max_marks=5)
+    assert marks == [(n, 1000.0 / n) for n in (8, 9, 10, 11, 12)]  # the 5 nearest to n = 10 of 8 .. 20
 
 
 # ---------------------------------------------------------------- item 5d: unsaturated sweep points
