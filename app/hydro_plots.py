@@ -12,7 +12,8 @@ import math
 
 import numpy as np
 from bokeh.core.properties import value
-from bokeh.models import BoxAnnotation, ColorBar, ColumnDataSource, HoverTool, LinearColorMapper, Range1d
+from bokeh.models import (BoxAnnotation, ColorBar, ColumnDataSource, HoverTool, Legend, LegendItem, LinearColorMapper,
+                          Range1d)
 from bokeh.palettes import Viridis256
 
 from ringcore.analysis.saturation import C_EMPIRICAL
@@ -84,12 +85,11 @@ class HydroPlots:
         fig.vspan(x="x", line_color="color", line_dash="dashed", line_width=2, source=self.event_source)
         # linear theory: e_kin ~ amplitude^2 grows as exp(2 omega_R t) (eqs. ekin, osgrate)
         self.slope_source = ColumnDataSource(dict(t=[], e_kin=[]), name="hydro-slope-source")
-        fig.line("t", "e_kin", source=self.slope_source, line_width=3, line_dash="dashed", color=SLOPE_COLOR,
-                 legend_label="linear theory")
-        fig.legend.location = "top_left"  # e_kin starts low and rises to the right
-        fig.legend.label_text_font_size = "12px"
-        fig.legend.background_fill_alpha = 0.7
-        fig.legend.padding = 4
+        slope = fig.line("t", "e_kin", source=self.slope_source, line_width=3, line_dash="dashed", color=SLOPE_COLOR)
+        # the legend under the plot: inside, its long label would cover the curve at one end or the other
+        fig.add_layout(Legend(items=[LegendItem(label=value("linear theory"), renderers=[slope])], location="left",
+                              orientation="horizontal", label_text_font_size="12px", padding=2, margin=2,
+                              border_line_alpha=0), "below")
         fig.add_tools(HoverTool(renderers=[r], tooltips=[("t", "@t{0.0} orbits"), ("e_kin", "@e_kin{0.000e}")],
                                 mode="vline"))
         self.ekin_fig = fig
@@ -135,8 +135,8 @@ class HydroPlots:
                                           dash=[r[2] for r in rows], label=[r[3] for r in rows])
         self.mode = m = theory_mode(sim.params, L, sim.n, runner.initial, runner.wavelength)
         self.ekin_fig.legend.items[0].label = value(
-            f"linear theory: slope 2 ω_R = {2 * m['growth_rate']:.3g} Ω, λ = {m['wavelength_m']:.4g} m "
-            f"(L_x/{m['n']})")
+            f"linear theory: 2 ω_R = {2 * m['growth_rate']:.3g} Ω, λ = {m['wavelength_m']:.4g} m (L_x/{m['n']})"
+            + (" seeded" if runner.initial == "mode" else ""))
         self.allowed_lp = None
         self.update_buffer(runner)
 

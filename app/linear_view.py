@@ -303,7 +303,9 @@ class LinearView(pn.viewable.Viewer):
     @staticmethod
     def _key_html(curves: dict, markers: dict) -> str:
         """Legend shared by the three plots (same colours in each)."""
-        items = [f'<span class="key-item"><span class="key-line" style="border-top: {w:g}px {d} {c}"></span><span>{lab}</span></span>'
+        # the plots' dash patterns ("12 6") are not CSS border styles: a dashed border stands for them
+        items = [f'<span class="key-item"><span class="key-line" style="border-top: {w:g}px '
+                 f'{"solid" if d == "solid" else "dashed"} {c}"></span><span>{lab}</span></span>'
                  for lab, c, w, d in zip(curves["label"], curves["color"], curves["width"], curves["dash"])]
         items += [f'<span class="key-item"><span class="key-vline" style="border-left: 2px {d} {c}"></span><span>{lab}</span></span>'
                   for lab, c, d in zip(markers["mlabel"], markers["color"], markers["dash"])]
