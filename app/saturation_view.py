@@ -31,7 +31,7 @@ from .tutorials import tab_links
 SWEEP_FILE = Path(__file__).parent / "data" / "saturation_sweep.nc"
 SIGMA0_GRID = np.linspace(25.0, 1000.0, 30)  # [kg/m^2]
 SWEEP_COLOR = "#6a1b9a"
-LOWER_BOUND_NOTE = ("▲ = that run was still coarsening when it stopped (its λ<sub>p</sub> had not stayed constant "
+LOWER_BOUND_NOTE = ("△ = that run was still coarsening when it stopped (its λ<sub>p</sub> had not stayed constant "
                     "over its last few hundred orbits): λ<sub>p</sub> only grows by waves merging, so the "
                     "saturated value lies above the triangle — the point is a lower bound.")
 FADED = 0.3  # opacity of runs of another parameter set or model

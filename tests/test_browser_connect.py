@@ -82,7 +82,7 @@ def test_run_this_in_hydrodynamics(server, tmp_path):
             page.locator("#ro-q0 .ro-value", has_text="∞").wait_for()
             page.locator("input[type=checkbox]").first.check()  # the Linear tab's "Isothermal model" box
             page.locator("#linear-model", has_text="tau15, isothermal model").first.wait_for()
-            page.locator("#ro-lambda-max .ro-value", has_text="58.").wait_for()  # tau15 isothermal, sigma0 = 0
+            page.locator("#ro-lambda-max .ro-value", has_text="59.04").wait_for()  # tau15 isothermal, sigma0 = 0
             page.wait_for_timeout(500)
             page.screenshot(path=str(SHOTS / "connect_linear.png"))
 
