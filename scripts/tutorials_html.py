@@ -46,9 +46,12 @@ def tex_to_mathml(source: str) -> str:
     return INLINE.sub(conv(False), DISPLAY.sub(conv(True), source))
 
 
+MATH_CSS = "<style>math {font-size: 1.15em;}</style>"  # MathML's default size is a little small beside the text
+
+
 def offline(page: str) -> str:
-    """The exported page without script tags that load from another host."""
-    return EXTERNAL_SCRIPT.sub("", page)
+    """The exported page without script tags that load from another host (and a style for MathML)."""
+    return EXTERNAL_SCRIPT.sub("", page).replace("</head>", MATH_CSS + "</head>", 1)
 
 
 def execute(path: Path, cache: Path | None):
