@@ -18,9 +18,8 @@ import panel as pn
 import param
 
 from .checked_input import CheckedInputs
-from .export import ExportPanel
 from .connect import allowed_wavelengths
-from .tutorials import tab_links
+from .export import ExportPanel
 from .hydro_plots import HydroPlots
 from .hydro_runner import HydroRunner
 from .hydro_settings import SETTINGS_PARAMS, SETUP_PARAMS
@@ -28,6 +27,7 @@ from .linear_view import _set_labels, page_row, responsive_grid, wrap_row
 from .live_common import (BUFFER_COLOR, CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, FrameGate, fmt,
                           message_pane, on_session_end, readout_cards, show_message)
 from .run_keeper import RunKeeper
+from .tutorials import tab_links
 
 IMAGE_PERIOD_S = 0.25  # the space-time image is sent at most 4 times per second
 
