@@ -96,7 +96,8 @@ def fastest_allowed_mode(params, L_x_m: float, n_cells: int) -> dict:
 
 
 def orbit_means(t, e_kin) -> tuple[np.ndarray, np.ndarray]:
-    """Means of e_kin over whole orbits [floor(t), floor(t) + 1) and their mean times (t in orbits).
+    """Means of e_kin over whole orbits [floor(t), floor(t) + 1) and their mean times (t in orbits);
+    over as many whole orbits as give at least 3 samples when the series is sparser than that.
 
     e_kin oscillates within an orbit (energy passes between the wave's motion and its compression
     at about twice the orbital frequency), so growth is read from orbit means.  Positive finite
@@ -108,7 +109,9 @@ def orbit_means(t, e_kin) -> tuple[np.ndarray, np.ndarray]:
     t, e = t[ok], e[ok]
     if t.size == 0:
         return t, e
-    k = np.floor(t + 1e-9).astype(np.int64)
+    # a long live run's series is thinned (fewer samples per orbit): bins of several whole orbits then
+    w = max(1, math.ceil(3.0 * float(np.median(np.diff(t))) - 1e-9)) if t.size > 1 else 1
+    k = np.floor(t / w + 1e-9).astype(np.int64)
     keys, start, counts = np.unique(k, return_index=True, return_counts=True)
     sums_e = np.add.reduceat(e, start)
     sums_t = np.add.reduceat(t, start)

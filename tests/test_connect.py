@@ -130,6 +130,9 @@ def test_slope_line_recovers_an_exact_exponential():
     tm, em = connect.orbit_means(t, e)
     assert ea == pytest.approx(em[np.argmin(abs(tm - ta))]) and ea >= connect.DOMINANT_FACTOR * em[0]
     assert connect.slope_line(t[:10], e[:10], 0.4)["t"] == []  # less than two whole orbits
+    sparse = slice(None, None, 40)  # a thinned live series: 0.5 samples per orbit
+    assert connect.measured_slope(t[sparse], e[sparse], 2, 28) == pytest.approx(0.4, rel=0.05)
+    assert connect.slope_line(t[sparse], e[sparse], 0.4)["t"] != []
     assert connect.slope_line(t, e, -0.1)["t"] == []  # no growth: no line
 
 
