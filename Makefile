@@ -9,7 +9,7 @@ BIN     = $(VENV)/bin
 STAMP   = $(VENV)/.installed
 CHROMIUM ?= /usr/bin/chromium
 
-.PHONY: app test install clean bench browser
+.PHONY: app test install clean bench browser tutorials-html
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -28,9 +28,18 @@ browser:
 	  echo "warning: could not install chromium; browser tests will be skipped"; }
 
 PORT ?= 5006
+TUTORIALS_HTML ?= build/tutorials-html
 app: $(STAMP)
 	@echo "ringlab app: open http://localhost:$(PORT)/main  (Ctrl-C stops the server)"
-	$(BIN)/python -m panel serve app/main.py --warm --port $(PORT)
+	@test -f $(TUTORIALS_HTML)/index.html || echo "note: no executed tutorials in $(TUTORIALS_HTML) ('make tutorials-html' adds the app's links to them)"
+	@mkdir -p $(TUTORIALS_HTML)
+	RINGLAB_TUTORIALS_HTML=$(TUTORIALS_HTML) $(BIN)/python -m panel serve app/main.py --warm --port $(PORT) \
+	  --static-dirs tutorials=$(TUTORIALS_HTML)
+
+# the tutorials executed (quick mode) as offline HTML pages, served by `make app` at /tutorials/ and linked
+# from the tabs and lessons; reuses notebooks the test suite executed (test-artifacts/tutorials) if up to date
+tutorials-html: $(STAMP)
+	$(BIN)/python scripts/tutorials_html.py --out $(TUTORIALS_HTML) --from test-artifacts/tutorials
 
 test: $(STAMP) browser
 	$(BIN)/python -m pytest

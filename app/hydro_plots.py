@@ -11,14 +11,19 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from bokeh.models import BoxAnnotation, ColorBar, ColumnDataSource, HoverTool, LinearColorMapper, Range1d
+from bokeh.core.properties import value
+from bokeh.models import (BoxAnnotation, ColorBar, ColumnDataSource, HoverTool, Legend, LegendItem, LinearColorMapper,
+                          Range1d)
 from bokeh.palettes import Viridis256
 
 from ringcore.analysis.saturation import C_EMPIRICAL
 
+from .connect import allowed_wavelengths, slope_line, theory_mode
 from .live_common import (BUFFER_COLOR, EMP_COLOR, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, log_ticks,
                           new_figure, wavelength_markers)
 
+SLOPE_COLOR = "#d84315"  # linear-theory growth of e_kin
+ALLOWED_COLOR = "#9e9e9e"  # wavelengths L_x/n the box can hold
 R_P = 1.0  # [m] particle radius of the e_kin unit sigma0 (R_p Omega)^2 (Figure "ekinisonosg")
 PROFILES = (  # key, y label, title
     ("sigma", "σ/σ₀", "Surface density σ/σ₀"),
@@ -78,12 +83,22 @@ class HydroPlots:
                          "e_kin [σ₀ (R_p Ω)²]", height=260, y_axis_type="log")
         r = fig.line("t", "e_kin", source=self.series_source, line_width=2, color=LINE_COLOR)
         fig.vspan(x="x", line_color="color", line_dash="dashed", line_width=2, source=self.event_source)
+        # linear theory: e_kin ~ amplitude^2 grows as exp(2 omega_R t) (eqs. ekin, osgrate)
+        self.slope_source = ColumnDataSource(dict(t=[], e_kin=[]), name="hydro-slope-source")
+        slope = fig.line("t", "e_kin", source=self.slope_source, line_width=3, line_dash="dashed", color=SLOPE_COLOR)
+        # the legend under the plot: inside, its long label would cover the curve at one end or the other
+        fig.add_layout(Legend(items=[LegendItem(label=value("linear theory"), renderers=[slope])], location="left",
+                              orientation="horizontal", label_text_font_size="12px", padding=2, margin=2,
+                              border_line_alpha=0), "below")
         fig.add_tools(HoverTool(renderers=[r], tooltips=[("t", "@t{0.0} orbits"), ("e_kin", "@e_kin{0.000e}")],
                                 mode="vline"))
         self.ekin_fig = fig
+        self.mode = None  # the linear-theory mode of the run shown (app.connect.theory_mode)
         self.lp_marker_source = ColumnDataSource(dict(y=[], color=[], dash=[], label=[]))
         fig = new_figure("Prevalent wavelength λ_p", "time [orbits]", "λ_p [m]",
                          height=260, y_axis_type="log")
+        self.allowed_source = ColumnDataSource(dict(y=[], n=[]), name="hydro-allowed-source")
+        fig.hspan(y="y", line_color=ALLOWED_COLOR, line_dash="dotted", line_width=1, source=self.allowed_source)
         r = fig.scatter("t", "lambda_p", source=self.series_source, size=3, color=LP_COLOR)
         fig.hspan(y="y", line_color="color", line_dash="dash", line_width=2, source=self.lp_marker_source)
         fig.add_tools(HoverTool(renderers=[r], tooltips=[("t", "@t{0.0} orbits"), ("λ_p", "@lambda_p{0.0} m")]))
@@ -92,6 +107,7 @@ class HydroPlots:
 
     def _psd_figure(self):
         self.psd_source = ColumnDataSource(dict(wavelength=[], power=[]), name="hydro-psd-source")
+        self.allowed_lp = None  # lambda_p the allowed-wavelength marks were drawn for
         self.psd_markers = ColumnDataSource(dict(x=[], color=[], dash=[], label=[]))
         fig = new_figure("Power spectrum of σ, eq. (fourier)", "wavelength λ [m]", "PSD",
                          height=260, x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
@@ -117,6 +133,11 @@ class HydroPlots:
         rows = [r for r in rows if math.isfinite(r[0])]
         self.lp_marker_source.data = dict(y=[r[0] for r in rows], color=[r[1] for r in rows],
                                           dash=[r[2] for r in rows], label=[r[3] for r in rows])
+        self.mode = m = theory_mode(sim.params, L, sim.n, runner.initial, runner.wavelength)
+        self.ekin_fig.legend.items[0].label = value(
+            f"linear theory: 2 ω_R = {2 * m['growth_rate']:.3g} Ω, λ = {m['wavelength_m']:.4g} m (L_x/{m['n']})"
+            + (" seeded" if runner.initial == "mode" else ""))
+        self.allowed_lp = None
         self.update_buffer(runner)
 
     def update_buffer(self, runner) -> None:
@@ -144,12 +165,20 @@ class HydroPlots:
         ekin_unit = (sc.velocity / (R_P * sim.params.Omega)) ** 2  # sigma0 c0^2 -> sigma0 (R_p Omega)^2
         e = s.get("e_kin") * ekin_unit
         e[e <= 0] = np.nan
-        self.series_source.data = dict(t=s.get("t").astype(f32), e_kin=e.astype(f32),
-                                       lambda_p=s.get("lambda_p").astype(f32))
+        t = s.get("t")
+        self.series_source.data = dict(t=t.astype(f32), e_kin=e.astype(f32), lambda_p=s.get("lambda_p").astype(f32))
+        if self.mode is not None:
+            line = slope_line(t, e, self.mode["slope_per_orbit"])
+            self.slope_source.data = dict(t=line["t"], e_kin=line["e_kin"])
         wl, P = sim.psd()
         P = np.maximum(P, 1e-12)
         self.psd_source.data = dict(wavelength=wl.astype(f32), power=P.astype(f32))
         lp = sim.prevalent_wavelength()
+        if lp != self.allowed_lp:
+            self.allowed_lp = lp
+            lam = s.get("lambda_p")
+            marks = allowed_wavelengths(sim.options.L_x, lp, span=lam[t >= min(1.0, t[-1])] if t.size else ())
+            self.allowed_source.data = dict(y=[w for _, w in marks], n=[k for k, _ in marks])
         self.psd_markers.data = wavelength_markers(runner.numbers, [(lp, LP_COLOR, "solid", "λ_p now")])
 
     def update_image(self, runner) -> None:

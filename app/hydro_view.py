@@ -18,6 +18,7 @@ import panel as pn
 import param
 
 from .checked_input import CheckedInputs
+from .connect import allowed_wavelengths
 from .export import ExportPanel
 from .hydro_plots import HydroPlots
 from .hydro_runner import HydroRunner
@@ -26,6 +27,7 @@ from .linear_view import _set_labels, page_row, responsive_grid, wrap_row
 from .live_common import (BUFFER_COLOR, CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, FrameGate, fmt,
                           message_pane, on_session_end, readout_cards, show_message)
 from .run_keeper import RunKeeper
+from .tutorials import tab_links
 
 IMAGE_PERIOD_S = 0.25  # the space-time image is sent at most 4 times per second
 
@@ -76,6 +78,8 @@ class HydroView(pn.viewable.Viewer):
         self.header = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.status = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.readouts = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
+        self.lp_note = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
+        self._lp_noted = None
         self.blowup = message_pane("hydro-blowup")
         self.messages = {g: message_pane(f"hydro-msg-{g}") for g in ("model", "grid", "initial", "buffer")}
         self.model_note = message_pane("hydro-model-note")
@@ -173,7 +177,10 @@ class HydroView(pn.viewable.Viewer):
                                    min_px=640)  # 2 x 2, 4 x 1 on wide screens, 1 per row on a phone
         top = responsive_grid(pane(P.spacetime_fig), profiles, min_px=580)
         bottom = responsive_grid(pane(P.ekin_fig), pane(P.lp_fig), pane(P.psd_fig), min_px=300)
+        bottom = pn.Column(bottom, self.lp_note, sizing_mode="stretch_width")
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
+        explanation = pn.Column(explanation, pn.pane.HTML(tab_links("hydro"), stylesheets=[CSS], margin=(0, 10),
+                                                          sizing_mode="stretch_width"), sizing_mode="stretch_width")
         controls = wrap_row(*self.buttons.values())
         kept = wrap_row(self.kept, self.restore_button)
         return page_row(pn.Column(self._widgets(), self.export, width=340),
@@ -229,10 +236,27 @@ class HydroView(pn.viewable.Viewer):
             if lines:
                 self.plots.update_lines(r)
                 self.readouts.object = readout_cards(self._readout_rows(), "hydro-readouts")
+                self._note_allowed()
                 self.line_gate.mark_sent(now)
             if image:
                 self.plots.update_image(r)
                 self.image_gate.mark_sent(now)
+
+    def _note_allowed(self) -> None:
+        """One line under the λ_p plot: why λ_p jumps between the grey marks (only when λ_p changed)."""
+        sim = self.runner.sim
+        lp = sim.prevalent_wavelength()
+        if lp == self._lp_noted:
+            return
+        self._lp_noted = lp
+        near = [f"{w:.4g}" for k, w in allowed_wavelengths(sim.options.L_x, lp, each_side=1)]
+        self.lp_note.object = (
+            f'<div class="buttons-note" id="hydro-lp-note">Grey dotted lines in the λ<sub>p</sub> plot: the only '
+            f'wavelengths a periodic box of L<sub>x</sub> = {sim.options.L_x:g} m can hold, L<sub>x</sub>/n for a '
+            f'whole number n of waves (near λ<sub>p</sub>: {", ".join(near)} m). So λ<sub>p</sub> jumps from one '
+            'to the next when waves merge or split; it cannot change smoothly. Dashed red in e<sub>kin</sub>: '
+            'linear theory for the fastest-growing of these wavelengths (slope 2 ω<sub>R</sub>, e<sub>kin</sub> '
+            '∝ amplitude²).</div>')
 
     def _on_mode(self, *_):
         if self.runner.sim is not None:

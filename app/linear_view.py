@@ -25,8 +25,10 @@ from bokeh.plotting import figure
 
 from ringcore import params as ring_params
 
+from .connect import CarryButtons
 from .controls import RingControls
 from .linear_model import WAVELENGTH_RANGE_M, LinearTheory
+from .tutorials import tab_links
 
 PLOTS = (  # key in the curve dicts, y-axis label, title
     # the curves are the exact solution of Det M = 0, eq. (16); eqs. (21), (22) are only its long-wave limits
@@ -154,10 +156,13 @@ class LinearView(pn.viewable.Viewer):
 
     controls = param.ClassSelector(class_=RingControls)
     model = param.ClassSelector(class_=LinearTheory)
+    runs = param.Parameter(default=None, doc="The session's app.session.SessionRuns (the other tabs' runners).")
+    tabs = param.Parameter(default=None, doc="The main pn.Tabs (set by app.main; 'Run this in ...' shows a tab).")
 
     def __init__(self, **params):
         params.setdefault("controls", RingControls())
         super().__init__(**params)
+        self.carry = CarryButtons(self.controls, lambda: (self.runs, self.tabs), stylesheets=[CSS])
         if self.model is None:
             self.model = LinearTheory(controls=self.controls)
         self.sources = {key: ColumnDataSource(dict(xs=[], ys=[], label=[], color=[], width=[], dash=[]))
@@ -190,6 +195,7 @@ class LinearView(pn.viewable.Viewer):
             self._compare_input(),
             self.note,
             self.message,
+            self.carry.panel,
             width=320,
         )
 
@@ -242,7 +248,9 @@ class LinearView(pn.viewable.Viewer):
         plots = {k: pn.pane.Bokeh(f, sizing_mode="stretch_width") for k, f in self.figures.items()}
         header = pn.pane.HTML(pn.bind(lambda s: f'<div class="model-label" id="linear-model">{s}</div>',
                                       self.model.param.model_label), stylesheets=[CSS], margin=(0, 10))
-        explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
+        explanation = pn.Column(pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"}),
+                                pn.pane.HTML(tab_links("linear"), stylesheets=[CSS], sizing_mode="stretch_width"),
+                                sizing_mode="stretch_width")
         grid = responsive_grid(plots["growth_rate"], plots["frequency"], plots["group_velocity_mm_s"], explanation)
         return page_row(pn.Column(pn.pane.Markdown("### Settings", margin=(0, 10)), self.widgets, width=340),
                         pn.Column(header, self.readouts, self.key, grid, sizing_mode="stretch_width"))
@@ -295,7 +303,9 @@ class LinearView(pn.viewable.Viewer):
     @staticmethod
     def _key_html(curves: dict, markers: dict) -> str:
         """Legend shared by the three plots (same colours in each)."""
-        items = [f'<span class="key-item"><span class="key-line" style="border-top: {w:g}px {d} {c}"></span><span>{lab}</span></span>'
+        # the plots' dash patterns ("12 6") are not CSS border styles: a dashed border stands for them
+        items = [f'<span class="key-item"><span class="key-line" style="border-top: {w:g}px '
+                 f'{"solid" if d == "solid" else "dashed"} {c}"></span><span>{lab}</span></span>'
                  for lab, c, w, d in zip(curves["label"], curves["color"], curves["width"], curves["dash"])]
         items += [f'<span class="key-item"><span class="key-vline" style="border-left: 2px {d} {c}"></span><span>{lab}</span></span>'
                   for lab, c, d in zip(markers["mlabel"], markers["color"], markers["dash"])]

@@ -58,6 +58,9 @@ def create_app() -> pn.Column:
     tabs = pn.Tabs(*[(title, view) for (title, _), view in zip(TABS, views)], dynamic=True,
                    sizing_mode="stretch_width", stylesheets=[":host .bk-tab {font-size: 16px;}"],
                    styles={"flex": "1 1 720px", "min-width": "0"})
+    for view in views:  # [connect] the Linear tab's "Run this in ..." buttons show the other tabs
+        if "tabs" in getattr(view, "param", ()):
+            view.tabs = tabs
     header = pn.pane.HTML(f'<header class="app-header" id="app-header"><h1>{TITLE}</h1></header>',
                           stylesheets=[PAGE_CSS], sizing_mode="stretch_width", margin=0)
     # the lessons + glossary panel stays beside every tab on wide screens and wraps below on narrow ones

@@ -11,6 +11,7 @@ References: eqs. (lambdasigma), (lambdasigmaap), (jeans); Figure "lambdap".
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -25,10 +26,14 @@ from .controls import ISOTHERMAL_ONLY, build_params, isothermal_only_note
 from .linear_view import _set_labels, page_row
 from .live_common import CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, log_ticks, message_html, new_figure
 from .session import SessionRuns
+from .tutorials import tab_links
 
 SWEEP_FILE = Path(__file__).parent / "data" / "saturation_sweep.nc"
 SIGMA0_GRID = np.linspace(25.0, 1000.0, 30)  # [kg/m^2]
 SWEEP_COLOR = "#6a1b9a"
+LOWER_BOUND_NOTE = ("△ = that run was still coarsening when it stopped (its λ<sub>p</sub> had not stayed constant "
+                    "over its last few hundred orbits): λ<sub>p</sub> only grows by waves merging, so the "
+                    "saturated value lies above the triangle — the point is a lower bound.")
 FADED = 0.3  # opacity of runs of another parameter set or model
 
 EXPLANATION = """
@@ -62,9 +67,27 @@ def theory_curves(name: str, isothermal: bool) -> dict:
     return dict(sigma0=SIGMA0_GRID.copy(), empirical=np.array(emp), fastest=np.array(fast))
 
 
+def unsaturated_sigma0(note: str) -> set[float]:
+    """Surface densities [kg/m^2] that a sweep file's ``note`` attribute lists as not saturated.
+
+    The shipped sweep records its verdict (made by reading each run's lambda_p(t): saturated when
+    lambda_p stayed constant over the last 200-300 orbits, app/data/README.md) in the sentence
+    "sigma0 = 100 and 200 were still coarsening at 1000 orbits (lower bounds)"; this reads the
+    numbers of every such sentence.
+    """
+    out = set()
+    for m in re.finditer(r"sigma0\s*=\s*([0-9.,\s]+(?:and\s+[0-9.]+)?)[^.;]*?still coarsening", str(note or "")):
+        out.update(float(v) for v in re.findall(r"[0-9]+(?:\.[0-9]+)?", m.group(1)))
+    return out
+
+
 def load_sweep(path: Path | None = None) -> tuple[list, str]:
-    """Points (dicts: sigma0, lambda_p_m, set, isothermal, engine) of the sweep file (default
-    SWEEP_FILE) and a note for the page ('' if there are points)."""
+    """Points (dicts: sigma0, lambda_p_m, set, isothermal, engine, saturated) of the sweep file
+    (default SWEEP_FILE) and a note for the page ('' if there are points).
+
+    ``saturated`` comes from a per-run variable ``saturated`` if the file has one, else from the
+    file's ``note`` attribute (:func:`unsaturated_sigma0`); runs not named there count as saturated.
+    """
     path = Path(SWEEP_FILE if path is None else path)
     if not path.exists():
         return [], (f"No sweep data shipped yet ({path.name} is missing): only the theory curves are shown. "
@@ -78,13 +101,19 @@ def load_sweep(path: Path | None = None) -> tuple[list, str]:
     if "lambda_p_m" not in ds or "sigma0" not in ds.coords:
         return [], f"The sweep file {path.name} has no lambda_p_m / sigma0: theory only."
     tasks = ds["task"].values if "task" in ds.coords else [None] * ds.sizes.get("run", 0)
+    if "saturated" in ds:
+        flags = [bool(v) for v in ds["saturated"].values]
+    else:
+        lower = unsaturated_sigma0(ds.attrs.get("note", ""))
+        flags = [float(v) not in lower for v in ds["sigma0"].values]
     pts = []
-    for s, lam, t in zip(ds["sigma0"].values, ds["lambda_p_m"].values, tasks):
+    for s, lam, t, sat in zip(ds["sigma0"].values, ds["lambda_p_m"].values, tasks, flags):
         if not (np.isfinite(s) and np.isfinite(lam)):
             continue
         task = json.loads(t) if isinstance(t, str) else {}
         pts.append(dict(sigma0=float(s), lambda_p_m=float(lam), set=task.get("set", "?"),
-                        isothermal=bool(task.get("isothermal", False)), engine=task.get("engine", "?")))
+                        isothermal=bool(task.get("isothermal", False)), engine=task.get("engine", "?"),
+                        saturated=sat))
     note = "" if pts else f"The sweep file {path.name} holds no measured λ<sub>p</sub> yet: theory only."
     return pts, note
 
@@ -104,7 +133,8 @@ class SaturationView(pn.viewable.Viewer):
             self.runs = SessionRuns()
         self.sweep_points, note = load_sweep()
         self.curve_source = ColumnDataSource(dict(sigma0=[], empirical=[], fastest=[]), name="sat-curve-source")
-        self.sweep_source = ColumnDataSource(dict(sigma0=[], lambda_p=[], label=[], alpha=[]))
+        self.sweep_source = ColumnDataSource(dict(sigma0=[], lambda_p=[], label=[], alpha=[]), name="sat-sweep-source")
+        self.lower_source = ColumnDataSource(dict(sigma0=[], lambda_p=[], label=[], alpha=[]), name="sat-lower-source")
         self.user_source = ColumnDataSource(dict(sigma0=[], lambda_p=[], label=[], alpha=[]), name="sat-user-source")
         self.fig = self._figure()
         self.note = pn.pane.HTML(message_html(note, "sat-note", "warn") if note else "", stylesheets=[CSS],
@@ -128,9 +158,11 @@ class SaturationView(pn.viewable.Viewer):
         fig.line("sigma0", "fastest", source=self.curve_source, line_dash="dotted", line_width=3, color=MAXG_COLOR)
         r1 = fig.scatter("sigma0", "lambda_p", source=self.sweep_source, marker="square", size=10, color=SWEEP_COLOR,
                          fill_alpha="alpha", line_alpha="alpha")
+        r3 = fig.scatter("sigma0", "lambda_p", source=self.lower_source, marker="triangle", size=14,
+                         color=SWEEP_COLOR, fill_color="white", line_width=2, fill_alpha="alpha", line_alpha="alpha")
         r2 = fig.scatter("sigma0", "lambda_p", source=self.user_source, size=13, color=LP_COLOR, line_color="black",
                          fill_alpha="alpha", line_alpha="alpha")
-        fig.add_tools(HoverTool(renderers=[r1, r2], tooltips=[("", "@label"), ("σ₀", "@sigma0{0} kg/m²"),
+        fig.add_tools(HoverTool(renderers=[r1, r3, r2], tooltips=[("", "@label"), ("σ₀", "@sigma0{0} kg/m²"),
                                                               ("λ_p", "@lambda_p{0.0} m")]))
         log_ticks(fig, [30, 50, 100, 200, 500, 1000, 2000, 3000])
         fig.toolbar_location = "right"
@@ -143,6 +175,8 @@ class SaturationView(pn.viewable.Viewer):
         dots = [("shipped sweep", SWEEP_COLOR, "2px"), ("my runs", LP_COLOR, "50%")]
         html = "".join(f'<span class="key-item"><span class="key-line" style="border-top: 3px {s} {c}"></span>'
                        f'<span>{lab}</span></span>' for lab, c, s in lines)
+        html += (f'<span class="key-item"><span style="color:{SWEEP_COLOR};font-size:17px">△</span>'
+                 '<span>sweep run not saturated (lower bound)</span></span>')
         html += "".join(f'<span class="key-item"><span style="display:inline-block;width:12px;height:12px;'
                         f'background:{c};border-radius:{r};border:1px solid #222"></span><span>{lab}</span></span>'
                         for lab, c, r in dots)
@@ -174,12 +208,13 @@ class SaturationView(pn.viewable.Viewer):
             return
         self.model_error.visible = False
         self.curve_source.data = dict(c)
-        pts = self.sweep_points
-        same = [self._matches(p) for p in pts]
-        self.sweep_source.data = dict(sigma0=[p["sigma0"] for p in pts], lambda_p=[p["lambda_p_m"] for p in pts],
-                                      label=[f"{p['engine']} {p['set']}{' iso' if p['isothermal'] else ''}"
-                                             for p in pts],
-                                      alpha=[1.0 if s else FADED for s in same])
+        for source, saturated in ((self.sweep_source, True), (self.lower_source, False)):
+            pts = [p for p in self.sweep_points if p.get("saturated", True) == saturated]
+            how = "" if saturated else ", not saturated: lower bound"
+            source.data = dict(sigma0=[p["sigma0"] for p in pts], lambda_p=[p["lambda_p_m"] for p in pts],
+                               label=[f"{p['engine']} {p['set']}{' iso' if p['isothermal'] else ''}{how}"
+                                      for p in pts],
+                               alpha=[1.0 if self._matches(p) else FADED for p in pts])
         self._update_points()
 
     def _update_points(self, *_):
@@ -203,8 +238,13 @@ class SaturationView(pn.viewable.Viewer):
             W.Checkbox.from_param(self.param.isothermal), self.model_note, self.model_error,
             pn.pane.Markdown("### Your runs", margin=(0, 10)), self.add_button, self.message, width=340)
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
+        explanation = pn.Column(explanation, pn.pane.HTML(tab_links("saturation"), stylesheets=[CSS], margin=(0, 10),
+                                                          sizing_mode="stretch_width"), sizing_mode="stretch_width")
+        lower = [p for p in self.sweep_points if not p.get("saturated", True)]
+        lb_note = pn.pane.HTML(f'<div class="buttons-note" id="sat-lower-note">{LOWER_BOUND_NOTE}</div>',
+                               stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10), visible=bool(lower))
         return page_row(controls, pn.Column(self.note, self._key(), pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
-                                            explanation, sizing_mode="stretch_width"))
+                                            lb_note, explanation, sizing_mode="stretch_width"))
 
     def __panel__(self):
         return self._layout

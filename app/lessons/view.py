@@ -18,6 +18,7 @@ from ..glossary import GLOSSARY_CSS, GlossaryPanel
 from ..live_common import CSS
 from .checks import run_check
 from .content import LESSONS, PRESETS
+from ..tutorials import links_html
 from .presets import Targets, apply_preset, default_scale
 from .refs import render
 from .worksheets import worksheet_html, worksheet_path
@@ -159,6 +160,9 @@ class LessonsPanel(pn.viewable.Viewer):
                                         filename=f"lesson{les.number}_worksheet.html",
                                         label="Download the worksheet (HTML)", sizing_mode="stretch_width",
                                         css_classes=["lesson-worksheet-download"]))
+        link = links_html([les.tutorial], "lesson-tutorial-link", "Executed tutorial (opens in a new tab):")
+        if link:  # [connect] the executed notebook, served by the app server (make tutorials-html)
+            items.append(pn.pane.HTML(link, sizing_mode="stretch_width", margin=(2, 5)))
         tut = TUTORIALS / les.tutorial
         if tut.exists():
             items.append(W.FileDownload(file=str(tut), filename=les.tutorial, embed=False,
