@@ -30,9 +30,10 @@ import numpy as np
 import xarray as xr
 
 from ..checks import check_choice, check_int
+from ..paperrefs import ref
 
 FIELDS = ("set", "isothermal", "init", "orbits", "figure", "paper_m", "paper_text")
-_ISO_FIG = "lambda_st = {} m of Latter & Ogilvie (2009), caption of Figure 'ekinisonosg'"
+_ISO_FIG = "lambda_st = {} m of Latter & Ogilvie (2009), caption of %s ('ekinisonosg')" % ref("fig:ekinisonosg")
 # name -> settings (shared: sigma0 = 0, L_x = 10 km, h = 2.5 m, cfl step, 10 samples/orbit) and the paper's number
 LONG_RUNS = {
     "iso_tau15_mode100": dict(set="tau15", isothermal=True, init="mode", orbits=20000, figure="fig:ekinisonosg",
@@ -42,16 +43,23 @@ LONG_RUNS = {
     "iso_st99_mode100": dict(set="st99", isothermal=True, init="mode", orbits=20000, figure="fig:ekinisonosg",
                              paper_m=659.0, paper_text=_ISO_FIG.format(659)),
     "noniso_tau15_noise": dict(set="tau15", isothermal=False, init="noise", orbits=14000, figure="sec:nonisonosg",
-                               paper_m=360.0, paper_text="final wavelength about 360 m, Section 'nonisonosg'"),
+                               paper_m=360.0, paper_text=f"final wavelength about 360 m, {ref('sec:nonisonosg')} ('nonisonosg')"),
     "noniso_tau20_noise": dict(set="tau20", isothermal=False, init="noise", orbits=14000,
                                figure="fig:tau20nonisonosga", paper_m=570.0,
-                               paper_text="final wavelength about 570 m, Section 'nonisonosg', Figure "
-                                          "'tau20nonisonosga'"),
+                               paper_text=f"final wavelength about 570 m, {ref('sec:nonisonosg')}, "
+                                          f"{ref('fig:tau20nonisonosga')} ('tau20nonisonosga')"),
     "iso_tau15_buffer": dict(set="tau15", isothermal=True, init="buffer", orbits=20000, figure="fig:tau15bufnosg",
                              paper_m=233.0, paper_text="'concentrated around' the homogeneous box's final "
-                                                       "wavelength (233 m for tau15), Figure 'tau15bufnosg'"),
+                                                       f"wavelength (233 m for tau15), {ref('fig:tau15bufnosg')} "
+                                                       "('tau15bufnosg')"),
 }
 L_X_FULL, H_FULL, BUFFER_FULL = 10000.0, 2.5, (-1250.0, 1250.0, -0.5)  # [m], [m], (x_min [m], x_max [m], beta)
+# wall time of --full, from the background runs' own rates (niced, shared 2-core machine, 2026-11-23;
+# scripts/longruns/progress.py) and, for the runs not yet started, the science helper's estimate
+FULL_COST = {"iso_tau15_mode100": "3.4 h", "iso_tau20_mode100": "7.6 h", "iso_st99_mode100": "~7 h",
+             "noniso_tau15_noise": "~6 h", "noniso_tau20_noise": "~8 h", "iso_tau15_buffer": "~3.5 h"}
+QUICK_COST = {"iso_tau15_mode100": "60 s", "iso_tau20_mode100": "90 s", "iso_st99_mode100": "90 s",
+              "noniso_tau15_noise": "90 s", "noniso_tau20_noise": "2 min", "iso_tau15_buffer": "60 s"}
 MAX_SAMPLES = 4000
 REQUIRED_VARS = ("strobe", "e_kin", "lambda_p", "psd")
 REQUIRED_ATTRS = ("name", "orbit", "orbit_target", "complete", "status", "lambda_p_final_m", "lambda_p_paper_m",
@@ -169,7 +177,7 @@ def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) ->
     out.attrs.update(
         name=name, kind="longrun-compact", title=run_title(name), figure=info["figure"],
         orbit=orbit, orbit_target=float(info["orbits"]), complete=int(a.get("complete", 0) or 0),
-        status=status_text(orbit, float(info["orbits"]), a), steps=int(a.get("steps", 0)),
+        status=status_text(orbit, float(info["orbits"]), a), blowup=str(a.get("blowup", "") or ""), steps=int(a.get("steps", 0)),
         lambda_p_final_m=lam_final, lambda_p_last1000_m=float(vals[np.argmax(counts)]) if vals.size else np.nan,
         lambda_p_paper_m=info["paper_m"], paper_reference=info["paper_text"],
         recompute_command=f"ringcore reproduce {name} --full", hydro_command=hydro_command(name),
