@@ -13,6 +13,8 @@ import numpy as np
 from bokeh.models import BoxAnnotation, ColorBar, ColumnDataSource, LinearColorMapper, Range1d, Span
 from bokeh.palettes import Viridis256
 
+from ringcore.paperrefs import eq
+
 from .live_common import LINE_COLOR, LP_COLOR, log_ticks, new_figure
 
 PAPER_COLOR = "#c2185b"  # the paper's number
@@ -39,7 +41,7 @@ class PaperPlots:
                                       x_range=self.x_range)
         self.profile_fig.line("x", "sigma", source=self.profile_source, line_width=1.5, color=LINE_COLOR)
         self.series_source = ColumnDataSource(dict(t=[], e_kin=[], lambda_p=[]), name="paper-series-source")
-        self.ekin_fig = new_figure("Wave kinetic energy e_kin, eq. (ekin)", "time [orbits]", "e_kin [σ₀ (R_p Ω)²]",
+        self.ekin_fig = new_figure(f"Wave kinetic energy e_kin, {eq('ekin')}", "time [orbits]", "e_kin [σ₀ (R_p Ω)²]",
                                    height=260, y_axis_type="log")
         self.ekin_fig.line("t", "e_kin", source=self.series_source, line_width=2, color=LINE_COLOR)
         self.lp_fig = new_figure("Prevalent wavelength λ_p (dashed: the paper's)", "time [orbits]", "λ_p [m]",
@@ -56,7 +58,7 @@ class PaperPlots:
             f.add_layout(self.cursors[-1])
             f.add_layout(self.futures[-1])
         self.psd_source = ColumnDataSource(dict(wavelength=[], power=[]), name="paper-psd-source")
-        self.psd_fig = new_figure("Final power spectrum of σ, eq. (fourier)", "wavelength λ [m]", "PSD", height=260,
+        self.psd_fig = new_figure(f"Final PSD of σ, {eq('fourier')} (green: λ_p at the orbit shown)", "wavelength λ [m]", "PSD", height=260,
                                   x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
         self.psd_fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR)
         self.psd_fig.add_layout(self.paper_spans[1])
@@ -94,11 +96,14 @@ class PaperPlots:
         for s in self.paper_spans:
             s.location = float(a["lambda_p_paper_m"])
 
-    def show(self, d: dict, t: float, fr: dict) -> None:
-        """One replay frame at orbit ``t`` (``fr``: :func:`app.paper_playback.frame_at`)."""
+    def show(self, d: dict, t: float, fr: dict, ranges: bool = True) -> None:
+        """One replay frame at orbit ``t`` (``fr``: :func:`app.paper_playback.frame_at`); ``ranges``: also
+        the diagram's start and reset range (not needed while playing)."""
         ts = d["t_strobe"]
         top = max(t, float(ts[1]) if ts.size > 1 else 1.0)
-        self.spacetime_fig.y_range.update(start=float(ts[0]), end=top, reset_start=float(ts[0]), reset_end=top)
+        if ranges:
+            self.spacetime_fig.y_range.update(start=float(ts[0]), reset_start=float(ts[0]), reset_end=top)
+        self.spacetime_fig.y_range.end = top
         self.profile_source.data = dict(x=d["image_x"].astype(np.float32), sigma=d["image"][fr["row"]])
         for c, b in zip(self.cursors, self.futures):
             c.location = t

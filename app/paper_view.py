@@ -27,7 +27,8 @@ from .live_common import CSS, FrameGate, fmt, message_html, on_session_end, read
 from .paper_playback import SPEEDS, Playback, frame_at, list_runs, load_run
 from .paper_plots import WINDOWS, PaperPlots
 
-PERIOD_MS = 100  # playback clock period
+PERIOD_MS = 150  # playback clock period (~7 frames/s)
+TEXT_PERIOD_S = 0.5  # readouts and slider follow at most twice a second
 
 EXPLANATION = """
 ### What am I looking at?
@@ -35,14 +36,14 @@ The paper's central results without self-gravity need 20,000 orbits in a 10 km b
 These runs were computed once at the paper's scale (L<sub>x</sub> = 10 km, h = 2.5 m, the fast time step) and are
 **replayed** here from stored arrays: *Play* costs no computation, so a whole class can replay at once.
 
-* **Space-time diagram**: σ/σ₀ once per orbit at the same orbital phase (stroboscopic, Appendix "strob"), thinned
+* **Space-time diagram**: σ/σ₀ once per orbit at the same orbital phase (stroboscopic, {strob}), thinned
   for the app (the file says how: every k-th orbit and every 10 m, 255 grey levels). A single wave train drifts
   slowly; it *coarsens* — its wavelength grows in steps (the "staircase" of Latter & Ogilvie).
-* **e<sub>kin</sub>(t)**, eq. (ekin): exponential growth, then saturation. **λ<sub>p</sub>(t)**: the prevalent wavelength
+* **e<sub>kin</sub>(t)**, {ekin}: exponential growth, then saturation. **λ<sub>p</sub>(t)**: the prevalent wavelength
   climbs from the 100 m seed and settles near λ<sub>st</sub> of Latter & Ogilvie (2009), the shortest wave train
   that is stable (dashed pink: the paper's number).
 * A run still computing is marked so: its numbers are those of the last orbit reached.
-"""
+""".format(strob=paperrefs.html("sec:strob"), ekin=paperrefs.html("eq:ekin"))
 
 
 def paper_html(label: str) -> str:
@@ -73,6 +74,7 @@ class PaperView(pn.viewable.Viewer):
         self.message = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", visible=False)
         self._callback = None
         self._last_tick = None
+        self._text_sent = -1e9
         self._build_controls()
         self._layout = self._build_layout()
         self.playback.param.watch(self._on_playing, "playing")
@@ -155,7 +157,8 @@ class PaperView(pn.viewable.Viewer):
                     f"{opts.get('timestep', '?')} time step, {a.get('model', '')}, σ₀ = 0")
         if opts.get("buffer"):
             settings += ", buffer β = {2:g} in [{0:g}, {1:g}] m".format(*opts["buffer"])
-        row = '<tr><td>{}</td><td style="font-size:20px;font-weight:600;padding:0 10px;white-space:nowrap" id="{}">{}</td><td>{}</td></tr>'
+        row = ('<tr><td>{}</td><td style="font-size:20px;font-weight:600;padding:0 10px;white-space:nowrap" id="{}">'
+               '{}</td><td>{}</td></tr>')
         return (f'<div class="msg-ok" id="paper-compare"><b>Prevalent wavelength λ<sub>p</sub>: paper vs computed</b>'
                 f'<table style="border-collapse:collapse;margin:4px 0">'
                 + row.format(f"paper ({paper_html(a['figure'])})", "paper-number", f"{paper:g} m",
@@ -203,7 +206,8 @@ class PaperView(pn.viewable.Viewer):
             self.playback.seek(min(max(float(event.new), 0.0), self.playback.t_end))
 
     def draw(self, force: bool = False) -> bool:
-        """Show the orbit of the clock: a look-up in the stored arrays (no computation)."""
+        """Show the orbit of the clock: a look-up in the stored arrays (no computation).  The plots follow
+        every frame; the readouts and the slider (costlier Panel updates) at most every TEXT_PERIOD_S."""
         d = self.data
         now = time.perf_counter()
         if d is None or not (force or self.gate.ready(now)):
@@ -211,10 +215,12 @@ class PaperView(pn.viewable.Viewer):
         t = self.playback.t
         fr = frame_at(d, t)
         with pn.io.hold():
-            self.plots.show(d, t, fr)
-            self.readouts.object = readout_cards(self._readout_rows(fr), "paper-readouts")
-            if abs(self.position.value - t) > 0.5:
-                self.position.value = t
+            self.plots.show(d, t, fr, ranges=force)
+            if force or now - self._text_sent >= TEXT_PERIOD_S:
+                self.readouts.object = readout_cards(self._readout_rows(fr), "paper-readouts")
+                if abs(self.position.value - t) > 0.5:
+                    self.position.value = t
+                self._text_sent = now
         self.gate.mark_sent(now)
         return True
 

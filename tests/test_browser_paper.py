@@ -54,15 +54,23 @@ def test_paper_tab_plays(tmp_path):
                 assert re.search(r"(run reached [\d,]+ of 20,000 orbits; still computing|complete)", text)
                 end = orbit_shown(page)
                 assert end > 1000  # paused at the end of the run: the whole run shown
+                other = ctx.new_page()  # a second session (another student) replays at the same time
+                other.on("pageerror", lambda exc: errors.append(str(exc)))
+                other.goto(f"http://127.0.0.1:{port}/main?tab=paper", wait_until="commit", timeout=LOAD_TIMEOUT_MS)
+                other.locator("#paper-compare").wait_for(timeout=LOAD_TIMEOUT_MS)
                 page.locator(".paper-speed select").select_option(label="200 orbits/s")
                 page.locator(".paper-play button").click()
-                seen = []
+                other.locator(".paper-play button").click()
+                seen, seen2 = [], []
                 t0 = time.perf_counter()
-                while time.perf_counter() - t0 < 20 and len(set(seen)) < 4:
+                while time.perf_counter() - t0 < 20 and (len(set(seen)) < 4 or len(set(seen2)) < 3):
                     page.wait_for_timeout(500)
                     seen.append(orbit_shown(page))
+                    seen2.append(orbit_shown(other))
                 assert len(set(seen)) >= 4 and seen[-1] > seen[0], f"orbit shown did not advance: {seen}"
                 assert seen[-1] < end  # restarted from orbit 0
+                assert len(set(seen2)) >= 3 and seen2[-1] > seen2[0], f"second session did not advance: {seen2}"
+                other.close()
                 SHOTS.mkdir(parents=True, exist_ok=True)
                 page.screenshot(path=str(SHOTS / "paper_tab.png"))
                 page.locator(".paper-pause button").click()

@@ -56,7 +56,7 @@ LONG_RUNS = {
 L_X_FULL, H_FULL, BUFFER_FULL = 10000.0, 2.5, (-1250.0, 1250.0, -0.5)  # [m], [m], (x_min [m], x_max [m], beta)
 # wall time of --full, from the background runs' own rates (niced, shared 2-core machine, 2026-11-23;
 # scripts/longruns/progress.py) and, for the runs not yet started, the science helper's estimate
-FULL_COST = {"iso_tau15_mode100": "3.4 h", "iso_tau20_mode100": "7.6 h", "iso_st99_mode100": "~7 h",
+FULL_COST = {"iso_tau15_mode100": "3.3 h", "iso_tau20_mode100": "7.4 h", "iso_st99_mode100": "~7 h",
              "noniso_tau15_noise": "~6 h", "noniso_tau20_noise": "~8 h", "iso_tau15_buffer": "~3.5 h"}
 QUICK_COST = {"iso_tau15_mode100": "60 s", "iso_tau20_mode100": "90 s", "iso_st99_mode100": "90 s",
               "noniso_tau15_noise": "90 s", "noniso_tau20_noise": "2 min", "iso_tau15_buffer": "60 s"}
