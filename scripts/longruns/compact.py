@@ -2,14 +2,15 @@
 
 Usage (from the repository root, with the project's venv)::
 
-    python scripts/longruns/compact.py [RUN.nc ...] [--out app/data/longruns] [--rows 800] [--cols 1000]
+    python scripts/longruns/compact.py [RUN.nc ...] [--out app/data/longruns] [--rows 800] [--cols 1000] [--readme]
 
 Without run files: every ``/work/longruns/NAME.nc`` whose NAME is a long run of
 :data:`ringcore.experiments.longruns.LONG_RUNS`.  Reads the run files (a checkpoint of a run still computing
 is fine: it is read, never written) and writes ``OUT/NAME.nc`` with
 :func:`ringcore.experiments.longruns.compact` (thinned stroboscopic diagram as uint8, e_kin(t), lambda_p(t),
 final PSD, settings, orbit reached, the paper's number and ``ringcore reproduce NAME --full``), atomically
-(``NAME.nc.part`` then rename).  Re-run it to refresh the shipped files while / after the runs compute.
+(``NAME.nc.part`` then rename); ``--readme`` also rewrites the table of shipped runs in README.md (between
+``<!--longruns-shipped-->`` markers).  Re-run it to refresh the shipped files while / after the runs compute.
 """
 from __future__ import annotations
 
@@ -32,6 +33,7 @@ def main(argv=None) -> int:
     ap.add_argument("--out", default=str(DEFAULT_OUT), help=f"output folder (default {DEFAULT_OUT})")
     ap.add_argument("--rows", type=int, default=800, help="at most this many stroboscopic rows (default 800)")
     ap.add_argument("--cols", type=int, default=1000, help="at most this many columns (default 1000)")
+    ap.add_argument("--readme", action="store_true", help="rewrite the shipped-runs table in README.md")
     args = ap.parse_args(argv)
     for name in ("rows", "cols"):
         if getattr(args, name) < 2:
@@ -42,7 +44,7 @@ def main(argv=None) -> int:
         ap.error(f"run name(s) {', '.join(unknown)} not valid: allowed {', '.join(LONG_RUNS)}")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    total = 0
+    total, rows = 0, []
     for r in runs:
         ds = check_compact(compact(r, args.rows, args.cols), r.name)
         f = out / f"{r.stem}.nc"
@@ -51,9 +53,20 @@ def main(argv=None) -> int:
         os.replace(tmp, f)
         total += f.stat().st_size
         a = ds.attrs
+        rows.append(f"| {r.stem} | {a['status']} | {a['lambda_p_final_m']:.0f} m / {a['lambda_p_last1000_m']:.0f} m | "
+                    f"{a['lambda_p_paper_m']:g} m |")
         print(f"{f}: {a['status']}; lambda_p = {a['lambda_p_final_m']:.1f} m (last 1,000 orbits: "
               f"{a['lambda_p_last1000_m']:.1f} m), paper {a['lambda_p_paper_m']:g} m; {f.stat().st_size / 1e6:.2f} MB")
     print(f"{len(runs)} files, {total / 1e6:.2f} MB")
+    if args.readme:
+        readme = ROOT / "README.md"
+        text = readme.read_text()
+        a, b = "<!--longruns-shipped-->\n", "<!--/longruns-shipped-->"
+        head = ("| run | status | computed lambda_p (final / most frequent, last 1,000 orbits) | paper |\n"
+                "|---|---|---|---|\n")
+        i, j = text.index(a) + len(a), text.index(b)
+        readme.write_text(text[:i] + head + "\n".join(rows) + "\n" + text[j:])
+        print(f"{readme}: shipped-runs table rewritten")
     return 0
 
 
