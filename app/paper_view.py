@@ -75,6 +75,7 @@ class PaperView(pn.viewable.Viewer):
         self._callback = None
         self._last_tick = None
         self._text_sent = -1e9
+        self._had_connection = False
         self._build_controls()
         self._layout = self._build_layout()
         self.playback.param.watch(self._on_playing, "playing")
@@ -187,7 +188,17 @@ class PaperView(pn.viewable.Viewer):
             self._callback.stop()
             self._callback = None
 
+    def _page_gone(self) -> bool:
+        """True once this session had a websocket connection and has none any more (tab closed)."""
+        session = getattr(getattr(pn.state.curdoc, "session_context", None), "_session", None)
+        n = getattr(session, "connection_count", None)
+        self._had_connection = self._had_connection or bool(n)
+        return n == 0 and self._had_connection
+
     def _timer(self):
+        if self._page_gone():  # no frames into a closed page; Bokeh destroys the session later
+            self._stop_clock()
+            return
         now = time.perf_counter()
         dt = min(now - (self._last_tick or now), 1.0)
         self._last_tick = now

@@ -2,7 +2,7 @@
 
 Opens ``?tab=paper``, checks that the shipped long run is shown with the paper's number, the computed
 one and the recompute command, presses Play and sees the orbit shown advance (frames from the stored
-arrays), pauses and sees it stop; takes a 1280x720 screenshot (``test-artifacts/shots/paper_tab.png``,
+arrays), pauses and sees it stop, no horizontal scroll at 1024 and 390 px; takes a 1280x720 screenshot (``test-artifacts/shots/paper_tab.png``,
 also ``$RINGLAB_SHOTS``).  No JavaScript errors, no tracebacks in the server log.
 
 Run alone with ``.venv/bin/python -m pytest -p no:playwright tests/test_browser_paper.py``.
@@ -79,6 +79,13 @@ def test_paper_tab_plays(tmp_path):
                 page.wait_for_timeout(1500)
                 assert orbit_shown(page) == a, "playback did not pause"
                 page.screenshot(path=str(SHOTS / "paper_tab_full.png"), full_page=True)
+                for w, h in ((1024, 768), (390, 844)):  # no horizontal scroll on a projector or a phone
+                    page.set_viewport_size({"width": w, "height": h})
+                    page.wait_for_timeout(2500)
+                    sw = page.evaluate("() => [document.scrollingElement.scrollWidth, "
+                                       "document.scrollingElement.clientWidth]")
+                    page.screenshot(path=str(SHOTS / f"paper_tab_{w}.png"), full_page=True)
+                    assert sw[0] <= sw[1] + 1, f"horizontal scroll at {w} px: {sw}"
                 assert not errors, errors
             finally:
                 ctx.close()
