@@ -179,3 +179,14 @@ def test_recipe_smoke_reduced_and_view_replays_it(tmp_path):
     run2 = xr.open_dataset(tmp_path / "noniso_tau20_noise.run.nc", engine="h5netcdf")
     assert run2.attrs["steps"] > run.attrs["steps"] and run2.attrs["time_orbits"] == pytest.approx(6.0)
     assert time.perf_counter() - t0 < 600
+
+
+def test_buffer_lambda_p_leaves_out_box_scale_contrast():
+    """lambda_p of the buffer run counts wavelengths <= L_x/4 only, block by block (known sine rows)."""
+    from ringcore.experiments.longruns import _psd_peak
+
+    x = np.arange(400) * 2.5  # a 1 km box
+    wave = 1 + 0.1 * np.sin(2 * np.pi * x / 100) + 0.5 * np.sin(2 * np.pi * x / 500)  # + a box-scale contrast
+    rows = np.array([wave, 1 + 0.2 * np.sin(2 * np.pi * x / 125)] * 3)
+    assert list(_psd_peak(rows, 1000.0, 250.0, block=4)) == [100.0, 125.0] * 3
+    assert list(_psd_peak(rows, 1000.0, np.inf)) == [500.0, 125.0] * 3

@@ -58,8 +58,10 @@ L_X_FULL, H_FULL, BUFFER_FULL = 10000.0, 2.5, (-1250.0, 1250.0, -0.5)  # [m], [m
 # scripts/longruns/progress.py) and, for the runs not yet started, the science helper's estimate
 FULL_COST = {"iso_tau15_mode100": "3.3 h", "iso_tau20_mode100": "7.4 h", "iso_st99_mode100": "~7 h",
              "noniso_tau15_noise": "~6 h", "noniso_tau20_noise": "~8 h", "iso_tau15_buffer": "~3.5 h"}
-QUICK_COST = {"iso_tau15_mode100": "60 s", "iso_tau20_mode100": "90 s", "iso_st99_mode100": "90 s",
-              "noniso_tau15_noise": "90 s", "noniso_tau20_noise": "2 min", "iso_tau15_buffer": "60 s"}
+# --quick (L_x = 2 km, 1,500 orbits): estimates from the measured quick costs of the recipes with the same box
+# and length (tau15nga 50 s, tau15bufnosg 100 s, tau20nonisonosga 130 s; steps per orbit scale with the set)
+QUICK_COST = {"iso_tau15_mode100": "~50 s", "iso_tau20_mode100": "~2 min", "iso_st99_mode100": "~2 min",
+              "noniso_tau15_noise": "~70 s", "noniso_tau20_noise": "~130 s", "iso_tau15_buffer": "~100 s"}
 MAX_SAMPLES = 4000
 REQUIRED_VARS = ("strobe", "e_kin", "lambda_p", "psd")
 REQUIRED_ATTRS = ("name", "orbit", "orbit_target", "complete", "status", "lambda_p_final_m", "lambda_p_paper_m",
@@ -111,12 +113,17 @@ def every(n: int, at_most: int) -> np.ndarray:
     return idx
 
 
-def _psd_peak(rows: np.ndarray, L_x: float, lam_max: float) -> np.ndarray:
-    """lambda_p [m] of each sigma row (largest Fourier power among wavelengths <= lam_max; mean removed)."""
-    c = np.abs(np.fft.rfft(rows - rows.mean(axis=1, keepdims=True), axis=1))[:, 1:] ** 2
-    wl = L_x / np.arange(1, c.shape[1] + 1)
-    c[:, wl > lam_max] = 0.0
-    return wl[np.argmax(c, axis=1)]
+def _psd_peak(rows, L_x: float, lam_max: float, block: int = 500) -> np.ndarray:
+    """lambda_p [m] of each sigma row (largest Fourier power among wavelengths <= lam_max; mean removed);
+    ``rows`` may be a lazy (xarray) array: read and transformed ``block`` rows at a time."""
+    out = np.empty(rows.shape[0])
+    wl = L_x / np.arange(1, rows.shape[1] // 2 + 1)
+    for i in range(0, rows.shape[0], block):
+        r = np.asarray(rows[i:i + block], float)
+        c = np.abs(np.fft.rfft(r - r.mean(axis=1, keepdims=True), axis=1))[:, 1:wl.size + 1] ** 2
+        c[:, wl > lam_max] = 0.0
+        out[i:i + block] = wl[np.argmax(c, axis=1)]
+    return out
 
 
 def status_text(orbit: float, target: float, attrs: dict) -> str:
@@ -147,7 +154,7 @@ def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) ->
         lam = ds["lambda_p"].values[it].astype(float)
         if np.isfinite(lam_max):  # lambda_p(t) from the stroboscopic rows (one per orbit), wavelengths <= L_x/4
             ts = ds["t_strobe"].values
-            lam = np.interp(t, ts, _psd_peak(ds["strobe_sigma"].values, L_x, lam_max))
+            lam = np.interp(t, ts, _psd_peak(ds["strobe_sigma"], L_x, lam_max))
         strobe = ds["strobe_sigma"].values[ir][:, ix].astype(np.float32)
         t_strobe = ds["t_strobe"].values[ir]
         wl, P = ds["wavelength"].values, ds["psd"].values.astype(float)
