@@ -42,7 +42,12 @@ These runs were computed once at the paper's scale (L<sub>x</sub> = 10 km, h = 2
 * **e<sub>kin</sub>(t)**, {ekin}: exponential growth, then saturation. **λ<sub>p</sub>(t)**: the prevalent wavelength
   climbs from the 100 m seed and settles near λ<sub>st</sub> of Latter & Ogilvie (2009), the shortest wave train
   that is stable (dashed pink: the paper's number).
-* A run still computing is marked so: its numbers are those of the last orbit reached.
+* **White-noise runs** (non-isothermal): sources and sinks first, then one travelling wave (the paper finds about
+  360 m for tau15 and 570 m for tau20). **Buffer zone** (β = -0.5 in the middle, shown with "whole box"): waves
+  run from one source into the buffer, the sink; λ<sub>p</sub> there counts wavelengths ≤ L<sub>x</sub>/4 only.
+* **Computed** λ<sub>p</sub> is the final PSD's maximum; it jumps between the box's allowed wavelengths
+  L<sub>x</sub>/n (10 km/43 = 233 m, 10 km/40 = 250 m), so the value most frequent over the last 1,000 orbits is
+  given too. A run still computing is marked so: its numbers are those of the last orbit reached.
 """.format(strob=paperrefs.html("sec:strob"), ekin=paperrefs.html("eq:ekin"))
 
 
