@@ -94,9 +94,9 @@ class PaperView(pn.viewable.Viewer):
     # ------------------------------------------------------------------ building
     def _build_controls(self):
         W = pn.widgets
-        self.play_button = W.Button(label="▶ Play", button_type="success", css_classes=["paper-play"], width=100,
+        self.play_button = W.Button(label="▶ Play", color="success", css_classes=["paper-play"], width=100,
                                     sizing_mode="fixed", margin=(24, 5, 5, 5))
-        self.pause_button = W.Button(label="Pause", button_type="warning", css_classes=["paper-pause"], width=100,
+        self.pause_button = W.Button(label="Pause", color="warning", css_classes=["paper-pause"], width=100,
                                      sizing_mode="fixed", margin=(24, 5, 5, 5))
         self.play_button.on_click(self.playback.play)
         self.pause_button.on_click(self.playback.pause)
@@ -105,8 +105,8 @@ class PaperView(pn.viewable.Viewer):
         self.position = W.FloatSlider(label="Orbit shown", start=0, end=1, value=1, step=1, format="0",
                                       css_classes=["paper-position"], width=260, sizing_mode="fixed")
         self.position.param.watch(self._on_seek, "value_throttled")
-        self.window = W.RadioButtonGroup(options=list(WINDOWS), value=next(iter(WINDOWS)), button_type="primary",
-                                         button_style="outline", css_classes=["paper-window"], margin=(24, 5, 5, 5),
+        self.window = W.RadioButtonGroup(options=list(WINDOWS), value=next(iter(WINDOWS)), color="primary",
+                                         variant="outline", css_classes=["paper-window"], margin=(24, 5, 5, 5),
                                          width=320, sizing_mode="fixed")
         self.window.param.watch(lambda e: self.plots.set_window(WINDOWS[e.new]), "value")
         self.playback.param.watch(self._on_clock, "t")
