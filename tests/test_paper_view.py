@@ -13,6 +13,7 @@ import json
 import time
 
 import numpy as np
+import param
 import pytest
 import xarray as xr
 
@@ -116,7 +117,8 @@ def test_playback_advances_frames_without_compute(monkeypatch):
     assert v.playback.frames == 5
     v.pause_button.clicks += 1
     assert not v.tick(0.25) and v.playback.t == pytest.approx(1250)
-    v.position.value_throttled = 3000.0  # the slider jumps (paused)
+    with param.parameterized.edit_constant(v.position):  # the page's slider release
+        v.position.value_throttled = 3000.0
     assert v.playback.t == 3000.0 and v.plots.cursors[1].location == 3000.0 and not v.playback.playing
     v.playback.speed = max(SPEEDS)  # runs to the end and stops there
     v.playback.play()
