@@ -44,7 +44,8 @@ def _load(path: str, mtime: float) -> dict:
     run = dict(attrs=dict(ds.attrs), t=ds["t"].values.astype(float), e_kin=ds["e_kin"].values.astype(float),
                lambda_p=ds["lambda_p"].values.astype(float), t_strobe=ds["t_strobe"].values.astype(float),
                x=ds["x"].values.astype(float), strobe=strobe, image=np.ascontiguousarray(strobe[:, ::step]),
-               image_x=ds["x"].values[::step].astype(float), color_range=(float(lo), float(hi) if hi > lo else lo + 1e-3),
+               image_x=ds["x"].values[::step].astype(float),
+               color_range=(float(lo), float(hi) if hi > lo else lo + 1e-3),
                wavelength=ds["wavelength"].values.astype(float), psd=ds["psd"].values.astype(float))
     for v in run.values():
         if isinstance(v, np.ndarray):
@@ -63,7 +64,8 @@ def load_run(path) -> dict:
     except ValueError:
         raise
     except Exception as exc:
-        raise ValueError(f"{path.name} cannot be read as a compact long-run file ({type(exc).__name__}: {exc})") from exc
+        raise ValueError(f"{path.name} cannot be read as a compact long-run file "
+                         f"({type(exc).__name__}: {exc})") from exc
 
 
 def frame_at(run: dict, t: float) -> dict:

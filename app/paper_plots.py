@@ -41,7 +41,8 @@ class PaperPlots:
                                       x_range=self.x_range)
         self.profile_fig.line("x", "sigma", source=self.profile_source, line_width=1.5, color=LINE_COLOR)
         self.series_source = ColumnDataSource(dict(t=[], e_kin=[], lambda_p=[]), name="paper-series-source")
-        self.ekin_fig = new_figure(f"Wave kinetic energy e_kin, {eq('ekin')}", "time [orbits]", "e_kin [σ₀ (R_p Ω)²]",
+        self.ekin_fig = new_figure(f"Wave kinetic energy e_kin, {eq('ekin')}", "time [orbits]",
+                                   "e_kin [σ₀ (R_p Ω)²]",
                                    height=260, y_axis_type="log")
         self.ekin_fig.line("t", "e_kin", source=self.series_source, line_width=2, color=LINE_COLOR)
         self.lp_fig = new_figure("Prevalent wavelength λ_p (dashed: the paper's)", "time [orbits]", "λ_p [m]",
@@ -58,7 +59,8 @@ class PaperPlots:
             f.add_layout(self.cursors[-1])
             f.add_layout(self.futures[-1])
         self.psd_source = ColumnDataSource(dict(wavelength=[], power=[]), name="paper-psd-source")
-        self.psd_fig = new_figure(f"Final PSD of σ, {eq('fourier')} (green: λ_p at the orbit shown)", "wavelength λ [m]", "PSD", height=260,
+        self.psd_fig = new_figure(f"Final PSD of σ, {eq('fourier')} (green: λ_p at the orbit shown)",
+                                  "wavelength λ [m]", "PSD", height=260,
                                   x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
         self.psd_fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR)
         self.psd_fig.add_layout(self.paper_spans[1])

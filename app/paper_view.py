@@ -72,7 +72,8 @@ class PaperView(pn.viewable.Viewer):
         self.playback = Playback()
         self.data = None
         self.plots = PaperPlots()
-        self.gate = FrameGate(self.plots.profile_fig, self.plots.profile_source, min_period_s=PERIOD_MS / 1000, max_in_flight=2)
+        self.gate = FrameGate(self.plots.profile_fig, self.plots.profile_source, min_period_s=PERIOD_MS / 1000,
+                              max_in_flight=2)
         self.header = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.readouts = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.compare = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
@@ -84,6 +85,7 @@ class PaperView(pn.viewable.Viewer):
         self._build_controls()
         self._layout = self._build_layout()
         self.playback.param.watch(self._on_playing, "playing")
+        self.pause_button.disabled = True
         on_session_end(self._stop_clock)
         if names:
             self.run = names[0]
@@ -245,7 +247,8 @@ class PaperView(pn.viewable.Viewer):
         return [("paper-orbit", "Orbit shown", f"{self.playback.t:,.0f}", f"of {float(a['orbit']):,.0f} reached"),
                 ("paper-lp-now", "λ<sub>p</sub> at this orbit", fmt(fr["lambda_p"], ".0f", "m"),
                  f"paper: {float(a['lambda_p_paper_m']):g} m"),
-                ("paper-ekin-now", "e<sub>kin</sub> at this orbit", fmt(fr["e_kin"], ".3g"), "σ₀ (R_p Ω)², R_p = 1 m")]
+                ("paper-ekin-now", "e<sub>kin</sub> at this orbit", fmt(fr["e_kin"], ".3g"),
+                 "σ₀ (R_p Ω)², R_p = 1 m")]
 
     def __panel__(self):
         return self._layout

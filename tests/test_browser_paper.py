@@ -2,8 +2,8 @@
 
 Opens ``?tab=paper``, checks that the shipped long run is shown with the paper's number, the computed
 one and the recompute command, presses Play and sees the orbit shown advance (frames from the stored
-arrays), pauses and sees it stop, no horizontal scroll at 1024 and 390 px; takes a 1280x720 screenshot (``test-artifacts/shots/paper_tab.png``,
-also ``$RINGLAB_SHOTS``).  No JavaScript errors, no tracebacks in the server log.
+arrays), pauses and sees it stop, no horizontal scroll at 1024 and 390 px; takes a 1280x720 screenshot
+(``test-artifacts/shots/paper_tab.png``, also ``$RINGLAB_SHOTS``).  No JavaScript errors, no tracebacks in the server log.
 
 Run alone with ``.venv/bin/python -m pytest -p no:playwright tests/test_browser_paper.py``.
 """
@@ -18,7 +18,7 @@ import pytest
 
 from test_browser import ARTIFACTS, CHROMIUM, FLAGS, free_port, pytestmark, start_server, stop_server  # noqa: F401
 
-SHOTS = Path(os.environ.get("RINGLAB_SHOTS", ARTIFACTS / "shots"))
+SHOTS = Path(os.environ.get("RINGLAB_SHOTS", ARTIFACTS / "shots"))  # screenshots of the tab
 LOAD_TIMEOUT_MS = 150_000
 
 try:

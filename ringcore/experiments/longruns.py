@@ -43,7 +43,8 @@ LONG_RUNS = {
     "iso_st99_mode100": dict(set="st99", isothermal=True, init="mode", orbits=20000, figure="fig:ekinisonosg",
                              paper_m=659.0, paper_text=_ISO_FIG.format(659)),
     "noniso_tau15_noise": dict(set="tau15", isothermal=False, init="noise", orbits=14000, figure="sec:nonisonosg",
-                               paper_m=360.0, paper_text=f"final wavelength about 360 m, {ref('sec:nonisonosg')} ('nonisonosg')"),
+                               paper_m=360.0,
+                               paper_text=f"final wavelength about 360 m, {ref('sec:nonisonosg')} ('nonisonosg')"),
     "noniso_tau20_noise": dict(set="tau20", isothermal=False, init="noise", orbits=14000,
                                figure="fig:tau20nonisonosga", paper_m=570.0,
                                paper_text=f"final wavelength about 570 m, {ref('sec:nonisonosg')}, "
@@ -184,7 +185,8 @@ def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) ->
     out.attrs.update(
         name=name, kind="longrun-compact", title=run_title(name), figure=info["figure"],
         orbit=orbit, orbit_target=float(info["orbits"]), complete=int(a.get("complete", 0) or 0),
-        status=status_text(orbit, float(info["orbits"]), a), blowup=str(a.get("blowup", "") or ""), steps=int(a.get("steps", 0)),
+        status=status_text(orbit, float(info["orbits"]), a), blowup=str(a.get("blowup", "") or ""),
+        steps=int(a.get("steps", 0)),
         lambda_p_final_m=lam_final, lambda_p_last1000_m=float(vals[np.argmax(counts)]) if vals.size else np.nan,
         lambda_p_paper_m=info["paper_m"], paper_reference=info["paper_text"],
         recompute_command=f"ringcore reproduce {name} --full", hydro_command=hydro_command(name),
