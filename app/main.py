@@ -15,6 +15,7 @@ from app.hydro_view import HydroView
 from app.lessons.view import LessonsPanel
 from app.linear_view import LinearView
 from app.nbody_view import NBodyView
+from app.paper_view import PaperView
 from app.saturation_view import SaturationView
 from app.session import SessionRuns
 
@@ -24,10 +25,11 @@ TABS = [
     ("N-body", NBodyView),
     ("Saturation", SaturationView),
     ("Compare", CompareView),
+    ("Paper results", PaperView),
 ]
 
 # short names for the ``tab`` query of the page address (``/main?tab=hydro&autostart=1``)
-TAB_KEYS = {"linear": 0, "hydro": 1, "nbody": 2, "saturation": 3, "compare": 4}
+TAB_KEYS = {"linear": 0, "hydro": 1, "nbody": 2, "saturation": 3, "compare": 4, "paper": 5}
 
 TITLE = "ringlab: viscous overstability in Saturn's rings"
 

@@ -1,0 +1,236 @@
+"""The paper's long hydro runs without self-gravity: their settings, published numbers and compact results.
+
+:data:`LONG_RUNS` describes each run of Section "Hydrodynamical Integrations Without Self-Gravity" that
+``ringcore reproduce NAME --full`` recomputes at the paper's scale (L_x = 10 km, h = 2.5 m, fast "cfl"
+step, 20,000 or 14,000 orbits; the settings of the background runs in ``scripts/longruns/``), with the
+paper's number to compare with.  :func:`compact` turns a run file (complete, or a checkpoint of a run still
+computing: read, never written) into a small dataset to browse and replay (the app's "Paper results" tab):
+
+- ``strobe`` (``t_strobe`` x ``x``): stroboscopic sigma/sigma0 rows (one per orbit in the run file), every
+  k-th row (at most ``rows``, the last kept) and every j-th node (at most ``cols``; subsampled, not averaged,
+  so wave amplitudes are kept), **uint8-quantised** (CF packing: 255 levels between the array's minimum and
+  maximum, ``scale_factor`` / ``add_offset``; xarray decodes to float32; step ~0.01-0.02 sigma0),
+- ``e_kin`` [sigma0 (R_p Omega)^2, R_p = 1 m] and ``lambda_p`` [m] against ``t`` [orbits] (float32, at most
+  4,000 samples),
+- ``psd`` against ``wavelength`` [m]: the final normalised PSD of sigma (float32),
+
+and as attributes the settings (``params_json``, ``options_json``), the orbit reached and the target, a
+status line ("run reached N of 20,000 orbits; still computing"), the computed and the paper's wavelength,
+and the commands that recompute (``ringcore reproduce NAME --full``) and continue the run.
+
+References: Figures "ekinisonosg", "tau15nga", "tau15bufnosg", "tau20nonisonosga"; Section "nonisonosg".
+"""
+from __future__ import annotations
+
+import datetime as dt
+import json
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from ..checks import check_choice, check_int
+from ..paperrefs import ref
+
+FIELDS = ("set", "isothermal", "init", "orbits", "figure", "paper_m", "paper_text")
+_ISO_FIG = "lambda_st = {} m of Latter & Ogilvie (2009), caption of %s ('ekinisonosg')" % ref("fig:ekinisonosg")
+# name -> settings (shared: sigma0 = 0, L_x = 10 km, h = 2.5 m, cfl step, 10 samples/orbit) and the paper's number
+LONG_RUNS = {
+    "iso_tau15_mode100": dict(set="tau15", isothermal=True, init="mode", orbits=20000, figure="fig:ekinisonosg",
+                              paper_m=233.0, paper_text=_ISO_FIG.format(233)),
+    "iso_tau20_mode100": dict(set="tau20", isothermal=True, init="mode", orbits=20000, figure="fig:ekinisonosg",
+                              paper_m=455.0, paper_text=_ISO_FIG.format(455)),
+    "iso_st99_mode100": dict(set="st99", isothermal=True, init="mode", orbits=20000, figure="fig:ekinisonosg",
+                             paper_m=659.0, paper_text=_ISO_FIG.format(659)),
+    "noniso_tau15_noise": dict(set="tau15", isothermal=False, init="noise", orbits=14000, figure="sec:nonisonosg",
+                               paper_m=360.0,
+                               paper_text=f"final wavelength about 360 m, {ref('sec:nonisonosg')} ('nonisonosg')"),
+    "noniso_tau20_noise": dict(set="tau20", isothermal=False, init="noise", orbits=14000,
+                               figure="fig:tau20nonisonosga", paper_m=570.0,
+                               paper_text=f"final wavelength about 570 m, {ref('sec:nonisonosg')}, "
+                                          f"{ref('fig:tau20nonisonosga')} ('tau20nonisonosga')"),
+    "iso_tau15_buffer": dict(set="tau15", isothermal=True, init="buffer", orbits=20000, figure="fig:tau15bufnosg",
+                             paper_m=233.0, paper_text="'concentrated around' the homogeneous box's final "
+                                                       f"wavelength (233 m for tau15), {ref('fig:tau15bufnosg')} "
+                                                       "('tau15bufnosg')"),
+}
+L_X_FULL, H_FULL, BUFFER_FULL = 10000.0, 2.5, (-1250.0, 1250.0, -0.5)  # [m], [m], (x_min [m], x_max [m], beta)
+# wall time of --full, from the background runs' own rates (niced, shared 2-core machine, 2026-11-23;
+# scripts/longruns/progress.py) and, for the runs not yet started, the science helper's estimate
+FULL_COST = {"iso_tau15_mode100": "3.3 h", "iso_tau20_mode100": "7.4 h", "iso_st99_mode100": "~7 h",
+             "noniso_tau15_noise": "~6 h", "noniso_tau20_noise": "~8 h", "iso_tau15_buffer": "~3.5 h"}
+# --quick (L_x = 2 km, 1,500 orbits): estimates from the measured quick costs of the recipes with the same box
+# and length (tau15nga 50 s, tau15bufnosg 100 s, tau20nonisonosga 130 s; steps per orbit scale with the set)
+QUICK_COST = {"iso_tau15_mode100": "~50 s", "iso_tau20_mode100": "~2 min", "iso_st99_mode100": "~2 min",
+              "noniso_tau15_noise": "~70 s", "noniso_tau20_noise": "~130 s", "iso_tau15_buffer": "~100 s"}
+MAX_SAMPLES = 4000
+REQUIRED_VARS = ("strobe", "e_kin", "lambda_p", "psd")
+REQUIRED_ATTRS = ("name", "orbit", "orbit_target", "complete", "status", "lambda_p_final_m", "lambda_p_paper_m",
+                  "paper_reference", "recompute_command", "params_json", "options_json", "figure")
+
+
+def run_settings(name: str, L_x: float = L_X_FULL, h: float = H_FULL) -> dict:
+    """Keyword settings of long run ``name``: ``spec`` (:class:`ringcore.spec.RunSpec` fields), ``options``
+    (:class:`ringcore.hydro.HydroOptions` fields) and ``initial`` (``Hydro1D`` keywords), as the background
+    runs' command lines (``scripts/longruns/lane*.spec``) give them; the buffer scales with L_x."""
+    r = LONG_RUNS[check_choice("name", name, sorted(LONG_RUNS))]
+    buf = r["init"] == "buffer"
+    f = L_x / L_X_FULL
+    options = dict(L_x=L_x, h=h, gravity="mode", replicas=0, bin_correction=False, timestep="cfl", dt_factor=None,
+                   buffer=(BUFFER_FULL[0] * f, BUFFER_FULL[1] * f, BUFFER_FULL[2]) if buf else None,
+                   buffer_on_orbit=0.0, samples_per_orbit=10, spacetime_rows_per_orbit=0,
+                   T_floor=0.0 if r["isothermal"] else 0.01)
+    if r["init"] == "mode":
+        initial = dict(initial="mode", wavelength=100.0, amplitude=1e-3, direction="left", seed=0, lambda_min=50.0)
+    else:
+        initial = dict(initial="noise", seed=1, amplitude=None, lambda_min=50.0, wavelength=None, direction="left")
+    spec = dict(set=r["set"], sigma0=0.0, isothermal=True if r["isothermal"] else None)
+    return dict(spec=spec, options=options, initial=initial)
+
+
+def hydro_command(name: str) -> str:
+    """The ``ringcore hydro`` command line of the background run ``name`` (without ``--out``)."""
+    s = run_settings(name)
+    o, i = s["options"], s["initial"]
+    cmd = (f"ringcore hydro --set {s['spec']['set']}{' --isothermal' if s['spec']['isothermal'] else ''} --sigma0 0 "
+           f"--lx {o['L_x']:g} --h {o['h']:g} --timestep cfl --samples 10 ")
+    if i["initial"] == "mode":
+        cmd += "--init mode --wavelength 100 --amplitude 1e-3"
+    else:
+        cmd += "--init noise --seed 1" + ("" if s["spec"]["isothermal"] else " --T-floor 0.01")
+    if o["buffer"]:
+        cmd += " --buffer {:g} {:g} {:g}".format(*o["buffer"])
+    return cmd + f" --orbits {LONG_RUNS[name]['orbits']} --checkpoint-every 200"
+
+
+def every(n: int, at_most: int) -> np.ndarray:
+    """Indices 0, k, 2k, ... of ``n`` items, at most ``at_most`` of them, the last item always included."""
+    if n == 0:
+        return np.zeros(0, int)
+    k = max(1, int(np.ceil(n / at_most)))
+    idx = np.arange(0, n, k)
+    if idx[-1] != n - 1:
+        idx = np.append(idx[:-1] if idx.size >= at_most else idx, n - 1)
+    return idx
+
+
+def _psd_peak(rows, L_x: float, lam_max: float, block: int = 500) -> np.ndarray:
+    """lambda_p [m] of each sigma row (largest Fourier power among wavelengths <= lam_max; mean removed);
+    ``rows`` may be a lazy (xarray) array: read and transformed ``block`` rows at a time."""
+    out = np.empty(rows.shape[0])
+    wl = L_x / np.arange(1, rows.shape[1] // 2 + 1)
+    for i in range(0, rows.shape[0], block):
+        r = np.asarray(rows[i:i + block], float)
+        c = np.abs(np.fft.rfft(r - r.mean(axis=1, keepdims=True), axis=1))[:, 1:wl.size + 1] ** 2
+        c[:, wl > lam_max] = 0.0
+        out[i:i + block] = wl[np.argmax(c, axis=1)]
+    return out
+
+
+def status_text(orbit: float, target: float, attrs: dict) -> str:
+    """One line on how far a run got: complete, stopped (blow-up / signal) or still computing."""
+    if int(attrs.get("complete", 0) or 0) == 1 and orbit >= target - 1e-6:
+        return f"complete: {orbit:,.0f} of {target:,.0f} orbits"
+    if attrs.get("blowup"):
+        return f"stopped by a blow-up at orbit {orbit:,.0f} of {target:,.0f}: {attrs['blowup']}"
+    return f"run reached {orbit:,.0f} of {target:,.0f} orbits; still computing"
+
+
+def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) -> xr.Dataset:
+    """Compact dataset of one long-run file (see the module docstring); ``name`` defaults to the file stem."""
+    path = Path(path)
+    name = check_choice("name", name or path.stem, sorted(LONG_RUNS))
+    rows, cols = check_int("rows", rows, 2, 100000), check_int("cols", cols, 2, 100000)
+    info = LONG_RUNS[name]
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        a = dict(ds.attrs)
+        opts = json.loads(a.get("options_json", "{}"))
+        L_x = float(opts.get("L_x", a.get("option_L_x", np.nan)))
+        it = every(ds.sizes["t"], MAX_SAMPLES)
+        ir = every(ds.sizes["t_strobe"], rows)
+        step = max(1, int(np.ceil(ds.sizes["x"] / cols)))
+        ix = np.arange(0, ds.sizes["x"], step)
+        lam_max = L_x / 4 if opts.get("buffer") else np.inf  # the buffer's box-scale contrast left out
+        t = ds["t"].values[it]
+        lam = ds["lambda_p"].values[it].astype(float)
+        if np.isfinite(lam_max):  # lambda_p(t) from the stroboscopic rows (one per orbit), wavelengths <= L_x/4
+            ts = ds["t_strobe"].values
+            lam = np.interp(t, ts, _psd_peak(ds["strobe_sigma"], L_x, lam_max))
+        strobe = ds["strobe_sigma"].values[ir][:, ix].astype(np.float32)
+        t_strobe = ds["t_strobe"].values[ir]
+        wl, P = ds["wavelength"].values, ds["psd"].values.astype(float)
+        e_kin = ds["e_kin_rp"].values[it]
+        x = ds["x"].values[ix].astype(np.float32)
+        t_all, lam_all = ds["t"].values, ds["lambda_p"].values
+    keep = wl <= lam_max
+    wl, P = wl[keep], P[keep] / max(P[keep].max(), 1e-300)
+    orbit = float(a.get("time_orbits", t[-1] if t.size else 0.0))
+    lam_final = float(wl[np.argmax(P)]) if P.size else np.nan
+    last = lam[t >= orbit - 1000.0] if np.isfinite(lam_max) else lam_all[t_all >= orbit - 1000.0]
+    vals, counts = np.unique(last[np.isfinite(last)], return_counts=True)
+    lo, hi = float(strobe.min()), float(strobe.max())
+    if not hi > lo:
+        hi = lo + 1e-3
+    out = xr.Dataset(
+        {"strobe": (("t_strobe", "x"), strobe, {"long_name": "sigma/sigma0, stroboscopic (one row per orbit, thinned)",
+                                               "units": "sigma0"}),
+         "e_kin": ("t", e_kin.astype(np.float32), {"units": "sigma0 (R_p Omega)^2, R_p = 1 m",
+                                                   "long_name": "wave kinetic energy, eq. (ekin)"}),
+         "lambda_p": ("t", lam.astype(np.float32), {"units": "m", "long_name": "prevalent wavelength"}),
+         "psd": ("wavelength", P.astype(np.float32), {"long_name": "normalised PSD of sigma, final state"})},
+        coords={"t": ("t", t.astype(np.float32), {"units": "orbits"}),
+                "t_strobe": ("t_strobe", t_strobe.astype(np.float32), {"units": "orbits"}),
+                "x": ("x", x, {"units": "m"}),
+                "wavelength": ("wavelength", wl.astype(np.float32), {"units": "m"})})
+    out.attrs.update(
+        name=name, kind="longrun-compact", title=run_title(name), figure=info["figure"],
+        orbit=orbit, orbit_target=float(info["orbits"]), complete=int(a.get("complete", 0) or 0),
+        status=status_text(orbit, float(info["orbits"]), a), blowup=str(a.get("blowup", "") or ""),
+        steps=int(a.get("steps", 0)),
+        lambda_p_final_m=lam_final, lambda_p_last1000_m=float(vals[np.argmax(counts)]) if vals.size else np.nan,
+        lambda_p_paper_m=info["paper_m"], paper_reference=info["paper_text"],
+        recompute_command=f"ringcore reproduce {name} --full", hydro_command=hydro_command(name),
+        continue_command=f"ringcore resume {name}.nc --until {info['orbits']} --checkpoint-every 200",
+        params_json=a.get("params_json", ""), options_json=a.get("options_json", ""), model=a.get("model", ""),
+        source_file=path.name, source_written=str(a.get("created", "")),
+        compacted=dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
+        strobe_thinning=f"every {int(np.diff(ir).max()) if ir.size > 1 else 1} orbits, every {step} nodes "
+                        f"({step * float(opts.get('h', 2.5)):g} m)",
+        strobe_quantisation=f"uint8, 255 levels in [{lo:.4f}, {hi:.4f}] sigma0 (step {(hi - lo) / 254:.4f})",
+        lambda_p_note=("wavelengths <= L_x/4 (the buffer's box-scale density contrast left out)"
+                       if np.isfinite(lam_max) else "largest Fourier power of sigma"))
+    out["strobe"].encoding.update(dtype="uint8", scale_factor=np.float32((hi - lo) / 254), add_offset=np.float32(lo),
+                                  _FillValue=np.uint8(255), zlib=True, complevel=6)
+    for v in ("e_kin", "lambda_p", "psd"):
+        out[v].encoding.update(zlib=True, complevel=6)
+    return out
+
+
+def run_title(name: str) -> str:
+    """Readable title, e.g. "tau15, isothermal, 100 m seed"."""
+    r = LONG_RUNS[check_choice("name", name, sorted(LONG_RUNS))]
+    how = {"mode": "100 m seed", "noise": "white noise", "buffer": "white noise + buffer zone (beta = -0.5)"}
+    return f"{r['set']}, {'isothermal' if r['isothermal'] else 'non-isothermal'}, {how[r['init']]}"
+
+
+def check_compact(ds: xr.Dataset, where: str = "compact file") -> xr.Dataset:
+    """Validate a compact long-run dataset; ValueError naming what is missing or inconsistent."""
+    missing = [v for v in REQUIRED_VARS if v not in ds] + [a for a in REQUIRED_ATTRS if a not in ds.attrs]
+    if missing:
+        raise ValueError(f"{where}: missing {', '.join(missing)}: allowed only files written by "
+                         "scripts/longruns/compact.py (ringcore.experiments.longruns.compact)")
+    check_choice(f"{where}: name", ds.attrs["name"], sorted(LONG_RUNS))
+    s = ds["strobe"]
+    if s.ndim != 2 or s.shape[0] < 1 or s.shape[1] < 2 or ds.sizes["t"] < 1:
+        raise ValueError(f"{where}: strobe has shape {s.shape} and t {ds.sizes['t']} samples: allowed >= 1 row, "
+                         ">= 2 columns, >= 1 sample")
+    orbit, target = float(ds.attrs["orbit"]), float(ds.attrs["orbit_target"])
+    if not 0 < orbit <= target + 1e-6:
+        raise ValueError(f"{where}: orbit = {orbit:g} is not valid: allowed 0 < orbit <= {target:g}")
+    for v in ("t", "t_strobe"):
+        tv = ds[v].values
+        if np.any(np.diff(tv) <= 0) or tv[-1] > orbit + 1e-3 * max(1.0, orbit):
+            raise ValueError(f"{where}: {v} is not increasing or ends after orbit {orbit:g}")
+    if not np.all(np.isfinite(ds["strobe"].values)):
+        raise ValueError(f"{where}: strobe holds non-finite values")
+    return ds
