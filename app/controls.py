@@ -18,6 +18,8 @@ from ringcore.checks import check_real
 from ringcore.params import RingParams
 from ringcore.spec import RunSpec, resolve_params
 
+from app.paper_cite import publish
+
 SIGMA0_MAX = 1000.0  # [kg/m^2] upper end of the surface-density slider
 PS_SCALE_BOUNDS = (0.5, 3.0)  # factor on the table's p_s; ringcore requires > 0
 ISO_PS_BOUNDS = (0.5, 3.0)  # p_s of the isothermal model; ringcore requires > 0
@@ -88,7 +90,7 @@ class RingControls(param.Parameterized):
     isothermal = param.Boolean(default=False, label="Isothermal model (G_T → ∞)",
                                doc="Drop the temperature equation (eq. ideal).")
     ps_scale = param.Number(default=1.0, bounds=PS_SCALE_BOUNDS, step=0.05, label="Scale the table's p_s by",
-                            doc="Factor on the pressure exponent p_s of eq. (pres), non-isothermal model.")
+                            doc=publish("Factor on the pressure exponent p_s of eq. (pres), non-isothermal model.", html_out=False))
     iso_p_s = param.Number(default=1.0, bounds=ISO_PS_BOUNDS, step=0.01, label="Isothermal p_s",
                            doc="Pressure exponent of the isothermal model: 1 = ideal gas (eq. ideal).")
     compare_sigma0 = param.String(default="0, 400, 800", label="Compare with σ₀ [kg/m²]",

@@ -68,8 +68,8 @@ TERMS = {t_key: t for t_key, t in (
                      "mimic the vertical self-gravity of the ring, which makes the layer thinner and denser.",
                      ("hill", "tab:hydropar"))),
     ("e_kin", Term("e_kin (kinetic energy of the waves) and its units",
-                   "The mean kinetic energy in the radial and azimuthal wave motion, eq. (ekin). The fluid model "
-                   "has no particle size, yet the app (like Figure 'ekinisonosg') divides by σ₀ (R_p Ω)² with "
+                   "The mean kinetic energy in the radial and azimuthal wave motion, Eq. (39). The fluid model "
+                   "has no particle size, yet the app (like Figure 8) divides by σ₀ (R_p Ω)² with "
                    "R_p = 1 m, so hydro and N-body values can be compared.", ("ekin", "fig:ekinisonosg"))),
     ("c0", Term("⟨c⟩ against c₀ (N-body tab)",
                 "⟨c⟩ is the particles' random velocity (from their velocity dispersion); c₀ of the hydro table is the "

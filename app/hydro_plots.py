@@ -21,6 +21,7 @@ from ringcore.analysis.saturation import C_EMPIRICAL
 from .connect import allowed_wavelengths, slope_line, theory_mode
 from .live_common import (BUFFER_COLOR, EMP_COLOR, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, log_ticks,
                           new_figure, wavelength_markers)
+from .paper_cite import publish
 
 SLOPE_COLOR = "#d84315"  # linear-theory growth of e_kin
 ALLOWED_COLOR = "#9e9e9e"  # wavelengths L_x/n the box can hold
@@ -79,7 +80,7 @@ class HydroPlots:
     def _series_figures(self):
         self.series_source = ColumnDataSource(dict(t=[], e_kin=[], lambda_p=[]), name="hydro-series-source")
         self.event_source = ColumnDataSource(dict(x=[], color=[], label=[]))
-        fig = new_figure("Wave kinetic energy e_kin, eq. (ekin)", "time [orbits]",
+        fig = new_figure(publish("Wave kinetic energy e_kin, eq. (ekin)", html_out=False), "time [orbits]",
                          "e_kin [σ₀ (R_p Ω)²]", height=260, y_axis_type="log")
         r = fig.line("t", "e_kin", source=self.series_source, line_width=2, color=LINE_COLOR)
         fig.vspan(x="x", line_color="color", line_dash="dashed", line_width=2, source=self.event_source)
@@ -109,7 +110,7 @@ class HydroPlots:
         self.psd_source = ColumnDataSource(dict(wavelength=[], power=[]), name="hydro-psd-source")
         self.allowed_lp = None  # lambda_p the allowed-wavelength marks were drawn for
         self.psd_markers = ColumnDataSource(dict(x=[], color=[], dash=[], label=[]))
-        fig = new_figure("Power spectrum of σ, eq. (fourier)", "wavelength λ [m]", "PSD",
+        fig = new_figure(publish("Power spectrum of σ, eq. (fourier)", html_out=False), "wavelength λ [m]", "PSD",
                          height=260, x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
         r = fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR)
         fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.psd_markers)
@@ -129,7 +130,7 @@ class HydroPlots:
         emp = C_EMPIRICAL * n.get("lambda_zero_m", math.nan)
         rows = [(n.get("lambda_max_growth_m", math.nan), MAXG_COLOR, "dotted", "fastest growth"),
                 (n.get("lambda_zero_m", math.nan), ZERO_COLOR, "dashed", "λ_zero"),
-                (emp, EMP_COLOR, "dashdot", f"{C_EMPIRICAL:g} λ_zero, eq. (lambdasigma)")]
+                (emp, EMP_COLOR, "dashdot", publish(f"{C_EMPIRICAL:g} λ_zero, eq. (lambdasigma)", html_out=False))]
         rows = [r for r in rows if math.isfinite(r[0])]
         self.lp_marker_source.data = dict(y=[r[0] for r in rows], color=[r[1] for r in rows],
                                           dash=[r[2] for r in rows], label=[r[3] for r in rows])

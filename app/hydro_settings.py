@@ -20,6 +20,7 @@ from ringcore.hydro import HydroOptions
 
 from .controls import RingControls
 from .linear_model import characteristic_numbers
+from .paper_cite import publish
 
 MIN_CELLS_PER_WAVELENGTH = 10  # cells per fastest-growing wavelength (resolution check)
 MAX_CELLS = 16384  # larger grids cannot run live on a shared 2-core machine
@@ -42,8 +43,8 @@ class HydroSettings(RingControls):
     initial = param.Selector(default="noise", objects={"white noise (all wavelengths)": "noise",
                                                        "single overstable mode": "mode"},
                              label="Initial perturbation",
-                             doc="Spectral white noise (every wavelength >= 50 m, random phases) or one linear "
-                                 "eigenmode of eq. (matni).")
+                             doc=publish("Spectral white noise (every wavelength >= 50 m, random phases) or one "
+                                         "linear eigenmode of eq. (matni).", html_out=False))
     wavelength = param.Number(default=100.0, bounds=(5.0, 20000.0), step=5.0, label="Mode wavelength λ [m]",
                               doc="Wavelength of the single mode [m]; the box must hold a whole number of them.")
     amplitude = param.Number(default=1e-4, bounds=(1e-6, 0.5), step=1e-4, label="Amplitude δσ/σ₀",

@@ -28,12 +28,13 @@ from .live_common import (BUFFER_COLOR, CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZE
                           message_pane, on_session_end, readout_cards, show_message)
 from .run_keeper import RunKeeper
 from .tutorials import tab_links
+from .paper_cite import publish
 
 IMAGE_PERIOD_S = 0.25  # the space-time image is sent at most 4 times per second
 
-EXPLANATION = """
+EXPLANATION = publish("""
 ### What am I looking at?
-The app integrates the paper's hydrodynamic equations, **eqs. (nleq)** (mass, radial and azimuthal momentum and
+The app integrates the paper's hydrodynamic equations, **eq. (nleq)** (mass, radial and azimuthal momentum and
 — in the non-isothermal model — granular temperature, with the pressure and viscosity laws of **eqs. (pres)-(coolfunc)**
 and radial self-gravity), in a periodic box of radial size L<sub>x</sub>, with the scheme of Section
 "Numerical Methods": conservative finite differences, **eq. (hcl)**, time step **eq. (timestep)**.
@@ -53,7 +54,7 @@ and radial self-gravity), in a periodic box of radial size L<sub>x</sub>, with t
 
 The run goes on while you look at other tabs (press Pause to stop it); closing the browser tab stops it.
 If the scheme fails (a "blow-up": a density or temperature turns negative), the run pauses at the last good state.
-"""
+""")
 
 
 class HydroView(pn.viewable.Viewer):
@@ -197,7 +198,7 @@ class HydroView(pn.viewable.Viewer):
     @staticmethod
     def _key_pane() -> pn.pane.HTML:
         items = [("fastest-growing λ (linear)", MAXG_COLOR, "dotted"), ("λ_zero (v_g = 0)", ZERO_COLOR, "dashed"),
-                 ("1.4 λ_zero, eq. (lambdasigma)", EMP_COLOR, "dashed"), ("λ_p now", LP_COLOR, "solid"),
+                 (publish("1.4 λ_zero, eq. (lambdasigma)"), EMP_COLOR, "dashed"), ("λ_p now", LP_COLOR, "solid"),
                  ("buffer zone", BUFFER_COLOR, "solid")]
         html = "".join(f'<span class="key-item"><span class="key-line" style="border-top: 3px {s} {c}"></span>'
                        f'<span>{lab}</span></span>' for lab, c, s in items)
@@ -278,7 +279,7 @@ class HydroView(pn.viewable.Viewer):
             ("hydro-orbits-per-s", "Orbits per second", fmt(orb_s, ".1f"), when),
             ("hydro-steps-per-s", "Steps per second", fmt(steps_s, ".0f"), f"{sim.n} cells"),
             ("hydro-dt", "Time step", fmt(r.typical_dt_orbits() * 1e3, ".3g", "mOrb"),
-             "eq. (timestep)" if r.timestep == "paper" else "CFL criterion"),
+             publish("eq. (timestep)") if r.timestep == "paper" else "CFL criterion"),
             ("hydro-lambda-p", "λ<sub>p</sub> now", fmt(sim.prevalent_wavelength(), ".4g", "m"),
              f"fastest growth {fmt(n.get('lambda_max_growth_m', math.nan), '.4g', 'm')}"),
             ("hydro-lambda-zero", "λ<sub>zero</sub>", fmt(n.get("lambda_zero_m", math.nan), ".4g", "m"),

@@ -32,6 +32,7 @@ from .export import run_file_bytes
 from .linear_model import characteristic_numbers
 from .live_buffers import SeriesBuffer
 from .live_loop import LiveLoop
+from .paper_cite import publish
 
 BUDGET_S = 0.08
 RECORD_EVERY = 0.05  # [orbits] box means recorded by ShearingBox.run
@@ -61,14 +62,14 @@ class NBodyRunner(LiveLoop, param.Parameterized):
                                doc="Optical depth tau and vertical frequency enhancement of the box (and the "
                                    "hydrodynamic parameters used for the predictions).")
     sigma0 = param.Number(default=400.0, bounds=(0.0, SIGMA0_MAX), step=10.0, label="Surface density σ₀ [kg/m²]",
-                          doc="Sets the radial self-gravity, eq. (sgmodes); 0 switches it off.")
+                          doc=publish("Sets the radial self-gravity, eq. (sgmodes); 0 switches it off.", html_out=False))
     L_x = param.Number(default=140.0, bounds=(20.0, 500.0), step=5.0, label="Radial size L_x [m]",
                        doc="Radial box size [m].")
     L_y = param.Number(default=30.0, bounds=(10.0, 200.0), step=5.0, label="Azimuthal size L_y [m]",
                        doc="Azimuthal box size [m].")
     restitution = param.Selector(default="bridges", objects={"Bridges et al. (velocity-dependent)": "bridges",
                                                              "constant ε = 0.5": "constant"},
-                                 label="Coefficient of restitution", doc="eq. (bridges) or a constant 0.5.")
+                                 label="Coefficient of restitution", doc=publish("eq. (bridges) or a constant 0.5.", html_out=False))
     seed = param.Integer(default=1, bounds=(0, 2**31 - 1), label="Random seed", doc="Seed of the initial state.")
 
     running = param.Boolean(default=False)

@@ -25,11 +25,12 @@ from .live_common import (CSS, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, Fra
                           new_figure, on_session_end, readout_cards, show_message, wavelength_markers)
 from .nbody_runner import SETUP_PARAMS, NBodyRunner
 from .run_keeper import RunKeeper
+from .paper_cite import publish
 
 PARTICLE_PERIOD_S = 0.3  # particle views sent at most ~3 times per second
 C0_COLOR = "#c2185b"
 
-EXPLANATION = """
+EXPLANATION = publish("""
 ### What am I looking at?
 A small patch of the ring that moves with the orbit (a *shearing box*, Section "N-Body Simulations"): a few thousand
 identical ice spheres of radius R<sub>p</sub> = 1 m follow Hill's equations, **eq. (hill)**, and collide inelastically
@@ -45,7 +46,7 @@ radial self-gravity of the particle layer, **eq. (sgmodes)**.
   "Hydrodynamic Parameters") from N-body runs like this one: compare the readouts.
 * **PSD**: overstable waves need boxes of several hundred metres to kilometres (thousands of orbits, Figure "enbody");
   the marked linear wavelengths show which of them would fit into this box.
-"""
+""")
 
 
 class NBodyView(pn.viewable.Viewer):
@@ -113,7 +114,7 @@ class NBodyView(pn.viewable.Viewer):
         self.u_fig.step("x", "u", source=self.profile_source, mode="center", line_width=2, color=LINE_COLOR)
         self.series_source = ColumnDataSource(dict(t=[], ekin=[], c_mean=[], collision_frequency=[]),
                                               name="nbody-series-source")
-        self.ekin_fig = new_figure("Kinetic energy e_kin, eq. (ekin)", "time [orbits]", "e_kin [σ₀ (R_p Ω)²]",
+        self.ekin_fig = new_figure(publish("Kinetic energy e_kin, eq. (ekin)", html_out=False), "time [orbits]", "e_kin [σ₀ (R_p Ω)²]",
                                    height=230, y_axis_type="log")
         self.ekin_fig.line("t", "ekin", source=self.series_source, line_width=2, color=LINE_COLOR)
         self.c_fig = new_figure("Velocity dispersion ⟨c⟩", "time [orbits]", "⟨c⟩ [mm/s]", height=230)

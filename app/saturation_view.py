@@ -27,6 +27,7 @@ from .linear_view import _set_labels, page_row
 from .live_common import CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, log_ticks, message_html, new_figure
 from .session import SessionRuns
 from .tutorials import tab_links
+from .paper_cite import publish
 
 SWEEP_FILE = Path(__file__).parent / "data" / "saturation_sweep.nc"
 SIGMA0_GRID = np.linspace(25.0, 1000.0, 30)  # [kg/m^2]
@@ -36,7 +37,7 @@ LOWER_BOUND_NOTE = ("△ = that run was still coarsening when it stopped (its λ
                     "saturated value lies above the triangle — the point is a lower bound.")
 FADED = 0.3  # opacity of runs of another parameter set or model
 
-EXPLANATION = """
+EXPLANATION = publish("""
 ### What am I looking at?
 When overstable waves have grown and saturated, one wavelength dominates: the *prevalent* wavelength
 λ<sub>p</sub>, the largest Fourier amplitude of σ (Section "Saturation Wavelength of Viscous Overstability").
@@ -53,7 +54,7 @@ surface density σ₀: denser rings have shorter waves, settling at 100-200 m.
 * **Purple squares**: the runs shipped with the app (a `ringcore sweep`). **Green circles**: your own hydro runs —
   let a run in the Hydrodynamics tab saturate (e<sub>kin</sub> flat), then press "Add my run"; its λ<sub>p</sub> is the
   median over the last quarter of the run.
-"""
+""")
 
 
 @pn.cache(max_items=64)
@@ -170,7 +171,7 @@ class SaturationView(pn.viewable.Viewer):
 
     @staticmethod
     def _key() -> pn.pane.HTML:
-        lines = [(f"{C_EMPIRICAL:g} λ<sub>zero</sub>, eq. (lambdasigma)", EMP_COLOR, "dashed"),
+        lines = [(publish(f"{C_EMPIRICAL:g} λ<sub>zero</sub>, eq. (lambdasigma)"), EMP_COLOR, "dashed"),
                  ("fastest-growing λ (linear)", MAXG_COLOR, "dotted")]
         dots = [("shipped sweep", SWEEP_COLOR, "2px"), ("my runs", LP_COLOR, "50%")]
         html = "".join(f'<span class="key-item"><span class="key-line" style="border-top: 3px {s} {c}"></span>'

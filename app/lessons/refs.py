@@ -8,6 +8,7 @@ numbers) is present, its numbers are used and the label is kept in a tooltip.
 from __future__ import annotations
 
 import html
+import re
 
 _FIG = ("fig", "figure")
 _TAB = ("tab", "table")
@@ -70,3 +71,6 @@ def render(text: str, html_out: bool = True) -> str:
         else:
             out.append(html.escape(part, quote=False) if html_out else part)
     return "".join(out)
+
+
+from ..paper_cite import publish  # noqa: E402,F401  (re-exported)
