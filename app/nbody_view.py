@@ -26,6 +26,7 @@ from .live_common import (CSS, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, Fra
 from .nbody_runner import SETUP_PARAMS, NBodyRunner
 from .run_keeper import RunKeeper
 from .paper_cite import publish
+from .tutorials import tab_links
 
 PARTICLE_PERIOD_S = 0.3  # particle views sent at most ~3 times per second
 C0_COLOR = "#c2185b"
@@ -161,6 +162,8 @@ class NBodyView(pn.viewable.Viewer):
                             min_px=300),
             sizing_mode="stretch_width")
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
+        explanation = pn.Column(explanation, pn.pane.HTML(tab_links("nbody"), stylesheets=[CSS], margin=(0, 10),
+                                                          sizing_mode="stretch_width"), sizing_mode="stretch_width")
         buttons = wrap_row(*self.buttons.values())
         kept = wrap_row(self.kept, self.restore_button)
         return page_row(pn.Column(widgets, self.export, width=340),
