@@ -39,7 +39,7 @@ def show_app_log() -> None:
     logger = logging.getLogger("panel.state")
     if any(isinstance(f, _BelowPanelLevel) for h in logger.handlers for f in h.filters):
         return
-    handler = logging.StreamHandler(sys.stdout)
+    handler = logging.StreamHandler(sys.stderr)  # unbuffered, like Bokeh's own lines
     handler.setLevel(logging.INFO)
     handler.setFormatter(logging.Formatter("%(asctime)s %(message)s"))
     handler.addFilter(_BelowPanelLevel())

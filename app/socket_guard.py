@@ -14,7 +14,8 @@ same code is on Panel's and Bokeh's main branches):
    written fail unobserved (a second traceback);
 2. Tornado keeps handing Bokeh the page's messages that were already received (acknowledgements
    of frames, layout sizes): Bokeh applies each one and answers it on the closed socket ("Failed
-   sending message as connection was closed", one line per message);
+   sending message as connection was closed", one line per message; also for an answer whose
+   write is the one that finds the connection reset);
 3. Bokeh's keep-alive ping (every 37 s) finds the socket closing and detaches the connection from
    its session while those messages are still being handled: each of them then fails with
    ``AssertionError`` ("error handling message" and a traceback), and so does Bokeh's own
@@ -23,7 +24,8 @@ same code is on Panel's and Bokeh's main branches):
 :func:`install` (called by every :class:`app.session.SessionRuns`, i.e. once per server process
 in practice; idempotent) makes all three quiet at their source: a message is written frame by
 frame and stops at the first frame refused, its futures ending quietly; messages of a page whose
-socket is closing are dropped instead of applied and answered; ``on_close`` of a connection
+socket is closing are dropped instead of applied and answered, and an answer that cannot reach
+the page is dropped without a warning; ``on_close`` of a connection
 already detached only finishes the clean-up.  Nothing else changes: an open page gets exactly the
 same frames in the same order, and other errors still propagate.  :func:`live_connections` lets
 the live runners stop computing as soon as the socket is closing, before Bokeh notices.
@@ -35,6 +37,7 @@ import json
 import logging
 
 _INSTALLED: dict[str, bool] = {}
+ORIGINALS: dict = {}  # the library functions replaced (for tests)
 
 
 def socket_open(conn) -> bool:
@@ -63,6 +66,7 @@ def _guard_panel_dispatch() -> bool:
     original = getattr(pdoc, "dispatch_tornado", None)
     if original is None:
         return False
+    ORIGINALS["dispatch_tornado"] = original
 
     async def quiet(fut):
         try:
@@ -96,9 +100,13 @@ def _guard_panel_dispatch() -> bool:
 
 
 def _guard_bokeh_handler() -> bool:
+    import bokeh.server.views.ws as ws_module
     from bokeh.server.views.ws import WSHandler
+    from tornado.websocket import WebSocketClosedError
 
     on_message, handle, on_close = WSHandler.on_message, WSHandler._handle, WSHandler.on_close
+    send_message = WSHandler.send_message
+    ORIGINALS.update(on_message=on_message, _handle=handle, on_close=on_close, send_message=send_message)
     log = logging.getLogger("bokeh.server.views.ws")
 
     def gone(self) -> bool:
@@ -116,6 +124,19 @@ def _guard_bokeh_handler() -> bool:
             return None
         return await handle(self, message)
 
+    async def guarded_send_message(self, message):
+        # as Bokeh's, minus its warning per message that can no longer reach a page that has gone
+        # (its handler's on_close runs anyway; the session logs one line when its run is freed)
+        if gone(self):
+            return None
+        try:
+            if ws_module._message_test_port is not None:
+                ws_module._message_test_port.sent.append(message)
+            await message.send(self)
+        except WebSocketClosedError:
+            pass
+        return None
+
     def guarded_on_close(self):
         conn = self.connection
         if conn is not None and conn._session is None:  # detached by the keep-alive ping already
@@ -125,8 +146,9 @@ def _guard_bokeh_handler() -> bool:
         return on_close(self)
 
     guarded_on_message.__doc__, guarded_handle.__doc__ = on_message.__doc__, handle.__doc__
-    guarded_on_close.__doc__ = on_close.__doc__
+    guarded_on_close.__doc__, guarded_send_message.__doc__ = on_close.__doc__, send_message.__doc__
     WSHandler.on_message, WSHandler._handle, WSHandler.on_close = guarded_on_message, guarded_handle, guarded_on_close
+    WSHandler.send_message = guarded_send_message
     return True
 
 
