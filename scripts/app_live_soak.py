@@ -63,13 +63,15 @@ def log_counts(log_path):
     return out
 
 
-def churn(ctx, url, seconds, errors, out, seed=14):
+def churn(ctx, url, seconds, errors, out, pid=None, seed=14):
     """Open pages from the teacher link, let them stream, then navigate away / reload / close them."""
     rnd = random.Random(seed)
     t0 = time.perf_counter()
     n = dict(opened=0, streaming=0, goto_blank=0, reload=0, close=0, load_timeouts=0)
-    pages = []
+    pages, rss = [], []
     while time.perf_counter() - t0 < seconds:
+        if pid is not None:
+            rss.append(round(rss_mb(pid), 1))
         tab = rnd.choice(["hydro", "hydro", "nbody"])
         page = ctx.new_page()
         page.on("pageerror", lambda e: errors.append(str(e)))
@@ -98,6 +100,8 @@ def churn(ctx, url, seconds, errors, out, seed=14):
     for page in pages:
         page.close()
     out.update(seconds=round(time.perf_counter() - t0, 1), **n)
+    if rss:
+        out["rss_first_last_max_mb"] = [rss[0], rss[-1], max(rss)]
 
 
 def phase(page, pid, seconds, orbit_id, names, restart_sel, out):
@@ -143,7 +147,7 @@ def main(minutes=3.0, churn_minutes=3.0):
             page.on("pageerror", lambda e: errors.append(str(e)))
             if churn_minutes > 0:
                 res["churn_phase"] = {}
-                churn(ctx, url, 60 * churn_minutes, errors, res["churn_phase"])
+                churn(ctx, url, 60 * churn_minutes, errors, res["churn_phase"], pid=proc.pid)
                 time.sleep(5)
                 res["churn_phase"]["rss_mb"] = round(rss_mb(proc.pid), 1)
                 res["churn_phase"]["log"] = log_counts(ARTIFACTS / "panel-serve-soak.log")
