@@ -41,9 +41,12 @@ ORIGINALS: dict = {}  # the library functions replaced (for tests)
 
 
 def socket_open(conn) -> bool:
-    """True while a Bokeh ``ServerConnection``'s websocket can still be written to."""
+    """True while a Bokeh ``ServerConnection``'s websocket can still be written to (a socket that is
+    not Tornado's, e.g. Panel on Django, counts as open: Bokeh's own count decides for it)."""
     socket = getattr(conn, "_socket", None)
-    ws = getattr(socket, "ws_connection", None)
+    if not hasattr(socket, "ws_connection"):
+        return True
+    ws = socket.ws_connection
     return ws is not None and not ws.is_closing()
 
 

@@ -134,7 +134,9 @@ def test_unguarded_bokeh_on_close_of_a_detached_connection_fails():
 def test_live_connections_counts_open_sockets_only():
     def conn(closing):
         return SimpleNamespace(_socket=SimpleNamespace(ws_connection=SimpleNamespace(is_closing=lambda: closing)))
-    session = SimpleNamespace(_subscribed_connections=[conn(False), conn(True)])
+    gone = SimpleNamespace(_socket=SimpleNamespace(ws_connection=None))  # Tornado's after the close
+    other = SimpleNamespace(_socket=object())  # not a Tornado websocket: counted as open
+    session = SimpleNamespace(_subscribed_connections=[conn(False), conn(True), gone, other])
     doc = SimpleNamespace(session_context=SimpleNamespace(_session=session))
-    assert socket_guard.live_connections(doc) == 1
+    assert socket_guard.live_connections(doc) == 2
     assert socket_guard.live_connections(SimpleNamespace(session_context=None)) is None
