@@ -264,7 +264,7 @@ class HydroRunner(LiveLoop, HydroSettings):
         """Stop and free the simulation (the browser tab was closed)."""
         self._mark_closed()  # [classroom] no more chunks or frames
         self.pause()
-        if self.sim is not None:
+        if self.sim is not None and self.sim.orbits > 0:  # one line per run freed; none if it never ran
             pn.state.log(f"hydro run of a closed session freed at orbit {self.sim.orbits:.2f}")
         self.sim = None
         self.status = "Closed."

@@ -25,7 +25,7 @@ import threading
 import panel as pn
 from panel.io.state import set_curdoc
 
-from . import compute
+from . import compute, socket_guard
 
 PERIOD_MS = 100  # kept for callers; chunks are scheduled back to back now
 WAITING = "Running; waiting for a free core (the server's compute slots are all busy)."
@@ -146,9 +146,9 @@ class LiveLoop:
                     self.status = "Running."
 
     def _page_gone(self, doc) -> bool:
-        """True once the session had a websocket connection and has none any more."""
-        session = getattr(doc.session_context, "_session", None)
-        n = getattr(session, "connection_count", None)
+        """True once the session had a websocket connection and has no open one any more (a socket
+        that is closing counts as gone: the page has left even if Bokeh has not noticed yet)."""
+        n = socket_guard.live_connections(doc)
         if n is None:
             return False
         if n > 0:

@@ -3,15 +3,47 @@
 :class:`SessionRuns` links the Saturation tab to the session's hydro run: the hydro
 view registers its runner here, and the Saturation tab's "add my run" button stores the
 run's (sigma0, lambda_p) as a point.  ``app.main.create_app`` makes one per session and
-passes it to every tab factory that declares a ``runs`` parameter.
+passes it to every tab factory that declares a ``runs`` parameter.  Creating one also
+installs :mod:`app.socket_guard` (a page that goes away mid-stream leaves no traceback) and
+:func:`show_app_log` (the app's own ``pn.state.log`` lines reach the server log).
 """
 from __future__ import annotations
 
+import logging
 import math
+import sys
 
 import param
 
+from . import socket_guard
+
 MAX_POINTS = 200
+
+
+class _BelowPanelLevel(logging.Filter):
+    """Pass only records Panel's own handler drops (so no line is printed twice)."""
+
+    def filter(self, record):
+        from panel.io.logging import panel_log_handler
+        return record.levelno < panel_log_handler.level
+
+
+def show_app_log() -> None:
+    """Print the app's ``pn.state.log`` lines (INFO) in the server log, nothing else of Panel's.
+
+    ``pn.state.log`` writes to the ``panel.state`` logger, whose handler shows only warnings unless
+    ``panel serve --log-level info``, which would add four Panel lines per session.  The app logs
+    one line per event a server operator should see (e.g. "hydro run of a closed session freed at
+    orbit 12.34", issue 14 item 6); this handler shows exactly those.  Idempotent.
+    """
+    logger = logging.getLogger("panel.state")
+    if any(isinstance(f, _BelowPanelLevel) for h in logger.handlers for f in h.filters):
+        return
+    handler = logging.StreamHandler(sys.stderr)  # unbuffered, like Bokeh's own lines
+    handler.setLevel(logging.INFO)
+    handler.setFormatter(logging.Formatter("%(asctime)s %(message)s"))
+    handler.addFilter(_BelowPanelLevel())
+    logger.addHandler(handler)
 
 
 class SessionRuns(param.Parameterized):
@@ -23,6 +55,11 @@ class SessionRuns(param.Parameterized):
     # Lessons panel's presets can reach LinearView.controls and NBodyView.runner (read-only otherwise).
     views = param.List(default=[], doc="The views of this session's tabs, in tab order (set by app.main).")
     # --- end lessons hook
+
+    def __init__(self, **params):
+        super().__init__(**params)
+        socket_guard.install()  # once per server process (both idempotent)
+        show_app_log()
 
     def add_hydro_run(self, min_orbits: float = 20.0) -> str:
         """Add the hydro run's saturated lambda_p (median over its last quarter); returns a message.
