@@ -50,6 +50,9 @@ CASES = {
     "nbody-ckpt-save": (NBODY, "part"),
     "nbody-equilibration": (NBODY_EQ, "file"),
     "resume-stepping": (None, "file"),  # an interrupted HYDRO file, resumed (see main)
+    # 10^6 cells: one step takes seconds on a loaded machine (the stop waits for the step in progress)
+    "hydro-1e6-cells": ([a if a != "500000" else "2500000" for a in HYDRO[:-3]] + ["--checkpoint-every", "0.002",
+                                                                                "--no-progress"], "file"),
 }
 
 
