@@ -32,6 +32,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 PY = sys.executable
+RESUME_TIMEOUT_S = 300.0
 
 HYDRO = ["hydro", "--set", "tau15", "--sigma0", "400", "--lx", "500000", "--h", "2.5", "--timestep", "cfl",
          "--init", "mode", "--wavelength", "250", "--orbits", "1000", "--checkpoint-every", "0.01", "--no-progress"]
@@ -50,6 +51,10 @@ CASES = {
     "nbody-ckpt-save": (NBODY, "part"),
     "nbody-equilibration": (NBODY_EQ, "file"),
     "resume-stepping": (None, "file"),  # an interrupted HYDRO file, resumed (see main)
+    # a LocalCluster sweep (1 worker): the signal goes to the main process; task files keep their checkpoints
+    "sweep": (["sweep", "--engine", "hydro", "--sigma0", "0,400", "--orbits", "1000", "--workers", "1"], "dir"),
+    # a recipe (no run loop of its own: the run in progress is dropped, no partial output file)
+    "reproduce": (["reproduce", "tau15nga", "--quick"], 10.0),
     # 10^6 cells: one step takes seconds on a loaded machine (the stop waits for the step in progress)
     "hydro-1e6-cells": ([a if a != "500000" else "2500000" for a in HYDRO[:-3]] + ["--checkpoint-every", "0.002",
                                                                                 "--no-progress"], "file"),
@@ -70,7 +75,7 @@ def run_case(cmd, out: Path, sig, trigger, timeout: float = 300.0, cwd=ROOT) -> 
     th = threading.Thread(target=reader, daemon=True)
     th.start()
     t_start = time.monotonic()
-    part = out.with_name(out.name + ".part")
+    part = out.with_name(out.name + ".part")  # (a sweep folder has none)
     state = "ok"
     while True:
         if proc.poll() is not None:
@@ -84,6 +89,9 @@ def run_case(cmd, out: Path, sig, trigger, timeout: float = 300.0, cwd=ROOT) -> 
             if not part.exists():
                 break
         if trigger == "part" and part.exists():
+            break
+        if trigger == "dir" and out.is_dir() and any(out.glob("*.nc")):
+            time.sleep(0.3)
             break
         if isinstance(trigger, (int, float)) and time.monotonic() - t_start >= trigger:
             break
@@ -122,6 +130,19 @@ def check_file(out: Path, sig, resume: bool = True) -> dict:
 
     if not out.exists():
         return {"file": "none"}
+    if out.is_dir():  # a sweep folder: every task file must validate
+        names = sorted(p.name for p in out.iterdir())
+        if not any(n.endswith(".nc") for n in names):
+            return {"file": f"folder: {names} (no partial or .part file)" if not any(".part" in n for n in names)
+                    else f"PARTIAL FILES {names}"}
+        files = sorted(out.glob("*.nc"))
+        bad = []
+        for f in files:
+            try:
+                read_run(f)
+            except RunFileError as exc:
+                bad.append(str(exc))
+        return {"file": f"{len(files)} task files, {len(files) - len(bad)} valid" + (f" ({bad[0]})" if bad else "")}
     try:
         ds = read_run(out)
     except RunFileError as exc:
@@ -130,10 +151,13 @@ def check_file(out: Path, sig, resume: bool = True) -> dict:
     if resume:
         out2 = out.with_name("resumed-" + out.name)
         out2.unlink(missing_ok=True)
-        r = subprocess.run([PY, "-m", "ringcore.cli.main", "resume", str(out), "--orbits", "0.005", "--out", str(out2),
-                            "--no-progress"], cwd=ROOT, env=dict(os.environ, PYTHONPATH=str(ROOT)),
-                           capture_output=True, text=True, timeout=600)
-        res["resume_rc"] = r.returncode
+        try:
+            r = subprocess.run([PY, "-m", "ringcore.cli.main", "resume", str(out), "--orbits", "0.005", "--out",
+                                str(out2), "--no-progress"], cwd=ROOT, env=dict(os.environ, PYTHONPATH=str(ROOT)),
+                               capture_output=True, text=True, timeout=RESUME_TIMEOUT_S)
+            res["resume_rc"] = r.returncode
+        except subprocess.TimeoutExpired:
+            res["resume_rc"] = f"not finished in {RESUME_TIMEOUT_S:g} s"
     return res
 
 
@@ -166,13 +190,16 @@ def main(argv=None) -> int:
                         continue
                     full = ["resume", str(src), "--orbits", "1000", "--out", str(out), "--checkpoint-every", "0.01",
                             "--no-progress"]
+                elif name in ("sweep", "reproduce"):  # a folder
+                    out = tmp / f"{name}-{sig.name}"
+                    full = cmd + ["--out", str(out)]
                 else:
                     full = cmd + ["--out", str(out)]
                 r = run_case(full, out, sig, trigger)
                 if "error" in r:
                     print(f"{name:<22}{sig.name:<8} ERROR {r['error']}")
                     continue
-                f = check_file(out, sig, resume=not a.no_resume and r["stop"] is not None)
+                f = check_file(out, sig, resume=not a.no_resume and r.get("stop") is not None)
                 stop = r["stop"] if r["stop"] is not None else r["exit"]
                 worst = max(worst, stop)
                 desc = f["file"] + (f" ({f['interrupted']})" if f.get("interrupted") else "")
