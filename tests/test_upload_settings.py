@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from types import SimpleNamespace
 
 import param
@@ -157,7 +158,9 @@ def _check_example(kind, data):
         assert _state(r) == before
 
 
-CI = settings(max_examples=40, derandomize=True, deadline=None, database=None,
+# CI: 40 examples per kind, derandomized; RINGLAB_UPLOAD_EXAMPLES=N (random) for a longer run
+_LONG = int(os.environ.get("RINGLAB_UPLOAD_EXAMPLES", "0"))
+CI = settings(max_examples=_LONG or 40, derandomize=not _LONG, deadline=None, database=None,
               suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large])
 
 
