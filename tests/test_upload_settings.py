@@ -16,7 +16,7 @@ from types import SimpleNamespace
 
 import param
 import pytest
-from hypothesis import HealthCheck, given, settings
+from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
 from app.export import ExportPanel, check_settings_upload
@@ -145,6 +145,7 @@ def _check_example(kind, data):
     before = _state(r)
     msg = _upload(panel, data)
     if "Settings loaded." in msg:  # accepted: exactly the file's values, all of them valid
+        event("accepted")
         d = json.loads(data)
         assert d.pop("ringlab_settings") == kind
         after = _state(r)
@@ -154,7 +155,10 @@ def _check_example(kind, data):
         panel._on_upload(SimpleNamespace(new=json.dumps(before).encode()))  # restore
         assert _state(r) == before
     else:
-        _error_line(msg)
+        text = _error_line(msg)
+        event("refused: " + ("JSON" if "JSON" in text else "kind" if "ringlab_settings" in text else
+                             "unknown key" if "unknown keys" in text else "range" if "range" in text else
+                             "type/choice" if "is not valid" in text else "physics/cross-check"))
         assert _state(r) == before
 
 
