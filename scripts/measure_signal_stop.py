@@ -39,12 +39,12 @@ HYDRO = ["hydro", "--set", "tau15", "--sigma0", "400", "--lx", "500000", "--h", 
 NBODY = ["nbody", "--set", "tau15", "--sigma0", "400", "--L-x", "400", "--L-y", "400", "--orbits", "1000",
          "--checkpoint-every", "0.01", "--no-progress"]
 NBODY_EQ = ["nbody", "--set", "tau15", "--L-x", "400", "--L-y", "400", "--equilibrate", "100", "--orbits", "1",
-            "--checkpoint-every", "0.01", "--no-progress"]
+            "--checkpoint-every", "0.05", "--no-progress"]
 
 # name -> (command without --out, trigger): trigger "file" = after the first checkpoint, "part" = while a
 # checkpoint is written, a number = seconds after the start
 CASES = {
-    "hydro-stepping": (HYDRO[:-2] + ["0.05", "--no-progress"], "file"),
+    "hydro-stepping": (HYDRO[:-2] + ["0.1", "--no-progress"], "file"),  # dt ~ 0.025 orbits: 4 steps apart
     "hydro-ckpt-save": (HYDRO, "part"),
     "hydro-startup": (HYDRO, 1.0),
     "nbody-stepping": (NBODY[:-2] + ["0.05", "--no-progress"], "file"),
@@ -56,7 +56,7 @@ CASES = {
     # a recipe (no run loop of its own: the run in progress is dropped, no partial output file)
     "reproduce": (["reproduce", "tau15nga", "--quick"], 10.0),
     # 10^6 cells: one step takes seconds on a loaded machine (the stop waits for the step in progress)
-    "hydro-1e6-cells": ([a if a != "500000" else "2500000" for a in HYDRO[:-3]] + ["--checkpoint-every", "0.002",
+    "hydro-1e6-cells": ([a if a != "500000" else "2500000" for a in HYDRO[:-3]] + ["--checkpoint-every", "0.05",
                                                                                 "--no-progress"], "file"),
 }
 
@@ -85,7 +85,11 @@ def run_case(cmd, out: Path, sig, trigger, timeout: float = 300.0, cwd=ROOT) -> 
             proc.kill()
             return {"error": "trigger not reached"}
         if trigger == "file" and out.exists() and not part.exists():
-            time.sleep(0.3)  # stepping again after the first checkpoint
+            # stepping again: the checkpoint was just moved into place (its summary, dataset and checksum are
+            # built BEFORE the .part file appears, so "no .part" alone does not mean stepping)
+            wait = out.stat().st_mtime + 0.3 - time.time()
+            if wait > 0:
+                time.sleep(wait)
             if not part.exists():
                 break
         if trigger == "part" and part.exists():
@@ -114,7 +118,8 @@ def run_case(cmd, out: Path, sig, trigger, timeout: float = 300.0, cwd=ROOT) -> 
     def first(word):
         return next((t - t_sig for t, ln in lines if word in ln and t >= t_sig), None)
 
-    res = {"rc": proc.returncode, "ann": first("received: stopping"), "stop": first("saving the last good state to"),
+    # (the announcement also says "saving the last good state": match the stop line's own words)
+    res = {"rc": proc.returncode, "ann": first("received: stopping"), "stop": first("s after the signal; saving"),
            "saved": first("state saved to"), "exit": t_exit - t_sig, "state": state,
            "last": next((ln for _, ln in reversed(lines) if ln.strip()), ""),
            "hint": any("ringcore resume" in ln for _, ln in lines),
@@ -188,7 +193,7 @@ def main(argv=None) -> int:
                     if not src.exists():
                         print(f"{name:<22}{sig.name:<8} could not make the file to resume")
                         continue
-                    full = ["resume", str(src), "--orbits", "1000", "--out", str(out), "--checkpoint-every", "0.01",
+                    full = ["resume", str(src), "--orbits", "1000", "--out", str(out), "--checkpoint-every", "0.1",
                             "--no-progress"]
                 elif name in ("sweep", "reproduce"):  # a folder
                     out = tmp / f"{name}-{sig.name}"
