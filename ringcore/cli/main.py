@@ -89,9 +89,10 @@ def main(argv=None) -> int:
             warnings.simplefilter("ignore")
         with graceful_interrupt():  # SIGTERM stops like SIGINT (clean-ups run, one line, status 130)
             status = _run(argv, debug)
-    if status == 130 and top:
+    if status == 130 and top and "distributed" not in sys.modules:
         # interrupted: the state is saved and the files are closed; skip the interpreter's teardown
         # (freeing numba/llvm, xarray, FFTW: up to seconds on a loaded machine) so the prompt comes back at once
+        # (not after a sweep: dask/multiprocessing clean up their helper processes at exit)
         sys.stdout.flush()
         sys.stderr.flush()
         os._exit(status)
