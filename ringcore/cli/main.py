@@ -25,6 +25,9 @@ from ..io.signals import graceful_interrupt
 from . import _startup_stop
 from .errors import status_and_message
 
+SLOW_EXIT_COMMANDS = ("sweep",)  # interrupted, these still exit normally (dask/multiprocessing clean-up)
+_STATE: dict = {}  # the command being run (for main's exit)
+
 # modules providing subcommands, in --help order
 SUBCOMMAND_MODULES = ("linear", "hydro", "nbody", "reproduce", "sweep", "resume", "bench")
 
@@ -89,7 +92,7 @@ def main(argv=None) -> int:
             warnings.simplefilter("ignore")
         with graceful_interrupt():  # SIGTERM stops like SIGINT (clean-ups run, one line, status 130)
             status = _run(argv, debug)
-    if status == 130 and top and "distributed" not in sys.modules:
+    if status == 130 and top and _STATE.get("command") not in SLOW_EXIT_COMMANDS:
         # interrupted: the state is saved and the files are closed; skip the interpreter's teardown
         # (freeing numba/llvm, xarray, FFTW: up to seconds on a loaded machine) so the prompt comes back at once
         # (not after a sweep: dask/multiprocessing clean up their helper processes at exit)
@@ -111,6 +114,7 @@ def _run(argv: list, debug: bool) -> int:
             parser.print_help()
             return 2
         command = f"ringcore {args.command}"
+        _STATE["command"] = args.command
         args._given = _given_dests(build_parser(), argv)
         return int(args.func(args) or 0)
     except KeyboardInterrupt as exc:
