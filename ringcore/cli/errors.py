@@ -31,6 +31,10 @@ def status_and_message(exc: BaseException) -> tuple:
     msg = " ".join(str(exc).split()) or type(exc).__name__
     if isinstance(exc, EnvironmentProblem):
         return 1, msg
+    from ..io.atomic import OutputExists
+
+    if isinstance(exc, OutputExists):  # an existing output, --overwrite not given: the user's choice
+        return 2, msg
     if isinstance(exc, ModuleNotFoundError):
         return 1, (f"the optional package {exc.name!r} is not installed ({msg}); install it with "
                    f"pip install {exc.name}")

@@ -6,19 +6,27 @@ Each subcommand lives in its own module ``ringcore/cli/<name>_cmd.py`` exposing
 Errors never show a traceback (unless ``--debug``, accepted anywhere on the line): bad input
 (``ValueError``, :class:`~ringcore.cli.errors.UsageError`, argparse errors) is one line on stderr
 and exit status 2; an environment or runtime problem (unwritable place, memory, disk, unreachable
-scheduler, missing optional package, numerical blow-up) one line and exit status 1; SIGINT 130.
+scheduler, missing optional package, numerical blow-up) one line and exit status 1; SIGINT and SIGTERM
+130 (run loops first save the last good state: :func:`ringcore.experiments.checkpoint.run_checkpointed`).
 Python warnings are shown only with ``--debug``.
 """
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
+import signal
 import sys
 import traceback
 import warnings
 
 from .. import __version__
+from ..io.signals import graceful_interrupt
+from . import _startup_stop
 from .errors import status_and_message
+
+SLOW_EXIT_COMMANDS = ("sweep",)  # interrupted, these still exit normally (dask/multiprocessing clean-up)
+_STATE: dict = {}  # the command being run (for main's exit)
 
 # modules providing subcommands, in --help order
 SUBCOMMAND_MODULES = ("linear", "hydro", "nbody", "reproduce", "sweep", "resume", "bench")
@@ -72,13 +80,26 @@ def _given_dests(parser: argparse.ArgumentParser, argv: list) -> set:
 
 def main(argv=None) -> int:
     """Run ``ringcore`` with ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
+    top = argv is None  # the process's own command line (console script / python -m), not a caller's list
+    if signal.getsignal(signal.SIGINT) is _startup_stop:  # start-up is over: the normal handling from here
+        signal.signal(signal.SIGINT, signal.default_int_handler)
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
     argv = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in argv
     argv = [a for a in argv if a != "--debug"]
     with warnings.catch_warnings():
         if not debug:  # numerical RuntimeWarnings etc. would break the one-line messages; --debug shows them
             warnings.simplefilter("ignore")
-        return _run(argv, debug)
+        with graceful_interrupt():  # SIGTERM stops like SIGINT (clean-ups run, one line, status 130)
+            status = _run(argv, debug)
+    if status == 130 and top and _STATE.get("command") not in SLOW_EXIT_COMMANDS:
+        # interrupted: the state is saved and the files are closed; skip the interpreter's teardown
+        # (freeing numba/llvm, xarray, FFTW: up to seconds on a loaded machine) so the prompt comes back at once
+        # (not after a sweep: dask/multiprocessing clean up their helper processes at exit)
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(status)
+    return status
 
 
 def _run(argv: list, debug: bool) -> int:
@@ -93,10 +114,12 @@ def _run(argv: list, debug: bool) -> int:
             parser.print_help()
             return 2
         command = f"ringcore {args.command}"
+        _STATE["command"] = args.command
         args._given = _given_dests(build_parser(), argv)
         return int(args.func(args) or 0)
-    except KeyboardInterrupt:
-        sys.stderr.write(f"{command}: interrupted\n")
+    except KeyboardInterrupt as exc:
+        name = str(exc) if str(exc).startswith("SIG") else "SIGINT"
+        sys.stderr.write(f"{command}: interrupted ({name})\n")
         return 130
     except Exception as exc:
         status, msg = status_and_message(exc)

@@ -35,6 +35,6 @@ def run(args) -> int:
     recipe = get_recipe(args.name)
     check_output_dir(args.out)
     check_new_files(outputs(args.name, args.out), overwrite=args.overwrite, label=f"reproduce {args.name}")
-    res = recipe.run(args.mode, args.out)
+    res = recipe.run(args.mode, args.out, overwrite=bool(args.overwrite))  # atomic; no-clobber unless --overwrite
     print(f"{args.name} ({args.mode}): {res.seconds:.1f} s\n  figure: {res.png}\n  data:   {res.data}\n  {res.caption}")
     return 0

@@ -7,8 +7,10 @@ an end time and writes its run file
 
 - every ``every`` orbits (checkpoints at whole multiples of ``every``; ``complete = 0``),
 - when SIGINT or SIGTERM arrives (:func:`ringcore.io.graceful_interrupt` in deferred mode:
-  the run stops between two steps, so the file is a consistent state; ``complete = 0``,
-  ``interrupted = "SIGTERM"``), then raises KeyboardInterrupt,
+  a line on stderr at once; the run stops after the current step (hydro) or kernel call (N-body),
+  so the file is a consistent state, and never steps again after a checkpoint save during which
+  the signal came; ``complete = 0``, ``interrupted = "SIGTERM"``), then raises KeyboardInterrupt
+  (a signal as the run reaches its end with ``finish=True`` just completes it),
 - when a field blows up (the last good state; ``complete = 0``, ``blowup = message``), then re-raises,
 - at the end (``complete = 1``, ``summary_json``).
 
@@ -19,6 +21,7 @@ from __future__ import annotations
 
 import math
 import sys
+import time
 
 from ..checks import check_real
 from ..engine import ENGINES, BlowUp
@@ -26,6 +29,19 @@ from ..engine import engine_class as _engine_class
 from ..io import RunFileError, graceful_interrupt, read_run
 
 __all__ = ["ENGINES", "engine_class", "kind_of", "load_model", "run_checkpointed"]
+
+
+def _save_interrupted(model, out, stop, kind: str, until: float, attrs: dict) -> None:
+    """Save the current (last good) state after a signal, say so, and raise KeyboardInterrupt."""
+    lag = time.monotonic() - stop.at if stop.at is not None else math.nan
+    sys.stderr.write(f"\n{kind}: {stop.signal} at orbit {model.orbits:.4f}: stopped {lag:.2f} s after the signal; "
+                     f"saving the last good state to {out} ...\n")
+    sys.stderr.flush()
+    t0 = time.monotonic()
+    model.save(out, complete=False, interrupted=stop.signal, **attrs)
+    sys.stderr.write(f"{kind}: state saved to {out} in {time.monotonic() - t0:.2f} s; "
+                     f"continue with: ringcore resume {out} --until {until!r}\n")
+    raise KeyboardInterrupt(stop.signal)
 
 
 def engine_class(kind: str, what: int = 1):
@@ -71,10 +87,12 @@ def run_checkpointed(model, orbits: float | None = None, *, out, until: float | 
     tol = 1e-9 * max(1.0, until)
     kind = kind_of(model)
     advance = model.advance if hasattr(model, "advance") else model.run  # run: until contract-nbody merges
-    with graceful_interrupt(deferred=True) as stop, \
+    announce = (f"{kind}: {{signal}} received: stopping after the current step, then saving the last good "
+                f"state to {out} (a second signal stops at once and keeps only the last checkpoint)")
+    with graceful_interrupt(deferred=True, announce=announce) as stop, \
             tqdm(total=round(until - start, 6), unit="orbit", desc=kind, disable=not progress) as bar:
         next_ckpt = (math.floor((start + tol) / every) + 1) * every if every else math.inf
-        while model.orbits < until - tol:
+        while model.orbits < until - tol and not stop.requested:
             target = min(until, math.floor(model.orbits + tol) + 1.0, next_ckpt)
             try:
                 advance(until=target, stop=stop)
@@ -83,13 +101,14 @@ def run_checkpointed(model, orbits: float | None = None, *, out, until: float | 
                 raise
             bar.update(round(model.orbits - start - bar.n, 6))
             if stop.requested:
-                model.save(out, complete=False, interrupted=stop.signal, **attrs)
-                sys.stderr.write(f"\n{kind}: {stop.signal} at orbit {model.orbits:.4f}: state saved to {out}; "
-                                 f"continue with: ringcore resume {out} --until {until!r}\n")
-                raise KeyboardInterrupt(stop.signal)
+                break  # no checkpoint now: the interrupted save below writes this very state
             if model.orbits >= next_ckpt - tol:
                 model.save(out, complete=False, checkpoint_orbit=model.orbits, **attrs)
-                next_ckpt += every
-    if finish:
-        model.save(out, complete=True, **attrs)
+                next_ckpt += every  # a signal during this save stops the loop before the next step
+        if stop.requested and not (finish and model.orbits >= until - tol):
+            _save_interrupted(model, out, stop, kind, until, attrs)
+        if finish:  # still within the handlers: a signal during the final save cannot lose the result
+            model.save(out, complete=True, **attrs)
+            if stop.requested:
+                sys.stderr.write(f"\n{kind}: {stop.signal} came as the run ended: the complete run is saved to {out}\n")
     return model.summary()

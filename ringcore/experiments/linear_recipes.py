@@ -7,7 +7,7 @@ import xarray as xr
 from ..figures._mpl import cmap, subplots
 from .. import linear, params
 from ..figures.linear import add_caption, figure_omega, figure_vgroup
-from ..io import attrs_from_dict, write_run
+from ..io import attrs_from_dict, save_figure, write_run
 from .registry import RecipeResult, recipe
 
 SIGMAS = (0.0, 200.0, 400.0, 600.0, 800.0, 1000.0)
@@ -91,6 +91,6 @@ def vgph(mode, out):
     fig.suptitle("tau15: group velocity (solid) and effective stroboscopic phase velocity (dashed)")
     add_caption(fig, "Exact eq. (matni). " + cap)
     png = out / "vgph.png"
-    fig.savefig(png, dpi=110)
+    save_figure(fig, png, dpi=110)
     data = _save(ds, out, "vgph", cap)
     return RecipeResult(png, data, cap)

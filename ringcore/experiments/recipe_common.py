@@ -20,7 +20,7 @@ import numpy as np
 import xarray as xr
 
 from ..figures._mpl import subplots
-from ..io import write_run
+from ..io import save_figure, write_run
 from ..units import R_P
 from .registry import RecipeResult
 
@@ -44,7 +44,7 @@ def finish(fig, ds: xr.Dataset, out, name: str, caption: str, settings: dict | N
     """Caption and save the PNG, write the data file; return the RecipeResult."""
     caption_fig(fig, caption)
     png = out / f"{name}.png"
-    fig.savefig(png, dpi=110)
+    save_figure(fig, png, dpi=110)
     ds = ds.copy()
     ds.attrs["caption"] = caption
     ds.attrs["recipe"] = name

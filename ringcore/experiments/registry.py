@@ -7,6 +7,7 @@ minutes on a laptop) or ``"full"`` (the paper's settings, hours: meant for a clu
 """
 from __future__ import annotations
 
+import contextlib
 import importlib
 import time
 from dataclasses import dataclass, field
@@ -43,12 +44,27 @@ class Recipe:
     full_cost: str
     func: Callable = field(repr=False)
 
-    def run(self, mode: str = "quick", outdir=".") -> RecipeResult:
+    def run(self, mode: str = "quick", outdir=".", overwrite: bool | None = None) -> RecipeResult:
+        """Run in ``outdir``; every output is written atomically (:mod:`ringcore.io.atomic`).
+
+        ``overwrite=False``: refuse (:class:`ringcore.io.OutputExists`) if ``NAME.png`` or ``NAME.nc``
+        exists, before computing and again, atomically, when each file is written; ``True``: replace
+        them; ``None`` (the Python default, kept for scripts that re-run into one folder): the
+        enclosing :func:`ringcore.io.output_policy` (replace unless set).
+        """
+        from ..io.atomic import OutputExists, output_policy
+
         check_choice("mode", mode, MODES)
         out = Path(outdir)
+        if overwrite is False:
+            for f in outputs(self.name, out):
+                if f.exists():
+                    raise OutputExists(f"{f}: exists: refusing to overwrite it (add --overwrite to replace it, "
+                                       "or choose another output place)")
         out.mkdir(parents=True, exist_ok=True)
         t0 = time.perf_counter()
-        res = self.func(mode, out)
+        with output_policy(overwrite) if overwrite is not None else contextlib.nullcontext():
+            res = self.func(mode, out)
         return RecipeResult(res.png, res.data, res.caption, time.perf_counter() - t0)
 
 
@@ -94,6 +110,6 @@ def get_recipe(name: str) -> Recipe:
     return RECIPES[name]
 
 
-def run_recipe(name: str, mode: str = "quick", outdir=".") -> RecipeResult:
-    """Run a recipe by name."""
-    return get_recipe(name).run(mode, outdir)
+def run_recipe(name: str, mode: str = "quick", outdir=".", overwrite: bool | None = None) -> RecipeResult:
+    """Run a recipe by name (``overwrite``: see :meth:`Recipe.run`)."""
+    return get_recipe(name).run(mode, outdir, overwrite=overwrite)

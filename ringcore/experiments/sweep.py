@@ -16,7 +16,6 @@ import hashlib
 import importlib
 import json
 import math
-import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,7 +24,7 @@ import numpy as np
 import xarray as xr
 
 from ..checks import check_choice, check_int
-from ..io import RunFileError, read_run
+from ..io import RunFileError, atomic_output, read_run
 
 # engine -> "module:function" taking (task: dict, path: Path) and returning a summary dict
 RUNNERS = {
@@ -203,8 +202,7 @@ def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int = 2, p
             cluster.close()
     ds = aggregate(rows)
     ds.attrs.update(attrs or {})
-    tmp = out / "sweep.nc.part"  # atomic: a stopped write never leaves a half sweep.nc
-    ds.to_netcdf(tmp, engine="h5netcdf")
-    os.replace(tmp, out / "sweep.nc")
+    with atomic_output(out / "sweep.nc") as tmp:  # a stopped write never leaves a half sweep.nc
+        ds.to_netcdf(tmp, engine="h5netcdf")
     failed = [r for r in rows if r["status"] == "failed"]
     return SweepResult(rows=rows, dataset=ds, failed=failed, wall_s=time.perf_counter() - t0)

@@ -12,6 +12,7 @@ import numpy as np
 
 from ._mpl import cmap, subplots
 from .. import linear, params
+from ..io.atomic import save_figure
 
 SIGMAS = (0.0, 400.0, 800.0)  # [kg/m^2], as in Figure "omega"
 
@@ -29,7 +30,7 @@ def _finish(fig, path, caption):
     if caption:
         add_caption(fig, caption)
     if path is not None:
-        fig.savefig(path, dpi=110)
+        save_figure(fig, path, dpi=110)  # atomic; an existing file only under the output policy
     return fig
 
 

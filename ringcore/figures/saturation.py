@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from ._mpl import subplots
+from ..io.atomic import save_figure
 from .. import linear, params
 from ..analysis import lambda_p_empirical
 from ..analysis.saturation import C_EMPIRICAL
@@ -32,5 +33,5 @@ def figure_lambdap(ds, path, set_name: str = "tau15", isothermal: bool = False, 
     if caption:
         fig.text(0.01, 0.01, caption, fontsize=7, color="0.2")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    save_figure(fig, path, dpi=110)  # atomic; an existing file only under the output policy
     return path

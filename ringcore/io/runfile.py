@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 from datetime import datetime, timezone
 from pathlib import Path
 
@@ -80,23 +79,23 @@ def stamp_run(ds: xr.Dataset, kind: str) -> xr.Dataset:
     return ds
 
 
-def write_run(ds: xr.Dataset, path, kind: str) -> Path:
+def write_run(ds: xr.Dataset, path, kind: str, overwrite: bool | None = None) -> Path:
     """Write ``ds`` to ``path`` atomically with the schema attributes (and, for the engine kinds, the
     checksum ``state_sha256`` of :func:`ringcore.io.validate.checksum_attrs`).
 
-    The data go to ``path.part`` first and replace ``path`` only when complete (``os.replace``): a
-    failed write leaves no ``.part`` file and never touches an existing ``path``.
+    The data go to ``path.part`` first and replace ``path`` only when complete
+    (:func:`ringcore.io.atomic.atomic_output`): a failed or interrupted write leaves no ``.part``
+    file and never touches an existing ``path``.  ``overwrite=False`` refuses an existing ``path``
+    (:class:`~ringcore.io.atomic.OutputExists`); ``None``: the enclosing
+    :func:`~ringcore.io.atomic.output_policy` (default: replace, as checkpoints need).
     """
+    from .atomic import atomic_output
+
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     ds = stamp_run(ds, kind)
-    tmp = path.with_name(path.name + ".part")
-    try:
+    with atomic_output(path, overwrite) as tmp:
         ds.to_netcdf(tmp, engine="h5netcdf")
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
     return path
 
 
