@@ -57,7 +57,8 @@ class EngineHost:
 
     def _on_sample(self, sim, sample):
         s = dict(sample)
-        s["sigma_row"] = sim.U[0].copy()  # the profile at the sample time (orbit-resolved image)
+        if self.sim.kind == "hydro":
+            s["sigma_row"] = sim.U[0].copy()  # the profile at the sample time (orbit-resolved image)
         self.samples.append(s)
 
     def advance(self, orbits=None, until=None, max_wall_s=None) -> dict:
@@ -99,6 +100,9 @@ def _blowup(fields: dict, message: str) -> BlowUp:
 class RemoteSim:
     """Stands for a runner's engine whose chunks compute on a Dask worker (see the module docstring).
 
+    ``prefetch`` (class attribute, default True): the worker computes the next chunk while the
+    app relays the last one (see :meth:`advance`).
+
     Parameters
     ----------
     engine : Hydro1D or ShearingBox
@@ -108,6 +112,8 @@ class RemoteSim:
         cluster is started or connected only when a run starts).
     """
 
+    prefetch = True
+
     def __init__(self, engine, backend):
         self._local = engine  # complete engine, authoritative while no worker holds the run
         self._view_engine = engine
@@ -116,6 +122,8 @@ class RemoteSim:
         self._actor = None
         self._worker = self._key = None
         self._fin = None
+        self._pending = None  # ((orbits, until, max_wall_s), future) of a chunk computed ahead
+        self._blowup_stash = None
         self._backend = backend
         self._callbacks = {}
         self._lock = threading.Lock()
@@ -164,17 +172,58 @@ class RemoteSim:
         return h
 
     def advance(self, orbits=None, *, until=None, max_wall_s=None) -> float:
-        """One chunk on the worker (pushes the run there first); samples go to the callbacks."""
+        """One chunk on the worker (pushes the run there first); samples go to the callbacks.
+
+        With ``prefetch`` the worker is asked for the next chunk with the same arguments as soon
+        as this one has arrived, so it computes while the app draws and relays this one; that
+        chunk is the result of the next call with the same arguments, and any other call
+        (:meth:`settle`, ``snapshot``, a state change) first takes it into the shown state.
+        """
+        if self._blowup_stash is not None:
+            exc, self._blowup_stash = self._blowup_stash, None
+            raise exc
         if self._actor is None:
             self._push()
-        res = self._actor.advance(orbits, until, max_wall_s).result()
+        args = (orbits, until, max_wall_s)
+        pending, self._pending = self._pending, None
+        if pending is not None and pending[0] != args:
+            self._take(pending[1].result())
+            pending = None
+        fut = pending[1] if pending is not None else self._actor.advance(*args)
+        res = fut.result()
+        if self.prefetch and res["blowup"] is None and not self._reached(res["light"], until):
+            self._pending = (args, self._actor.advance(*args))
+        exc = self._take(res, stash=False)
+        if exc is not None:
+            raise exc
+        return res["advanced"]
+
+    def settle(self) -> None:
+        """Take a chunk computed ahead (prefetch) into the shown state: after this, the state shown
+        is the state the worker keeps (Pause, export)."""
+        pending, self._pending = self._pending, None
+        if pending is not None:
+            self._take(pending[1].result())
+
+    @property
+    def computing_ahead(self) -> bool:
+        """True while a chunk computed ahead has not been taken into the shown state."""
+        return self._pending is not None
+
+    def _reached(self, state, until) -> bool:
+        return until is not None and state.meta["t"] / (2.0 * math.pi) >= until - 1e-12
+
+    def _take(self, res, stash=True):
+        """Show a chunk's result: light state, samples to the callbacks; its blow-up (returned, or
+        kept for the next :meth:`advance` with ``stash``)."""
         self._set_light(res["light"])
         for s in res["samples"]:
             for fn in list(self._callbacks.values()):
                 fn(self, s)
-        if res["blowup"] is not None:
-            raise _blowup(*res["blowup"])
-        return res["advanced"]
+        exc = _blowup(*res["blowup"]) if res["blowup"] is not None else None
+        if stash and exc is not None:
+            self._blowup_stash = exc
+        return exc
 
     def set_buffer(self, *args) -> None:
         self._change("set_buffer", *args)
@@ -186,6 +235,7 @@ class RemoteSim:
         """The complete state (fetched from the worker while it holds the run)."""
         if self._actor is None:
             return self._local.snapshot()
+        self.settle()
         return self._actor.snapshot().result()
 
     def diagnostics(self) -> dict:
@@ -196,6 +246,7 @@ class RemoteSim:
         """Bring the complete run back into this process and free the worker's copy."""
         if self._actor is None:
             return
+        self.settle()
         self._local = engine_class(self.kind).restore(self._actor.snapshot().result())
         for fn in self._callbacks.values():
             self._local.on_sample(fn)
@@ -205,6 +256,7 @@ class RemoteSim:
 
     def release(self) -> None:
         """Free the worker's copy (the run is closed, or was brought back by :meth:`detach`)."""
+        self._pending = None
         if self._actor is not None:
             self._backend().free(self._key)
         self._actor = self._worker = self._key = None
@@ -226,6 +278,7 @@ class RemoteSim:
         if self._actor is None:
             getattr(self._local, name)(*args)
         else:
+            self.settle()
             self._set_light(self._actor.call(name, *args).result())
 
 
@@ -239,7 +292,7 @@ class DaskBackend:
             self.client = Client(address, timeout=30)
         else:
             n = n_workers or _cores()
-            self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None)
+            self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0")
             self.client = Client(self.cluster)
         self._lock = threading.Lock()
         self._count = {}  # worker address -> engines placed there

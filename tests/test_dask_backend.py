@@ -25,7 +25,7 @@ SMALL = dict(L_x=500.0, h=2.5)  # 200 cells
 
 @pytest.fixture(scope="module")
 def backend():
-    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
     b = remote.DaskBackend(cluster.scheduler_address)
     remote.set_backend(b)
     yield b
@@ -71,14 +71,14 @@ def in_process(orbits, **settings) -> HydroRunner:
 def test_worker_run_is_bit_identical_to_in_process(backend):
     r = HydroRunner(**SMALL)
     assert isinstance(r.sim, remote.RemoteSim) and not r.sim.on_worker
-    r.running, r.pause_at = True, 4.0
+    r.running, r.pause_at = True, 2.0
     ticks = 0
-    while r.sim.orbits < 4.0 - 1e-9:
+    while r.sim.orbits < 2.0 - 1e-9:
         r.tick()
         ticks += 1
     assert r.sim.on_worker and wait_engines(backend, 1) == 1
-    ref = in_process(4.0, **SMALL)
-    assert r.sim.orbits == ref.sim.orbits == 4.0 and r.sim.steps == ref.sim.steps > 0
+    ref = in_process(2.0, **SMALL)
+    assert r.sim.orbits == ref.sim.orbits == 2.0 and r.sim.steps == ref.sim.steps > 0
     assert r.sim.snapshot().checksum() == ref.sim.snapshot().checksum()  # kernel state and every sample
     np.testing.assert_array_equal(r.sim.sigma, ref.sim.sigma)  # what the page draws
     for name in ("t", "e_kin", "lambda_p"):
@@ -88,7 +88,7 @@ def test_worker_run_is_bit_identical_to_in_process(backend):
     # a setup change brings the run back (it may be kept for "restore") and frees the worker
     old = r.sim
     r.sigma0 = 300.0
-    assert not old.on_worker and old.orbits == 4.0 and wait_engines(backend, 0) == 0
+    assert not old.on_worker and old.orbits == 2.0 and wait_engines(backend, 0) == 0
     assert old.snapshot().checksum() == ref.sim.snapshot().checksum()
     r.close()
 
@@ -120,3 +120,26 @@ def test_served_session_pause_keeps_the_shown_state_and_close_frees_the_worker(b
     with set_curdoc(doc):
         r.close()
     assert wait_engines(backend, 0) == 0  # the closed session's engine is gone from the worker
+
+
+def test_a_blow_up_on_a_worker_reaches_the_runner_as_the_engines_exception():
+    import pickle
+    from ringcore.hydro import HydroBlowUp
+    exc = HydroBlowUp("T", 12.5, 3.25, 812, float("nan"), detail="at the left edge")
+    back = remote._blowup(*pickle.loads(pickle.dumps((exc.fields(), str(exc)))))
+    assert type(back) is HydroBlowUp and str(back) == str(exc)
+    assert (back.what, back.where_m, back.orbit, back.step) == ("T", 12.5, 3.25, 812)
+
+
+def test_backend_choice_from_the_environment(monkeypatch):
+    monkeypatch.delenv(remote.ENV_SCHEDULER, raising=False)
+    monkeypatch.delenv(remote.ENV_MODE, raising=False)
+    assert remote.mode() == "threads"
+    monkeypatch.setenv(remote.ENV_MODE, "Processes")
+    assert remote.mode() == "processes"
+    monkeypatch.setenv(remote.ENV_MODE, "gpu")
+    with pytest.raises(ValueError, match="RINGLAB_COMPUTE = 'gpu' is not valid: allowed threads, processes, dask"):
+        remote.mode()
+    monkeypatch.setenv(remote.ENV_MODE, "")
+    monkeypatch.setenv(remote.ENV_SCHEDULER, "tcp://10.0.0.1:8786")
+    assert remote.mode() == "dask"
