@@ -39,6 +39,7 @@ ENV_MODE = "RINGLAB_COMPUTE"
 ENV_SCHEDULER = "RINGLAB_DASK_SCHEDULER"
 ENV_WORKERS = "RINGLAB_WORKERS"
 MODES = ("threads", "processes", "dask")
+MIN_CHUNK_S = 0.1  # wall budget of a chunk on a worker at least [s]: amortises the ~10 ms round trip
 
 
 def light(state):
@@ -184,6 +185,8 @@ class RemoteSim:
             raise exc
         if self._actor is None:
             self._push()
+        if max_wall_s is not None:
+            max_wall_s = max(max_wall_s, MIN_CHUNK_S)
         args = (orbits, until, max_wall_s)
         pending, self._pending = self._pending, None
         if pending is not None and pending[0] != args:
