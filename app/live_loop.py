@@ -15,6 +15,8 @@ and submits its next chunk.  Everything that reads or changes the simulation fro
 event loop either runs between chunks (frames) or takes ``compute_lock`` (setup changes,
 exports).  A session whose page has gone (websocket closed) is freed at its next chunk
 boundary, with one log line, instead of computing until Bokeh destroys the session.
+With the chunks on Dask workers (:mod:`app.remote`) the runner's ``sim`` may have a chunk
+computed ahead; Pause takes it into the shown state (``settle``) before the final frame.
 """
 from __future__ import annotations
 
