@@ -244,11 +244,21 @@ def run(args) -> dict:
         out["cores_5s_after_close"] = round((c1 - c0) / 2.0, 2)
         return out
     finally:
+        try:  # --num-procs N: the forked server processes too
+            children = psutil.Process(server.pid).children(recursive=True)
+        except psutil.Error:
+            children = []
         server.terminate()
         try:
             server.wait(10)
         except subprocess.TimeoutExpired:
             server.kill()
+        for c in children:
+            try:
+                c.terminate()
+            except psutil.Error:
+                pass
+        psutil.wait_procs(children, timeout=10)
         if cluster is not None:
             cluster.close()
 
