@@ -14,8 +14,11 @@ Rules (issue 12):
 * a chunk never touches the Bokeh document: its result is handed to the session's document
   with ``doc.add_next_tick_callback`` (Bokeh's rule for other threads).
 
-With ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` the chunks run on a Dask cluster instead
-(:mod:`app.dask_backend`).
+With ``RINGLAB_COMPUTE=processes`` (a LocalCluster of one worker process per core, started by
+the app) or ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` (an existing Dask cluster) the chunks
+compute on Dask workers (:mod:`app.remote`): the threads of this pool then only wait for the
+workers' results (``REMOTE_THREADS`` of them, so every session can have its chunk in flight)
+and the workers share their cores between the sessions.
 """
 from __future__ import annotations
 
@@ -25,6 +28,7 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 
 ENV_MAX = "RINGLAB_MAX_COMPUTE"
+REMOTE_THREADS = 256  # waiting threads when the chunks compute on Dask workers
 
 
 def max_compute() -> int:
@@ -47,12 +51,15 @@ class ComputePool:
     Parameters
     ----------
     workers : int
-        Threads, i.e. chunks computing at once.
+        Chunks computing at once (the threads, unless ``threads`` is given).
+    threads : int, optional
+        Threads when the chunks compute elsewhere (:mod:`app.remote`); ``busy`` still counts
+        ``workers`` slots.
     """
 
-    def __init__(self, workers: int):
+    def __init__(self, workers: int, threads: int | None = None):
         self.workers = int(workers)
-        self._executor = ThreadPoolExecutor(self.workers, thread_name_prefix="ringlab-compute")
+        self._executor = ThreadPoolExecutor(threads or self.workers, thread_name_prefix="ringlab-compute")
         self._lock = threading.Lock()
         self.queued = 0  # submitted, not yet started
         self.active = 0  # computing now
@@ -103,5 +110,6 @@ def pool() -> ComputePool:
     global _POOL
     with _POOL_LOCK:
         if _POOL is None:
-            _POOL = ComputePool(max_compute())
+            from . import remote
+            _POOL = ComputePool(max_compute(), REMOTE_THREADS if remote.active() else None)
         return _POOL

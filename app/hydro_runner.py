@@ -32,6 +32,7 @@ import param
 from ringcore.engine import state_to_dataset
 from ringcore.hydro import Hydro1D, HydroBlowUp
 
+from . import remote
 from .export import run_file_bytes
 from .hydro_settings import BUFFER_PARAMS, SETUP_PARAMS, HydroSettings
 from .linear_model import characteristic_numbers
@@ -83,8 +84,10 @@ class HydroRunner(LiveLoop, HydroSettings):
         if self.initial == "mode":
             kw["wavelength"] = self.wavelength
         max_rows = max(100, int(MAX_STROBE_BYTES / (4 * opt.n)))
-        self.sim = sim = Hydro1D(p, opt, initial=self.initial, max_samples=MAX_RECORD_SAMPLES, max_rows=max_rows,
-                                 **kw)
+        old = self.sim
+        if isinstance(old, remote.RemoteSim):
+            old.detach()  # [cluster] the previous run may be kept (RunKeeper): bring it back, free the worker
+        sim = Hydro1D(p, opt, initial=self.initial, max_samples=MAX_RECORD_SAMPLES, max_rows=max_rows, **kw)
         self.numbers = characteristic_numbers(self.settings())
         self.strobe_image = SpaceTimeImage(sim.n, 1.0)
         self.orbit_image = RollingImage(sim.n, 1.0 / opt.samples_per_orbit)  # last 25 orbits
@@ -92,6 +95,7 @@ class HydroRunner(LiveLoop, HydroSettings):
         d = sim.diagnostics()  # the sample at t = 0 was recorded before the callback existed
         self._on_sample(sim, dict(orbit=d["orbit"], e_kin=d["e_kin"], lambda_p_m=d["lambda_p_m"], dt_orbits=0.0,
                                   strobe_row=sim.sigma.astype(np.float32) if opt.strobe else None))
+        self.sim = sim = remote.wrap(sim)  # [cluster] chunks on Dask workers (RINGLAB_COMPUTE / _DASK_SCHEDULER)
         sim.on_sample(self._on_sample)
         self.blowup = ""
         self.buffer_events = []
@@ -202,7 +206,8 @@ class HydroRunner(LiveLoop, HydroSettings):
         """Copy a new sample (pushed by the solver right after recording it) into the live buffers."""
         t = sample["orbit"]
         self.series.add(t, e_kin=sample["e_kin"], lambda_p=sample["lambda_p_m"])
-        self.orbit_image.add(t, sim.U[0])
+        row = sample.get("sigma_row")  # [cluster] a worker's chunk: the profile at the sample time
+        self.orbit_image.add(t, sim.U[0] if row is None else row)
         if sample.get("strobe_row") is not None:
             self.strobe_image.add(t, sample["strobe_row"])
 
@@ -266,5 +271,7 @@ class HydroRunner(LiveLoop, HydroSettings):
         self.pause()
         if self.sim is not None and self.sim.orbits > 0:  # one line per run freed; none if it never ran
             pn.state.log(f"hydro run of a closed session freed at orbit {self.sim.orbits:.2f}")
+            if isinstance(self.sim, remote.RemoteSim):
+                self.sim.release()  # [cluster] the worker drops its copy
         self.sim = None
         self.status = "Closed."

@@ -15,6 +15,8 @@ and submits its next chunk.  Everything that reads or changes the simulation fro
 event loop either runs between chunks (frames) or takes ``compute_lock`` (setup changes,
 exports).  A session whose page has gone (websocket closed) is freed at its next chunk
 boundary, with one log line, instead of computing until Bokeh destroys the session.
+With the chunks on Dask workers (:mod:`app.remote`) the runner's ``sim`` may have a chunk
+computed ahead; Pause takes it into the shown state (``settle``) before the final frame.
 """
 from __future__ import annotations
 
@@ -64,6 +66,8 @@ class LiveLoop:
         if not self.blowup:
             self.status = "Paused."
         if not self._inflight and not self._closed:
+            if self._ahead() and self.offload(self._settle):  # [cluster] a worker's chunk computed ahead
+                return
             self.frame += 1
 
     def offload(self, work, then=None) -> bool:
@@ -95,6 +99,17 @@ class LiveLoop:
         with self.compute_lock:
             if self.running and not self._closed:
                 self.advance(self.budget_s, until=self.pause_at)
+            if not self.running and not self._closed:
+                self._settle()  # paused meanwhile: the frame that follows shows the kept state
+
+    def _ahead(self) -> bool:
+        return bool(getattr(getattr(self, "sim", None), "computing_ahead", False))
+
+    def _settle(self) -> None:
+        """Take a chunk a Dask worker computed ahead (app.remote) into the shown state."""
+        settle = getattr(getattr(self, "sim", None), "settle", None)
+        if settle is not None:
+            settle()
 
     def _run_locked(self, work):
         with self.compute_lock:

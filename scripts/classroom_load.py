@@ -1,6 +1,7 @@
 """Classroom load test: K simulated students on one ringlab server (issue 12; not a CI test).
 
-    python scripts/classroom_load.py --students K --seconds S [--dask] [--num-procs N] --json
+    python scripts/classroom_load.py --students K --seconds S [--compute threads|processes] [--dask]
+                                     [--num-procs N] --json
 
 Starts ``panel serve app/main.py`` (subprocess, loopback, free port) and opens K real Panel
 sessions without a browser (Bokeh client sessions on one event loop).  Each student opens
@@ -11,8 +12,11 @@ source changed; the client does the same), without rendering.  Orbits are read f
 session's own "Orbits elapsed" readout, i.e. what the page shows.  One more session stays on
 the Linear-theory tab and moves its sigma0 slider every 2 s: the control latency is the time
 until its linear-theory readout shows the new value.  CPU cores and memory are summed over
-the server's process tree with psutil (and over the Dask workers with ``--dask``).
-Prints one JSON object.
+the server's process tree with psutil (and over the Dask workers with ``--dask``);
+``server_process_cores`` is the app server process alone.  ``--compute processes`` runs the
+server with ``RINGLAB_COMPUTE=processes`` (its own LocalCluster, one worker per core);
+``--dask`` starts a LocalCluster of 2 single-threaded worker processes here and points the
+server at it with ``RINGLAB_DASK_SCHEDULER``.  Prints one JSON object.
 """
 from __future__ import annotations
 
@@ -168,11 +172,14 @@ def run(args) -> dict:
     from bokeh.client import ClientSession
     from tornado.ioloop import IOLoop, PeriodicCallback
 
+    os.environ["PYTHONPATH"] = str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")  # workers import app
+    sys.path.insert(0, str(ROOT))
     env = dict(os.environ)
+    env["RINGLAB_COMPUTE"] = args.compute if not args.dask else "dask"
     cluster = None
     if args.dask:
         from dask.distributed import LocalCluster
-        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None)
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
         env["RINGLAB_DASK_SCHEDULER"] = cluster.scheduler_address
     port = free_port()
     server = start_server(port, args.num_procs, env)
@@ -201,6 +208,7 @@ def run(args) -> dict:
         def mark_start():
             marks["t0"] = time.perf_counter()
             marks["cpu0"], _ = cpu_rss(tree(server.pid) + worker_procs(cluster))
+            marks["own0"], _ = cpu_rss([psutil.Process(server.pid)])
         loop.call_later(args.warmup, mark_start)
         loop.call_later(args.warmup + args.seconds, loop.stop)
         loop.start()
@@ -213,7 +221,8 @@ def run(args) -> dict:
         lat = probe.latencies or [float("nan")]
         server_only = cpu_rss([psutil.Process(server.pid)])[0]
         out = dict(students=args.students, seconds=round(t1 - marks["t0"], 1), num_procs=args.num_procs,
-                   dask=bool(args.dask), per_session_orbits_per_s=[round(r, 2) for r in rates],
+                   dask=bool(args.dask), compute=env["RINGLAB_COMPUTE"],
+                   server_process_cores=round((server_only - marks["own0"]) / (t1 - marks["t0"]), 2), per_session_orbits_per_s=[round(r, 2) for r in rates],
                    aggregate_orbits_per_s=round(sum(rates), 2),
                    min_max_ratio=round(max(rates) / min(rates), 2) if min(rates) > 0 else None,
                    server_cores=round((cpu1 + wcpu1 - scpu0) / (t1 - marks["t0"]), 2),
@@ -235,11 +244,21 @@ def run(args) -> dict:
         out["cores_5s_after_close"] = round((c1 - c0) / 2.0, 2)
         return out
     finally:
+        try:  # --num-procs N: the forked server processes too
+            children = psutil.Process(server.pid).children(recursive=True)
+        except psutil.Error:
+            children = []
         server.terminate()
         try:
             server.wait(10)
         except subprocess.TimeoutExpired:
             server.kill()
+        for c in children:
+            try:
+                c.terminate()
+            except psutil.Error:
+                pass
+        psutil.wait_procs(children, timeout=10)
         if cluster is not None:
             cluster.close()
 
@@ -258,6 +277,8 @@ def main(argv=None) -> int:
     ap.add_argument("--warmup", type=float, default=8.0, help="seconds before measuring (numba, first frames)")
     ap.add_argument("--num-procs", type=int, default=1)
     ap.add_argument("--dask", action="store_true", help="run the simulations on a LocalCluster of 2 workers")
+    ap.add_argument("--compute", choices=("threads", "processes"), default="threads",
+                    help="RINGLAB_COMPUTE of the server (processes: its own LocalCluster)")
     ap.add_argument("--json", action="store_true", help="print one JSON object (the default output)")
     args = ap.parse_args(argv)
     if not 1 <= args.students <= 200:
