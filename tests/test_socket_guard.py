@@ -117,12 +117,29 @@ def test_bokeh_handler_drops_messages_and_answers_of_a_page_that_has_gone(caplog
         async def send(self, conn):
             raise WebSocketClosedError()
     open_h = fake_handler(closing=False, detached=False)
-    with caplog.at_level(logging.INFO):
+    # a handler of our own on bokeh's logger (other tests, e.g. dask's, reconfigure logging and propagation)
+    records = []
+    catcher = logging.Handler(logging.DEBUG)
+    catcher.emit = records.append
+    bokeh_log = logging.getLogger("bokeh")
+    saved = (bokeh_log.level, bokeh_log.disabled)
+    bokeh_log.addHandler(catcher)
+    bokeh_log.setLevel(logging.INFO)
+    bokeh_log.disabled = False
+    ws_log = logging.getLogger("bokeh.server.views.ws")
+    ws_saved = ws_log.disabled
+    ws_log.disabled = False
+    try:
         asyncio.run(open_h.send_message(Msg()))  # the write finds the reset: no warning
         h.on_close()  # already detached by the keep-alive: no AssertionError, clean-up done
+    finally:
+        bokeh_log.removeHandler(catcher)
+        bokeh_log.setLevel(saved[0])
+        bokeh_log.disabled = saved[1]
+        ws_log.disabled = ws_saved
     assert h.lost == [h.connection]
-    assert not [r for r in caplog.records if "Failed sending" in r.getMessage()]
-    assert [r.getMessage() for r in caplog.records] == ["WebSocket connection closed: code=1001, reason=None"]
+    assert not [r for r in records if "Failed sending" in r.getMessage()]
+    assert [r.getMessage() for r in records] == ["WebSocket connection closed: code=1001, reason=None"]
 
 
 def test_unguarded_bokeh_on_close_of_a_detached_connection_fails():
