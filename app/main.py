@@ -58,7 +58,8 @@ def create_app() -> pn.Column:
     runs = SessionRuns()
     views = [_make(factory, runs) for _, factory in TABS]
     tabs = pn.Tabs(*[(title, view) for (title, _), view in zip(TABS, views)], dynamic=True,
-                   sizing_mode="stretch_width", stylesheets=[":host .bk-tab {font-size: 16px;}"],
+                   sizing_mode="stretch_width", stylesheets=[":host .bk-tab {font-size: 16px;}",
+                                ":host .bk-headers-wrapper {flex-wrap: wrap;}"],
                    styles={"flex": "1 1 720px", "min-width": "0"})
     for view in views:  # [connect] the Linear tab's "Run this in ..." buttons show the other tabs
         if "tabs" in getattr(view, "param", ()):
