@@ -26,7 +26,7 @@ from .hydro_settings import SETTINGS_PARAMS, SETUP_PARAMS
 from .linear_view import _set_labels, page_row, responsive_grid, wrap_row
 from .live_common import (BUFFER_COLOR, CSS, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, FrameGate, fmt,
                           message_pane, on_session_end, readout_cards, show_message)
-from .run_keeper import RunKeeper
+from .run_keeper import RunKeeper, restore_widgets
 from .tutorials import tab_links
 from .paper_cite import publish
 
@@ -86,12 +86,7 @@ class HydroView(pn.viewable.Viewer):
         self.model_note = message_pane("hydro-model-note")
         self.checked = {}
         self.keeper = RunKeeper(r, SETUP_PARAMS, SETTINGS_PARAMS)
-        self.restore_button = pn.widgets.Button(label="Restore previous run", color="primary", width=200,
-                                                sizing_mode="fixed",
-                                                css_classes=["hydro-restore"], visible=False)
-        self.restore_button.on_click(self.keeper.restore)
-        self.kept = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(2, 10), visible=False)
-        self.keeper.param.watch(self._on_kept, "kept_label")
+        self.kept, self.restore_button = restore_widgets(self.keeper, "hydro", CSS)
         r.param.watch(lambda e: show_message(self.model_note, e.new, "ok"), "model_note")
         self._last_rate = (math.nan, math.nan)
         self.buttons = self._buttons()
@@ -187,13 +182,6 @@ class HydroView(pn.viewable.Viewer):
         return page_row(pn.Column(self._widgets(), self.export, width=340),
                         pn.Column(self.header, controls, self.status, kept, self.blowup, self.readouts, self.key,
                                   top, bottom, explanation, sizing_mode="stretch_width"))
-
-    def _on_kept(self, *_):
-        label = self.keeper.kept_label
-        if label:
-            self.kept.object = (f'<div class="msg-ok" id="hydro-kept">Previous run kept: {label}. '
-                                'Restore it with its settings and plots:</div>')
-        self.kept.visible = self.restore_button.visible = bool(label)
 
     @staticmethod
     def _key_pane() -> pn.pane.HTML:

@@ -24,7 +24,7 @@ from .linear_view import page_row, responsive_grid, wrap_row
 from .live_common import (CSS, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR, FrameGate, fmt, message_pane,
                           new_figure, on_session_end, readout_cards, show_message, wavelength_markers)
 from .nbody_runner import SETUP_PARAMS, NBodyRunner
-from .run_keeper import RunKeeper
+from .run_keeper import RunKeeper, restore_widgets
 from .paper_cite import publish
 from .tutorials import tab_links
 
@@ -81,12 +81,7 @@ class NBodyView(pn.viewable.Viewer):
             self.buttons[key].param.update(width=120, sizing_mode="fixed")
         self.export = ExportPanel(r, "nbody")
         self.keeper = RunKeeper(r, SETUP_PARAMS, SETUP_PARAMS, sim_attr="box")
-        self.restore_button = pn.widgets.Button(label="Restore previous run", color="primary", width=200,
-                                                sizing_mode="fixed",
-                                                css_classes=["nbody-restore"], visible=False)
-        self.restore_button.on_click(self.keeper.restore)
-        self.kept = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(2, 10), visible=False)
-        self.keeper.param.watch(self._on_kept, "kept_label")
+        self.kept, self.restore_button = restore_widgets(self.keeper, "nbody", CSS)
         self._layout = self._build_layout()
         r.param.watch(self._on_frame, "frame")
         r.param.watch(self._on_state, ["running", "status", "problem", "blowup"])
@@ -169,13 +164,6 @@ class NBodyView(pn.viewable.Viewer):
         return page_row(pn.Column(widgets, self.export, width=340),
                         pn.Column(self.header, buttons, self.status, kept, self.blowup, self.readouts, key,
                                   self.note, plots, explanation, sizing_mode="stretch_width"))
-
-    def _on_kept(self, *_):
-        label = self.keeper.kept_label
-        if label:
-            self.kept.object = (f'<div class="msg-ok" id="nbody-kept">Previous run kept: {label}. '
-                                'Restore it with its settings and plots:</div>')
-        self.kept.visible = self.restore_button.visible = bool(label)
 
     @staticmethod
     def _key_html() -> str:

@@ -8,8 +8,8 @@ simulation and the old one had run.  :meth:`RunKeeper.restore` puts the settings
 re-attaches the old simulation with its plot buffers, so nothing is lost; the run it
 replaces is kept in turn (a second click swaps back).
 
-Until the engines' ``snapshot()`` / ``restore()`` are merged, the kept run is the old
-simulation object itself (the runner only replaces it, never mutates it after a rebuild).
+The kept run is the old simulation object itself (the runner only replaces it, never mutates
+it after a rebuild).  :func:`restore_widgets` gives a tab the note and the button that show it.
 """
 from __future__ import annotations
 
@@ -99,3 +99,27 @@ class RunKeeper(param.Parameterized):
         """Forget the kept run (frees its memory)."""
         self._kept = None
         self.kept_label = ""
+
+
+def restore_widgets(keeper: RunKeeper, prefix: str, css: str):
+    """The "Previous run kept: ..." note and the "Restore previous run" button of a live tab.
+
+    Both are hidden until ``keeper`` keeps a run; ``prefix`` ("hydro", "nbody") names their
+    element id / CSS class (``{prefix}-kept``, ``{prefix}-restore``).  Returns ``(note, button)``.
+    """
+    import panel as pn
+
+    button = pn.widgets.Button(label="Restore previous run", color="primary", width=200, sizing_mode="fixed",
+                               css_classes=[f"{prefix}-restore"], visible=False)
+    button.on_click(keeper.restore)
+    note = pn.pane.HTML("", stylesheets=[css], sizing_mode="stretch_width", margin=(2, 10), visible=False)
+
+    def show(*_):
+        label = keeper.kept_label
+        if label:
+            note.object = (f'<div class="msg-ok" id="{prefix}-kept">Previous run kept: {label}. '
+                           'Restore it with its settings and plots:</div>')
+        note.visible = button.visible = bool(label)
+
+    keeper.param.watch(show, "kept_label")
+    return note, button
