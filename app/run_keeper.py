@@ -16,7 +16,7 @@ from __future__ import annotations
 import param
 
 _NOT_KEPT = ("_param__private", "_callback", "_rates", "compute_lock", "_inflight", "_closed", "_doc",
-             "_had_connection", "chunk_waits")  # param internals, the session's callback and compute loop state
+             "_had_connection", "chunk_waits", "pause_at")  # param internals, the session's callback, compute loop state
 
 
 class RunKeeper(param.Parameterized):
