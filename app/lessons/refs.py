@@ -1,30 +1,17 @@
 """Citations of the paper in the lessons, worksheets and glossary: one place to change them.
 
 Everything the teaching layer prints about the paper goes through :func:`cite`, which
-today writes the LaTeX label of Lehmann, Schmidt & Salo (2017) (``eq. (lambdasigma)``,
-``Figure "lambdap"``).  If ``ringcore.paperrefs`` (published equation and figure
-numbers) is present, its numbers are used and the label is kept in a tooltip.
+prints the published equation and figure numbers of Lehmann, Schmidt & Salo (2017)
+(:mod:`ringcore.paperrefs`, through :mod:`app.paper_cite`) with the LaTeX label in a tooltip.
 """
 from __future__ import annotations
 
 import html
-import re
+
+from ..paper_cite import _published, publish  # noqa: F401  (publish re-exported)
 
 _FIG = ("fig", "figure")
 _TAB = ("tab", "table")
-
-
-def _published(kind: str, label: str) -> str | None:
-    """Published number from ringcore.paperrefs, or None if that module is not there (yet)."""
-    try:
-        from ringcore import paperrefs  # provided by another branch; optional
-    except ImportError:
-        return None
-    try:
-        fn = paperrefs.fig if kind == "fig" else paperrefs.eq
-        return str(fn(label))
-    except Exception:  # an unknown label must not break a page
-        return None
 
 
 def cite(label: str, html_out: bool = True) -> str:
@@ -72,5 +59,3 @@ def render(text: str, html_out: bool = True) -> str:
             out.append(html.escape(part, quote=False) if html_out else part)
     return "".join(out)
 
-
-from ..paper_cite import publish  # noqa: E402,F401  (re-exported)
