@@ -111,5 +111,9 @@ def pool() -> ComputePool:
     with _POOL_LOCK:
         if _POOL is None:
             from . import remote
+            import sys
+            sv = os.environ.get("RINGLAB_SWITCH_INTERVAL", "").strip()
+            if sv:
+                sys.setswitchinterval(float(sv))
             _POOL = ComputePool(max_compute(), REMOTE_THREADS if remote.active() else None)
         return _POOL

@@ -38,7 +38,7 @@ from ringcore.engine import BlowUp, engine_class
 ENV_MODE = "RINGLAB_COMPUTE"
 ENV_SCHEDULER = "RINGLAB_DASK_SCHEDULER"
 ENV_WORKERS = "RINGLAB_WORKERS"
-MODES = ("threads", "processes", "dask")
+MODES = ("auto", "threads", "processes", "dask")
 MIN_CHUNK_S = 0.1  # wall budget of a chunk on a worker at least [s]: amortises the ~10 ms round trip
 
 
@@ -46,6 +46,13 @@ def light(state):
     """``state`` without its recorder series (zero-length arrays of the same names)."""
     arrays = {k: (v[:0] if k.startswith("rec_") else v) for k, v in state.arrays.items()}
     return type(state)(state.kind, state.params, state.options, arrays, state.meta)
+
+
+def light_snapshot(engine):
+    """The light state of ``engine`` (a hydro run's recorder series are not even copied)."""
+    if engine.kind == "hydro":
+        return engine.snapshot(records=False)
+    return light(engine.snapshot())
 
 
 class EngineHost:
@@ -70,14 +77,14 @@ class EngineHost:
             advanced = self.sim.advance(orbits, until=until, max_wall_s=max_wall_s)
         except BlowUp as exc:
             blowup = (exc.fields(), str(exc))
-        return dict(advanced=advanced, light=light(self.sim.snapshot()), samples=self.samples, blowup=blowup)
+        return dict(advanced=advanced, light=light_snapshot(self.sim), samples=self.samples, blowup=blowup)
 
     def call(self, name: str, *args):
         """Apply a state change (``set_buffer``, ``clear_buffer``); returns the new light state."""
         if name not in ("set_buffer", "clear_buffer"):
             raise ValueError(f"name = {name!r} is not valid: allowed 'set_buffer', 'clear_buffer'")
         getattr(self.sim, name)(*args)
-        return light(self.sim.snapshot())
+        return light_snapshot(self.sim)
 
     def snapshot(self):
         return self.sim.snapshot()
@@ -344,15 +351,27 @@ def _cores() -> int:
     return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1))
 
 
-def mode() -> str:
-    """``threads``, ``processes`` or ``dask`` from ``RINGLAB_COMPUTE`` / ``RINGLAB_DASK_SCHEDULER``."""
+def _in_server() -> bool:
+    import panel as pn
+    doc = pn.state.curdoc
+    return doc is not None and doc.session_context is not None
+
+
+def mode(in_server: bool | None = None) -> str:
+    """``threads``, ``processes`` or ``dask`` from ``RINGLAB_COMPUTE`` / ``RINGLAB_DASK_SCHEDULER``.
+
+    Unset (or ``auto``): ``processes`` for the runs of a server session on a machine with two or
+    more cores, ``threads`` otherwise (one core; headless use: tests, notebooks, scripts).
+    ``in_server`` overrides the check for a server session (default: ``pn.state.curdoc``).
+    """
     raw = os.environ.get(ENV_MODE, "").strip().lower()
     if os.environ.get(ENV_SCHEDULER, "").strip():
         if raw not in ("", "dask"):
             raise ValueError(f"{ENV_MODE} = {raw!r} is not valid with {ENV_SCHEDULER} set: allowed 'dask' or unset")
         return "dask"
-    if raw == "":
-        return "threads"
+    if raw in ("", "auto"):
+        in_server = _in_server() if in_server is None else in_server
+        return "processes" if in_server and _cores() >= 2 else "threads"
     if raw not in MODES:
         raise ValueError(f"{ENV_MODE} = {raw!r} is not valid: allowed {', '.join(MODES)}")
     if raw == "dask":
@@ -379,12 +398,25 @@ def backend() -> DaskBackend | None:
             else:
                 raw = os.environ.get(ENV_WORKERS, "").strip()
                 _BACKEND = DaskBackend(None, int(raw) if raw else None)
+            import logging
+            where = "an existing Dask cluster" if m == "dask" else "a LocalCluster"
+            logging.getLogger("panel.state").info(
+                f"live hydro runs compute on {where}: {len(_BACKEND.workers())} worker processes, "
+                f"{_BACKEND.slots()} threads ({ENV_MODE}={os.environ.get(ENV_MODE, '') or 'unset'})")
         return _BACKEND
 
 
 def active() -> bool:
     """True if new runs compute on Dask workers."""
     return _BACKEND is not None or mode() != "threads"
+
+
+def warm() -> None:
+    """Start (or connect to) the backend in the background if the runs of this server will use one, so
+    that the first Start of a class does not wait for the worker processes (called per session)."""
+    if _BACKEND is not None or mode() == "threads":
+        return
+    threading.Thread(target=backend, name="ringlab-backend-start", daemon=True).start()
 
 
 def wrap(engine):

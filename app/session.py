@@ -60,6 +60,8 @@ class SessionRuns(param.Parameterized):
         super().__init__(**params)
         socket_guard.install()  # once per server process (both idempotent)
         show_app_log()
+        from . import remote
+        remote.warm()  # the worker processes start with the first page, not at the first Start
 
     def add_hydro_run(self, min_orbits: float = 20.0) -> str:
         """Add the hydro run's saturated lambda_p (median over its last quarter); returns a message.

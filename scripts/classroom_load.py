@@ -61,6 +61,14 @@ def start_server(port: int, num_procs: int, env: dict) -> subprocess.Popen:
     raise RuntimeError("the server did not start within 120 s")
 
 
+def main_thread_cpu(pid: int) -> float:
+    """CPU seconds of the server's main thread (the Bokeh/Tornado event loop; its thread id is the pid)."""
+    for t in psutil.Process(pid).threads():
+        if t.id == pid:
+            return t.user_time + t.system_time
+    return float("nan")
+
+
 def tree(proc_pid: int) -> list:
     p = psutil.Process(proc_pid)
     return [p] + p.children(recursive=True)
@@ -79,7 +87,14 @@ def cpu_rss(procs) -> tuple[float, float]:
 
 
 class Student:
-    """One Panel session driven like a page: switch to the hydro tab, Start, acknowledge frames."""
+    """One Panel session driven like a page: the hydro tab opened and started, frames acknowledged.
+
+    Until the plot sources and the readout are found the server's messages are applied to the
+    client document (the models of a tab may arrive in a patch); after that each message is only
+    scanned: a new ``data`` of a plot source is acknowledged as the page's ``CustomJS`` does, and
+    the "Orbits elapsed" readout is read from the new ``text`` of the readout pane.  Skipping
+    Bokeh's deserialisation keeps this client cheap: it shares the 2 cores with the server.
+    """
 
     def __init__(self, session):
         self.s = session
@@ -89,22 +104,16 @@ class Student:
         self.started = False
         self.hooked = set()
         self.ack_fig = {}  # source id -> figure to acknowledge on
-        self.doc.on_change(self._event)
+        self.readout_id = None
+        self.poll()
 
-    def _event(self, event):
-        """A frame reached this "page": acknowledge it as the page's CustomJS does."""
-        model = getattr(event, "model", None)
-        fig = self.ack_fig.get(getattr(model, "id", None))
-        if fig is None or getattr(event, "attr", "data") != "data":
-            return
+    def _ack(self, fig):
+        """Acknowledge a frame as the page's ``CustomJS`` does (bump the figure's ``tags``)."""
         fig.tags = [(fig.tags[0] if fig.tags else 0) + 1]
         self.acks += 1
 
-    def models(self, name):
-        return [m for m in self.doc.models if type(m).__name__ == name]
-
     def poll(self):
-        """Hook up acknowledgements and the readout once the hydro tab's models exist."""
+        """Find the plot sources (and the figures their acknowledgement bumps) and the readout pane."""
         for src_name in ("hydro-profile-source", "hydro-spacetime-source"):
             if src_name in self.hooked:
                 continue
@@ -114,14 +123,27 @@ class Student:
             # the figure whose ``tags`` the page's CustomJS bumps (app.live_common.FrameGate)
             figs = [cb.args.get("fig") for cb in src.js_property_callbacks.get("change:data", [])
                     if "fig" in getattr(cb, "args", {})]
-            if not figs:
-                continue
-            self.ack_fig[src.id] = figs[0]
-            self.hooked.add(src_name)
-        for m in self.models("HTML"):
-            if "text" in m.properties() and 'id="hydro-readouts"' in html.unescape(m.text or "") and "readouts" not in self.hooked:
-                m.on_change("text", lambda attr, old, new: self._readout(new))
-                self.hooked.add("readouts")
+            if figs:
+                self.ack_fig[src.id] = figs[0]
+                self.hooked.add(src_name)
+        if self.readout_id is None:
+            for m in self.doc.models:
+                if (type(m).__name__ == "HTML" and "text" in m.properties()
+                        and 'id="hydro-readouts"' in html.unescape(m.text or "")):
+                    self.readout_id = m.id
+                    self.hooked.add("readouts")
+
+    def on_message(self, message):
+        if len(self.hooked) < 3:
+            self.s._handle_patch(message)
+            self.poll()
+            return
+        for ev in message.content.get("events", ()):
+            mid = (ev.get("model") or {}).get("id")
+            if ev.get("attr") == "data" and mid in self.ack_fig:
+                self._ack(self.ack_fig[mid])
+            elif mid == self.readout_id and ev.get("attr") == "text":
+                self._readout(ev.get("new"))
 
     def _readout(self, text):
         m = ORBITS_RE.search(html.unescape(text or ""))
@@ -145,7 +167,6 @@ class Prober:
                            and "σ₀" in (m.title or "") and "Compare" not in (m.title or ""))
         self.readout = next(m for m in self.doc.models if type(m).__name__ == "HTML"
                             and "text" in m.properties() and 'id="linear-readouts"' in html.unescape(m.text or ""))
-        self.readout.on_change("text", self._changed)
         self.t_sent = None
         self.latencies = []
         self.values = [300.0, 500.0]
@@ -161,15 +182,34 @@ class Prober:
         self.slider.value = v
         self.doc.callbacks.trigger_on_change(ModelChangedEvent(self.doc, self.slider, "value_throttled", v))
 
-    def _changed(self, attr, old, new):
-        if self.t_sent is not None:
-            self.latencies.append(time.perf_counter() - self.t_sent)
-            self.t_sent = None
+    def on_message(self, message):
+        for ev in message.content.get("events", ()):
+            if (ev.get("model") or {}).get("id") == self.readout.id and ev.get("attr") == "text":
+                if self.t_sent is not None:
+                    self.latencies.append(time.perf_counter() - self.t_sent)
+                    self.t_sent = None
+
+
+async def pump(session, reader) -> None:
+    """Read the server's messages for one client session and hand each PATCH-DOC to ``reader``.
+
+    (Bokeh's own ``ClientConnection._next`` awaits itself once per message and overflows the
+    stack after a few thousand frames; this is the same loop without the recursion.)
+    """
+    conn = session._connection
+    while True:
+        message = await conn._pop_message()
+        if message is None:
+            return
+        if message.msgtype == "PATCH-DOC":
+            reader.on_message(message)
 
 
 def run(args) -> dict:
     import panel  # noqa: F401  (registers Panel's models for the client documents)
     from bokeh.client import ClientSession
+    from bokeh.document.events import MessageSentEvent
+    from bokeh.events import DocumentReady
     from tornado.ioloop import IOLoop, PeriodicCallback
 
     os.environ["PYTHONPATH"] = str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")  # workers import app
@@ -190,16 +230,16 @@ def run(args) -> dict:
         def connect(arguments=None):
             s = ClientSession(websocket_url=url, io_loop=loop, arguments=arguments)
             s.pull()
+            # the page tells the server it has rendered the document (Bokeh's DocumentReady event): Panel
+            # then counts the session as connected; until then it sends no held changes (plot data)
+            s.document.callbacks.trigger_on_change(MessageSentEvent(s.document, "bokeh_event", DocumentReady()))
             return s
         sessions = [connect(dict(tab="hydro", autostart="1")) for _ in range(args.students)]
         probe_session = connect()
         probe = Prober(probe_session)
         students = [Student(s) for s in sessions]
-        for s in sessions + [probe_session]:  # keep reading every connection (as loop_until_closed does)
-            s._connection._until_predicate = None
-            loop.add_callback(s._connection._next)
-        polls = PeriodicCallback(lambda: [st.poll() for st in students], 200)
-        polls.start()
+        for s, reader in zip(sessions + [probe_session], students + [probe]):  # keep reading every connection
+            loop.add_callback(pump, s, reader)
         loop.call_later(args.warmup, lambda: probes.start())
         probes = PeriodicCallback(probe.move, 2000)
         t_start = time.perf_counter()
@@ -209,6 +249,8 @@ def run(args) -> dict:
             marks["t0"] = time.perf_counter()
             marks["cpu0"], _ = cpu_rss(tree(server.pid) + worker_procs(cluster))
             marks["own0"], _ = cpu_rss([psutil.Process(server.pid)])
+            marks["client0"] = time.process_time()
+            marks["main0"] = main_thread_cpu(server.pid)
         loop.call_later(args.warmup, mark_start)
         loop.call_later(args.warmup + args.seconds, loop.stop)
         loop.start()
@@ -228,6 +270,8 @@ def run(args) -> dict:
                    server_cores=round((cpu1 + wcpu1 - scpu0) / (t1 - marks["t0"]), 2),
                    server_rss_mb=round(rss, 0), control_latency_s=dict(
                        median=round(statistics.median(lat), 3), max=round(max(lat), 3), n=len(probe.latencies)),
+                   server_main_thread_cores=round((main_thread_cpu(server.pid) - marks["main0"]) / (t1 - marks["t0"]), 2),
+                   client_cores=round((time.process_time() - marks["client0"]) / (t1 - marks["t0"]), 2),
                    acks=[st.acks for st in students], started=[st.started for st in students],
                    hooked=[len(st.hooked) for st in students], load_average=[round(x, 2) for x in os.getloadavg()],
                    setup_s=round(marks["t0"] - t_start, 1))

@@ -47,13 +47,20 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-def start_server(port: int, log_path: Path, extra=()) -> tuple[subprocess.Popen, float]:
-    """Start ``panel serve app/main.py`` and wait for /liveness; returns (process, seconds to liveness)."""
+def start_server(port: int, log_path: Path, extra=(), compute: str | None = None) -> tuple[subprocess.Popen, float]:
+    """Start ``panel serve app/main.py`` and wait for /liveness; returns (process, seconds to liveness).
+
+    ``compute``: the server's ``RINGLAB_COMPUTE`` (default: the environment's, else ``threads``: the
+    browser tests keep their runs in the server process; ``tests/test_browser_backend.py`` runs the
+    app's own default, worker processes).
+    """
     cmd = [sys.executable, "-m", "panel", "serve", "app/main.py", "--port", str(port), "--address", "127.0.0.1",
            "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness", *extra]
+    env = dict(os.environ)
+    env["RINGLAB_COMPUTE"] = compute if compute is not None else os.environ.get("RINGLAB_COMPUTE", "threads")
     log = open(log_path, "w")
     t0 = time.perf_counter()
-    proc = subprocess.Popen(cmd, cwd=REPO, stdout=log, stderr=subprocess.STDOUT)
+    proc = subprocess.Popen(cmd, cwd=REPO, env=env, stdout=log, stderr=subprocess.STDOUT)
     deadline = t0 + 120.0  # a loaded shared 2-core machine
     while time.perf_counter() < deadline:
         if proc.poll() is not None:

@@ -134,11 +134,15 @@ def test_a_blow_up_on_a_worker_reaches_the_runner_as_the_engines_exception():
 def test_backend_choice_from_the_environment(monkeypatch):
     monkeypatch.delenv(remote.ENV_SCHEDULER, raising=False)
     monkeypatch.delenv(remote.ENV_MODE, raising=False)
-    assert remote.mode() == "threads"
+    assert remote.mode() == "threads"  # headless (no server session): in this process
+    cores = remote._cores()
+    assert remote.mode(in_server=True) == ("processes" if cores >= 2 else "threads")  # a class: every core
+    monkeypatch.setenv(remote.ENV_MODE, "threads")
+    assert remote.mode(in_server=True) == "threads"
     monkeypatch.setenv(remote.ENV_MODE, "Processes")
     assert remote.mode() == "processes"
     monkeypatch.setenv(remote.ENV_MODE, "gpu")
-    with pytest.raises(ValueError, match="RINGLAB_COMPUTE = 'gpu' is not valid: allowed threads, processes, dask"):
+    with pytest.raises(ValueError, match="RINGLAB_COMPUTE = 'gpu' is not valid: allowed auto, threads, processes, dask"):
         remote.mode()
     monkeypatch.setenv(remote.ENV_MODE, "")
     monkeypatch.setenv(remote.ENV_SCHEDULER, "tcp://10.0.0.1:8786")

@@ -166,6 +166,19 @@ class Recorder:
             out[f + "_max"] = np.asarray(self.fmax[f])
         return out
 
+    def empty_arrays(self) -> dict:
+        """:meth:`arrays` with no records (zero rows; same names, dtypes and row widths)."""
+        out = dict(t=np.zeros(0), dt=np.zeros(0), steps=np.zeros(0, np.int64), e_kin=np.zeros(0),
+                   lambda_p=np.zeros(0), mode_sigma=np.zeros((0, self.track_modes.size), complex),
+                   mode_u=np.zeros((0, self.track_modes.size), complex),
+                   probe_sigma=np.zeros((0, self.probe_index.size)), probe_u=np.zeros((0, self.probe_index.size)),
+                   t_strobe=np.zeros(0), strobe=np.zeros((0, self.n), np.float32), t_spacetime=np.zeros(0),
+                   spacetime=np.zeros((0, self.n), np.float32))
+        for f in FIELDS:
+            out[f + "_min"] = np.zeros(0)
+            out[f + "_max"] = np.zeros(0)
+        return out
+
     def load(self, a: dict) -> None:
         """Restore records from :meth:`arrays`-like data (continuing a saved run)."""
         self.t, self.dt, self.steps = list(a["t"]), list(a["dt"]), list(a["steps"])

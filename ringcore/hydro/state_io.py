@@ -19,8 +19,12 @@ NG = K.NG
 class StateIO:
     """``snapshot``, ``restore``, ``to_dataset``, ``from_dataset``, ``save``, ``load`` of :class:`Hydro1D`."""
 
-    def snapshot(self) -> State:
+    def snapshot(self, records: bool = True) -> State:
         """The exact state as a :class:`ringcore.engine.State` (deep copy).
+
+        ``records=False`` leaves the recorder's series out (zero-length ``rec_`` arrays of the same
+        names, dtypes and row widths): the kernel state only, which still continues bit for bit,
+        and costs no more as the run grows (the app's worker chunks, :mod:`app.remote`).
 
         ``arrays``: ``U`` (nv, n) conservative state of the interior nodes (dimensionless),
         ``beta`` (n,) viscosity exponent per node, ``rec_<name>`` the recorder's raw series
@@ -30,7 +34,10 @@ class StateIO:
         """
         n, rec = self.n, self.recorder
         arrays = {"U": self._U[0][:, NG:NG + n].copy(), "beta": self._beta[NG:NG + n].copy()}
-        arrays.update({f"rec_{k}": np.array(v, copy=True) for k, v in rec.arrays().items()})
+        if records:
+            arrays.update({f"rec_{k}": np.array(v, copy=True) for k, v in rec.arrays().items()})
+        else:
+            arrays.update({f"rec_{k}": v for k, v in rec.empty_arrays().items()})
         meta = dict(t=self.t, dt=self.dt, steps=self._steps, k_sample=self._k_sample, floor_hits=self.floor_hits,
                     buffer_active=bool(self.buffer_active), buffer=None if self.buffer is None else list(self.buffer),
                     max_samples=rec.max_samples, max_rows=rec.max_rows, thinned=bool(rec.thinned))

@@ -9,6 +9,10 @@
 #
 # Runs niced (nice -n 19) from the frozen code copy /work/longruns/code (PYTHONPATH), files in /work/longruns.
 set -u
+# nice only orders processes inside one autogroup (Linux CONFIG_SCHED_AUTOGROUP, on here): a lane started with
+# setsid/nohup is its own group and would take a full share of the cores from the app and the tests. Lower the
+# group's weight too.
+echo 19 > /proc/self/autogroup 2>/dev/null || true
 DIR=${LONGRUNS:-/work/longruns}
 PY=${PY:-/work/main/.venv/bin/python}
 export PYTHONPATH=${RINGCORE_CODE:-/work/longruns/code}
