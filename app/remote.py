@@ -55,10 +55,39 @@ def light_snapshot(engine):
     return light(engine.snapshot())
 
 
+WORKER_NICE = 5  # niceness of worker processes that hold live runs (RINGLAB_WORKER_NICE; 0 leaves them)
+_RENICED = False
+
+
+def lower_worker_priority() -> int:
+    """Lower the CPU priority of this worker process (every thread; later threads inherit it) by
+    ``RINGLAB_WORKER_NICE`` (default 5), once per process; returns the niceness added.
+
+    The app server's event loop (clicks, slider readouts, frames) then gets a core before the
+    simulations do: on a machine whose cores the workers fill, a student's click is not queued
+    behind the class's chunks.  Throughput is unchanged while the server is idle.
+    """
+    global _RENICED
+    if _RENICED:
+        return 0
+    _RENICED = True
+    raw = os.environ.get("RINGLAB_WORKER_NICE", "").strip()
+    inc = int(raw) if raw.lstrip("-").isdigit() else WORKER_NICE
+    if inc <= 0 or not os.path.isdir("/proc/self/task"):
+        return 0
+    for tid in os.listdir("/proc/self/task"):  # Linux: niceness is per thread
+        try:
+            os.setpriority(os.PRIO_PROCESS, int(tid), min(19, os.getpriority(os.PRIO_PROCESS, int(tid)) + inc))
+        except OSError:
+            pass
+    return inc
+
+
 class EngineHost:
     """One session's engine on a Dask worker (an actor: ``client.submit(EngineHost, state, actor=True)``)."""
 
     def __init__(self, state):
+        lower_worker_priority()
         self.sim = engine_class(state.kind).restore(state)
         self.samples = []
         self.sim.on_sample(self._on_sample)

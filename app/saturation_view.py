@@ -86,8 +86,9 @@ def load_sweep(path: Path | None = None) -> tuple[list, str]:
     """Points (dicts: sigma0, lambda_p_m, set, isothermal, engine, saturated) of the sweep file
     (default SWEEP_FILE) and a note for the page ('' if there are points).
 
-    ``saturated`` comes from a per-run variable ``saturated`` if the file has one, else from the
-    file's ``note`` attribute (:func:`unsaturated_sigma0`); runs not named there count as saturated.
+    ``saturated`` comes from a per-run variable ``saturated`` if the file has one (``ringcore sweep``
+    writes it), else (or where it is nan) from the file's ``note`` attribute (:func:`unsaturated_sigma0`);
+    runs not named there count as saturated.
     """
     path = Path(SWEEP_FILE if path is None else path)
     if not path.exists():
@@ -102,11 +103,12 @@ def load_sweep(path: Path | None = None) -> tuple[list, str]:
     if "lambda_p_m" not in ds or "sigma0" not in ds.coords:
         return [], f"The sweep file {path.name} has no lambda_p_m / sigma0: theory only."
     tasks = ds["task"].values if "task" in ds.coords else [None] * ds.sizes.get("run", 0)
-    if "saturated" in ds:
-        flags = [bool(v) for v in ds["saturated"].values]
+    lower = unsaturated_sigma0(ds.attrs.get("note", ""))
+    by_note = [float(v) not in lower for v in ds["sigma0"].values]
+    if "saturated" in ds:  # written by ringcore sweep (ringcore.analysis.summary.saturation_flag); nan: unknown
+        flags = [bool(v) if np.isfinite(v) else n for v, n in zip(ds["saturated"].values.astype(float), by_note)]
     else:
-        lower = unsaturated_sigma0(ds.attrs.get("note", ""))
-        flags = [float(v) not in lower for v in ds["sigma0"].values]
+        flags = by_note
     pts = []
     for s, lam, t, sat in zip(ds["sigma0"].values, ds["lambda_p_m"].values, tasks, flags):
         if not (np.isfinite(s) and np.isfinite(lam)):

@@ -1,6 +1,6 @@
 """Classroom load test: K simulated students on one ringlab server (issue 12; not a CI test).
 
-    python scripts/classroom_load.py --students K --seconds S [--compute threads|processes] [--dask]
+    python scripts/classroom_load.py --students K --seconds S [--compute auto|threads|processes] [--dask]
                                      [--num-procs N] --json
 
 Starts ``panel serve app/main.py`` (subprocess, loopback, free port) and opens K real Panel
@@ -182,7 +182,21 @@ class Prober:
         self.slider.value = v
         self.doc.callbacks.trigger_on_change(ModelChangedEvent(self.doc, self.slider, "value_throttled", v))
 
+    def open_tab(self, title: str, marker: str):
+        """Open a never-opened tab (as a click on its header does); the time until a message carrying
+        ``marker`` (an element id of that tab's content) arrives is ``tab_latency_s``."""
+        tabs = next(m for m in self.doc.models if type(m).__name__ == "Tabs"
+                    and any(getattr(t, "title", "") == title for t in m.tabs))
+        index = [t.title for t in tabs.tabs].index(title)
+        self.tab_marker, self.t_tab = marker, time.perf_counter()
+        tabs.active = index
+
+    tab_marker = t_tab = None
+    tab_latency_s = None
+
     def on_message(self, message):
+        if self.tab_marker is not None and self.tab_latency_s is None and self.tab_marker in message.content_json:
+            self.tab_latency_s = round(time.perf_counter() - self.t_tab, 3)
         for ev in message.content.get("events", ()):
             if (ev.get("model") or {}).get("id") == self.readout.id and ev.get("attr") == "text":
                 if self.t_sent is not None:
@@ -237,10 +251,14 @@ def run(args) -> dict:
         sessions = [connect(dict(tab="hydro", autostart="1")) for _ in range(args.students)]
         probe_session = connect()
         probe = Prober(probe_session)
+        tab_session = connect()  # a page that opens a never-opened tab while the students run
+        tab_probe = Prober(tab_session)
         students = [Student(s) for s in sessions]
-        for s, reader in zip(sessions + [probe_session], students + [probe]):  # keep reading every connection
+        for s, reader in zip(sessions + [probe_session, tab_session], students + [probe, tab_probe]):  # keep reading every connection
             loop.add_callback(pump, s, reader)
         loop.call_later(args.warmup, lambda: probes.start())
+        loop.call_later(args.warmup + min(10.0, args.seconds / 2),
+                        lambda: tab_probe.open_tab("Paper results", "paper-run-label"))
         probes = PeriodicCallback(probe.move, 2000)
         t_start = time.perf_counter()
         marks = {}
@@ -252,6 +270,14 @@ def run(args) -> dict:
             marks["client0"] = time.process_time()
             marks["main0"] = main_thread_cpu(server.pid)
         loop.call_later(args.warmup, mark_start)
+        rss_series = []  # (seconds since the start of the measurement, RSS MB of server tree + workers)
+
+        def sample_rss():
+            if "t0" in marks:
+                rss_series.append((round(time.perf_counter() - marks["t0"], 1),
+                                   round(cpu_rss(tree(server.pid) + worker_procs(cluster))[1], 0)))
+        rss_cb = PeriodicCallback(sample_rss, 30_000)
+        loop.call_later(args.warmup, rss_cb.start)
         loop.call_later(args.warmup + args.seconds, loop.stop)
         loop.start()
         t1 = time.perf_counter()
@@ -271,14 +297,16 @@ def run(args) -> dict:
                    server_rss_mb=round(rss, 0), control_latency_s=dict(
                        median=round(statistics.median(lat), 3), max=round(max(lat), 3), n=len(probe.latencies)),
                    server_main_thread_cores=round((main_thread_cpu(server.pid) - marks["main0"]) / (t1 - marks["t0"]), 2),
+                   never_opened_tab_s=tab_probe.tab_latency_s,
                    client_cores=round((time.process_time() - marks["client0"]) / (t1 - marks["t0"]), 2),
                    acks=[st.acks for st in students], started=[st.started for st in students],
                    hooked=[len(st.hooked) for st in students], load_average=[round(x, 2) for x in os.getloadavg()],
                    setup_s=round(marks["t0"] - t_start, 1))
+        out["rss_mb_every_30s"] = rss_series
         if cluster is not None:
             out["dask_worker_rss_mb"] = round(wrss, 0)
             out["server_process_cpu_s_total"] = round(server_only, 1)
-        for s in sessions:
+        for s in sessions + [probe_session, tab_session]:
             s.close()
         # closing all tabs: CPU back to ~0 within 5 s?
         time.sleep(5.0)
@@ -321,8 +349,8 @@ def main(argv=None) -> int:
     ap.add_argument("--warmup", type=float, default=8.0, help="seconds before measuring (numba, first frames)")
     ap.add_argument("--num-procs", type=int, default=1)
     ap.add_argument("--dask", action="store_true", help="run the simulations on a LocalCluster of 2 workers")
-    ap.add_argument("--compute", choices=("threads", "processes"), default="threads",
-                    help="RINGLAB_COMPUTE of the server (processes: its own LocalCluster)")
+    ap.add_argument("--compute", choices=("auto", "threads", "processes"), default="auto",
+                    help="RINGLAB_COMPUTE of the server (auto, the app's default: worker processes on >= 2 cores)")
     ap.add_argument("--json", action="store_true", help="print one JSON object (the default output)")
     args = ap.parse_args(argv)
     if not 1 <= args.students <= 200:

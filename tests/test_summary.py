@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from ringcore import params
-from ringcore.analysis.summary import series_summary, strobe_wavelength, summary
+from ringcore.analysis.summary import saturation_flag, series_summary, strobe_wavelength, summary
 from ringcore.hydro import Hydro1D, HydroOptions
 
 
@@ -18,6 +18,21 @@ def test_series_summary_uses_the_last_fraction():
     s = series_summary(t, np.where(t > 8, np.nan, lam), e, 0.25)  # non-finite lambda_p ignored
     assert s["lambda_p_m"] == 200.0 and s["lambda_p_mean_m"] == 200.0
     assert all(math.isnan(v) for v in series_summary([], [], [], 0.25).values())
+
+
+def test_saturation_flag_sees_coarsening_in_the_last_quarter():
+    t = np.arange(0.0, 1000.0, 1.0)  # last quarter: t >= 749.25 -> 750..999, halves at 874.5
+    settled = np.where(t < 500, 100.0, 142.9)
+    assert saturation_flag(t, settled) == dict(saturated=1.0, lambda_p_growth=1.0)
+    coarsening = np.where(t < 900, 137.9, 142.9)  # a merge at orbit 900, inside the last quarter
+    f = saturation_flag(t, coarsening)
+    assert f["saturated"] == 0.0 and f["lambda_p_growth"] == pytest.approx(142.9 / 137.9)
+    shrinking = np.where(t < 900, 142.9, 137.9)  # lambda_p jumping to a shorter allowed value: not growth
+    assert saturation_flag(t, shrinking)["saturated"] == 1.0
+    jitter = np.where(t % 3 == 0, 137.9, 142.9)  # two allowed values alternating, same share in both halves
+    assert saturation_flag(t, jitter)["saturated"] == 1.0
+    assert all(math.isnan(v) for v in saturation_flag(t[:3], settled[:3]).values())
+    assert all(math.isnan(v) for v in saturation_flag([], []).values())
 
 
 def test_strobe_wavelength_finds_the_dominant_mode():

@@ -38,6 +38,36 @@ def series_summary(t, lambda_p, e_kin, last_fraction: float = 0.25) -> dict:
     return out
 
 
+def _mode(x: np.ndarray) -> float:
+    vals, counts = np.unique(x, return_counts=True)
+    return float(vals[np.argmax(counts)])
+
+
+def saturation_flag(t, lambda_p, last_fraction: float = 0.25) -> dict:
+    """Had the prevalent wavelength stopped growing?  ``saturated`` 1.0 if the most frequent
+    lambda_p of the second half of the last ``last_fraction`` (by time) is not larger than that of
+    its first half, 0.0 if it is (the waves were still coarsening: lambda_p, which only grows by
+    merging, is then a lower bound of the saturated value), nan with fewer than 4 finite samples
+    there; ``lambda_p_growth`` the ratio of the two (second / first half).
+    """
+    t = np.asarray(t, float)
+    out = dict(saturated=math.nan, lambda_p_growth=math.nan)
+    if t.size == 0:
+        return out
+    sel = _last(t, last_fraction)
+    tt, lam = t[sel], np.asarray(lambda_p, float)[sel]
+    ok = np.isfinite(lam)
+    tt, lam = tt[ok], lam[ok]
+    if lam.size < 4:
+        return out
+    half = tt >= 0.5 * (tt[0] + tt[-1])
+    if half.all() or not half.any():
+        return out
+    first, second = _mode(lam[~half]), _mode(lam[half])
+    growth = second / first
+    return dict(saturated=float(growth <= 1.0 + 1e-12), lambda_p_growth=float(growth))
+
+
 def strobe_wavelength(t_rows, rows, L_x_m: float, last_fraction: float = 0.25) -> float:
     """Peak wavelength [m] of the time-averaged normalised PSD of the stroboscopic rows (sigma/sigma0)
     in the last ``last_fraction`` of their times; nan with fewer than two rows."""
@@ -62,7 +92,8 @@ def summary(run, last_fraction: float = 0.25) -> dict:
     ``lambda_p_mean_m`` its mean [m]; ``lambda_p_psd_m`` peak of the time-averaged PSD of the
     stroboscopic sigma rows [m] (nan without strobe rows); ``e_kin`` mean kinetic energy density
     [sigma0 c0^2] and ``e_kin_rp`` [sigma0 (R_p Omega)^2, R_p = 1 m]; ``c_mean`` mass-weighted
-    mean velocity dispersion sqrt(T) of the final state [m/s]; ``orbits``; ``steps``.
+    mean velocity dispersion sqrt(T) of the final state [m/s]; ``orbits``; ``steps``;
+    ``saturated`` and ``lambda_p_growth`` (:func:`saturation_flag`).
     """
     from ..hydro.convert import cons_to_prim
     from ..units import time_to_orbits
@@ -73,6 +104,7 @@ def summary(run, last_fraction: float = 0.25) -> dict:
     a, m, p = st.arrays, st.meta, st.params
     out = dict(orbits=time_to_orbits(m["t"]), steps=int(m["steps"]))
     out.update(series_summary(a["rec_t"], a["rec_lambda_p"], a["rec_e_kin"], last_fraction))
+    out.update(saturation_flag(a["rec_t"], a["rec_lambda_p"], last_fraction))
     sc = p.scales
     out["e_kin_rp"] = out["e_kin"] * sc.velocity ** 2 / (R_P * p.Omega) ** 2
     out["lambda_p_psd_m"] = strobe_wavelength(a["rec_t_strobe"], a["rec_strobe"], st.options.L_x, last_fraction)
