@@ -1,8 +1,12 @@
 """Where the live simulations compute: a bounded, fair pool of worker threads shared by all sessions.
 
 The numba kernels of ``ringcore`` release the GIL (``@njit(nogil=True, cache=True)``), so
-chunks of simulation computed in worker threads run on every core while the Bokeh/Tornado
-event loop stays free for clicks, slider moves and page loads of every session.
+chunks of simulation computed in worker threads leave the Bokeh/Tornado event loop free for
+clicks, slider moves and page loads of every session.  Several runs in threads share one GIL,
+though: a hydro step is many ~70 us kernel calls with Python between them, and the threads
+convoy on the GIL (8 sessions: 4.3 orbits/s in all on 1.07 cores).  That is why a server
+session on a multi-core machine computes in worker processes by default (:mod:`app.remote`);
+this pool then only waits for their results.
 
 Rules (issue 12):
 
@@ -111,9 +115,5 @@ def pool() -> ComputePool:
     with _POOL_LOCK:
         if _POOL is None:
             from . import remote
-            import sys
-            sv = os.environ.get("RINGLAB_SWITCH_INTERVAL", "").strip()
-            if sv:
-                sys.setswitchinterval(float(sv))
             _POOL = ComputePool(max_compute(), REMOTE_THREADS if remote.active() else None)
         return _POOL
