@@ -164,7 +164,9 @@ class CompareRunner(LiveLoop, param.Parameterized):
         """Stop both runs; the one behind first catches up with the common clock (under a frame step
         of work), so a paused pair is always shown at the same orbit."""
         super().pause()
-        self._catch_up_pending = not (self.blowup or self._closed or self.reached(self.clock))
+        # also when both are at the clock already (or will be when the chunk in flight ends): the
+        # catch-up is then a no-op and sets the same "Paused: both runs at orbit ..." status
+        self._catch_up_pending = not (self.blowup or self._closed)
         if self._catch_up_pending and not self._inflight:
             self._start_catch_up()
 

@@ -188,6 +188,22 @@ def test_pause_brings_both_to_the_same_orbit(small):
     r.close()
 
 
+def test_pause_when_both_are_at_the_clock_says_so(small):
+    """Pause that lands when both runs have just reached the clock (no catch-up needed) shows the same
+    "Paused: both runs at orbit ..." as after a catch-up (it said only "Paused." before)."""
+    r = small.runner
+    r.orbits_per_frame = 0.25
+    r.budget_s = 5.0  # each chunk reaches the clock
+    r.start()
+    r.tick()
+    assert r.reached(r.clock)
+    r.pause()
+    oa = r.a.sim.orbits
+    assert oa == pytest.approx(r.clock, abs=1e-9) and r.b.sim.orbits == pytest.approx(r.clock, abs=1e-9)
+    assert r.status == f"Paused: both runs at orbit {oa:.2f}."
+    r.close()
+
+
 def test_pause_at_stops_both_exactly():
     r = CompareRunner()
     for run in r.runs():
