@@ -13,6 +13,7 @@ import panel as pn
 from bokeh.models import ColumnDataSource, CustomJS, CustomJSTickFormatter, FixedTicker
 from bokeh.plotting import figure
 
+from . import socket_guard
 from .linear_view import CSS as LINEAR_CSS
 
 ZERO_COLOR = "#c2185b"  # lambda_zero (as in the linear tab)
@@ -166,7 +167,10 @@ class FrameGate:
 
 
 def on_session_end(callback) -> None:
-    """Call ``callback`` when this browser session ends (no-op outside a server session)."""
+    """Call ``callback`` when this browser session's page leaves (its websocket closes,
+    :func:`app.socket_guard.on_page_left`) and again when Bokeh destroys the session (no-op outside a
+    server session); ``callback`` must be idempotent."""
     doc = pn.state.curdoc
     if doc is not None and doc.session_context is not None:
+        socket_guard.on_page_left(doc, callback)
         pn.state.on_session_destroyed(lambda ctx: callback())

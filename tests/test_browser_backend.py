@@ -41,20 +41,27 @@ def test_default_backend_runs_on_worker_processes(browser_page):  # noqa: F811
             page.wait_for_timeout(250)
         page.locator(".hydro-pause button").click()
         page.locator("#hydro-status", has_text="Paused").wait_for(timeout=30_000)
-        page.wait_for_timeout(1500)  # the chunk computed ahead is taken into the shown state, then nothing moves
-        shown = orbits_shown(page)
-        page.wait_for_timeout(1500)
-        assert orbits_shown(page) == shown, "the shown orbit changed after Pause"
+        # the chunk in flight and the one computed ahead are taken into the shown state (one last frame,
+        # later on a loaded machine), then nothing moves: wait until the readout has stood still for 3 s
+        shown, t_change, t0 = orbits_shown(page), time.perf_counter(), time.perf_counter()
+        while time.perf_counter() - t_change < 3.0:
+            assert time.perf_counter() - t0 < 60, "the orbit readout kept changing for 60 s after Pause"
+            page.wait_for_timeout(200)
+            now = orbits_shown(page)
+            if now != shown:
+                shown, t_change = now, time.perf_counter()
         page.screenshot(path=str(ARTIFACTS / "browser-backend-processes.png"))
-        page.close()  # the tab goes: the worker's copy is freed
+        page.close()  # the tab goes: the (paused) run and the worker's copy are freed at once
         t0 = time.perf_counter()
         while "freed at orbit" not in log.read_text(errors="replace"):
-            assert time.perf_counter() - t0 < 30, "the closed tab's run was not freed within 30 s"
+            assert time.perf_counter() - t0 < 10, "the closed tab's paused run was not freed within 10 s"
             time.sleep(0.2)
+        freed_s = time.perf_counter() - t0
         text = log.read_text(errors="replace")
         assert "Traceback" not in text, text[-3000:]
         assert re.search(r"live hydro runs compute on a LocalCluster: \d+ worker processes", text), text[-3000:]
         m = re.search(r"freed at orbit ([\d.]+)", text)
         assert abs(float(m.group(1)) - shown) < 0.011, (m.group(0), shown)
+        print(f"paused run freed {freed_s:.2f} s after the tab closed")
     finally:
         stop_server(proc)
