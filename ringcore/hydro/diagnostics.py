@@ -146,37 +146,30 @@ class Recorder:
         return self._add_row(self.t_spacetime, self.spacetime, t, sigma)
 
     # ------------------------------------------------------------------ arrays
-    def arrays(self) -> dict:
-        """All records as numpy arrays (dimensionless)."""
+    def arrays(self, records: bool = True) -> dict:
+        """All records as numpy arrays (dimensionless); ``records=False``: the same names, dtypes and
+        row widths with zero rows (nothing is copied)."""
+        def r(lst):
+            return lst if records else []
+
         def rows(lst, width, dtype):
+            lst = r(lst)
             return np.asarray(lst, dtype).reshape(len(lst), width) if lst else np.zeros((0, width), dtype)
 
-        out = dict(t=np.asarray(self.t), dt=np.asarray(self.dt), steps=np.asarray(self.steps, np.int64),
-                   e_kin=np.asarray(self.e_kin), lambda_p=np.asarray(self.lambda_p),
+        out = dict(t=np.asarray(r(self.t), float), dt=np.asarray(r(self.dt), float),
+                   steps=np.asarray(r(self.steps), np.int64),
+                   e_kin=np.asarray(r(self.e_kin), float), lambda_p=np.asarray(r(self.lambda_p), float),
                    mode_sigma=rows(self.mode_sigma, self.track_modes.size, complex),
                    mode_u=rows(self.mode_u, self.track_modes.size, complex),
                    probe_sigma=rows(self.probe_sigma, self.probe_index.size, float),
                    probe_u=rows(self.probe_u, self.probe_index.size, float),
-                   t_strobe=np.asarray(self.t_strobe),
+                   t_strobe=np.asarray(r(self.t_strobe), float),
                    strobe=rows(self.strobe, self.n, np.float32),
-                   t_spacetime=np.asarray(self.t_spacetime),
+                   t_spacetime=np.asarray(r(self.t_spacetime), float),
                    spacetime=rows(self.spacetime, self.n, np.float32))
         for f in FIELDS:
-            out[f + "_min"] = np.asarray(self.fmin[f])
-            out[f + "_max"] = np.asarray(self.fmax[f])
-        return out
-
-    def empty_arrays(self) -> dict:
-        """:meth:`arrays` with no records (zero rows; same names, dtypes and row widths)."""
-        out = dict(t=np.zeros(0), dt=np.zeros(0), steps=np.zeros(0, np.int64), e_kin=np.zeros(0),
-                   lambda_p=np.zeros(0), mode_sigma=np.zeros((0, self.track_modes.size), complex),
-                   mode_u=np.zeros((0, self.track_modes.size), complex),
-                   probe_sigma=np.zeros((0, self.probe_index.size)), probe_u=np.zeros((0, self.probe_index.size)),
-                   t_strobe=np.zeros(0), strobe=np.zeros((0, self.n), np.float32), t_spacetime=np.zeros(0),
-                   spacetime=np.zeros((0, self.n), np.float32))
-        for f in FIELDS:
-            out[f + "_min"] = np.zeros(0)
-            out[f + "_max"] = np.zeros(0)
+            out[f + "_min"] = np.asarray(r(self.fmin[f]), float)
+            out[f + "_max"] = np.asarray(r(self.fmax[f]), float)
         return out
 
     def load(self, a: dict) -> None:

@@ -34,10 +34,7 @@ class StateIO:
         """
         n, rec = self.n, self.recorder
         arrays = {"U": self._U[0][:, NG:NG + n].copy(), "beta": self._beta[NG:NG + n].copy()}
-        if records:
-            arrays.update({f"rec_{k}": np.array(v, copy=True) for k, v in rec.arrays().items()})
-        else:
-            arrays.update({f"rec_{k}": v for k, v in rec.empty_arrays().items()})
+        arrays.update({f"rec_{k}": np.array(v, copy=records) for k, v in rec.arrays(records).items()})
         meta = dict(t=self.t, dt=self.dt, steps=self._steps, k_sample=self._k_sample, floor_hits=self.floor_hits,
                     buffer_active=bool(self.buffer_active), buffer=None if self.buffer is None else list(self.buffer),
                     max_samples=rec.max_samples, max_rows=rec.max_rows, thinned=bool(rec.thinned))
