@@ -97,3 +97,28 @@ def test_stage_plan_is_the_tableau():
     np.testing.assert_allclose(_plan_step(f, y0, 0.1, plan), ssprk54_step(f, y0, 0.1), rtol=0, atol=1e-15)
     with pytest.raises(ValueError, match="stage"):
         stage_plan(np.tril(np.ones((5, 5))) / np.arange(1, 6)[:, None], SSPRK54_BETA)  # 4 alphas in a stage
+
+
+def test_bare_steps_then_advance_resume_the_sample_grid():
+    """step() records nothing; advance() after bare steps that passed sample times must not step
+    with a negative cap (it used to: sigma = -4 in one step) but continue on the sample grid."""
+    import math
+    import numpy as np
+    import pytest
+    from ringcore import params
+    from ringcore.hydro import Hydro1D, HydroOptions
+
+    sim = Hydro1D(params.get("tau15", sigma0=400.0), HydroOptions(L_x=500.0, h=2.5, samples_per_orbit=20),
+                  "noise", seed=1)
+    sim.advance(1)
+    n_rec = len(sim.series()["t"])
+    for _ in range(40):  # ~2/3 orbit: past several sample times
+        sim.step()
+    sim.advance(1)
+    s = sim.series()["t"] / (2 * math.pi)
+    assert sim.primitives()[0].min() > 0.5
+    new = s[n_rec:]
+    assert len(new) >= 1 and np.all(np.diff(new) > 0)
+    assert np.allclose(new * 20, np.round(new * 20), atol=1e-9)  # on the sample grid
+    with pytest.raises(ValueError, match="dt_cap"):
+        sim.step(-1.0)

@@ -270,9 +270,13 @@ class Hydro1D(StateIO):
     def step(self, dt_cap: float = math.inf) -> float:
         """Advance one SSPRK(5,4) step (dt from the criterion, at most ``dt_cap``); returns dt.
 
+        A bare step records no diagnostics; :meth:`advance` resumes the sample grid at the first
+        sample time after the current time.
         The stages follow :data:`STAGES` (the tableau of :mod:`.timestep`).  On failure raises
         :class:`HydroBlowUp` and leaves the state, time, counters and floor hits untouched.
         """
+        if not dt_cap > 0.0:
+            raise ValueError(f"dt_cap = {dt_cap!r} is invalid: the step cap must be > 0 [1/Omega]")
         U, Ls = self._U, self._L
         W, beta, par = self._W, self._beta, self._par
         grav, s = self.gravity.force, slice(NG, NG + self.n)
@@ -346,6 +350,8 @@ class Hydro1D(StateIO):
         o0, steps0 = self.orbits, self._steps
         t_wall = time.perf_counter() + max_wall_s if max_wall_s is not None else math.inf
         try:
+            if self._k_sample * ds <= self.t:  # bare step() calls went past sample times: resume the grid
+                self._k_sample = math.floor(self.t / ds) + 1
             while self.t < t_end * (1.0 - 1e-15):
                 if max_steps is not None and self._steps - steps0 >= max_steps:
                     break

@@ -30,6 +30,9 @@ for spec in "${RUNS[@]}"; do
   if [ -f "$name.nc" ]; then
     t=$("$PY" -c "import sys, xarray as xr; print(float(xr.open_dataset(sys.argv[1]).attrs['time_orbits']))" "$name.nc")
     if awk "BEGIN{exit !($t >= $target)}"; then echo "$name: done ($t orbits)"; continue; fi
+    # a run that blew up would blow up again at the same step: skip it (its file keeps the last good state)
+    if "$PY" -c "import sys, xarray as xr; sys.exit('blowup' not in xr.open_dataset(sys.argv[1]).attrs)" "$name.nc"; then
+      echo "$name: skipped, blew up at $t orbits (see its 'blowup' attribute)"; continue; fi
     cmd="nice -n 19 $PY -m ringcore.cli.main resume $name.nc --until $target --checkpoint-every 200 --no-progress"
   else
     cmd="nice -n 19 $PY -m ringcore.cli.main hydro $opts --orbits $target --out $name.nc --checkpoint-every 200 --no-progress"
