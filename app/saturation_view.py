@@ -121,6 +121,27 @@ def load_sweep(path: Path | None = None) -> tuple[list, str]:
     return pts, note
 
 
+def sweep_files() -> list[Path]:
+    """The shipped sweeps: :data:`SWEEP_FILE` (tau15, non-isothermal) and every ``saturation_sweep_*.nc``
+    next to it (other sets and models, app/data/README.md)."""
+    return [Path(SWEEP_FILE), *sorted(Path(SWEEP_FILE).parent.glob("saturation_sweep_*.nc"))]
+
+
+def load_sweeps(paths) -> tuple[list, str]:
+    """The points of all sweep files ``paths`` (:func:`load_sweep`) and a note for the page: '' if all
+    files were read, else the reasons (a missing file is named only if no file gave points)."""
+    pts, notes, first = [], [], ""
+    for path in paths:
+        got, note = load_sweep(path)
+        pts += got
+        if note and Path(path).exists():
+            notes.append(note)
+        first = first or note
+    if not pts and not notes:
+        notes.append(first)
+    return pts, " ".join(n for n in notes if n)
+
+
 class SaturationView(pn.viewable.Viewer):
     """The "Saturation" tab of one session."""
 
@@ -134,7 +155,7 @@ class SaturationView(pn.viewable.Viewer):
         super().__init__(**params)
         if self.runs is None:
             self.runs = SessionRuns()
-        self.sweep_points, note = load_sweep()
+        self.sweep_points, note = load_sweeps(sweep_files())
         self.curve_source = ColumnDataSource(dict(sigma0=[], empirical=[], fastest=[]), name="sat-curve-source")
         self.sweep_source = ColumnDataSource(dict(sigma0=[], lambda_p=[], label=[], alpha=[]), name="sat-sweep-source")
         self.lower_source = ColumnDataSource(dict(sigma0=[], lambda_p=[], label=[], alpha=[]), name="sat-lower-source")

@@ -117,3 +117,25 @@ def test_sessions_do_not_share_runs():
     assert hydro_a.runner is not hydro_b.runner and nbody_a.runner is not nbody_b.runner
     hydro_a.runner.sigma0 = 800.0
     assert hydro_b.runner.sim.params.sigma0 == 400.0
+
+
+def test_all_shipped_sweeps_are_loaded(tmp_path, monkeypatch):
+    """SWEEP_FILE plus every saturation_sweep_*.nc next to it; a missing main file is no error then."""
+    main, extra = tmp_path / "saturation_sweep.nc", tmp_path / "saturation_sweep_tau20.nc"
+    _sweep(extra, [("tau20", 400.0, 180.0, False), ("tau20", 800.0, 120.0, False)])
+    monkeypatch.setattr(sv, "SWEEP_FILE", main)
+    assert sv.sweep_files() == [main, extra]
+    pts, note = sv.load_sweeps(sv.sweep_files())
+    assert note == "" and [p["lambda_p_m"] for p in pts] == [180.0, 120.0]
+    _sweep(main, [("tau15", 200.0, 400.0, False)])
+    pts, note = sv.load_sweeps(sv.sweep_files())
+    assert note == "" and [p["set"] for p in pts] == ["tau15", "tau20", "tau20"]
+    v = SaturationView()
+    assert list(v.sweep_source.data["alpha"]) == [1.0, 0.3, 0.3]
+    extra.write_bytes(b"damaged")
+    pts, note = sv.load_sweeps(sv.sweep_files())
+    assert len(pts) == 1 and "cannot be read" in note
+    main.unlink()
+    extra.unlink()
+    pts, note = sv.load_sweeps(sv.sweep_files())
+    assert pts == [] and "only the theory curves" in note
