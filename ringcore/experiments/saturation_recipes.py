@@ -109,9 +109,10 @@ NLVG_PANELS = (("a", "tau15", False, "tau15 non-isothermal"),
                ("d", "tau15", True, "tau15 isothermal (G_T -> inf, p_s = 1)"))
 NLVG_LAMBDAS_QUICK = (60.0, 85.0, 120.0, 170.0, 240.0, 340.0, 480.0)  # panel (a)
 # quick: five wavelengths around each set's lambda_zero at its two sigma0; full: 25 geometric between the bounds.
-# sigma0 stays below the Toomre limit: tau15_oz2 has Q0 = 1.12 at 500 and 0.80 at 700 (seeded waves are overtaken
-# by short modes of amplitude ~0.8); the isothermal tau15 model has Q0 = 1.14 at 700 (seeded waves of
-# lambda >= 55 m blow up within 4-6 orbits), the paper's collapse regime Q0 < 1.5 (Section "isosg").
+# sigma0 stays low in (c), (d): tau15_oz2 has Q0 = 1.12 at 500 and 0.80 at 700 (there the seeded waves are
+# overtaken by short modes of amplitude ~0.8); the isothermal tau15 model has Q0 = 1.14 at 700, where the seeded
+# waves of lambda >= 55 m blow up within 4-6 orbits with the fast time step (paper, Section "isosg": beyond
+# sigma0 ~ 600 its isothermal scheme was unstable unless the time step was cut to f_t ~ 0.01).
 NLVG_QUICK = {"b": ((400.0, 700.0), (110.0, 170.0, 260.0, 400.0, 600.0)),
               "c": ((200.0, 400.0), (45.0, 60.0, 80.0, 115.0, 165.0)),
               "d": ((200.0, 400.0), (40.0, 60.0, 90.0, 135.0, 200.0))}
