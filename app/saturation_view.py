@@ -51,7 +51,9 @@ surface density σ₀: denser rings have shorter waves, settling at 100-200 m.
   see README, "Departures from the paper"), with the Jeans wavelength λ<sub>J</sub> = c<sub>0</sub>²/(Gσ₀), **eq. (jeans)**.
 * **Dotted orange**: the fastest-growing linear wavelength. Saturated waves are *longer* than the waves that grow
   fastest at the start.
-* **Purple squares**: the runs shipped with the app (a `ringcore sweep`). **Green circles**: your own hydro runs —
+* **Purple squares**: the runs shipped with the app (`ringcore sweep`s of tau15 and tau20, non-isothermal, and of
+  tau15 isothermal with p<sub>s</sub> = 1; runs of the other sets and models are drawn faint — pick the set and
+  model above to bring theirs forward). **Green circles**: your own hydro runs —
   let a run in the Hydrodynamics tab saturate (e<sub>kin</sub> flat), then press "Add my run"; its λ<sub>p</sub> is the
   median over the last quarter of the run.
 """)

@@ -8,6 +8,7 @@ import os
 import signal
 import threading
 import time
+import sys
 
 import pytest
 
@@ -334,3 +335,16 @@ def test_library_import_has_no_matplotlib_side_effects():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300,
                          env={**__import__('os').environ, "MPLBACKEND": "svg"})
     assert out.returncode == 0 and "ok" in out.stdout, out.stderr
+
+
+def test_sweep_records_its_command_line(tmp_path, capsys, monkeypatch):
+    """OUT/sweep.nc's 'command' is the command line as typed (it was a repr of the arguments under python -m)."""
+    import xarray as xr
+
+    monkeypatch.setattr(sys, "argv", ["/x/ringcore/cli/main.py"])  # as under python -m ringcore.cli.main
+    out = tmp_path / "s"
+    argv = ["sweep", "--engine", "linear", "--sigma0", "0,100", "--workers", "1", "--out", str(out)]
+    rc, _, err = cli(capsys, argv)
+    assert rc == 0, err
+    with xr.open_dataset(out / "sweep.nc", engine="h5netcdf") as ds:
+        assert ds.attrs["command"] == "ringcore " + " ".join(argv)

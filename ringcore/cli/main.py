@@ -116,6 +116,7 @@ def _run(argv: list, debug: bool) -> int:
         command = f"ringcore {args.command}"
         _STATE["command"] = args.command
         args._given = _given_dests(build_parser(), argv)
+        args._argv = list(argv)  # the command line as given (provenance of output files)
         return int(args.func(args) or 0)
     except KeyboardInterrupt as exc:
         name = str(exc) if str(exc).startswith("SIG") else "SIGINT"

@@ -74,7 +74,7 @@ def provenance(args) -> dict:
     from .. import __version__
     from ..experiments import runners
 
-    argv = sys.argv[1:] if sys.argv and sys.argv[0].endswith("ringcore") else None
+    argv = getattr(args, "_argv", None) or (sys.argv[1:] if sys.argv and sys.argv[0].endswith("ringcore") else None)
     return dict(command=shlex.join(["ringcore", *argv]) if argv else f"ringcore sweep ({vars(args)})",
                 ringcore_version=__version__, created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
                 engine=args.engine, set=args.set, isothermal=int(bool(args.isothermal)),
