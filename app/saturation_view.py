@@ -118,7 +118,7 @@ def load_sweep(path: Path | None = None) -> tuple[list, str]:
         task = json.loads(t) if isinstance(t, str) else {}
         pts.append(dict(sigma0=float(s), lambda_p_m=float(lam), set=task.get("set", "?"),
                         isothermal=bool(task.get("isothermal", False)), engine=task.get("engine", "?"),
-                        saturated=sat))
+                        saturated=sat, caveat=str(ds.attrs.get("caveat", "") or "")))
     note = "" if pts else f"The sweep file {path.name} holds no measured λ<sub>p</sub> yet: theory only."
     return pts, note
 
@@ -171,6 +171,7 @@ class SaturationView(pn.viewable.Viewer):
         self.add_button.on_click(self._add)
         self.model_error = pn.pane.HTML("", stylesheets=[CSS], visible=False, sizing_mode="stretch_width")
         self.model_note = pn.pane.HTML("", stylesheets=[CSS], visible=False, sizing_mode="stretch_width")
+        self.caveat = pn.pane.HTML("", stylesheets=[CSS], visible=False, sizing_mode="stretch_width")
         self.runs.param.watch(self._update_points, "points")
         self._update_curves()
         self._update_points()
@@ -234,6 +235,9 @@ class SaturationView(pn.viewable.Viewer):
             return
         self.model_error.visible = False
         self.curve_source.data = dict(c)
+        caveats = sorted({p["caveat"] for p in self.sweep_points if p.get("caveat") and self._matches(p)})
+        self.caveat.object = message_html(" ".join(caveats), "sat-caveat", "warn") if caveats else ""
+        self.caveat.visible = bool(caveats)
         for source, saturated in ((self.sweep_source, True), (self.lower_source, False)):
             pts = [p for p in self.sweep_points if p.get("saturated", True) == saturated]
             how = "" if saturated else ", not saturated: lower bound"
@@ -269,7 +273,7 @@ class SaturationView(pn.viewable.Viewer):
         lower = [p for p in self.sweep_points if not p.get("saturated", True)]
         lb_note = pn.pane.HTML(f'<div class="buttons-note" id="sat-lower-note">{LOWER_BOUND_NOTE}</div>',
                                stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10), visible=bool(lower))
-        return page_row(controls, pn.Column(self.note, self._key(), pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
+        return page_row(controls, pn.Column(self.note, self.caveat, self._key(), pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
                                             lb_note, explanation, sizing_mode="stretch_width"))
 
     def __panel__(self):

@@ -139,3 +139,20 @@ def test_all_shipped_sweeps_are_loaded(tmp_path, monkeypatch):
     extra.unlink()
     pts, note = sv.load_sweeps(sv.sweep_files())
     assert pts == [] and "only the theory curves" in note
+
+
+def test_a_sweep_caveat_shows_with_its_set_only(tmp_path, monkeypatch):
+    main, extra = tmp_path / "saturation_sweep.nc", tmp_path / "saturation_sweep_tau20.nc"
+    _sweep(main, [("tau15", 200.0, 400.0, False)])
+    _sweep(extra, [("tau20", 400.0, 180.0, False)])
+    with xr.open_dataset(extra, engine="h5netcdf") as f:
+        ds = f.load()
+    ds.attrs["caveat"] = "Not a reproduction yet: the T floor."
+    ds.to_netcdf(extra, engine="h5netcdf")
+    monkeypatch.setattr(sv, "SWEEP_FILE", main)
+    v = SaturationView()
+    assert not v.caveat.visible
+    v.param_set = "tau20"
+    assert v.caveat.visible and "T floor" in v.caveat.object and 'id="sat-caveat"' in v.caveat.object
+    v.isothermal = True  # other model: not its runs
+    assert not v.caveat.visible
