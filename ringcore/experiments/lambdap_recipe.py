@@ -5,6 +5,7 @@ panels, lambda_p(sigma0) against 1.4 lambda_zero (eq. lambdasigma), from the swe
 from __future__ import annotations
 
 import json
+import re
 from pathlib import Path
 
 import numpy as np
@@ -41,6 +42,8 @@ def shipped_sweeps() -> dict:
         tasks = [json.loads(t) for t in ds["task"].values] if "task" in ds.coords else [{}] * ds.sizes["run"]
         sat = ds["saturated"].values.astype(float) if "saturated" in ds else np.ones(ds.sizes["run"])
         src = f"sweep file app/data/{path.name} (made by: {ds.attrs.get('command', 'ringcore sweep')})"
+        if ds.attrs.get("caveat"):  # plain text for the caption (the file's caveat is HTML for the app)
+            src += ". Caveat: " + re.sub(r"<[^>]+>", "", str(ds.attrs["caveat"]))
         for i, t in enumerate(tasks):
             key = (t.get("set", "tau15"), bool(t.get("isothermal", False)))
             lam = float(ds["lambda_p_m"].values[i])
