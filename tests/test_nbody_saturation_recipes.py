@@ -41,13 +41,16 @@ def test_final_psd_of_a_density_wave(R_p, m):
 
 
 def test_filled_from_and_most_frequent():
-    t = np.arange(6.0)
-    empty = np.array([2.0, 2.0, 0.0, 0.0])
-    full = np.array([1.1, 0.9, 0.8, 1.2])
-    rows = [empty, empty, full, np.array([1.5, 1.5, 0.1, 0.9]), full, full]  # refills at t = 4 after a relapse at 3
-    assert R.filled_from(t, rows) == 4.0
-    assert R.filled_from(t, rows[:4]) != R.filled_from(t, rows[:4])  # nan: not filled at the end
-    assert R.filled_from(t, [full] * 3) == 0.0
+    """8 zones, strip |x| < 0.5 L_x / 2 filled first: the outer zones are 0, 1, 6, 7."""
+    t = np.arange(5.0)
+    rows = [[0, 0, 2, 2, 2, 2, 0, 0],
+            [0.2, 0.4, 1.7, 1.7, 1.7, 1.7, 0.2, 0.1],  # outer mean 0.225
+            [0.4, 0.6, 1.5, 1.5, 1.5, 1.5, 0.6, 0.4],  # 0.5: filled at t = 2
+            [0.0, 1.2, 1.0, 1.0, 1.0, 1.0, 0.9, 0.9],  # a wave trough empties zone 0: still filled
+            [1.0] * 8]
+    assert R.filled_from(t, rows, 0.5) == 2.0
+    assert R.filled_from(t, rows, 0.5, threshold=0.9) == 4.0  # row 3: outer mean 0.75
+    assert math.isnan(R.filled_from(t[:2], rows[:2], 0.5))
     assert R.most_frequent([75.0, 150.0, 75.0, np.nan, 50.0]) == 75.0
     assert math.isnan(R.most_frequent([np.nan]))
 

@@ -8,6 +8,7 @@ thousands of orbits.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -76,20 +77,21 @@ def most_frequent(values) -> float:
     return float(vals[np.argmax(counts)])
 
 
-def filled_from(times, sigma_rows, threshold=0.3) -> float:
-    """First profile time [orbits] from which on every radial zone holds at least ``threshold`` x the
-    box-mean count (the spreading ring has filled the box); nan if it never does."""
-    rows = np.asarray(sigma_rows, float)
-    ok = np.all(np.nan_to_num(rows, nan=0.0) >= threshold, axis=1)
-    if not ok.size or not ok[-1]:
-        return math.nan
-    bad = np.flatnonzero(~ok)
-    return float(np.asarray(times, float)[bad[-1] + 1 if bad.size else 0])
+def filled_from(times, sigma_rows, fill, threshold=0.5) -> float:
+    """First profile time [orbits] at which the zones outside the initially filled strip
+    |x| < ``fill`` L_x / 2 hold on average at least ``threshold`` x the box-mean count (the spreading
+    ring has filled the box; single zones may still empty in the troughs of the saturated waves);
+    nan if it never does (``sigma_rows``: one row of zone counts / mean count per time)."""
+    rows = np.nan_to_num(np.asarray(sigma_rows, float), nan=0.0)
+    n = rows.shape[1]
+    outer = np.abs(2.0 * (np.arange(n) + 0.5) / n - 1.0) > fill
+    ok = rows[:, outer].mean(axis=1) >= threshold
+    return float(np.asarray(times, float)[np.argmax(ok)]) if ok.any() else math.nan
 
 
 # ---------------------------------------------------------------------------------------- vdispnb
 @recipe("vdispnb", "fig:vdispnb", "N-body <c>(sigma0) and collision frequency, with hydro points "
-        "(tau = 1.5, Omega_z = 3.6 and 2)", "5 min", "1500 h (N-body 1400 h: beyond a 2-core machine)")
+        "(tau = 1.5, Omega_z = 3.6 and 2)", "3.7 min", "1460 h (N-body 1400 h, hydro 60 h: beyond a 2-core machine)")
 def vdispnb(mode, out):
     sigmas = pick(mode, (0.0, 800.0), (0.0, 100.0, 200.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
     sets = pick(mode, ("tau15",), ("tau15", "tau15_oz2"))
@@ -136,7 +138,7 @@ def vdispnb(mode, out):
 
 # ---------------------------------------------------------------------------------------- boxdouble
 @recipe("boxdouble", "fig:boxdouble", "N-body box-size tests: a saturated box tiled to twice its size; "
-        "two box sizes (x4) at sigma0 = 300", "3 min", "100 h (beyond a 2-core session: ~2 days on 2 cores)")
+        "two box sizes (x4) at sigma0 = 300", "5.8 min", "120 h (beyond a 2-core machine: ~2.5 days on 2 cores)")
 def boxdouble(mode, out):
     L, L_y, t1, t2 = pick(mode, 150.0, 2000.0), pick(mode, 10.0, 10.0), pick(mode, 50.0, 5000.0), pick(mode, 25.0, 3000.0)
     sizes, t3 = pick(mode, (150.0, 600.0), (2000.0, 8000.0)), pick(mode, 60.0, 5000.0)
@@ -190,24 +192,30 @@ def boxdouble(mode, out):
 
 # ---------------------------------------------------------------------------------------- radvar
 def _radvar_box(p, R, L1, Ly1, orbits, fill=1.0):
-    """One radvar run: L_x = L1 (R_p/1 m)^2, L_y = Ly1 (R_p/1 m); returns (lambda_p [m], <c> [m/s], t_fill)."""
+    """One radvar run: L_x = L1 (R_p/1 m)^2, L_y = Ly1 (R_p/1 m); returns (lambda_p [m], <c> [m/s], t_fill).
+
+    Spreading boundaries (``fill`` < 1): the central strip holds all particles at tau / fill; the box's
+    self-gravity normalises the density to the box mean, so sigma0 is the box mean (the strip has
+    sigma0 / fill) and the filled box is the periodic-boundary system (tau, sigma0)."""
+    if fill < 1:
+        p = dataclasses.replace(p, tau=p.tau / fill)
     box = run_box(p, L1 * R**2, Ly1 * R, orbits, R_p=R, record_every=1.0, profile_every=1.0 if fill < 1 else 0.0,
                   fill_fraction=fill)
     h = box.history
     t = np.array(h["time"])
-    t_fill = 0.0 if fill >= 1 else filled_from(box.profile_history["time"], box.profile_history["sigma"])
+    t_fill = 0.0 if fill >= 1 else filled_from(box.profile_history["time"], box.profile_history["sigma"], fill)
     # lambda_p over the second half, and only once the box is filled (spreading boundaries)
     keep = t >= max(0.5 * t[-1], t_fill if math.isfinite(t_fill) else t[-1])
     return most_frequent(np.array(h["lambda_p"])[keep]), float(np.mean(np.array(h["c_mean"])[keep])), t_fill
 
 
 @recipe("radvar", "fig:radvar", "N-body saturation wavelength vs particle radius, sigma0 = 900, periodic and "
-        "spreading boundaries (eq. lambdasigmaap)", "4 min", "300 h (beyond a 2-core machine)")
+        "spreading boundaries (eq. lambdasigmaap)", "3.2 min", "210 h (beyond a 2-core machine: ~4.5 days on 2 cores)")
 def radvar(mode, out):
     radii = np.array(pick(mode, (1.0, 1.5, 2.0), (1.0, 1.5, 2.0, 2.5, 3.0, 4.0)))
     sb_radii = np.array(pick(mode, (1.0, 1.5), (1.0, 2.0)))
     L1, Ly1, orbits = pick(mode, 150.0, 2000.0), pick(mode, 6.0, 10.0), pick(mode, 60.0, 5000.0)
-    fill, sb_orbits = 0.5, pick(mode, 150.0, 10000.0)
+    fill, sb_orbits = 0.75, pick(mode, 80.0, 5000.0)
     p = params.get("tau15", sigma0=900.0)
     pb = np.array([_radvar_box(p, R, L1, Ly1, orbits) for R in radii])
     sb = np.array([_radvar_box(p, R, L1, Ly1, sb_orbits, fill) for R in sb_radii])
@@ -231,8 +239,9 @@ def radvar(mode, out):
                      "filled_orbit_sb": ("R_p_sb", sb[:, 2], {"units": "orbits"})},
                     coords={"R_p": ("R_p", radii, {"units": "m"}), "R_p_sb": ("R_p_sb", sb_radii, {"units": "m"})})
     cap = (f"{mode} run: N-body with L_x = {L1:g} m (R_p/1 m)^2, L_y = {Ly1:g} m (R_p/1 m), Bridges law unchanged "
-           f"(v_c = 0.077 mm/s), tau, sigma0 unchanged; PB: {orbits:g} orbits; SB: the central {fill:g} of the box "
-           f"filled at tau = 1.5, {sb_orbits:g} orbits (filled: every 5 R_p zone >= 0.3 x the mean count from orbit "
+           f"(v_c = 0.077 mm/s), tau, sigma0 unchanged; PB: {orbits:g} orbits; SB: all particles in the central {fill:g} "
+           f"of the box (tau = {1.5 / fill:g}, sigma = {900 / fill:g} kg/m^2 there; filled, the box is the PB system), "
+           f"{sb_orbits:g} orbits (filled: the initially empty zones hold >= 0.5 x the box-mean count from orbit "
            f"{', '.join(f'{v:.0f}' for v in sb[:, 2])}). lambda_p = most frequent prevalent wavelength of the second "
            "half (SB: once filled). Dashed: eq. (lambdasigmaap) as 2C(p_s + F2) lambda_J (R_p/1 m)^2, the sign that "
            "follows from eq. (osfreq) (the paper prints p_s - F2; at sigma0 = 900, Q0 = 0.9, the estimate is rough "
