@@ -59,4 +59,4 @@ def test_moved_recipes_registered():
     rec = load_all()
     for name in ("vdispnb", "boxdouble", "radvar"):
         assert rec[name].func.__module__ == R.__name__
-        assert "2-core" in rec[name].full_cost
+        assert "beyond 2 cores" in rec[name].full_cost  # full mode: say it does not fit

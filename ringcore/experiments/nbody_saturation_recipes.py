@@ -91,7 +91,7 @@ def filled_from(times, sigma_rows, fill, threshold=0.5) -> float:
 
 # ---------------------------------------------------------------------------------------- vdispnb
 @recipe("vdispnb", "fig:vdispnb", "N-body <c>(sigma0) and collision frequency, with hydro points "
-        "(tau = 1.5, Omega_z = 3.6 and 2)", "3.7 min", "1460 h (N-body 1400 h, hydro 60 h: beyond a 2-core machine)")
+        "(tau = 1.5, Omega_z = 3.6 and 2)", "3.7 min", "1460 h, beyond 2 cores")
 def vdispnb(mode, out):
     sigmas = pick(mode, (0.0, 800.0), (0.0, 100.0, 200.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
     sets = pick(mode, ("tau15",), ("tau15", "tau15_oz2"))
@@ -138,7 +138,7 @@ def vdispnb(mode, out):
 
 # ---------------------------------------------------------------------------------------- boxdouble
 @recipe("boxdouble", "fig:boxdouble", "N-body box-size tests: a saturated box tiled to twice its size; "
-        "two box sizes (x4) at sigma0 = 300", "5.8 min", "120 h (beyond a 2-core machine: ~2.5 days on 2 cores)")
+        "two box sizes (x4) at sigma0 = 300", "5.8 min", "120 h, beyond 2 cores")
 def boxdouble(mode, out):
     L, L_y, t1, t2 = pick(mode, 150.0, 2000.0), pick(mode, 10.0, 10.0), pick(mode, 50.0, 5000.0), pick(mode, 25.0, 3000.0)
     sizes, t3 = pick(mode, (150.0, 600.0), (2000.0, 8000.0)), pick(mode, 60.0, 5000.0)
@@ -210,7 +210,7 @@ def _radvar_box(p, R, L1, Ly1, orbits, fill=1.0):
 
 
 @recipe("radvar", "fig:radvar", "N-body saturation wavelength vs particle radius, sigma0 = 900, periodic and "
-        "spreading boundaries (eq. lambdasigmaap)", "3.2 min", "210 h (beyond a 2-core machine: ~4.5 days on 2 cores)")
+        "spreading boundaries (eq. lambdasigmaap)", "2.7 min", "210 h, beyond 2 cores")
 def radvar(mode, out):
     radii = np.array(pick(mode, (1.0, 1.5, 2.0), (1.0, 1.5, 2.0, 2.5, 3.0, 4.0)))
     sb_radii = np.array(pick(mode, (1.0, 1.5), (1.0, 2.0)))
