@@ -1,6 +1,7 @@
 """Recipes for the N-body figures: "nblin1", "nblin2" (linear growth rates and frequencies vs hydro),
-"enbody" (e_kin(t)), "vdispnb" (velocity dispersion and collision frequency), "boxdouble" (box-size
-test by tiling a saturated box) and "radvar" (saturation wavelength vs particle radius, eq. lambdasigmaap).
+"enbody" (e_kin(t)); "vdispnb", "boxdouble" and "radvar" are in
+:mod:`ringcore.experiments.nbody_saturation_recipes` (they use :func:`_overstable_runs` and
+:func:`_history_dataset` from here).
 
 Quick: boxes of a few hundred metres and tens to a hundred orbits (same physics: Bridges law,
 Omega_z of the parameter set, radial self-gravity eq. sgmodes); full: Table "tab:nbstat" boxes and
@@ -13,7 +14,6 @@ import xarray as xr
 
 from ..figures._mpl import cmap, subplots
 from .. import linear, params
-from ..analysis import lambda_p_approx
 from ..nbody import NBodyOptions, ShearingBox, growth
 from .recipe_common import finish, pick
 from .registry import recipe
@@ -142,106 +142,3 @@ def enbody(mode, out):
            f"{st['orbits']:g} orbits, self-gravity eq. (sgmodes) with all modes down to 4 R_p. "
            "Paper: L_x = 5 km, L_y = 31.4 m (75,000 particles), ~5,000 orbits, tau = 1.5 and 2.")
     return finish(fig, ds, out, "enbody", cap, st)
-
-
-@recipe("vdispnb", "fig:vdispnb", "N-body <c>(sigma0) and collision frequency (tau = 1.5, Omega_z = 3.6 and 2)",
-        "3.3 min", "1400 h")
-def vdispnb(mode, out):
-    sigmas = pick(mode, (0.0, 800.0), (0.0, 100.0, 200.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
-    sets = pick(mode, ("tau15",), ("tau15", "tau15_oz2"))
-    fig, (ax1, ax2) = subplots(1, 2, figsize=(11, 4.8))
-    data = {}
-    for name, mk in zip(sets, ("*", "+")):
-        runs, st = _overstable_runs(mode, sigmas, name)
-        ds = _history_dataset(runs)
-        n = ds.sizes["time"]
-        cm = ds.c_mean[:, n // 2:].mean("time") * 1e3
-        ax1.plot(ds.sigma0, cm, mk, ms=10, label=f"N-body {name}")
-        ax1.axhline(np.sqrt(params.get(name).T0) * 1e3, ls="--", color="0.5", lw=0.8)
-        for i, s in enumerate(sigmas):
-            ax2.plot(ds.time, ds.collision_frequency[i], lw=1, label=f"{name} {s:g}")
-        data[f"c_mean_{name}"] = ("sigma0", cm.values, {"units": "mm s-1"})
-        data[f"collision_frequency_{name}"] = (("sigma0", "time"), ds.collision_frequency.values, {"units": "1/orbit"})
-    ax1.set_xlabel(r"$\sigma_0$ [kg m$^{-2}$]")
-    ax1.set_ylabel(r"$\langle c\rangle$ [mm/s]")
-    ax1.legend(fontsize=8)
-    ax2.set_xlabel("t [orbits]")
-    ax2.set_ylabel(r"$\omega_c$ [1/orbit]")
-    ax2.legend(fontsize=7)
-    fig.suptitle("Figure 19 (vdispnb): velocity dispersion (time mean of the second half) and collision frequency", fontsize=10)
-    ds = xr.Dataset(data, coords={"sigma0": ("sigma0", np.array(sigmas), {"units": "kg m-2"}),
-                                  "time": ("time", ds.time.values, {"units": "orbits"})})
-    cap = (f"{mode} run: N-body tau = 1.5 ({', '.join(sets)}), Bridges law, L_x = {st['L_x']:g} m, L_y = {st['L_y']:g} m, "
-           f"{st['orbits']:g} orbits from the uniform state; dashed: ground-state sqrt(T0) of the table. "
-           "Paper: L_x = 5 km (Omega_z = 3.6, epsilon = 0.5) and 2 km (Omega_z = 2), >= 100 orbits averaging, "
-           "plus hydro points (recipe etauhydro).")
-    return finish(fig, ds, out, "vdispnb", cap, st)
-
-
-@recipe("boxdouble", "fig:boxdouble", "N-body box-size test: a saturated box tiled to twice its size", "62 s", "45 h")
-def boxdouble(mode, out):
-    L, L_y, t1, t2 = pick(mode, 150.0, 2000.0), pick(mode, 10.0, 10.0), pick(mode, 50.0, 5000.0), pick(mode, 25.0, 3000.0)
-    p = params.get("tau15", sigma0=150.0)
-    base = ShearingBox(p, NBodyOptions(L_x=L, L_y=L_y, record_every=0.5, profile_every=0.0), seed=1)
-    base.run(t1)
-    snap = base.to_dataset()
-    fig, ax = subplots(figsize=(8, 5.2))
-    ax.semilogy(base.history["time"], base.history["ekin"], "k-", lw=1, label=f"L_x = {L:g} m, sigma0 = 150")
-    data = {"ekin_base": ("time_base", np.array(base.history["ekin"]), {"units": "sigma0 (R_p Omega)^2"})}
-    for s, c in ((150.0, "k"), (0.0, "C0"), (600.0, "C3")):
-        big = ShearingBox.from_dataset(snap, sigma0=s, tile_x=True)
-        h0 = len(big.history["time"])
-        big.run(t2)
-        t = np.array(big.history["time"][h0:])
-        e = np.array(big.history["ekin"][h0:])
-        ax.semilogy(t, e, "-", color=c, lw=1, label=f"tiled to {2 * L:g} m, sigma0 = {s:g}")
-        data[f"ekin_tiled_s{s:g}"] = ("time_tiled", e, {"units": "sigma0 (R_p Omega)^2"})
-    ax.axvline(base.orbits, color="0.5", ls=":")
-    ax.set_xlabel("t [orbits]")
-    ax.set_ylabel(r"$e_{kin}$ [$\sigma_0 (R_p\Omega)^2$]")
-    ax.legend(fontsize=8)
-    ax.set_title("Figure 18 (boxdouble) (left): tau = 1.5, Omega_z = 3.6", fontsize=10)
-    ds = xr.Dataset(data, coords={"time_base": ("time_base", np.array(base.history["time"]), {"units": "orbits"}),
-                                  "time_tiled": ("time_tiled", t, {"units": "orbits"})})
-    cap = (f"{mode} run: N-body, sigma0 = 150 kg/m^2 in L_x = {L:g} m x L_y = {L_y:g} m for {t1:g} orbits; the final "
-           f"state tiled radially (x2) and continued {t2:g} orbits with sigma0 = 150, 0, 600 kg/m^2. "
-           "Paper: 2 km -> 4 km at 5,000 orbits; right panel (2 vs 8 km at 300 kg/m^2) not repeated in quick mode.")
-    return finish(fig, ds, out, "boxdouble", cap, dict(L_x=L, L_y=L_y, orbits_base=t1, orbits_tiled=t2))
-
-
-@recipe("radvar", "fig:radvar", "N-body saturation wavelength vs particle radius, sigma0 = 900 (eq. lambdasigmaap)",
-        "65 s", "100 h")
-def radvar(mode, out):
-    radii = np.array(pick(mode, (1.0, 1.5, 2.0), (1.0, 1.5, 2.0, 2.5, 3.0, 4.0)))
-    L1, Ly1, orbits = pick(mode, 150.0, 2000.0), pick(mode, 6.0, 10.0), pick(mode, 60.0, 5000.0)
-    p = params.get("tau15", sigma0=900.0)
-    lam_p, c0 = [], []
-    for R in radii:
-        box = ShearingBox(p, NBodyOptions(L_x=L1 * R**2, L_y=Ly1 * R, R_p=R, record_every=1.0,
-                                          profile_every=0.0), seed=1)
-        box.run(orbits)
-        n = len(box.history["lambda_p"])
-        vals, counts = np.unique(np.array(box.history["lambda_p"][n // 2:]), return_counts=True)
-        lam_p.append(float(vals[np.argmax(counts)]))
-        c0.append(float(np.mean(box.history["c_mean"][n // 2:])))
-    # c0 ~ R_p => lambda_J ~ R_p^2; eq. (lambdasigmaap) with the sign of eq. (osfreq), 2C(p_s + F2) lambda_J
-    # (the paper prints p_s - F2; see ringcore.analysis.saturation.lambda_p_approx)
-    approx = np.array([lambda_p_approx(p) * R**2 for R in radii])
-    fig, ax = subplots(figsize=(7, 5))
-    ax.plot(radii, lam_p, "*", ms=12, color="k", label="N-body, periodic boundaries")
-    ax.plot(radii, approx, "k--", label=r"eq. (lambdasigmaap), $2C(p_s+F_2)\lambda_J \times (R_p/1\,$m$)^2$")
-    ax.set_xlabel(r"$R_p$ [m]")
-    ax.set_ylabel(r"$\lambda_p$ [m]")
-    ax.legend(fontsize=8)
-    ax.set_title("Figure 26 (radvar): tau = 1.5, Omega_z = 3.6, sigma0 = 900 kg/m^2", fontsize=10)
-    ds = xr.Dataset({"lambda_p": ("R_p", np.array(lam_p), {"units": "m"}),
-                     "c_mean": ("R_p", np.array(c0), {"units": "m s-1"}),
-                     "lambda_p_approx": ("R_p", approx, {"units": "m"})},
-                    coords={"R_p": ("R_p", radii, {"units": "m"})})
-    cap = (f"{mode} run: N-body with L_x = {L1:g} m (R_p/1 m)^2, L_y = {Ly1:g} m (R_p/1 m), Bridges law unchanged "
-           f"(v_c = 0.077 mm/s), tau, sigma0 unchanged, {orbits:g} orbits; lambda_p = most frequent "
-           "prevalent wavelength of the second half. Dashed: eq. (lambdasigmaap) as 2C(p_s + F2) lambda_J (R_p/1 m)^2, "
-           "the sign that follows from eq. (osfreq) (the paper prints p_s - F2; at sigma0 = 900, Q0 = 0.9, the "
-           "estimate is rough either way). Paper: L_x = 2 km (R_p/1 m)^2, R_p = 1-4 m, thousands of orbits, "
-           "plus spreading-boundary runs (diamonds, not repeated here).")
-    return finish(fig, ds, out, "radvar", cap, dict(L_x=L1, L_y=Ly1, orbits=orbits))

@@ -19,7 +19,7 @@ from ..checks import check_choice
 RECIPES: dict = {}
 MODES = ("quick", "full")
 # modules that define recipes (imported lazily by get_recipe / the CLI)
-RECIPE_MODULES = ("linear_recipes", "hydro_recipes", "hydro_sg_recipes", "nbody_recipes", "lambdap_recipe", "saturation_recipes",
+RECIPE_MODULES = ("linear_recipes", "hydro_recipes", "hydro_sg_recipes", "nbody_recipes", "nbody_saturation_recipes", "lambdap_recipe", "saturation_recipes",
                   "longrun_recipes")
 
 
