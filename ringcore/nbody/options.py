@@ -51,7 +51,9 @@ class NBodyOptions:
         Initial peculiar velocity dispersion per component [m/s].
     fill_fraction : float
         Radial fraction of the box filled initially ("spreading boundaries"); tau is the
-        optical depth of the filled strip |x| < fill_fraction L_x / 2.
+        optical depth of the filled strip |x| < fill_fraction L_x / 2.  The self-gravity takes
+        ``sigma0`` as the surface density of the N particles spread over the whole box, so the
+        strip starts at sigma0 / fill_fraction (recipe radvar fills 3/4 at tau = 2 for tau 1.5).
     """
 
     L_x: float = 50.0  # [m]
