@@ -77,20 +77,23 @@ def test_shipped_sweep_dataset():
         np.testing.assert_allclose(ds.lambda_zero_m.values, lz, rtol=1e-6)
 
 
-def test_shipped_tau20_sweep_dataset():
-    """app/data/saturation_sweep_tau20.nc: recorded command (also in the data README), consistent theory,
+@pytest.mark.parametrize("stem, set_name, iso, caveat", [("tau20", "tau20", False, "not a reproduction"),
+                                                          ("tau15_iso", "tau15", True, "blew up")])
+def test_shipped_extra_sweep_datasets(stem, set_name, iso, caveat):
+    """app/data/saturation_sweep_<stem>.nc: recorded command (also in the data README), consistent theory,
     per-run saturation flags, and the caveat the app shows."""
     from pathlib import Path
 
     import xarray as xr
 
-    path = Path(__file__).parent.parent / "app" / "data" / "saturation_sweep_tau20.nc"
+    path = Path(__file__).parent.parent / "app" / "data" / f"saturation_sweep_{stem}.nc"
     with xr.open_dataset(path, engine="h5netcdf") as ds:
-        assert ds.attrs["command"].startswith("ringcore sweep --engine hydro --set tau20")
+        assert ds.attrs["command"].startswith(f"ringcore sweep --engine hydro --set {set_name}")
+        assert ("--isothermal" in ds.attrs["command"]) == iso
         assert ds.attrs["command"] in (path.parent / "README.md").read_text()
-        assert "not a reproduction" in ds.attrs["caveat"]
+        assert caveat in ds.attrs["caveat"] and "<" not in ds.attrs["caveat"].replace("<sub>", "").replace("</sub>", "")
         assert set(np.unique(ds.saturated.values)) <= {0.0, 1.0}
-        lz = [linear.lambda_zero(params.get("tau20", sigma0=s)) for s in ds.sigma0.values]
+        lz = [linear.lambda_zero(params.get(set_name, sigma0=s, isothermal=iso)) for s in ds.sigma0.values]
         np.testing.assert_allclose(ds.lambda_zero_m.values, lz, rtol=1e-6)
         np.testing.assert_allclose(ds.lambda_p_empirical_m.values, 1.4 * np.array(lz), rtol=1e-6)
         L_x = 4000.0  # lambda_p is one of the box's wavelengths L_x / m
