@@ -23,13 +23,37 @@ SWEEP_FILE = Path(__file__).resolve().parents[2] / "app" / "data" / "saturation_
 LAMBDAP_PANELS = (("tau15", False), ("tau20", False), ("tau15", True))  # (set, isothermal) of Figure 20's hydro panels
 
 
+FULL_SWEEP = dict(lx=5000.0, h=2.5, orbits=5000.0)  # full mode: box [m], node spacing [m], orbits per run
+
+
+def sweep_points(ds, src: str, out: dict | None = None) -> dict:
+    """Points of one sweep Dataset (``sweep.nc`` of ``ringcore sweep``), added to ``out`` by (set, isothermal):
+    lists (sigma0, lambda_p_m, saturated, source).  ``saturated``: the per-run variable if present (nan:
+    unknown, counted as saturated), else True; runs without a finite lambda_p are left out."""
+    out = {} if out is None else out
+    if "lambda_p_m" not in ds or not ds.sizes.get("run", 0):
+        return out
+    tasks = [json.loads(t) for t in ds["task"].values] if "task" in ds.coords else [{}] * ds.sizes["run"]
+    sat = ds["saturated"].values.astype(float) if "saturated" in ds else np.ones(ds.sizes["run"])
+    for i, t in enumerate(tasks):
+        lam = float(ds["lambda_p_m"].values[i])
+        if not np.isfinite(lam):
+            continue
+        sig, lp, ok, _ = out.setdefault((t.get("set", "tau15"), bool(t.get("isothermal", False))), ([], [], [], src))
+        sig.append(float(ds["sigma0"].values[i]))
+        lp.append(lam)
+        ok.append(not (np.isfinite(sat[i]) and sat[i] == 0))
+    return out
+
+
+def _as_arrays(points: dict) -> dict:
+    return {k: (np.array(a), np.array(b), np.array(c, bool), src) for k, (a, b, c, src) in points.items()}
+
+
 def shipped_sweeps() -> dict:
     """The shipped sweeps (app/data/saturation_sweep.nc and saturation_sweep_*.nc, plain NetCDF written by
-    ``ringcore sweep``), grouped by (set, isothermal): dict of (sigma0, lambda_p_m, saturated, source).
-
-    ``saturated`` is the per-run variable ``saturated`` if present (nan: unknown, counted as saturated),
-    else True.  Unreadable files are skipped.
-    """
+    ``ringcore sweep``), grouped by (set, isothermal): dict of (sigma0, lambda_p_m, saturated, source) arrays
+    (:func:`sweep_points`).  Unreadable files are skipped."""
     out = {}
     for path in [SWEEP_FILE, *sorted(SWEEP_FILE.parent.glob("saturation_sweep_*.nc"))]:
         try:
@@ -37,34 +61,49 @@ def shipped_sweeps() -> dict:
                 ds = ds.load()
         except (OSError, ValueError):
             continue
-        if "lambda_p_m" not in ds or not ds.sizes.get("run", 0):
-            continue
-        tasks = [json.loads(t) for t in ds["task"].values] if "task" in ds.coords else [{}] * ds.sizes["run"]
-        sat = ds["saturated"].values.astype(float) if "saturated" in ds else np.ones(ds.sizes["run"])
         src = f"sweep file app/data/{path.name} (made by: {ds.attrs.get('command', 'ringcore sweep')})"
         if ds.attrs.get("caveat"):  # plain text for the caption (the file's caveat is HTML for the app)
             src += ". Caveat: " + re.sub(r"<[^>]+>", "", str(ds.attrs["caveat"]))
-        for i, t in enumerate(tasks):
-            key = (t.get("set", "tau15"), bool(t.get("isothermal", False)))
-            lam = float(ds["lambda_p_m"].values[i])
-            if not np.isfinite(lam):
-                continue
-            sig, lp, ok, _ = out.setdefault(key, ([], [], [], src))
-            sig.append(float(ds["sigma0"].values[i]))
-            lp.append(lam)
-            ok.append(not (np.isfinite(sat[i]) and sat[i] == 0))
-    return {k: (np.array(a), np.array(b), np.array(c, bool), src) for k, (a, b, c, src) in out.items()}
+        sweep_points(ds, src, out)
+    return _as_arrays(out)
+
+
+def full_tasks(set_name: str, isothermal: bool, sigmas) -> list:
+    """Tasks of ``ringcore sweep`` (engine hydro) for one panel in full mode (:data:`FULL_SWEEP`, seed 1);
+    ValueError for an unknown set or model."""
+    params.get(set_name, isothermal=bool(isothermal))  # validates the set and model
+    return [dict(engine="hydro", set=set_name, sigma0=float(s), isothermal=bool(isothermal), ps_scale=1.0, seed=1,
+                 **FULL_SWEEP) for s in sigmas]
+
+
+def swept_points(set_name: str, isothermal: bool, sigmas, outdir, n_workers: int = 2):
+    """Full mode: one panel's runs with :func:`ringcore.experiments.sweep.run_sweep` on a LocalCluster of
+    ``n_workers`` processes (both cores); each run file is kept in ``outdir``, so calling again after an
+    interruption skips the finished runs.  Returns (sigma0, lambda_p_m, saturated, source); failed runs
+    (blow-ups) have no point and are named in the source."""
+    from .sweep import run_sweep
+
+    res = run_sweep(full_tasks(set_name, isothermal, sigmas), outdir, n_workers=n_workers, dashboard=False)
+    src = (f"ringcore sweep on {n_workers} workers, L_x = {FULL_SWEEP['lx'] / 1e3:g} km, h = {FULL_SWEEP['h']:g} m, "
+           f"{FULL_SWEEP['orbits']:g} orbits ({outdir})")
+    if res.failed:
+        src += "; failed: " + ", ".join(f"sigma0 = {r.get('sigma0', '?')}" for r in res.failed)
+    got = _as_arrays(sweep_points(res.dataset, src)).get((set_name, bool(isothermal)))
+    return got if got is not None else (np.array([]), np.array([]), np.array([], bool), src)
 
 
 def saturation_points(mode, set_name="tau15", sigmas=(250.0, 400.0, 600.0, 800.0), use_sweep_file=True,
-                      isothermal=False):
+                      isothermal=False, outdir=None):
     """Measured lambda_p(sigma0) of one set and model: ``(sigma0, lambda_p, saturated, source)`` from the shipped
-    sweeps (quick, :func:`shipped_sweeps`) if they hold that set, else a small in-process hydro sweep (quick:
-    L_x = 2 km, h = 5 m, 1,000 orbits from white noise; full: 5 km, h = 2.5 m, 5,000 orbits; saturated = nan)."""
+    sweeps (quick, :func:`shipped_sweeps`) if they hold that set; full with ``outdir``: :func:`swept_points` (Dask,
+    both cores); else in-process hydro runs (quick: L_x = 2 km, h = 5 m, 1,000 orbits from white noise; full:
+    5 km, h = 2.5 m, 5,000 orbits)."""
     if mode == "quick" and use_sweep_file:
         got = shipped_sweeps().get((set_name, bool(isothermal)))
         if got is not None:
             return got
+    if mode == "full" and outdir is not None:
+        return swept_points(set_name, isothermal, sigmas, outdir)
     L, h, orbits = pick(mode, 2000.0, 5000.0), pick(mode, 5.0, 2.5), pick(mode, 1000, 5000)
     lam_p = []
     for s in sigmas:
@@ -83,19 +122,21 @@ def _panel_label(set_name, iso):
 
 
 @recipe("lambdap", "fig:lambdap", "Saturation wavelength lambda_p(sigma0) vs 1.4 lambda_zero (tau15, tau20, isothermal)",
-        "22 s", "130 h")
+        "22 s", "~12 h")
 def lambdap(mode, out):
     """Figure 20's hydro panels: tau15 and tau20 non-isothermal, tau15 isothermal (p_s = 1).  Quick: the shipped
     sweeps (app/data/saturation_sweep*.nc, 22 s); a panel without a shipped sweep: tau15 an in-process sweep of
     four 2 km runs (5.4 min measured at load 5), the others left out (say so in the caption).  Full: 19 sigma0
-    per panel, 5 km, 5,000 orbits."""
+    per panel, 5 km, 5,000 orbits, with ``ringcore sweep`` on 2 worker processes (OUT/lambdap_runs/, resumable):
+    ~12 h from the shipped sweeps' run times (box x length 6.25x, 2.1x more sigma0, 23 worker-hours at load)."""
     sigmas = pick(mode, (250.0, 400.0, 600.0, 800.0), tuple(np.arange(100.0, 1001.0, 50.0)))
     panels, srcs = [], []
     for set_name, iso in LAMBDAP_PANELS:
         shipped = mode == "quick" and (set_name, iso) in shipped_sweeps()
         if mode == "quick" and not shipped and (set_name, iso) != ("tau15", False):
             continue  # quick: only shipped data for the extra panels
-        sig, lam_p, sat, src = saturation_points(mode, set_name, sigmas, isothermal=iso)
+        sig, lam_p, sat, src = saturation_points(mode, set_name, sigmas, isothermal=iso,
+                                                 outdir=out / "lambdap_runs" / f"{set_name}{'_iso' if iso else ''}")
         panels.append((set_name, iso, sig, lam_p, sat))
         srcs.append(f"{_panel_label(set_name, iso)}: {src}")
     s = np.linspace(25, 1000, 80)

@@ -1,0 +1,41 @@
+"""Recipe "lambdap" (Figure 20's hydro panels): shipped sweeps grouped by set and model, full mode on Dask."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ringcore import linear, params
+from ringcore.experiments import lambdap_recipe as lr
+
+
+def test_shipped_sweeps_are_grouped_by_set_and_model():
+    got = lr.shipped_sweeps()
+    assert {("tau15", False), ("tau20", False), ("tau15", True)} <= set(got)
+    sig, lam, sat, src = got[("tau15", False)]
+    assert list(sig) == [100.0 * k for k in range(1, 10)]
+    assert list(sat) == [False, False] + [True] * 7  # 100 and 200 still coarsening (app/data/README.md)
+    ratio = lam[sat] / np.array([1.4 * linear.lambda_zero(params.get("tau15", sigma0=s)) for s in sig[sat]])
+    assert np.all(np.abs(ratio - 1) < 0.2)
+    assert "Caveat" in got[("tau20", False)][3] and "<sub>" not in got[("tau20", False)][3]
+    assert got[("tau15", True)][0].max() <= 400.0  # 500-900 blew up: no points
+
+
+def test_full_mode_runs_a_resumable_dask_sweep(tmp_path, monkeypatch):
+    monkeypatch.setattr(lr, "FULL_SWEEP", dict(lx=200.0, h=5.0, orbits=3.0))
+    tasks = lr.full_tasks("tau15", False, (300.0, 600.0))
+    assert [t["sigma0"] for t in tasks] == [300.0, 600.0] and all(t["lx"] == 200.0 for t in tasks)
+    sig, lam, sat, src = lr.swept_points("tau15", False, (300.0, 600.0), tmp_path / "runs", n_workers=1)
+    assert sorted(sig) == [300.0, 600.0] and "1 workers" in src
+    m = 200.0 / lam  # a prevalent wavelength is one of the box's L_x / m
+    np.testing.assert_allclose(m, np.round(m), atol=1e-9)
+    files = sorted(p.name for p in (tmp_path / "runs").glob("hydro_*.nc"))
+    assert len(files) == 2
+    again = lr.swept_points("tau15", False, (300.0, 600.0), tmp_path / "runs", n_workers=1)
+    np.testing.assert_array_equal(np.sort(again[1]), np.sort(lam))  # finished runs are read back, not rerun
+
+
+def test_bad_panel_is_refused():
+    with pytest.raises(ValueError, match="parameter set"):
+        lr.full_tasks("tau99", False, (100.0,))
+    with pytest.raises(ValueError, match="isothermal"):
+        lr.full_tasks("st99", False, (100.0,))
