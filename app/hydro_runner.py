@@ -40,8 +40,8 @@ from .live_buffers import RollingImage, SeriesBuffer, SpaceTimeImage
 from .live_loop import LiveLoop
 
 BUDGET_S = 0.06  # compute time per tick
-MAX_RECORD_SAMPLES = 5000  # solver recorder samples kept (older ones thinned by 2; ~6 KB each at n = 800)
-MAX_STROBE_BYTES = 16e6  # stroboscopic rows kept by the solver's recorder
+MAX_RECORD_SAMPLES = 5000  # solver recorder samples kept (older ones thinned by 2; ~1 KB each)
+MAX_STROBE_BYTES = 2e6  # stroboscopic rows kept by the solver's recorder (625 at n = 800; then thinned by 2)
 STEP_ORBITS = 1.0  # the "Step" button advances this many orbits (or STEP_MAX_S of wall time)
 STEP_MAX_S = 1.0
 

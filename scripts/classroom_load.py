@@ -270,12 +270,13 @@ def run(args) -> dict:
             marks["client0"] = time.process_time()
             marks["main0"] = main_thread_cpu(server.pid)
         loop.call_later(args.warmup, mark_start)
-        rss_series = []  # (seconds since the start of the measurement, RSS MB of server tree + workers)
+        rss_series = []  # (s since the start of the measurement, RSS MB of server tree + workers, MB of the app process)
 
         def sample_rss():
             if "t0" in marks:
                 rss_series.append((round(time.perf_counter() - marks["t0"], 1),
-                                   round(cpu_rss(tree(server.pid) + worker_procs(cluster))[1], 0)))
+                                   round(cpu_rss(tree(server.pid) + worker_procs(cluster))[1], 0),
+                                   round(cpu_rss([psutil.Process(server.pid)])[1], 0)))
         rss_cb = PeriodicCallback(sample_rss, 30_000)
         loop.call_later(args.warmup, rss_cb.start)
         loop.call_later(args.warmup + args.seconds, loop.stop)

@@ -92,3 +92,18 @@ def test_cli_bad_input_exit_2(tmp_path, capsys, args, msg):
     assert main(["hydro", *args, "--no-progress", "--out", str(tmp_path / "x.nc")]) == 2
     err = capsys.readouterr().err
     assert msg in err and len(err.strip().splitlines()) == 1
+
+
+def test_recorder_samples_keep_no_spectrum_alive():
+    """A sample's stored arrays must own their (tiny) data: a zero-length view of the spectrum kept every
+    sample's full rfft alive (~6 KB each at n = 800; a live run's worker grew 150 KB per orbit)."""
+    from ringcore import params
+    from ringcore.hydro import Hydro1D, HydroOptions
+
+    sim = Hydro1D(params.get("tau15", sigma0=400.0), HydroOptions(L_x=500.0, h=2.5, samples_per_orbit=20),
+                  "noise", seed=1)
+    sim.advance(1)
+    rec = sim.recorder
+    held = [a for lst in (rec.mode_sigma, rec.mode_u, rec.probe_sigma, rec.probe_u) for a in lst]
+    assert len(held) >= 80
+    assert all(a.base is None or a.base.nbytes <= max(a.nbytes, 64) for a in held)
