@@ -174,7 +174,10 @@ class PaperView(pn.viewable.Viewer):
                 + row.format("computed", "computed-number", f"{comp:.0f} m",
                              f"at orbit {float(a['orbit']):,.0f} ({comp / paper:.2f} × paper); most frequent over "
                              f"the last 1,000 orbits {float(a['lambda_p_last1000_m']):.0f} m")
-                + f'</table><b id="paper-run-status">{html.escape(a["status"])}</b><br>{settings}<br>'
+                + f'</table><b id="paper-run-status">{html.escape(a["status"])}</b><br>'
+                + (f'<span id="paper-known-issue" style="color:#8a4b00">{html.escape(a["known_issue"])}</span><br>'
+                   if a.get("known_issue") else "")
+                + f'{settings}<br>'
                 f'Recompute ({FULL_COST.get(a["name"], "hours")} on a shared 2-core machine): '
                 f'<code id="paper-command">{html.escape(a["recompute_command"])}</code></div>')
 

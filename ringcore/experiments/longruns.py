@@ -48,7 +48,11 @@ LONG_RUNS = {
     "noniso_tau20_noise": dict(set="tau20", isothermal=False, init="noise", orbits=14000,
                                figure="fig:tau20nonisonosga", paper_m=570.0,
                                paper_text=f"final wavelength about 570 m, {ref('sec:nonisonosg')}, "
-                                          f"{ref('fig:tau20nonisonosga')} ('tau20nonisonosga')"),
+                                          f"{ref('fig:tau20nonisonosga')} ('tau20nonisonosga')",
+                               known_issue="Not a reproduction: with h = 2.5 m the non-isothermal tau20 model is "
+                                           "under-resolved (e_kin grows without bound, the temperature floor "
+                                           "heats the wave troughs, then the run blows up); it needs h = 1.25 m "
+                                           "(README, Departures)."),
     "iso_tau15_buffer": dict(set="tau15", isothermal=True, init="buffer", orbits=20000, figure="fig:tau15bufnosg",
                              paper_m=233.0, paper_text="'concentrated around' the homogeneous box's final "
                                                        f"wavelength (233 m for tau15), {ref('fig:tau15bufnosg')} "
@@ -186,6 +190,7 @@ def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) ->
         name=name, kind="longrun-compact", title=run_title(name), figure=info["figure"],
         orbit=orbit, orbit_target=float(info["orbits"]), complete=int(a.get("complete", 0) or 0),
         status=status_text(orbit, float(info["orbits"]), a), blowup=str(a.get("blowup", "") or ""),
+        known_issue=info.get("known_issue", ""),
         steps=int(a.get("steps", 0)),
         lambda_p_final_m=lam_final, lambda_p_last1000_m=float(vals[np.argmax(counts)]) if vals.size else np.nan,
         lambda_p_paper_m=info["paper_m"], paper_reference=info["paper_text"],
