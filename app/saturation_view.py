@@ -10,7 +10,6 @@ References: eqs. (lambdasigma), (lambdasigmaap), (jeans); Figure "lambdap".
 """
 from __future__ import annotations
 
-import json
 import re
 from pathlib import Path
 
@@ -21,6 +20,7 @@ from bokeh.models import ColumnDataSource, HoverTool, Range1d
 
 from ringcore import linear
 from ringcore.analysis.saturation import C_EMPIRICAL, lambda_p_empirical
+from ringcore.experiments.sweep import shipped_sweep_files, sweep_points
 
 from .controls import ISOTHERMAL_ONLY, build_params, isothermal_only_note
 from .linear_view import _set_labels, page_row
@@ -104,21 +104,10 @@ def load_sweep(path: Path | None = None) -> tuple[list, str]:
         return [], f"The sweep file {path.name} cannot be read ({type(exc).__name__}: {exc}); theory only."
     if "lambda_p_m" not in ds or "sigma0" not in ds.coords:
         return [], f"The sweep file {path.name} has no lambda_p_m / sigma0: theory only."
-    tasks = ds["task"].values if "task" in ds.coords else [None] * ds.sizes.get("run", 0)
-    lower = unsaturated_sigma0(ds.attrs.get("note", ""))
-    by_note = [float(v) not in lower for v in ds["sigma0"].values]
-    if "saturated" in ds:  # written by ringcore sweep (ringcore.analysis.summary.saturation_flag); nan: unknown
-        flags = [bool(v) if np.isfinite(v) else n for v, n in zip(ds["saturated"].values.astype(float), by_note)]
-    else:
-        flags = by_note
-    pts = []
-    for s, lam, t, sat in zip(ds["sigma0"].values, ds["lambda_p_m"].values, tasks, flags):
-        if not (np.isfinite(s) and np.isfinite(lam)):
-            continue
-        task = json.loads(t) if isinstance(t, str) else {}
-        pts.append(dict(sigma0=float(s), lambda_p_m=float(lam), set=task.get("set", "?"),
-                        isothermal=bool(task.get("isothermal", False)), engine=task.get("engine", "?"),
-                        saturated=sat, caveat=str(ds.attrs.get("caveat", "") or "")))
+    lower = unsaturated_sigma0(ds.attrs.get("note", ""))  # for runs without their own flag
+    caveat = str(ds.attrs.get("caveat", "") or "")
+    pts = [dict(p, caveat=caveat, saturated=p["sigma0"] not in lower if p["saturated"] is None else p["saturated"])
+           for p in sweep_points(ds)]
     note = "" if pts else f"The sweep file {path.name} holds no measured λ<sub>p</sub> yet: theory only."
     return pts, note
 
@@ -126,7 +115,7 @@ def load_sweep(path: Path | None = None) -> tuple[list, str]:
 def sweep_files() -> list[Path]:
     """The shipped sweeps: :data:`SWEEP_FILE` (tau15, non-isothermal) and every ``saturation_sweep_*.nc``
     next to it (other sets and models, app/data/README.md)."""
-    return [Path(SWEEP_FILE), *sorted(Path(SWEEP_FILE).parent.glob("saturation_sweep_*.nc"))]
+    return shipped_sweep_files(SWEEP_FILE)
 
 
 def load_sweeps(paths) -> tuple[list, str]:

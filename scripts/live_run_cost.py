@@ -9,7 +9,7 @@ from app.hydro_settings import HydroSettings
 from ringcore import params
 from ringcore.hydro import Hydro1D
 s = HydroSettings()
-opt = s.options() if callable(getattr(s, "options", None)) else s.options
+opt = s.options()
 p = params.get("tau15", sigma0=400.0)
 sim = Hydro1D(p, opt, initial="noise", seed=1, amplitude=1e-4)
 sim.advance(5)

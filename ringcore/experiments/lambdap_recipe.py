@@ -4,7 +4,6 @@ panels, lambda_p(sigma0) against 1.4 lambda_zero (eq. lambdasigma), from the swe
 """
 from __future__ import annotations
 
-import json
 import re
 from pathlib import Path
 
@@ -17,6 +16,7 @@ from ..analysis import lambda_p_empirical
 from ..analysis.saturation import C_EMPIRICAL
 from .recipe_common import finish, hydro_run, pick
 from .registry import recipe
+from .sweep import run_sweep, shipped_sweep_files, sweep_points
 
 SWEEP_FILE = Path(__file__).resolve().parents[2] / "app" / "data" / "saturation_sweep.nc"
 
@@ -26,23 +26,15 @@ LAMBDAP_PANELS = (("tau15", False), ("tau20", False), ("tau15", True))  # (set, 
 FULL_SWEEP = dict(lx=5000.0, h=2.5, orbits=5000.0)  # full mode: box [m], node spacing [m], orbits per run
 
 
-def sweep_points(ds, src: str, out: dict | None = None) -> dict:
-    """Points of one sweep Dataset (``sweep.nc`` of ``ringcore sweep``), added to ``out`` by (set, isothermal):
-    lists (sigma0, lambda_p_m, saturated, source).  ``saturated``: the per-run variable if present (nan:
-    unknown, counted as saturated), else True; runs without a finite lambda_p are left out."""
+def group_points(ds, src: str, out: dict | None = None) -> dict:
+    """The runs of one sweep Dataset (:func:`ringcore.experiments.sweep.sweep_points`) added to ``out`` by
+    (set, isothermal): lists (sigma0, lambda_p_m, saturated, source); an unknown ``saturated`` counts as True."""
     out = {} if out is None else out
-    if "lambda_p_m" not in ds or not ds.sizes.get("run", 0):
-        return out
-    tasks = [json.loads(t) for t in ds["task"].values] if "task" in ds.coords else [{}] * ds.sizes["run"]
-    sat = ds["saturated"].values.astype(float) if "saturated" in ds else np.ones(ds.sizes["run"])
-    for i, t in enumerate(tasks):
-        lam = float(ds["lambda_p_m"].values[i])
-        if not np.isfinite(lam):
-            continue
-        sig, lp, ok, _ = out.setdefault((t.get("set", "tau15"), bool(t.get("isothermal", False))), ([], [], [], src))
-        sig.append(float(ds["sigma0"].values[i]))
-        lp.append(lam)
-        ok.append(not (np.isfinite(sat[i]) and sat[i] == 0))
+    for p in sweep_points(ds):
+        sig, lp, ok, _ = out.setdefault((p["set"], p["isothermal"]), ([], [], [], src))
+        sig.append(p["sigma0"])
+        lp.append(p["lambda_p_m"])
+        ok.append(p["saturated"] is not False)
     return out
 
 
@@ -53,9 +45,9 @@ def _as_arrays(points: dict) -> dict:
 def shipped_sweeps() -> dict:
     """The shipped sweeps (app/data/saturation_sweep.nc and saturation_sweep_*.nc, plain NetCDF written by
     ``ringcore sweep``), grouped by (set, isothermal): dict of (sigma0, lambda_p_m, saturated, source) arrays
-    (:func:`sweep_points`).  Unreadable files are skipped."""
+    (:func:`group_points`).  Unreadable files are skipped."""
     out = {}
-    for path in [SWEEP_FILE, *sorted(SWEEP_FILE.parent.glob("saturation_sweep_*.nc"))]:
+    for path in shipped_sweep_files(SWEEP_FILE):
         try:
             with xr.open_dataset(path, engine="h5netcdf") as ds:
                 ds = ds.load()
@@ -64,7 +56,7 @@ def shipped_sweeps() -> dict:
         src = f"sweep file app/data/{path.name} (made by: {ds.attrs.get('command', 'ringcore sweep')})"
         if ds.attrs.get("caveat"):  # plain text for the caption (the file's caveat is HTML for the app)
             src += ". Caveat: " + re.sub(r"<[^>]+>", "", str(ds.attrs["caveat"]))
-        sweep_points(ds, src, out)
+        group_points(ds, src, out)
     return _as_arrays(out)
 
 
@@ -81,14 +73,12 @@ def swept_points(set_name: str, isothermal: bool, sigmas, outdir, n_workers: int
     ``n_workers`` processes (both cores); each run file is kept in ``outdir``, so calling again after an
     interruption skips the finished runs.  Returns (sigma0, lambda_p_m, saturated, source); failed runs
     (blow-ups) have no point and are named in the source."""
-    from .sweep import run_sweep
-
     res = run_sweep(full_tasks(set_name, isothermal, sigmas), outdir, n_workers=n_workers, dashboard=False)
     src = (f"ringcore sweep on {n_workers} workers, L_x = {FULL_SWEEP['lx'] / 1e3:g} km, h = {FULL_SWEEP['h']:g} m, "
            f"{FULL_SWEEP['orbits']:g} orbits ({outdir})")
     if res.failed:
         src += "; failed: " + ", ".join(f"sigma0 = {r.get('sigma0', '?')}" for r in res.failed)
-    got = _as_arrays(sweep_points(res.dataset, src)).get((set_name, bool(isothermal)))
+    got = _as_arrays(group_points(res.dataset, src)).get((set_name, bool(isothermal)))
     return got if got is not None else (np.array([]), np.array([]), np.array([], bool), src)
 
 

@@ -125,6 +125,33 @@ def aggregate(rows) -> xr.Dataset:
 CONNECT_TIMEOUT_S = 5.0  # seconds to reach a --scheduler before giving up
 
 
+def sweep_points(ds: xr.Dataset) -> list:
+    """The runs of a sweep Dataset (:func:`aggregate`'s ``sweep.nc``) as dicts: ``sigma0`` [kg/m^2],
+    ``lambda_p_m`` [m], ``set``, ``isothermal``, ``engine`` (from the ``task`` coordinate; "?" if absent) and
+    ``saturated`` (the per-run variable: True/False, None where it is missing or nan).  Runs without a
+    finite sigma0 and lambda_p are left out."""
+    if "lambda_p_m" not in ds or "sigma0" not in ds.coords:
+        return []
+    n = ds.sizes.get("run", 0)
+    tasks = ds["task"].values if "task" in ds.coords else [None] * n
+    sat = ds["saturated"].values.astype(float) if "saturated" in ds else np.full(n, np.nan)
+    pts = []
+    for s, lam, t, ok in zip(ds["sigma0"].values, ds["lambda_p_m"].values, tasks, sat):
+        if not (np.isfinite(s) and np.isfinite(lam)):
+            continue
+        task = json.loads(t) if isinstance(t, str) else {}
+        pts.append(dict(sigma0=float(s), lambda_p_m=float(lam), set=task.get("set", "?"),
+                        isothermal=bool(task.get("isothermal", False)), engine=task.get("engine", "?"),
+                        saturated=bool(ok) if np.isfinite(ok) else None))
+    return pts
+
+
+def shipped_sweep_files(main: Path) -> list:
+    """``main`` (a shipped ``saturation_sweep.nc``) and every ``saturation_sweep_*.nc`` next to it."""
+    main = Path(main)
+    return [main, *sorted(main.parent.glob("saturation_sweep_*.nc"))]
+
+
 class SchedulerUnreachable(ConnectionError):
     """The dask scheduler given by address cannot be reached (one-line message)."""
 
