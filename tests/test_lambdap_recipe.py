@@ -39,3 +39,13 @@ def test_bad_panel_is_refused():
         lr.full_tasks("tau99", False, (100.0,))
     with pytest.raises(ValueError, match="isothermal"):
         lr.full_tasks("st99", False, (100.0,))
+
+
+def test_full_tau20_panel_uses_the_finer_grid():
+    """tau20 non-isothermal is under-resolved at h = 2.5 m (README, "Departures"): its full-mode runs use 1.25 m;
+    the other panels keep FULL_SWEEP."""
+    tau20 = lr.full_tasks("tau20", False, (500.0,))[0]
+    assert tau20["h"] == 1.25 and tau20["lx"] == 4000.0
+    assert lr.full_tasks("tau15", False, (500.0,))[0]["h"] == lr.FULL_SWEEP["h"] == 2.5
+    assert lr.full_tasks("tau15", True, (500.0,))[0]["h"] == 2.5
+    assert lr.FULL_PANEL[("tau20", False)]["sigma0"] == tuple(100.0 * k for k in range(1, 10))

@@ -77,7 +77,7 @@ def test_shipped_sweep_dataset():
         np.testing.assert_allclose(ds.lambda_zero_m.values, lz, rtol=1e-6)
 
 
-@pytest.mark.parametrize("stem, set_name, iso, caveat", [("tau20", "tau20", False, "not a reproduction"),
+@pytest.mark.parametrize("stem, set_name, iso, caveat", [("tau20", "tau20", False, "h = 1.25 m"),
                                                           ("tau15_iso", "tau15", True, "blew up")])
 def test_shipped_extra_sweep_datasets(stem, set_name, iso, caveat):
     """app/data/saturation_sweep_<stem>.nc: recorded command (also in the data README), consistent theory,
@@ -96,6 +96,7 @@ def test_shipped_extra_sweep_datasets(stem, set_name, iso, caveat):
         lz = [linear.lambda_zero(params.get(set_name, sigma0=s, isothermal=iso)) for s in ds.sigma0.values]
         np.testing.assert_allclose(ds.lambda_zero_m.values, lz, rtol=1e-6)
         np.testing.assert_allclose(ds.lambda_p_empirical_m.values, 1.4 * np.array(lz), rtol=1e-6)
-        L_x = 4000.0  # lambda_p is one of the box's wavelengths L_x / m
+        argv = ds.attrs["command"].split()
+        L_x = float(argv[argv.index("--lx") + 1])  # lambda_p is one of the box's wavelengths L_x / m
         m = L_x / ds.lambda_p_m.values
         np.testing.assert_allclose(m, np.round(m), atol=1e-6)

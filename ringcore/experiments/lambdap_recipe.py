@@ -24,6 +24,16 @@ LAMBDAP_PANELS = (("tau15", False), ("tau20", False), ("tau15", True))  # (set, 
 
 
 FULL_SWEEP = dict(lx=5000.0, h=2.5, orbits=5000.0)  # full mode: box [m], node spacing [m], orbits per run
+# Full-mode panels that need other settings: tau20 non-isothermal is under-resolved at h = 2.5 m (README,
+# "Departures"), and at h = 1.25 m a 5 km, 5,000-orbit run costs ~6 h, so that panel runs 9 sigma0 in 4 km for
+# 2,000 orbits (~2.2 worker-hours per run, from the shipped 2 km / 1,000-orbit runs' 1,390-2,165 s).
+FULL_PANEL = {("tau20", False): dict(sweep=dict(lx=4000.0, h=1.25, orbits=2000.0),
+                                     sigma0=tuple(float(v) for v in np.arange(100.0, 901.0, 100.0)))}
+
+
+def full_settings(set_name: str, isothermal: bool) -> dict:
+    """Box, node spacing and length of one panel's full-mode runs: :data:`FULL_SWEEP` or its :data:`FULL_PANEL`."""
+    return FULL_PANEL.get((set_name, bool(isothermal)), {}).get("sweep", FULL_SWEEP)
 
 
 def group_points(ds, src: str, out: dict | None = None) -> dict:
@@ -65,7 +75,7 @@ def full_tasks(set_name: str, isothermal: bool, sigmas) -> list:
     ValueError for an unknown set or model."""
     params.get(set_name, isothermal=bool(isothermal))  # validates the set and model
     return [dict(engine="hydro", set=set_name, sigma0=float(s), isothermal=bool(isothermal), ps_scale=1.0, seed=1,
-                 **FULL_SWEEP) for s in sigmas]
+                 **full_settings(set_name, isothermal)) for s in sigmas]
 
 
 def swept_points(set_name: str, isothermal: bool, sigmas, outdir, n_workers: int = 2):
@@ -74,8 +84,9 @@ def swept_points(set_name: str, isothermal: bool, sigmas, outdir, n_workers: int
     interruption skips the finished runs.  Returns (sigma0, lambda_p_m, saturated, source); failed runs
     (blow-ups) have no point and are named in the source."""
     res = run_sweep(full_tasks(set_name, isothermal, sigmas), outdir, n_workers=n_workers, dashboard=False)
-    src = (f"ringcore sweep on {n_workers} workers, L_x = {FULL_SWEEP['lx'] / 1e3:g} km, h = {FULL_SWEEP['h']:g} m, "
-           f"{FULL_SWEEP['orbits']:g} orbits ({outdir})")
+    fs = full_settings(set_name, isothermal)
+    src = (f"ringcore sweep on {n_workers} workers, L_x = {fs['lx'] / 1e3:g} km, h = {fs['h']:g} m, "
+           f"{fs['orbits']:g} orbits ({outdir})")
     if res.failed:
         src += "; failed: " + ", ".join(f"sigma0 = {r.get('sigma0', '?')}" for r in res.failed)
     got = _as_arrays(group_points(res.dataset, src)).get((set_name, bool(isothermal)))
@@ -112,20 +123,22 @@ def _panel_label(set_name, iso):
 
 
 @recipe("lambdap", "fig:lambdap", "Saturation wavelength lambda_p(sigma0) vs 1.4 lambda_zero (tau15, tau20, isothermal)",
-        "22 s", "~12 h")
+        "22 s", "~17 h")
 def lambdap(mode, out):
     """Figure 20's hydro panels: tau15 and tau20 non-isothermal, tau15 isothermal (p_s = 1).  Quick: the shipped
     sweeps (app/data/saturation_sweep*.nc, 22 s); a panel without a shipped sweep: tau15 an in-process sweep of
     four 2 km runs (5.4 min measured at load 5), the others left out (say so in the caption).  Full: 19 sigma0
-    per panel, 5 km, 5,000 orbits, with ``ringcore sweep`` on 2 worker processes (OUT/lambdap_runs/, resumable):
-    ~12 h from the shipped sweeps' run times (box x length 6.25x, 2.1x more sigma0, 23 worker-hours at load)."""
+    per panel, 5 km, h = 2.5 m, 5,000 orbits (tau20 non-isothermal: :data:`FULL_PANEL`, 9 sigma0, 4 km, h = 1.25 m,
+    2,000 orbits), with ``ringcore sweep`` on 2 worker processes (OUT/lambdap_runs/, resumable): ~17 h on 2 cores
+    from the shipped sweeps' run times (tau15 ~10 worker-hours, isothermal ~3, tau20 ~20)."""
     sigmas = pick(mode, (250.0, 400.0, 600.0, 800.0), tuple(np.arange(100.0, 1001.0, 50.0)))
     panels, srcs = [], []
     for set_name, iso in LAMBDAP_PANELS:
+        panel_sigmas = FULL_PANEL.get((set_name, iso), {}).get("sigma0", sigmas) if mode == "full" else sigmas
         shipped = mode == "quick" and (set_name, iso) in shipped_sweeps()
         if mode == "quick" and not shipped and (set_name, iso) != ("tau15", False):
             continue  # quick: only shipped data for the extra panels
-        sig, lam_p, sat, src = saturation_points(mode, set_name, sigmas, isothermal=iso,
+        sig, lam_p, sat, src = saturation_points(mode, set_name, panel_sigmas, isothermal=iso,
                                                  outdir=out / "lambdap_runs" / f"{set_name}{'_iso' if iso else ''}")
         panels.append((set_name, iso, sig, lam_p, sat))
         srcs.append(f"{_panel_label(set_name, iso)}: {src}")

@@ -30,7 +30,7 @@ QUICK_L_X, QUICK_ORBITS = 2000.0, 1500.0  # [m], [orbits]
 
 
 def build(name: str, L_x: float):
-    """A fresh ``Hydro1D`` of long run ``name`` in a box of ``L_x`` [m] (h = 2.5 m)."""
+    """A fresh ``Hydro1D`` of long run ``name`` in a box of ``L_x`` [m] (the run's own h, 2.5 m or 1.25 m)."""
     from ..hydro import Hydro1D, HydroOptions
 
     s = run_settings(name, L_x=L_x)
@@ -89,7 +89,8 @@ def reproduce(name: str, mode: str, out, *, L_x: float | None = None, orbits: fl
     c.attrs.update(orbit_target=float(orbits), status=status_text(c.attrs["orbit"], orbits, c.attrs))
     check_compact(c, str(path))
     a = c.attrs
-    cap = (f"{mode} run: {run_title(name)}, sigma0 = 0, L_x = {L_x / 1e3:g} km, h = 2.5 m, fast time step, "
+    h = run_settings(name)["options"]["h"]
+    cap = (f"{mode} run: {run_title(name)}, sigma0 = 0, L_x = {L_x / 1e3:g} km, h = {h:g} m, fast time step, "
            f"{a['status']}. Final lambda_p = {a['lambda_p_final_m']:.0f} m ({a['lambda_p_note']}); paper: "
            f"{a['paper_reference']}. Paper's scale: L_x = 10 km, {info['orbits']:,} orbits "
            f"(ringcore reproduce {name} --full). Run file: {path.name}.")

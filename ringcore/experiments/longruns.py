@@ -52,7 +52,12 @@ LONG_RUNS = {
                                known_issue="Not a reproduction: with h = 2.5 m the non-isothermal tau20 model is "
                                            "under-resolved (e_kin grows without bound, the temperature floor "
                                            "heats the wave troughs, then the run blows up); it needs h = 1.25 m "
-                                           "(README, Departures)."),
+                                           "(README, Departures): run noniso_tau20_h125."),
+    # the same run on a grid fine enough for this model (README, "Departures"; scripts/probe_tau20_floor.py)
+    "noniso_tau20_h125": dict(set="tau20", isothermal=False, init="noise", orbits=14000, h=1.25,
+                              figure="fig:tau20nonisonosga", paper_m=570.0,
+                              paper_text=f"final wavelength about 570 m, {ref('sec:nonisonosg')}, "
+                                         f"{ref('fig:tau20nonisonosga')} ('tau20nonisonosga')"),
     "iso_tau15_buffer": dict(set="tau15", isothermal=True, init="buffer", orbits=20000, figure="fig:tau15bufnosg",
                              paper_m=233.0, paper_text="'concentrated around' the homogeneous box's final "
                                                        f"wavelength (233 m for tau15), {ref('fig:tau15bufnosg')} "
@@ -61,23 +66,29 @@ LONG_RUNS = {
 L_X_FULL, H_FULL, BUFFER_FULL = 10000.0, 2.5, (-1250.0, 1250.0, -0.5)  # [m], [m], (x_min [m], x_max [m], beta)
 # wall time of --full, from the background runs' own rates (niced, shared 2-core machine, 2026-11-23;
 # scripts/longruns/progress.py) and, for the runs not yet started, the science helper's estimate
-FULL_COST = {"iso_tau15_mode100": "3.3 h", "iso_tau20_mode100": "7.4 h", "iso_st99_mode100": "~7 h",
-             "noniso_tau15_noise": "~6 h", "noniso_tau20_noise": "~8 h", "iso_tau15_buffer": "~3.5 h"}
+# noniso_tau20_noise: 0.98 orbits/s measured, blew up at orbit 2,436; noniso_tau20_h125: twice the nodes and 2.4x
+# the steps per orbit (750, as the h = 1.25 m sweep) of that run's 314
+FULL_COST = {"iso_tau15_mode100": "3.3 h", "iso_tau20_mode100": "7.4 h", "iso_st99_mode100": "~10 h",
+             "noniso_tau15_noise": "~6 h", "noniso_tau20_noise": "~4 h", "noniso_tau20_h125": "~20 h",
+             "iso_tau15_buffer": "~4.5 h"}
 # --quick (L_x = 2 km, 1,500 orbits): estimates from the measured quick costs of the recipes with the same box
 # and length (tau15nga 50 s, tau15bufnosg 100 s, tau20nonisonosga 130 s; steps per orbit scale with the set)
 QUICK_COST = {"iso_tau15_mode100": "~50 s", "iso_tau20_mode100": "~2 min", "iso_st99_mode100": "~2 min",
-              "noniso_tau15_noise": "~70 s", "noniso_tau20_noise": "~130 s", "iso_tau15_buffer": "~100 s"}
+              "noniso_tau15_noise": "~70 s", "noniso_tau20_noise": "~130 s", "noniso_tau20_h125": "~11 min",
+              "iso_tau15_buffer": "~100 s"}
 MAX_SAMPLES = 4000
 REQUIRED_VARS = ("strobe", "e_kin", "lambda_p", "psd")
 REQUIRED_ATTRS = ("name", "orbit", "orbit_target", "complete", "status", "lambda_p_final_m", "lambda_p_paper_m",
                   "paper_reference", "recompute_command", "params_json", "options_json", "figure")
 
 
-def run_settings(name: str, L_x: float = L_X_FULL, h: float = H_FULL) -> dict:
+def run_settings(name: str, L_x: float = L_X_FULL, h: float | None = None) -> dict:
     """Keyword settings of long run ``name``: ``spec`` (:class:`ringcore.spec.RunSpec` fields), ``options``
     (:class:`ringcore.hydro.HydroOptions` fields) and ``initial`` (``Hydro1D`` keywords), as the background
-    runs' command lines (``scripts/longruns/lane*.spec``) give them; the buffer scales with L_x."""
+    runs' command lines (``scripts/longruns/resume_lanes.sh``) give them; the buffer scales with L_x; node
+    spacing ``h`` [m] defaults to the run's own (``H_FULL`` = 2.5 m unless its entry says otherwise)."""
     r = LONG_RUNS[check_choice("name", name, sorted(LONG_RUNS))]
+    h = float(r.get("h", H_FULL)) if h is None else h
     buf = r["init"] == "buffer"
     f = L_x / L_X_FULL
     options = dict(L_x=L_x, h=h, gravity="mode", replicas=0, bin_correction=False, timestep="cfl", dt_factor=None,

@@ -4,7 +4,7 @@
 # also checkpoints every 200 orbits (lane.sh resumes without --checkpoint-every, so a resumed run would only be
 # saved at its end or on SIGTERM).
 #
-#   scripts/longruns/resume_lanes.sh 1|2      # run one lane in the foreground (use nohup ... & for background)
+#   scripts/longruns/resume_lanes.sh 1|2|3    # run one lane in the foreground (use nohup ... & for background)
 #   DRY=1 scripts/longruns/resume_lanes.sh 1  # print the commands only
 #
 # Runs niced (nice -n 19) from the frozen code copy /work/longruns/code (PYTHONPATH), files in /work/longruns.
@@ -19,11 +19,16 @@ export PYTHONPATH=${RINGCORE_CODE:-/work/longruns/code}
 COMMON="--sigma0 0 --lx 10000 --h 2.5 --timestep cfl --samples 10"
 LANE1=("iso_tau15_mode100|20000|--set tau15 --isothermal $COMMON --init mode --wavelength 100 --amplitude 1e-3"
        "iso_st99_mode100|20000|--set st99 --isothermal $COMMON --init mode --wavelength 100 --amplitude 1e-3"
-       "noniso_tau15_noise|14000|--set tau15 $COMMON --init noise --seed 1 --T-floor 0.01")
+       )
+# noniso_tau15_noise moved from lane 1 to the end of lane 2 (session 4): lane 2 frees up hours before lane 1.
 LANE2=("iso_tau20_mode100|20000|--set tau20 --isothermal $COMMON --init mode --wavelength 100 --amplitude 1e-3"
        "noniso_tau20_noise|14000|--set tau20 $COMMON --init noise --seed 1 --T-floor 0.01"
-       "iso_tau15_buffer|20000|--set tau15 --isothermal $COMMON --init noise --seed 1 --buffer -1250 1250 -0.5")
-case "${1:-}" in 1) RUNS=("${LANE1[@]}") ;; 2) RUNS=("${LANE2[@]}") ;; *) echo "usage: $0 1|2" >&2; exit 2 ;; esac
+       "iso_tau15_buffer|20000|--set tau15 --isothermal $COMMON --init noise --seed 1 --buffer -1250 1250 -0.5"
+       "noniso_tau15_noise|14000|--set tau15 $COMMON --init noise --seed 1 --T-floor 0.01")
+# lane 3 (session 4): the tau20 non-isothermal run on the grid it needs (h = 1.25 m; README, "Departures"), ~20 h
+LANE3=("noniso_tau20_h125|14000|--set tau20 --sigma0 0 --lx 10000 --h 1.25 --timestep cfl --samples 10 --init noise --seed 1 --T-floor 0.01")
+case "${1:-}" in 1) RUNS=("${LANE1[@]}") ;; 2) RUNS=("${LANE2[@]}") ;; 3) RUNS=("${LANE3[@]}") ;;
+  *) echo "usage: $0 1|2|3" >&2; exit 2 ;; esac
 cd "$DIR" || exit 1
 for spec in "${RUNS[@]}"; do
   IFS='|' read -r name target opts <<<"$spec"
