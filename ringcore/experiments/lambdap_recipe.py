@@ -65,7 +65,7 @@ def shipped_sweeps() -> dict:
             continue
         src = f"sweep file app/data/{path.name} (made by: {ds.attrs.get('command', 'ringcore sweep')})"
         if ds.attrs.get("caveat"):  # plain text for the caption (the file's caveat is HTML for the app)
-            src += ". Caveat: " + re.sub(r"<[^>]+>", "", str(ds.attrs["caveat"]))
+            src += ". Caveat: " + re.sub(r"<[^>]+>", "", str(ds.attrs["caveat"])).rstrip(". ")
         group_points(ds, src, out)
     return _as_arrays(out)
 
