@@ -200,3 +200,16 @@ def test_buffer_lambda_p_leaves_out_box_scale_contrast():
     rows = np.array([wave, 1 + 0.2 * np.sin(2 * np.pi * x / 125)] * 3)
     assert list(_psd_peak(rows, 1000.0, 250.0, block=4)) == [100.0, 125.0] * 3
     assert list(_psd_peak(rows, 1000.0, np.inf)) == [500.0, 125.0] * 3
+
+
+def test_tau20_long_run_on_the_finer_grid():
+    """noniso_tau20_h125 is noniso_tau20_noise with h = 1.25 m (h = 2.5 m is under-resolved for tau20
+    non-isothermal: README, "Departures"); every other run keeps the paper's 2.5 m."""
+    fine, coarse = run_settings("noniso_tau20_h125"), run_settings("noniso_tau20_noise")
+    assert fine["options"]["h"] == 1.25 and coarse["options"]["h"] == 2.5
+    assert {k: v for k, v in fine["options"].items() if k != "h"} == {k: v for k, v in coarse["options"].items()
+                                                                        if k != "h"}
+    assert fine["spec"] == coarse["spec"] and fine["initial"] == coarse["initial"]
+    assert "--h 1.25 " in hydro_command("noniso_tau20_h125") and "--h 2.5 " in hydro_command("noniso_tau20_noise")
+    assert run_settings("noniso_tau20_h125", h=2.5)["options"]["h"] == 2.5  # an explicit h wins
+    assert all(run_settings(n)["options"]["h"] == 2.5 for n in LONG_RUNS if n != "noniso_tau20_h125")

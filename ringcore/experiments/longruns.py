@@ -74,7 +74,7 @@ FULL_COST = {"iso_tau15_mode100": "3.3 h", "iso_tau20_mode100": "7.4 h", "iso_st
 # --quick (L_x = 2 km, 1,500 orbits): estimates from the measured quick costs of the recipes with the same box
 # and length (tau15nga 50 s, tau15bufnosg 100 s, tau20nonisonosga 130 s; steps per orbit scale with the set)
 QUICK_COST = {"iso_tau15_mode100": "~50 s", "iso_tau20_mode100": "~2 min", "iso_st99_mode100": "~2 min",
-              "noniso_tau15_noise": "~70 s", "noniso_tau20_noise": "~130 s", "noniso_tau20_h125": "~11 min",
+              "noniso_tau15_noise": "~70 s", "noniso_tau20_noise": "~130 s", "noniso_tau20_h125": "~15 min",
               "iso_tau15_buffer": "~100 s"}
 MAX_SAMPLES = 4000
 REQUIRED_VARS = ("strobe", "e_kin", "lambda_p", "psd")
