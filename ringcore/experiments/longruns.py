@@ -68,9 +68,9 @@ L_X_FULL, H_FULL, BUFFER_FULL = 10000.0, 2.5, (-1250.0, 1250.0, -0.5)  # [m], [m
 # scripts/longruns/progress.py) and, for the runs not yet started, the science helper's estimate
 # noniso_tau20_noise: 0.98 orbits/s measured, blew up at orbit 2,436; noniso_tau20_h125: 0.43 orbits/s over its
 # first 200 orbits (350 steps/orbit, three runs on 2 cores), up to 2x more steps per orbit once the waves saturate
-FULL_COST = {"iso_tau15_mode100": "3.3 h", "iso_tau20_mode100": "7.4 h", "iso_st99_mode100": "~10 h",
+FULL_COST = {"iso_tau15_mode100": "3.3 h", "iso_tau20_mode100": "7.4 h", "iso_st99_mode100": "9.2 h",
              "noniso_tau15_noise": "~6 h", "noniso_tau20_noise": "~4 h", "noniso_tau20_h125": "~9-18 h",
-             "iso_tau15_buffer": "~4.5 h"}
+             "iso_tau15_buffer": "4.3 h"}
 # --quick (L_x = 2 km, 1,500 orbits): estimates from the measured quick costs of the recipes with the same box
 # and length (tau15nga 50 s, tau15bufnosg 100 s, tau20nonisonosga 130 s; steps per orbit scale with the set)
 QUICK_COST = {"iso_tau15_mode100": "~50 s", "iso_tau20_mode100": "~2 min", "iso_st99_mode100": "~2 min",
