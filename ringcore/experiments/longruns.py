@@ -68,7 +68,7 @@ L_X_FULL, H_FULL, BUFFER_FULL = 10000.0, 2.5, (-1250.0, 1250.0, -0.5)  # [m], [m
 # scripts/longruns/progress.py) and, for the runs not yet started, the science helper's estimate
 # noniso_tau20_noise: 0.98 orbits/s measured, blew up at orbit 2,436; noniso_tau20_h125: 0.43 orbits/s over its
 # first 200 orbits (350 steps/orbit, three runs on 2 cores), up to 2x more steps per orbit once the waves saturate
-FULL_COST = {"iso_tau15_mode100": "3.3 h", "iso_tau20_mode100": "7.4 h", "iso_st99_mode100": "9.2 h",
+FULL_COST = {"iso_tau15_mode100": "3.8 h", "iso_tau20_mode100": "6.7 h", "iso_st99_mode100": "9.2 h",
              "noniso_tau15_noise": "~6 h", "noniso_tau20_noise": "~4 h", "noniso_tau20_h125": "~9-18 h",
              "iso_tau15_buffer": "4.3 h"}
 # --quick (L_x = 2 km, 1,500 orbits): estimates from the measured quick costs of the recipes with the same box
