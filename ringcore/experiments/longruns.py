@@ -226,7 +226,8 @@ def run_title(name: str) -> str:
     """Readable title, e.g. "tau15, isothermal, 100 m seed"."""
     r = LONG_RUNS[check_choice("name", name, sorted(LONG_RUNS))]
     how = {"mode": "100 m seed", "noise": "white noise", "buffer": "white noise + buffer zone (beta = -0.5)"}
-    return f"{r['set']}, {'isothermal' if r['isothermal'] else 'non-isothermal'}, {how[r['init']]}"
+    grid = f", h = {r['h']:g} m" if "h" in r else ""  # runs off the paper's 2.5 m grid say so
+    return f"{r['set']}, {'isothermal' if r['isothermal'] else 'non-isothermal'}, {how[r['init']]}{grid}"
 
 
 def check_compact(ds: xr.Dataset, where: str = "compact file") -> xr.Dataset:
