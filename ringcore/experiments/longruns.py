@@ -44,7 +44,13 @@ LONG_RUNS = {
                              paper_m=659.0, paper_text=_ISO_FIG.format(659)),
     "noniso_tau15_noise": dict(set="tau15", isothermal=False, init="noise", orbits=14000, figure="sec:nonisonosg",
                                paper_m=360.0,
-                               paper_text=f"final wavelength about 360 m, {ref('sec:nonisonosg')} ('nonisonosg')"),
+                               paper_text=f"final wavelength about 360 m, {ref('sec:nonisonosg')} ('nonisonosg')",
+                               known_issue="Not reproduced, cause unknown: the computed wave train settles at 625 m "
+                                           "(from orbit ~9,800), not ~360 m; lambda_p passed 360 m at orbit "
+                                           "~3,800 and peaked at 833 m. Not the grid (a 2 km run with h = 2.5 "
+                                           "and 1.25 m agrees within 0.1 % in e_kin) nor the temperature floor "
+                                           "(0.004 % of node updates); the paper does not state this run's box "
+                                           "(README, Departures)."),
     "noniso_tau20_noise": dict(set="tau20", isothermal=False, init="noise", orbits=14000,
                                figure="fig:tau20nonisonosga", paper_m=570.0,
                                paper_text=f"final wavelength about 570 m, {ref('sec:nonisonosg')}, "
@@ -69,7 +75,7 @@ L_X_FULL, H_FULL, BUFFER_FULL = 10000.0, 2.5, (-1250.0, 1250.0, -0.5)  # [m], [m
 # noniso_tau20_noise: 0.98 orbits/s measured, blew up at orbit 2,436; noniso_tau20_h125: 0.43 orbits/s over its
 # first 200 orbits (350 steps/orbit, three runs on 2 cores), up to 2x more steps per orbit once the waves saturate
 FULL_COST = {"iso_tau15_mode100": "3.8 h", "iso_tau20_mode100": "6.7 h", "iso_st99_mode100": "9.2 h",
-             "noniso_tau15_noise": "~6 h", "noniso_tau20_noise": "~4 h", "noniso_tau20_h125": "~9-18 h",
+             "noniso_tau15_noise": "1.7 h", "noniso_tau20_noise": "~4 h", "noniso_tau20_h125": "~9-18 h",
              "iso_tau15_buffer": "4.3 h"}
 # --quick (L_x = 2 km, 1,500 orbits): estimates from the measured quick costs of the recipes with the same box
 # and length (tau15nga 50 s, tau15bufnosg 100 s, tau20nonisonosga 130 s; steps per orbit scale with the set)
