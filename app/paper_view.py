@@ -34,7 +34,8 @@ EXPLANATION = """
 ### What am I looking at?
 The paper's central results without self-gravity need 20,000 orbits in a 10 km box: too long to watch live.
 These runs were computed once at the paper's scale (L<sub>x</sub> = 10 km, h = 2.5 m — 1.25 m for one tau20 run,
-whose model needs the finer grid — the fast time step) and are **replayed** here from stored arrays: *Play* costs no computation, so a whole class can replay at once.
+whose model needs the finer grid — the fast time step) and are **replayed** here from stored arrays: *Play*
+costs no computation, so a whole class can replay at once.
 
 * **Space-time diagram**: σ/σ₀ once per orbit at the same orbital phase (stroboscopic, {strob}), thinned
   for the app (the file says how: every k-th orbit and every 10 m, 255 grey levels). A single wave train drifts

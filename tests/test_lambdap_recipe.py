@@ -49,3 +49,10 @@ def test_full_tau20_panel_uses_the_finer_grid():
     assert lr.full_tasks("tau15", False, (500.0,))[0]["h"] == lr.FULL_SWEEP["h"] == 2.5
     assert lr.full_tasks("tau15", True, (500.0,))[0]["h"] == 2.5
     assert lr.FULL_PANEL[("tau20", False)]["sigma0"] == tuple(100.0 * k for k in range(1, 10))
+
+
+def test_resolved_h_refines_only_the_models_that_need_it():
+    from ringcore.experiments.resolution import H_PAPER, resolved_h
+
+    assert resolved_h("tau20", False) == 1.25 and resolved_h("tau20", True) == H_PAPER == 2.5
+    assert resolved_h("tau15", False) == 2.5 and resolved_h("tau20", False, h=1.0) == 1.0  # never coarser

@@ -16,6 +16,7 @@ from .. import linear, params
 from ..analysis import growth_rate, lomb_frequency
 from .recipe_common import finish, hydro_run, pick, series_dataset, strobe_dataset, strobe_psd_figure
 from .registry import recipe
+from .resolution import resolved_h
 
 GRATES_SIGMAS = (0.0, 350.0, 600.0)
 
@@ -154,7 +155,8 @@ def tau20nonisonosga(mode, out):
     10 km run blows up at orbit 2,436; README, "Departures").  Full mode is the long run noniso_tau20_h125."""
     p = params.get("tau20", sigma0=0.0)
     return _strobe_recipe(mode, out, "tau20nonisonosga", p, 2000.0, 10000.0, 1500, 14000,
-                          "Figure 11 (tau20nonisonosga): non-isothermal tau20, sigma0 = 0", h=1.25)
+                          "Figure 11 (tau20nonisonosga): non-isothermal tau20, sigma0 = 0",
+                          h=resolved_h("tau20", False))
 
 
 @recipe("ekinisonosg", "fig:ekinisonosg", "e_kin(t) and lambda_p(t), isothermal, no SG (tau15, tau20, st99)",

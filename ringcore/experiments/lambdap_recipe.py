@@ -16,6 +16,7 @@ from ..analysis import lambda_p_empirical
 from ..analysis.saturation import C_EMPIRICAL
 from .recipe_common import finish, hydro_run, pick
 from .registry import recipe
+from .resolution import resolved_h
 from .sweep import run_sweep, shipped_sweep_files, sweep_points
 
 SWEEP_FILE = Path(__file__).resolve().parents[2] / "app" / "data" / "saturation_sweep.nc"
@@ -27,7 +28,7 @@ FULL_SWEEP = dict(lx=5000.0, h=2.5, orbits=5000.0)  # full mode: box [m], node s
 # Full-mode panels that need other settings: tau20 non-isothermal is under-resolved at h = 2.5 m (README,
 # "Departures"), and at h = 1.25 m a 5 km, 5,000-orbit run costs ~6 h, so that panel runs 9 sigma0 in 4 km for
 # 2,000 orbits (~2.2 worker-hours per run, from the shipped 2 km / 1,000-orbit runs' 1,390-2,165 s).
-FULL_PANEL = {("tau20", False): dict(sweep=dict(lx=4000.0, h=1.25, orbits=2000.0),
+FULL_PANEL = {("tau20", False): dict(sweep=dict(lx=4000.0, h=resolved_h("tau20", False), orbits=2000.0),
                                      sigma0=tuple(float(v) for v in np.arange(100.0, 901.0, 100.0)))}
 
 

@@ -31,6 +31,7 @@ import xarray as xr
 
 from ..checks import check_choice, check_int
 from ..paperrefs import ref
+from .resolution import H_PAPER, resolved_h
 
 FIELDS = ("set", "isothermal", "init", "orbits", "figure", "paper_m", "paper_text")
 _ISO_FIG = "lambda_st = {} m of Latter & Ogilvie (2009), caption of %s ('ekinisonosg')" % ref("fig:ekinisonosg")
@@ -59,8 +60,8 @@ LONG_RUNS = {
                                            "under-resolved (e_kin grows without bound, the temperature floor "
                                            "heats the wave troughs, then the run blows up); it needs h = 1.25 m "
                                            "(README, Departures): run noniso_tau20_h125."),
-    # the same run on a grid fine enough for this model (README, "Departures"; scripts/probe_tau20_floor.py)
-    "noniso_tau20_h125": dict(set="tau20", isothermal=False, init="noise", orbits=14000, h=1.25,
+    # the same run on a grid fine enough for this model (ringcore.experiments.resolution)
+    "noniso_tau20_h125": dict(set="tau20", isothermal=False, init="noise", orbits=14000, h=resolved_h("tau20", False),
                               figure="fig:tau20nonisonosga", paper_m=570.0,
                               paper_text=f"final wavelength about 570 m, {ref('sec:nonisonosg')}, "
                                          f"{ref('fig:tau20nonisonosga')} ('tau20nonisonosga')"),
@@ -69,7 +70,7 @@ LONG_RUNS = {
                                                        f"wavelength (233 m for tau15), {ref('fig:tau15bufnosg')} "
                                                        "('tau15bufnosg')"),
 }
-L_X_FULL, H_FULL, BUFFER_FULL = 10000.0, 2.5, (-1250.0, 1250.0, -0.5)  # [m], [m], (x_min [m], x_max [m], beta)
+L_X_FULL, H_FULL, BUFFER_FULL = 10000.0, H_PAPER, (-1250.0, 1250.0, -0.5)  # [m], [m], (x_min [m], x_max [m], beta)
 # wall time of --full, from the background runs' own rates (niced, shared 2-core machine, 2026-11-23;
 # scripts/longruns/progress.py) and, for the runs not yet started, the science helper's estimate
 # noniso_tau20_noise: 0.98 orbits/s measured, blew up at orbit 2,436; noniso_tau20_h125: 0.43 orbits/s over its

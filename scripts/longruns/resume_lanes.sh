@@ -18,8 +18,7 @@ PY=${PY:-/work/main/.venv/bin/python}
 export PYTHONPATH=${RINGCORE_CODE:-/work/longruns/code}
 COMMON="--sigma0 0 --lx 10000 --h 2.5 --timestep cfl --samples 10"
 LANE1=("iso_tau15_mode100|20000|--set tau15 --isothermal $COMMON --init mode --wavelength 100 --amplitude 1e-3"
-       "iso_st99_mode100|20000|--set st99 --isothermal $COMMON --init mode --wavelength 100 --amplitude 1e-3"
-       )
+       "iso_st99_mode100|20000|--set st99 --isothermal $COMMON --init mode --wavelength 100 --amplitude 1e-3")
 # noniso_tau15_noise moved from lane 1 to the end of lane 2 (session 4): lane 2 frees up hours before lane 1.
 LANE2=("iso_tau20_mode100|20000|--set tau20 --isothermal $COMMON --init mode --wavelength 100 --amplitude 1e-3"
        "noniso_tau20_noise|14000|--set tau20 $COMMON --init noise --seed 1 --T-floor 0.01"
