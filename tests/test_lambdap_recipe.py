@@ -56,3 +56,14 @@ def test_resolved_h_refines_only_the_models_that_need_it():
 
     assert resolved_h("tau20", False) == 1.25 and resolved_h("tau20", True) == H_PAPER == 2.5
     assert resolved_h("tau15", False) == 2.5 and resolved_h("tau20", False, h=1.0) == 1.0  # never coarser
+
+
+@pytest.mark.parametrize("set_name", ["tau15", "tau20"])
+def test_etauhydro_full_mode_uses_the_papers_grids(set_name):
+    """Figure 14 (Section "nonisosg"): 20 km at h = 2.5 m, 5 km at h = 1 m for sigma0 >= 700; tau20 gets the
+    1.25 m it needs below that; quick mode stays at 1 km, 2.5 m."""
+    from ringcore.experiments.hydro_sg_recipes import etau_grid
+
+    assert etau_grid("quick", set_name, 900.0) == (1000.0, 2.5)
+    assert etau_grid("full", set_name, 700.0) == etau_grid("full", set_name, 1100.0) == (5000.0, 1.0)
+    assert etau_grid("full", set_name, 600.0) == (20000.0, 1.25 if set_name == "tau20" else 2.5)

@@ -18,13 +18,18 @@ from ..analysis.nonlinear import group_velocity, hydro_frequency
 from .recipe_common import (ekin_rp, finish, hydro_run, pick, plot_spacetime, series_dataset,
                             strobe_dataset, strobe_psd_figure)
 from .registry import recipe
+from .resolution import H_PAPER, resolved_h
 
 
-def _ekin_panels(mode, out, name, panels, L, orbits, iso, title, paper):
-    """One e_kin(t) panel per parameter set; panels = {set_name: sigma0 list}."""
+def _ekin_panels(mode, out, name, panels, L, orbits, iso, title, paper, grid=None):
+    """One e_kin(t) panel per parameter set; panels = {set_name: sigma0 list}.
+
+    ``grid(set_name, sigma0) -> (L_x [m], h [m])`` overrides the common box ``L`` and h = 2.5 m per run.
+    """
+    grid = grid or (lambda set_name, s: (L, H_PAPER))
     fig, axes = subplots(1, len(panels), figsize=(5.5 * len(panels), 4.8))
     axes = np.atleast_1d(axes)
-    all_runs, status = {}, {}
+    all_runs, status, used, grids = {}, {}, set(), {}
     for ax, (set_name, sigmas) in zip(axes, panels.items()):
         cols = cmap("viridis")(np.linspace(0, 0.85, len(sigmas)))
         for s, c in zip(sigmas, cols):
@@ -32,7 +37,11 @@ def _ekin_panels(mode, out, name, panels, L, orbits, iso, title, paper):
             k = f"{set_name} {s:g}"
             # the paper needed ~10x smaller steps for the largest isothermal sigma0 (Section "Isothermal Model")
             small_dt = iso and mode == "full" and s == max(sigmas)
-            sim, st = hydro_run(p, L, 2.5, orbits, initial="noise", seed=1, dt_factor=0.11 if small_dt else None)
+            L_run, h_run = grid(set_name, s)
+            used.add((L_run, h_run))
+            grids[k] = [L_run, h_run]
+            sim, st = hydro_run(p, L_run, h_run, orbits, initial="noise", seed=1,
+                                dt_factor=0.11 if small_dt else None)
             all_runs[k], status[k] = sim, st
             t, e = ekin_rp(sim)
             ax.semilogy(t, e, color="C3" if s == max(sigmas) else c, lw=1,
@@ -44,9 +53,28 @@ def _ekin_panels(mode, out, name, panels, L, orbits, iso, title, paper):
     fig.suptitle(title, fontsize=10)
     bad = {k: v for k, v in status.items() if v != "ok"}
     cap = (f"{mode} run: {'isothermal (p_s = 1)' if iso else 'non-isothermal (T floor 0.01 T0)'}, white noise down to "
-           f"50 m, L_x = {L / 1e3:g} km, h = 2.5 m, {orbits} orbits, fast time step. {paper}"
+           f"50 m, {_grid_text(used)}, {orbits} orbits, fast time step. {paper}"
            + (f" * stopped: {bad}" if bad else ""))
-    return finish(fig, series_dataset(all_runs), out, name, cap, dict(L_x=L, orbits=orbits, status=status))
+    return finish(fig, series_dataset(all_runs), out, name, cap, dict(L_x=L, orbits=orbits, status=status, grid_m=grids))
+
+
+def _grid_text(used) -> str:
+    """'L_x = 5 km, h = 2.5 m' or, for several grids, each with its own L_x and h."""
+    return " / ".join(f"L_x = {L / 1e3:g} km, h = {h:g} m" for L, h in sorted(used))
+
+
+def etau_grid(mode: str, set_name: str, sigma0: float) -> tuple[float, float]:
+    """(L_x [m], h [m]) of one run of recipe "etauhydro".
+
+    Quick: 1 km at h = 2.5 m.  Full, as the paper (Section "nonisosg"): 20 km at h = 2.5 m, and 5 km at h = 1 m
+    for sigma0 >= 700 kg/m^2; the non-isothermal tau20 model gets at least the grid it needs
+    (:func:`~ringcore.experiments.resolution.resolved_h`).
+    """
+    if mode == "quick":
+        return 1000.0, H_PAPER
+    if sigma0 >= 700.0:
+        return 5000.0, 1.0
+    return 20000.0, resolved_h(set_name, False)
 
 
 @recipe("ekincompare", "fig:ekincompare", "e_kin(t) of isothermal runs with self-gravity (tau15, tau20)",
@@ -61,15 +89,18 @@ def ekincompare(mode, out):
                         "normal time step).")
 
 
+# full: timed, not the work ratio (which overrates fine grids): 0.5 us per cell and step as measured in the long
+# runs, steps per orbit ~209 x (2.5 m / h) for tau15 and ~657 x (1.25 m / h) for tau20 -> ~100 h of one core
 @recipe("etauhydro", "fig:etauhydro", "e_kin(t) of non-isothermal runs with self-gravity (tau15, tau20)",
-        "3.7 min", "120 h")
+        "3.7 min", "~100 h, beyond 2 cores")
 def etauhydro(mode, out):
     panels = pick(mode, {"tau15": (0.0, 300.0, 500.0, 700.0), "tau20": (300.0, 600.0, 900.0)},
                   {"tau15": (0.0, 100.0, 200.0, 300.0, 400.0, 500.0, 600.0, 700.0, 800.0),
                    "tau20": (0.0, 200.0, 400.0, 600.0, 700.0, 800.0, 1100.0)})
-    return _ekin_panels(mode, out, "etauhydro", panels, pick(mode, 1000.0, 20000.0), pick(mode, 400, 10000), False,
+    return _ekin_panels(mode, out, "etauhydro", panels, pick(mode, 1000.0, None), pick(mode, 400, 10000), False,
                         "Figure 14 (etauhydro): non-isothermal with radial self-gravity",
-                        "Paper: L_x = 20 km (5 km, h = 1 m for sigma0 >= 700), ~10,000 orbits.")
+                        "Paper: L_x = 20 km, h = 2.5 m (5 km, h = 1 m for sigma0 >= 700), ~10,000 orbits.",
+                        grid=lambda set_name, s: etau_grid(mode, set_name, s))
 
 
 @recipe("sgstable", "fig:sgstable", "Snapshots and orbit-resolved space-time diagrams, tau15 isothermal, sigma0 = 250, 400",
