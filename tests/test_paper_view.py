@@ -21,7 +21,7 @@ from app import compute
 from app.paper_playback import DATA_DIR, SPEEDS, Playback, frame_at, list_runs, load_run
 from app.paper_view import PaperView
 from ringcore.experiments import longrun_recipes as lr
-from ringcore.experiments.longruns import LONG_RUNS, check_compact, compact, hydro_command, run_settings
+from ringcore.experiments.longruns import LONG_RUNS, check_compact, compact, hydro_command, run_settings, run_title
 from ringcore.experiments.registry import get_recipe
 from ringcore.hydro import Hydro1D, HydroOptions
 from ringcore.spec import RunSpec, resolve_params
@@ -213,3 +213,14 @@ def test_tau20_long_run_on_the_finer_grid():
     assert "--h 1.25 " in hydro_command("noniso_tau20_h125") and "--h 2.5 " in hydro_command("noniso_tau20_noise")
     assert run_settings("noniso_tau20_h125", h=2.5)["options"]["h"] == 2.5  # an explicit h wins
     assert all(run_settings(n)["options"]["h"] == 2.5 for n in LONG_RUNS if n != "noniso_tau20_h125")
+
+
+def test_tau15_second_seed_differs_only_in_the_noise():
+    """noniso_tau15_seed2 is noniso_tau15_noise from another draw of the white noise (README, Departures)."""
+    a, b = run_settings("noniso_tau15_noise"), run_settings("noniso_tau15_seed2")
+    assert a["spec"] == b["spec"] and a["options"] == b["options"]
+    assert (a["initial"]["seed"], b["initial"]["seed"]) == (1, 2)
+    assert {k: v for k, v in a["initial"].items() if k != "seed"} == {k: v for k, v in b["initial"].items()
+                                                                        if k != "seed"}
+    assert "--seed 2 " in hydro_command("noniso_tau15_seed2") and "--seed 1 " in hydro_command("noniso_tau15_noise")
+    assert "(seed 2)" in run_title("noniso_tau15_seed2") and "seed" not in run_title("noniso_tau15_noise")
