@@ -224,3 +224,12 @@ def test_tau15_second_seed_differs_only_in_the_noise():
                                                                         if k != "seed"}
     assert "--seed 2 " in hydro_command("noniso_tau15_seed2") and "--seed 1 " in hydro_command("noniso_tau15_noise")
     assert "(seed 2)" in run_title("noniso_tau15_seed2") and "seed" not in run_title("noniso_tau15_noise")
+
+
+def test_explanation_quotes_the_shipped_tau15_seeds():
+    """The tab's text says the two tau15 white-noise runs end at 625 m and 256 m: the shipped files agree."""
+    from app.paper_view import EXPLANATION
+
+    for name, lam in (("noniso_tau15_noise", 625), ("noniso_tau15_seed2", 256)):
+        a = load_run(SHIPPED[name])["attrs"]
+        assert round(a["lambda_p_final_m"]) == lam and a["complete"] == 1 and f"{lam} m" in EXPLANATION
