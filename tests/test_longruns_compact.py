@@ -51,6 +51,24 @@ def test_compact_thins_and_keeps_values(run_file, tmp_path):
         assert c.strobe.encoding["dtype"] == np.dtype("uint8")
 
 
+def test_readme_table_lists_every_shipped_file_not_only_the_new_one(run_file, tmp_path):
+    """--readme rebuilds the table from all files in --out: compacting one run keeps the other runs' rows."""
+    out = tmp_path / "shipped"
+    out.mkdir()
+    shipped = ROOT / "app/data/longruns"
+    other = "noniso_tau15_noise"
+    (out / f"{other}.nc").write_bytes((shipped / f"{other}.nc").read_bytes())
+    readme = tmp_path / "README.md"
+    readme.write_text("before\n<!--longruns-shipped-->\nold row\n<!--/longruns-shipped-->\nafter\n")
+    compact.main([str(run_file), "--out", str(out), "--rows", "10", "--cols", "40", "--readme",
+                  "--readme-file", str(readme)])
+    text = readme.read_text()
+    assert "old row" not in text and text.startswith("before\n") and text.endswith("after\n")
+    rows = [r for r in text.splitlines() if r.startswith("| ") and not r.startswith("| run ")]
+    assert [r.split(" | ")[0] for r in rows] == ["| iso_tau15_mode100", f"| {other}"]  # LONG_RUNS order
+    assert "| 625 m / 625 m | 360 m |" in rows[1] and "| 100 m / 100 m | 233 m |" in rows[0]
+
+
 def test_progress_reads_orbit_rate_and_target(run_file, tmp_path):
     spec2 = importlib.util.spec_from_file_location("progress", ROOT / "scripts/longruns/progress.py")
     progress = importlib.util.module_from_spec(spec2)

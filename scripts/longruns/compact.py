@@ -10,7 +10,7 @@ is fine: it is read, never written) and writes ``OUT/NAME.nc`` with
 :func:`ringcore.experiments.longruns.compact` (thinned stroboscopic diagram as uint8, e_kin(t), lambda_p(t),
 final PSD, settings, orbit reached, the paper's number and ``ringcore reproduce NAME --full``), atomically
 (``NAME.nc.part`` then rename); ``--readme`` also rewrites the table of shipped runs in README.md (between
-``<!--longruns-shipped-->`` markers).  Re-run it to refresh the shipped files while / after the runs compute.
+``<!--longruns-shipped-->`` markers) from all shipped files in OUT, so compacting one run keeps the others' rows.  Re-run it to refresh the shipped files while / after the runs compute.
 """
 from __future__ import annotations
 
@@ -34,6 +34,7 @@ def main(argv=None) -> int:
     ap.add_argument("--rows", type=int, default=800, help="at most this many stroboscopic rows (default 800)")
     ap.add_argument("--cols", type=int, default=1000, help="at most this many columns (default 1000)")
     ap.add_argument("--readme", action="store_true", help="rewrite the shipped-runs table in README.md")
+    ap.add_argument("--readme-file", default=str(ROOT / "README.md"), help=argparse.SUPPRESS)  # for the tests
     args = ap.parse_args(argv)
     for name in ("rows", "cols"):
         if getattr(args, name) < 2:
@@ -53,13 +54,19 @@ def main(argv=None) -> int:
         os.replace(tmp, f)
         total += f.stat().st_size
         a = ds.attrs
-        rows.append(f"| {r.stem} | {a['status']} | {a['lambda_p_final_m']:.0f} m / {a['lambda_p_last1000_m']:.0f} m | "
-                    f"{a['lambda_p_paper_m']:g} m |")
         print(f"{f}: {a['status']}; lambda_p = {a['lambda_p_final_m']:.1f} m (last 1,000 orbits: "
               f"{a['lambda_p_last1000_m']:.1f} m), paper {a['lambda_p_paper_m']:g} m; {f.stat().st_size / 1e6:.2f} MB")
     print(f"{len(runs)} files, {total / 1e6:.2f} MB")
-    if args.readme:
-        readme = ROOT / "README.md"
+    if args.readme:  # one row per shipped file in OUT (in LONG_RUNS order), not only the runs compacted now
+        import xarray as xr
+
+        for name in LONG_RUNS:
+            if (f := out / f"{name}.nc").exists():
+                with xr.open_dataset(f, engine="h5netcdf") as ds:
+                    a = ds.attrs
+                    rows.append(f"| {name} | {a['status']} | {a['lambda_p_final_m']:.0f} m / "
+                                f"{a['lambda_p_last1000_m']:.0f} m | {a['lambda_p_paper_m']:g} m |")
+        readme = Path(args.readme_file)
         text = readme.read_text()
         a, b = "<!--longruns-shipped-->\n", "<!--/longruns-shipped-->"
         head = ("| run | status | computed lambda_p (final / most frequent, last 1,000 orbits) | paper |\n"
