@@ -10,7 +10,8 @@ is fine: it is read, never written) and writes ``OUT/NAME.nc`` with
 :func:`ringcore.experiments.longruns.compact` (thinned stroboscopic diagram as uint8, e_kin(t), lambda_p(t),
 final PSD, settings, orbit reached, the paper's number and ``ringcore reproduce NAME --full``), atomically
 (``NAME.nc.part`` then rename); ``--readme`` also rewrites the table of shipped runs in README.md (between
-``<!--longruns-shipped-->`` markers) from all shipped files in OUT, so compacting one run keeps the others' rows.  Re-run it to refresh the shipped files while / after the runs compute.
+``<!--longruns-shipped-->`` markers) from all shipped files in OUT, so compacting one run keeps the
+others' rows.  Re-run it to refresh the shipped files while / after the runs compute.
 """
 from __future__ import annotations
 
