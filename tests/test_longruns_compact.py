@@ -87,3 +87,24 @@ def test_progress_reads_orbit_rate_and_target(run_file, tmp_path):
     assert r["orbits_per_s"] == pytest.approx(37.0 / 74, rel=0.02)     # log has whole seconds
     assert r["hours_left"] == pytest.approx(74.0 / 37.0 * 74 / 3600, rel=0.02)
     assert progress.run_progress(f)["target"] == 20000.0                  # default without --orbits/--until
+
+
+def test_refresh_text_restamps_code_text_and_keeps_the_data(tmp_path):
+    """--refresh-text (no run file needed) replaces stale text attributes and leaves the stored bytes alone."""
+    from ringcore.experiments.longruns import text_attrs
+
+    name = "noniso_tau15_noise"
+    f = tmp_path / f"{name}.nc"
+    with xr.open_dataset(ROOT / "app/data/longruns" / f"{name}.nc", decode_cf=False) as raw:
+        ds = raw.load()
+    ds.attrs.update(known_issue="stale text", title="stale title")
+    ds.to_netcdf(f, engine="h5netcdf")
+    assert compact.main(["--refresh-text", "--out", str(tmp_path)]) == 0
+    with xr.open_dataset(f, decode_cf=False) as new, xr.open_dataset(ROOT / "app/data/longruns" / f"{name}.nc",
+                                                                     decode_cf=False) as old:
+        assert {k: new.attrs[k] for k in text_attrs(name)} == text_attrs(name)
+        assert new["strobe"].dtype == np.uint8 and np.array_equal(new["strobe"].values, old["strobe"].values)
+        assert new.attrs["orbit"] == old.attrs["orbit"] and new.attrs["status"] == old.attrs["status"]
+    with pytest.raises(SystemExit) as e:
+        compact.main(["--refresh-text", "--out", str(tmp_path / "empty")])
+    assert e.value.code == 2

@@ -148,6 +148,26 @@ def every(n: int, at_most: int) -> np.ndarray:
     return idx
 
 
+def strobe_rows(t: np.ndarray, at_most: int) -> np.ndarray:
+    """Indices of at most ``at_most`` rows of the stroboscopic times ``t`` [orbits], evenly spaced in time.
+
+    Evenly spaced rows (one per orbit): :func:`every`.  A history thinned in part (a carry file,
+    :mod:`ringcore.experiments.carry`: rows every g orbits, then one per orbit) gets the rows on multiples of a
+    spacing s that is a multiple of its coarsest spacing g, so the diagram's rows stay evenly spaced."""
+    t = np.asarray(t, float)
+    d = np.diff(t)
+    if d.size == 0 or np.ptp(d) <= 1e-6 * d.max():
+        return every(t.size, at_most)
+    g, span = float(np.round(d.max(), 6)), float(t[-1] - t[0])
+    k = max(1, int(np.ceil(span / (g * at_most) - 1e-9)))
+    while int(np.floor(span / (k * g) + 1e-9)) + 1 > at_most:
+        k += 1
+    s = k * g  # the smallest multiple of g that gives at most at_most rows
+    grid = t[0] + s * np.arange(int(np.floor(span / s + 1e-9)) + 1)
+    j = np.clip(np.searchsorted(t, grid - 1e-6 * s), 0, t.size - 1)
+    return np.unique(j[np.abs(t[j] - grid) < 1e-6 * s + 1e-9])
+
+
 def _psd_peak(rows, L_x: float, lam_max: float, block: int = 500) -> np.ndarray:
     """lambda_p [m] of each sigma row (largest Fourier power among wavelengths <= lam_max; mean removed);
     ``rows`` may be a lazy (xarray) array: read and transformed ``block`` rows at a time."""
@@ -181,7 +201,7 @@ def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) ->
         opts = json.loads(a.get("options_json", "{}"))
         L_x = float(opts.get("L_x", a.get("option_L_x", np.nan)))
         it = every(ds.sizes["t"], MAX_SAMPLES)
-        ir = every(ds.sizes["t_strobe"], rows)
+        ir = strobe_rows(ds["t_strobe"].values, rows)
         step = max(1, int(np.ceil(ds.sizes["x"] / cols)))
         ix = np.arange(0, ds.sizes["x"], step)
         lam_max = L_x / 4 if opts.get("buffer") else np.inf  # the buffer's box-scale contrast left out
@@ -217,20 +237,17 @@ def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) ->
                 "x": ("x", x, {"units": "m"}),
                 "wavelength": ("wavelength", wl.astype(np.float32), {"units": "m"})})
     out.attrs.update(
-        name=name, kind="longrun-compact", title=run_title(name), figure=info["figure"],
+        name=name, kind="longrun-compact",
         orbit=orbit, orbit_target=float(info["orbits"]), complete=int(a.get("complete", 0) or 0),
         status=status_text(orbit, float(info["orbits"]), a), blowup=str(a.get("blowup", "") or ""),
-        known_issue=info.get("known_issue", ""),
         steps=int(a.get("steps", 0)),
         lambda_p_final_m=lam_final, lambda_p_last1000_m=float(vals[np.argmax(counts)]) if vals.size else np.nan,
-        lambda_p_paper_m=info["paper_m"], paper_reference=info["paper_text"],
-        recompute_command=f"ringcore reproduce {name} --full", hydro_command=hydro_command(name),
-        continue_command=f"ringcore resume {name}.nc --until {info['orbits']} --checkpoint-every 200",
+        **text_attrs(name),
         params_json=a.get("params_json", ""), options_json=a.get("options_json", ""), model=a.get("model", ""),
         source_file=path.name, source_written=str(a.get("created", "")),
         compacted=dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
-        strobe_thinning=f"every {int(np.diff(ir).max()) if ir.size > 1 else 1} orbits, every {step} nodes "
-                        f"({step * float(opts.get('h', 2.5)):g} m)",
+        strobe_thinning=f"every {round(float(np.diff(t_strobe).max()), 3) if ir.size > 1 else 1:g} orbits, "
+                        f"every {step} nodes ({step * float(opts.get('h', 2.5)):g} m)",
         strobe_quantisation=f"uint8, 255 levels in [{lo:.4f}, {hi:.4f}] sigma0 (step {(hi - lo) / 254:.4f})",
         lambda_p_note=("wavelengths <= L_x/4 (the buffer's box-scale density contrast left out)"
                        if np.isfinite(lam_max) else "largest Fourier power of sigma"))
@@ -239,6 +256,17 @@ def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) ->
     for v in ("e_kin", "lambda_p", "psd"):
         out[v].encoding.update(zlib=True, complevel=6)
     return out
+
+
+def text_attrs(name: str) -> dict:
+    """The attributes of a compact file that come from :data:`LONG_RUNS` and this module, not from the run:
+    title, figure, known issue, the paper's number and reference, the commands.  ``scripts/longruns/compact.py
+    --refresh-text`` re-stamps them on shipped files whose run files are gone."""
+    info = LONG_RUNS[check_choice("name", name, sorted(LONG_RUNS))]
+    return dict(title=run_title(name), figure=info["figure"], known_issue=info.get("known_issue", ""),
+                lambda_p_paper_m=info["paper_m"], paper_reference=info["paper_text"],
+                recompute_command=f"ringcore reproduce {name} --full", hydro_command=hydro_command(name),
+                continue_command=f"ringcore resume {name}.nc --until {info['orbits']} --checkpoint-every 200")
 
 
 def run_title(name: str) -> str:

@@ -3,6 +3,7 @@
 Usage (from the repository root, with the project's venv)::
 
     python scripts/longruns/compact.py [RUN.nc ...] [--out app/data/longruns] [--rows 800] [--cols 1000] [--readme]
+    python scripts/longruns/compact.py --refresh-text [--out app/data/longruns] [--readme]
 
 Without run files: every ``/work/longruns/NAME.nc`` whose NAME is a long run of
 :data:`ringcore.experiments.longruns.LONG_RUNS`.  Reads the run files (a checkpoint of a run still computing
@@ -11,7 +12,10 @@ is fine: it is read, never written) and writes ``OUT/NAME.nc`` with
 final PSD, settings, orbit reached, the paper's number and ``ringcore reproduce NAME --full``), atomically
 (``NAME.nc.part`` then rename); ``--readme`` also rewrites the table of shipped runs in README.md (between
 ``<!--longruns-shipped-->`` markers) from all shipped files in OUT, so compacting one run keeps the
-others' rows.  Re-run it to refresh the shipped files while / after the runs compute.
+others' rows.  Re-run it to refresh the shipped files while / after the runs compute.  ``--refresh-text``
+needs no run file: it re-stamps the attributes that come from the code (title, known issue, the paper's number
+and reference, the commands: :func:`ringcore.experiments.longruns.text_attrs`) on every shipped file in OUT,
+leaving the data byte for byte as they are.
 """
 from __future__ import annotations
 
@@ -23,7 +27,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from ringcore.experiments.longruns import LONG_RUNS, check_compact, compact  # noqa: E402
+from ringcore.experiments.longruns import LONG_RUNS, check_compact, compact, text_attrs  # noqa: E402
 
 DEFAULT_OUT = ROOT / "app" / "data" / "longruns"
 
@@ -35,18 +39,24 @@ def main(argv=None) -> int:
     ap.add_argument("--rows", type=int, default=800, help="at most this many stroboscopic rows (default 800)")
     ap.add_argument("--cols", type=int, default=1000, help="at most this many columns (default 1000)")
     ap.add_argument("--readme", action="store_true", help="rewrite the shipped-runs table in README.md")
+    ap.add_argument("--refresh-text", action="store_true",
+                    help="re-stamp the code's text attributes on the shipped files in --out (no run files read)")
     ap.add_argument("--readme-file", default=str(ROOT / "README.md"), help=argparse.SUPPRESS)  # for the tests
     args = ap.parse_args(argv)
     for name in ("rows", "cols"):
         if getattr(args, name) < 2:
             ap.error(f"--{name} = {getattr(args, name)} is not valid: allowed >= 2")
+    if args.refresh_text and args.runs:
+        ap.error("--refresh-text reads no run files: allowed without RUN.nc arguments")
+    if args.refresh_text:
+        return _refresh_text(Path(args.out), args, ap)
     runs = [Path(r) for r in args.runs] or [p for n in LONG_RUNS if (p := Path("/work/longruns") / f"{n}.nc").exists()]
     unknown = [r.stem for r in runs if r.stem not in LONG_RUNS]
     if unknown:
         ap.error(f"run name(s) {', '.join(unknown)} not valid: allowed {', '.join(LONG_RUNS)}")
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    total, rows = 0, []
+    total = 0
     for r in runs:
         ds = check_compact(compact(r, args.rows, args.cols), r.name)
         f = out / f"{r.stem}.nc"
@@ -58,24 +68,52 @@ def main(argv=None) -> int:
         print(f"{f}: {a['status']}; lambda_p = {a['lambda_p_final_m']:.1f} m (last 1,000 orbits: "
               f"{a['lambda_p_last1000_m']:.1f} m), paper {a['lambda_p_paper_m']:g} m; {f.stat().st_size / 1e6:.2f} MB")
     print(f"{len(runs)} files, {total / 1e6:.2f} MB")
-    if args.readme:  # one row per shipped file in OUT (in LONG_RUNS order), not only the runs compacted now
-        import xarray as xr
-
-        for name in LONG_RUNS:
-            if (f := out / f"{name}.nc").exists():
-                with xr.open_dataset(f, engine="h5netcdf") as ds:
-                    a = ds.attrs
-                    rows.append(f"| {name} | {a['status']} | {a['lambda_p_final_m']:.0f} m / "
-                                f"{a['lambda_p_last1000_m']:.0f} m | {a['lambda_p_paper_m']:g} m |")
-        readme = Path(args.readme_file)
-        text = readme.read_text()
-        a, b = "<!--longruns-shipped-->\n", "<!--/longruns-shipped-->"
-        head = ("| run | status | computed lambda_p (final / most frequent, last 1,000 orbits) | paper |\n"
-                "|---|---|---|---|\n")
-        i, j = text.index(a) + len(a), text.index(b)
-        readme.write_text(text[:i] + head + "\n".join(rows) + "\n" + text[j:])
-        print(f"{readme}: shipped-runs table rewritten")
+    if args.readme:
+        _readme(out, args.readme_file)
     return 0
+
+
+def _refresh_text(out: Path, args, ap) -> int:
+    import xarray as xr
+
+    files = [f for n in LONG_RUNS if (f := out / f"{n}.nc").exists()]
+    if not files:
+        ap.error(f"--out {out} holds no compact files: allowed a folder written by this script")
+    for f in files:
+        with xr.open_dataset(f, engine="h5netcdf", decode_cf=False) as raw:  # the stored bytes, not decoded
+            ds = raw.load()
+        ds.attrs.update(text_attrs(f.stem))
+        tmp = f.with_name(f.name + ".part")
+        ds.to_netcdf(tmp, engine="h5netcdf")
+        with xr.open_dataset(tmp, engine="h5netcdf") as new:
+            check_compact(new.load(), tmp.name)
+        os.replace(tmp, f)
+        print(f"{f}: text attributes refreshed")
+    if args.readme:
+        _readme(out, args.readme_file)
+    return 0
+
+
+def _readme(out: Path, readme_file) -> None:
+    """Rewrite the shipped-runs table: one row per shipped file in OUT (in LONG_RUNS order), not only the runs
+    compacted now."""
+    import xarray as xr
+
+    rows = []
+    for name in LONG_RUNS:
+        if (f := out / f"{name}.nc").exists():
+            with xr.open_dataset(f, engine="h5netcdf") as ds:
+                a = ds.attrs
+                rows.append(f"| {name} | {a['status']} | {a['lambda_p_final_m']:.0f} m / "
+                            f"{a['lambda_p_last1000_m']:.0f} m | {a['lambda_p_paper_m']:g} m |")
+    readme = Path(readme_file)
+    text = readme.read_text()
+    a, b = "<!--longruns-shipped-->\n", "<!--/longruns-shipped-->"
+    head = ("| run | status | computed lambda_p (final / most frequent, last 1,000 orbits) | paper |\n"
+            "|---|---|---|---|\n")
+    i, j = text.index(a) + len(a), text.index(b)
+    readme.write_text(text[:i] + head + "\n".join(rows) + "\n" + text[j:])
+    print(f"{readme}: shipped-runs table rewritten")
 
 
 if __name__ == "__main__":

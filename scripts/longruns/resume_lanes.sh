@@ -6,6 +6,8 @@
 #
 #   scripts/longruns/resume_lanes.sh 1|2|3    # run one lane in the foreground (use nohup ... & for background)
 #   DRY=1 scripts/longruns/resume_lanes.sh 1  # print the commands only
+# A run with no file in /work/longruns but a carry file in scripts/longruns/carry/ (a new machine) starts from
+# that file: bit for bit the uninterrupted run (python scripts/longruns/carry.py writes them before a stop).
 #
 # Runs niced (nice -n 19) from the frozen code copy /work/longruns/code (PYTHONPATH), files in /work/longruns.
 set -u
@@ -28,9 +30,14 @@ LANE2=("iso_tau20_mode100|20000|--set tau20 --isothermal $COMMON --init mode --w
 LANE3=("noniso_tau20_h125|14000|--set tau20 --sigma0 0 --lx 10000 --h 1.25 --timestep cfl --samples 10 --init noise --seed 1 --T-floor 0.01")
 case "${1:-}" in 1) RUNS=("${LANE1[@]}") ;; 2) RUNS=("${LANE2[@]}") ;; 3) RUNS=("${LANE3[@]}") ;;
   *) echo "usage: $0 1|2|3" >&2; exit 2 ;; esac
+# carry files (scripts/longruns/carry.py): runs carried over from an earlier session's machine, continued bit for bit
+CARRY=${CARRY:-$(cd "$(dirname "$0")" && pwd)/carry}
 cd "$DIR" || exit 1
 for spec in "${RUNS[@]}"; do
   IFS='|' read -r name target opts <<<"$spec"
+  if [ ! -f "$name.nc" ] && [ -f "$CARRY/$name.nc" ]; then
+    cp "$CARRY/$name.nc" "$name.nc" && echo "$(date -u +%FT%TZ) $name: continued from the carry file $CARRY/$name.nc" >> "$name.log"
+  fi
   if [ -f "$name.nc" ]; then
     t=$("$PY" -c "import sys, xarray as xr; print(float(xr.open_dataset(sys.argv[1]).attrs['time_orbits']))" "$name.nc")
     if awk "BEGIN{exit !($t >= $target)}"; then echo "$name: done ($t orbits)"; continue; fi

@@ -1,0 +1,73 @@
+"""Carry the paper's long runs still computing into the next work session (issue 13 item 3).
+
+The machine a session runs on is not kept, and the runs in /work/longruns go with it.  This writes, for each
+run still computing, a carry file into the repository (``scripts/longruns/carry/NAME.nc``: the exact state and
+counters, the history thinned; :mod:`ringcore.experiments.carry`), so that ``scripts/longruns/resume_lanes.sh``
+in the next session continues the run bit for bit instead of starting it again.
+
+Usage (from the repository root, with the project's venv)::
+
+    python scripts/longruns/carry.py [NAME ...] [--from /work/longruns] [--out scripts/longruns/carry] [--force]
+
+Without NAME: every run of :data:`ringcore.experiments.longruns.LONG_RUNS` with a file in --from that is not
+complete and did not blow up.  A carry file is replaced only by a later state of the same run (``--force``
+replaces it anyway): a run started again from orbit 0 by mistake never overwrites the progress carried.
+Exit status 2 for bad input (unknown name, missing file, an older state than the carry).
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+
+from ringcore.experiments.carry import write_carry  # noqa: E402
+from ringcore.experiments.longruns import LONG_RUNS  # noqa: E402
+
+DEFAULT_OUT = ROOT / "scripts" / "longruns" / "carry"
+
+
+def _attrs(path: Path) -> dict:
+    import xarray as xr
+
+    with xr.open_dataset(path, engine="h5netcdf") as ds:
+        return dict(ds.attrs)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("names", nargs="*", help="long-run names (default: every run still computing in --from)")
+    ap.add_argument("--from", dest="src", default="/work/longruns", help="folder of the run files")
+    ap.add_argument("--out", default=str(DEFAULT_OUT), help=f"folder of the carry files (default {DEFAULT_OUT})")
+    ap.add_argument("--force", action="store_true", help="replace a carry file even by an earlier state")
+    args = ap.parse_args(argv)
+    src, out = Path(args.src), Path(args.out)
+    unknown = [n for n in args.names if n not in LONG_RUNS]
+    if unknown:
+        ap.error(f"NAME = {', '.join(unknown)} not valid: allowed {', '.join(LONG_RUNS)}")
+    names = args.names or [n for n in LONG_RUNS if (src / f"{n}.nc").exists()]
+    done = 0
+    for name in names:
+        f = src / f"{name}.nc"
+        if not f.exists():
+            ap.error(f"run file {f} does not exist: allowed the runs in --from {src}")
+        a = _attrs(f)
+        t = float(a["time_orbits"])
+        if not args.names and (int(a.get("complete", 0) or 0) or a.get("blowup")):
+            print(f"{name}: not carried ({'blew up' if a.get('blowup') else 'complete'} at {t:,.0f} orbits)")
+            continue
+        dst = out / f"{name}.nc"
+        if dst.exists() and not args.force and float(_attrs(dst)["time_orbits"]) > t:
+            ap.error(f"{f} is at orbit {t:,.0f}, before the carry file {dst} "
+                     f"({float(_attrs(dst)['time_orbits']):,.0f} orbits): allowed a later state (or --force)")
+        write_carry(f, dst)
+        print(f"{dst}: {name} at orbit {t:,.0f}, {dst.stat().st_size / 1e6:.2f} MB")
+        done += 1
+    print(f"{done} carry file(s) written to {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
