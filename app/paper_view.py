@@ -44,8 +44,9 @@ costs no computation, so a whole class can replay at once.
   climbs from the 100 m seed and settles near λ<sub>st</sub> of Latter & Ogilvie (2009), the shortest wave train
   that is stable (dashed pink: the paper's number).
 * **White-noise runs** (non-isothermal): sources and sinks first, then one travelling wave (the paper finds about
-  360 m for tau15 and 570 m for tau20). Which wave train a run ends in depends on the noise drawn: the two tau15
-  runs differ only in the seed and end at 625 m and 256 m. **Buffer zone** (β = -0.5 in the middle, shown with
+  360 m for tau15 and 570 m for tau20). Which wave train a run ends in depends on the noise drawn: the three tau15
+  runs differ only in the seed and end at 625 m, 256 m and 345 m (a fourth seed, not shipped: 588 m).
+  **Buffer zone** (β = -0.5 in the middle, shown with
   "whole box"): waves run from one source into the buffer, the sink; λ<sub>p</sub> there counts wavelengths
   ≤ L<sub>x</sub>/4 only.
 * **Computed** λ<sub>p</sub> is the final PSD's maximum; it jumps between the box's allowed wavelengths

@@ -54,7 +54,8 @@ def test_carry_thins_only_the_records(runs):
     for a in ("time_dimensionless", "steps", "k_sample", "dt_dimensionless", "floor_hits"):
         assert full.attrs[a] == c.attrs[a]
     assert np.allclose(c["t_strobe"].values, [0, 2, 4, 5])  # multiples of 2 orbits and the latest row
-    assert c.sizes["t"] == len(range(0, full.sizes["t"], 3)) + 1 and c["t"].values[-1] == full["t"].values[-1]
+    assert np.allclose(c["t"].values, np.append(np.arange(0, 5, 0.3), 5.0))  # every 3rd sample (10 per orbit)
+    assert c["t"].values[-1] == full["t"].values[-1]
     rel = np.abs(c["strobe_sigma"].values / full["strobe_sigma"].values[[0, 2, 4, 5]] - 1)
     assert rel.max() <= 2.0 ** -11 and rel.max() > 0
     assert "carry" in c.attrs
@@ -145,3 +146,14 @@ def test_script_carries_running_runs_and_never_goes_back(runs, tmp_path):
     with pytest.raises(SystemExit) as e:
         main(["no_such_run", "--from", str(src), "--out", str(out)])
     assert e.value.code == 2
+
+
+def test_carrying_a_continued_carry_again_keeps_its_early_history(runs, tmp_path):
+    """Thinning is by time: the second carry keeps the first one's rows and samples and thins only the rest."""
+    d, _ = runs
+    write_carry(d / "cont.nc", tmp_path / "again.nc", strobe_every=2, sample_every=3, keep_bits=10)
+    first, again = read_run(d / "carry.nc"), read_run(tmp_path / "again.nc")
+    assert np.allclose(again["t_strobe"].values, [0, 2, 4, 6, 8, 9])
+    early = again["t"].values <= 4.8 + 1e-9
+    assert np.array_equal(again["t"].values[early], first["t"].values[:-1])
+    assert np.array_equal(again["strobe_sigma"].values[:3], first["strobe_sigma"].values[:3])

@@ -8,7 +8,10 @@ n = 8,000, too much to keep.  A *carry file* is the same run file with only its 
   their values rounded to ``keep_bits`` mantissa bits (relative step 2**-keep_bits; ~1e-3 for the default 10,
   finer than the uint8 quantisation of the shipped compacts) and stored zlib-compressed with shuffle,
 - orbit-resolved space-time rows likewise (multiples of ``strobe_every`` orbits),
-- the sample series (``t``: e_kin, lambda_p, ...) every ``sample_every``-th sample (and the latest).
+- the sample series (``t``: e_kin, lambda_p, ...) at multiples of ``sample_every`` sample intervals (and the
+  latest).
+
+Both are thinned by time, so carrying a continued carry file again thins only what came after it.
 
 Everything a continuation reads is untouched: the conservative state, ``beta``, the counters (time, steps,
 sample index, dt, floor hits, buffer).  So ``ringcore resume CARRY.nc --until N`` continues the run **bit for
@@ -18,6 +21,7 @@ evenly spaced rows from such a mixed history (:func:`ringcore.experiments.longru
 """
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -61,8 +65,8 @@ def carry(ds: xr.Dataset, strobe_every: int = 20, sample_every: int = 20, keep_b
         Keep stroboscopic / space-time rows every this many orbits (1-10,000).  The default 20 loses no row
         the compact of a 14,000-orbit run shows (at most 800 rows: one every >= 17.5 orbits).
     sample_every : int
-        Keep every this-many-th sample of the series (1-100,000; default 20: one every 2 orbits at 10
-        samples per orbit, the compact keeps at most 4,000 samples).
+        Keep the samples at multiples of this many sample intervals (1-100,000; default 20: one every 2 orbits
+        at 10 samples per orbit; the compact keeps at most 4,000 samples), and the latest.
     keep_bits : int
         Mantissa bits kept in the row values (0-23; 23 keeps them exactly).
     """
@@ -70,10 +74,9 @@ def carry(ds: xr.Dataset, strobe_every: int = 20, sample_every: int = 20, keep_b
     sample_every = check_int("sample_every", sample_every, 1, 100000)
     if ds.attrs.get("kind") != "hydro":
         raise ValueError(f"kind = {ds.attrs.get('kind')!r} is not valid: allowed 'hydro' (a hydro run file)")
-    it = np.arange(0, ds.sizes["t"], sample_every)
-    if ds.sizes["t"] and it[-1] != ds.sizes["t"] - 1:
-        it = np.append(it, ds.sizes["t"] - 1)
-    sel = {"t": it}
+    spo = float(json.loads(ds.attrs["options_json"])["samples_per_orbit"])
+    # by time, not by index: carrying a continued carry again keeps the same early samples and rows (idempotent)
+    sel = {"t": thin_index(ds["t"].values, sample_every / spo)}
     for dim in ROW_DIMS.values():
         sel[dim] = thin_index(ds[dim].values, strobe_every)
     out = ds.isel(sel)

@@ -82,7 +82,11 @@ def _refresh_text(out: Path, args, ap) -> int:
     for f in files:
         with xr.open_dataset(f, engine="h5netcdf", decode_cf=False) as raw:  # the stored bytes, not decoded
             ds = raw.load()
-        ds.attrs.update(text_attrs(f.stem))
+        new_text = text_attrs(f.stem)
+        if all(ds.attrs.get(k) == v for k, v in new_text.items()):
+            print(f"{f}: text attributes current")
+            continue
+        ds.attrs.update(new_text)
         tmp = f.with_name(f.name + ".part")
         ds.to_netcdf(tmp, engine="h5netcdf")
         with xr.open_dataset(tmp, engine="h5netcdf") as new:
