@@ -90,8 +90,9 @@ L_X_FULL, H_FULL, BUFFER_FULL = 10000.0, H_PAPER, (-1250.0, 1250.0, -0.5)  # [m]
 # noniso_tau20_noise: 0.98 orbits/s measured, blew up at orbit 2,436; noniso_tau20_h125: 0.43 orbits/s over its
 # first 200 orbits (350 steps/orbit, three runs on 2 cores), up to 2x more steps per orbit once the waves saturate;
 # noniso_tau15_seed2: 46.5 min measured (2026-11-24, 111 steps/orbit, beside two other runs on 2 cores)
+# noniso_tau15_seed3: 38.1 min measured (2026-11-24 19:34-20:12, 140 steps/orbit, beside noniso_tau20_h125)
 FULL_COST = {"iso_tau15_mode100": "3.8 h", "iso_tau20_mode100": "6.7 h", "iso_st99_mode100": "9.2 h",
-             "noniso_tau15_noise": "1.7 h", "noniso_tau15_seed2": "0.8 h", "noniso_tau15_seed3": "~1 h",
+             "noniso_tau15_noise": "1.7 h", "noniso_tau15_seed2": "0.8 h", "noniso_tau15_seed3": "0.6 h",
              "noniso_tau20_noise": "~4 h",
              "noniso_tau20_h125": "~9-18 h",
              "iso_tau15_buffer": "4.3 h"}
