@@ -15,7 +15,8 @@ Both are thinned by time, so carrying a continued carry file again thins only wh
 
 Everything a continuation reads is untouched: the conservative state, ``beta``, the counters (time, steps,
 sample index, dt, floor hits, buffer).  So ``ringcore resume CARRY.nc --until N`` continues the run **bit for
-bit** like the uninterrupted run (tested by comparing state checksums); rows and samples after the carry are
+bit** like the uninterrupted run on the same CPU and software (tested by comparing state checksums; another CPU
+may differ in the last bits, see :func:`ringcore.io.runfile.written_on`); rows and samples after the carry are
 again one per orbit and ``samples_per_orbit`` per orbit.  :func:`ringcore.experiments.longruns.compact` picks
 evenly spaced rows from such a mixed history (:func:`ringcore.experiments.longruns.strobe_rows`).
 """

@@ -254,6 +254,7 @@ def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) ->
         **text_attrs(name),
         params_json=a.get("params_json", ""), options_json=a.get("options_json", ""), model=a.get("model", ""),
         source_file=path.name, source_written=str(a.get("created", "")),
+        source_written_on=str(a.get("written_on", "not recorded")),
         compacted=dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
         strobe_thinning=f"every {round(float(np.diff(t_strobe).max()), 3) if ir.size > 1 else 1:g} orbits, "
                         f"every {step} nodes ({step * float(opts.get('h', 2.5)):g} m)",

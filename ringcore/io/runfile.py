@@ -1,7 +1,8 @@
 """Run files: one NetCDF file per run, written through xarray with the h5netcdf engine.
 
 Every file carries the global attributes ``schema = "ringlab-run"``, ``schema_version``,
-``kind`` (``"hydro"`` or ``"nbody"``), ``ringcore_version`` and ``created``; parameters are
+``kind`` (``"hydro"`` or ``"nbody"``), ``ringcore_version``, ``created`` and ``written_on`` (CPU and
+software: :func:`written_on`); parameters are
 stored as flat attributes with a prefix (``param_sigma0``, ``option_h`` ...) and, for exact
 restoration, as one JSON attribute per group (``params_json``, ``options_json``).
 
@@ -11,6 +12,7 @@ Older schema versions listed in ``_MIGRATIONS`` are upgraded on read; anything e
 """
 from __future__ import annotations
 
+import functools
 import json
 import math
 from datetime import datetime, timezone
@@ -64,6 +66,33 @@ def status_attrs(summary: dict, complete: bool) -> dict:
     return {"complete": int(bool(complete)), "summary_json": json.dumps(clean)}
 
 
+@functools.lru_cache(maxsize=1)
+def written_on() -> str:
+    """The machine and software writing a file: CPU model and LLVM target, numba, numpy, Python.
+
+    Recorded because the kernels are compiled for the host CPU: the same run is bit for bit the same on one
+    machine, but another CPU can differ in the last bits, which a chaotic nonlinear run amplifies (README, "Run
+    files, checkpoints and restart")."""
+    import platform
+
+    import numba
+
+    cpu = platform.processor() or "unknown CPU"
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next((ln.split(":", 1)[1].strip() for ln in f if ln.startswith("model name")), cpu)
+    except OSError:
+        pass
+    try:
+        import llvmlite.binding as llvm
+
+        target = llvm.get_host_cpu_name()
+    except Exception:  # pragma: no cover - llvmlite comes with numba
+        target = "unknown"
+    return (f"{cpu} (LLVM target {target}), numba {numba.__version__}, numpy {np.__version__}, "
+            f"Python {platform.python_version()}, {platform.system()} {platform.machine()}")
+
+
 def stamp_run(ds: xr.Dataset, kind: str) -> xr.Dataset:
     """A copy of ``ds`` with the schema attributes and (engine kinds) a fresh state checksum: what
     :func:`write_run` stores, so an in-memory run Dataset passes :func:`validate_run` like its file."""
@@ -74,7 +103,7 @@ def stamp_run(ds: xr.Dataset, kind: str) -> xr.Dataset:
     for key in ("state_sha256", "state_checksums"):  # never carry over a stale checksum
         ds.attrs.pop(key, None)
     ds.attrs.update(schema=SCHEMA, schema_version=SCHEMA_VERSION, kind=kind, ringcore_version=__version__,
-                    created=datetime.now(timezone.utc).isoformat(timespec="seconds"))
+                    created=datetime.now(timezone.utc).isoformat(timespec="seconds"), written_on=written_on())
     ds.attrs.update(checksum_attrs(ds, kind))
     return ds
 

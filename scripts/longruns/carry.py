@@ -3,7 +3,8 @@
 The machine a session runs on is not kept, and the runs in /work/longruns go with it.  This writes, for each
 run still computing, a carry file into the repository (``scripts/longruns/carry/NAME.nc``: the exact state and
 counters, the history thinned; :mod:`ringcore.experiments.carry`), so that ``scripts/longruns/resume_lanes.sh``
-in the next session continues the run bit for bit instead of starting it again.
+in the next session continues the run from its exact state instead of starting it again (bit for bit on the same
+CPU and software; another CPU may differ in the last bits, README "Run files, checkpoints and restart").
 
 Usage (from the repository root, with the project's venv)::
 
