@@ -149,6 +149,7 @@ def test_script_carries_running_runs_and_never_goes_back(runs, tmp_path):
     with pytest.raises(SystemExit) as e:
         main(["no_such_run", "--from", str(src), "--out", str(out)])
     assert e.value.code == 2
+    assert main(["noniso_tau20_h125", "--from", str(src), "--out", "/proc/no_such_dir"]) == 1  # unwritable: status 1
 
 
 def test_carrying_a_continued_carry_again_keeps_its_early_history(runs, tmp_path):

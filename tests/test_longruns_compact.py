@@ -108,3 +108,9 @@ def test_refresh_text_restamps_code_text_and_keeps_the_data(tmp_path):
     with pytest.raises(SystemExit) as e:
         compact.main(["--refresh-text", "--out", str(tmp_path / "empty")])
     assert e.value.code == 2
+
+
+def test_unwritable_out_is_one_line_and_status_1(run_file, capsys):
+    assert compact.main([str(run_file), "--out", "/proc/no_such_dir"]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("compact.py: error:") and "Traceback" not in err

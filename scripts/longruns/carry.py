@@ -13,7 +13,8 @@ Usage (from the repository root, with the project's venv)::
 Without NAME: every run of :data:`ringcore.experiments.longruns.LONG_RUNS` with a file in --from that is not
 complete and did not blow up.  A carry file is replaced only by a later state of the same run (``--force``
 replaces it anyway): a run started again from orbit 0 by mistake never overwrites the progress carried.
-Exit status 2 for bad input (unknown name, missing file, an older state than the carry).
+Exit status 2 for bad input (unknown name, missing file, an older state than the carry), 1 for a place
+that cannot be written.
 """
 from __future__ import annotations
 
@@ -63,7 +64,11 @@ def main(argv=None) -> int:
         if dst.exists() and not args.force and float(_attrs(dst)["time_orbits"]) > t:
             ap.error(f"{f} is at orbit {t:,.0f}, before the carry file {dst} "
                      f"({float(_attrs(dst)['time_orbits']):,.0f} orbits): allowed a later state (or --force)")
-        write_carry(f, dst)
+        try:
+            write_carry(f, dst)
+        except OSError as exc:  # an unwritable place: the environment, not the input (status 1, as the CLI)
+            print(f"carry.py: error: cannot write {dst}: {exc.strerror or exc}", file=sys.stderr)
+            return 1
         print(f"{dst}: {name} at orbit {t:,.0f}, {dst.stat().st_size / 1e6:.2f} MB")
         done += 1
     print(f"{done} carry file(s) written to {out}")

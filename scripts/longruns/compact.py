@@ -33,6 +33,14 @@ DEFAULT_OUT = ROOT / "app" / "data" / "longruns"
 
 
 def main(argv=None) -> int:
+    try:
+        return _main(argv)
+    except OSError as exc:  # an unwritable place: the environment, not the input (status 1, as the CLI)
+        print(f"compact.py: error: {exc.strerror or exc}: {exc.filename or ''}", file=sys.stderr)
+        return 1
+
+
+def _main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("runs", nargs="*", help="run files (default: /work/longruns/NAME.nc of the known runs)")
     ap.add_argument("--out", default=str(DEFAULT_OUT), help=f"output folder (default {DEFAULT_OUT})")
