@@ -68,11 +68,11 @@ def status_attrs(summary: dict, complete: bool) -> dict:
 
 @functools.lru_cache(maxsize=1)
 def written_on() -> str:
-    """The machine and software writing a file: CPU model and LLVM target, numba, numpy, Python.
+    """The machine and software writing a file: CPU model, LLVM target, BLAS kernels, numba, numpy, Python.
 
-    Recorded because the kernels are compiled for the host CPU: the same run is bit for bit the same on one
-    machine, but another CPU can differ in the last bits, which a chaotic nonlinear run amplifies (README, "Run
-    files, checkpoints and restart")."""
+    The same run is bit for bit the same on one machine, but another CPU can differ in the last bits, which a
+    chaotic nonlinear run amplifies: OpenBLAS picks its kernels per CPU at run time, and the white-noise initial
+    state's eigenvectors come from LAPACK (README, "Run files, checkpoints and restart")."""
     import platform
 
     import numba
@@ -89,8 +89,15 @@ def written_on() -> str:
         target = llvm.get_host_cpu_name()
     except Exception:  # pragma: no cover - llvmlite comes with numba
         target = "unknown"
-    return (f"{cpu} (LLVM target {target}), numba {numba.__version__}, numpy {np.__version__}, "
-            f"Python {platform.python_version()}, {platform.system()} {platform.machine()}")
+    try:  # the BLAS kernels chosen at run time (OpenBLAS: per CPU) set the last bits of the eigenvectors
+        from threadpoolctl import threadpool_info
+
+        blas = sorted({f"{i.get('internal_api')} {i.get('version')} {i.get('architecture', '')}".strip()
+                       for i in threadpool_info() if i.get("user_api") == "blas"})
+    except Exception:  # pragma: no cover - threadpoolctl is a dependency
+        blas = []
+    return (f"{cpu} (LLVM target {target}), BLAS {', '.join(blas) or 'unknown'}, numba {numba.__version__}, "
+            f"numpy {np.__version__}, Python {platform.python_version()}, {platform.system()} {platform.machine()}")
 
 
 def stamp_run(ds: xr.Dataset, kind: str) -> xr.Dataset:
