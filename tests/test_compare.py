@@ -176,10 +176,13 @@ def test_hydro_vs_nbody_advance_together():
 def test_pause_brings_both_to_the_same_orbit(small):
     r = small.runner
     r.orbits_per_frame = 2.0
-    r.budget_s = 0.01  # chunks too short to reach the clock: the runs are mid-frame
+    # chunks of a few steps, far too short to reach the clock: the runs are mid-frame (0.01 s reached
+    # 2 orbits of this small box in two ticks on a fast CPU; a step is always taken, so the runs move)
+    r.budget_s = 1e-5
     r.start()
     r.tick()
     r.tick()
+    assert 0 < max(r.a.sim.orbits, r.b.sim.orbits) < r.clock / 10
     assert not r.reached(r.clock)
     r.pause()
     oa, ob = r.a.sim.orbits, r.b.sim.orbits
