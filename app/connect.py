@@ -190,8 +190,8 @@ class CarryButtons:
         import panel as pn
 
         self.controls, self.session = controls, session
-        self.buttons = {kind: pn.widgets.Button(label=f"Run this in {LABELS[kind]}", button_type="primary",
-                                                button_style="outline", css_classes=[f"carry-{kind}"],
+        self.buttons = {kind: pn.widgets.Button(label=f"Run this in {LABELS[kind]}", color="primary",
+                                                variant="outline", css_classes=[f"carry-{kind}"],
                                                 sizing_mode="stretch_width",
                                                 description=f"Set the {LABELS[kind]} tab to these settings "
                                                             "and open it (a changed setup restarts its run; "

@@ -210,7 +210,7 @@ class LinearView(pn.viewable.Viewer):
         """
         c = self.controls
         p = c.param.compare_sigma0
-        w = pn.widgets.TextInput(name=p.label, value=c.compare_sigma0, description=p.doc)
+        w = pn.widgets.TextInput(label=p.label, value=c.compare_sigma0, description=p.doc)
 
         def apply(event):
             if event.new != c.compare_sigma0:

@@ -21,7 +21,7 @@ def add_caption(fig, caption: str) -> None:
     """Write ``caption`` (what was run) under the axes of ``fig``."""
     import textwrap
 
-    fig.set_constrained_layout(False)
+    fig.set_layout_engine("none")
     fig.subplots_adjust(bottom=0.2, top=0.88, left=0.07, right=0.98, wspace=0.25)
     fig.text(0.01, 0.01, textwrap.fill(caption, 170), fontsize=8, va="bottom", ha="left", color="0.2")
 
