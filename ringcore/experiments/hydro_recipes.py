@@ -149,7 +149,7 @@ def tau15bufnosg(mode, out):
 
 
 @recipe("tau20nonisonosga", "fig:tau20nonisonosga", "Space-time diagram and PSD, tau20 non-isothermal, no SG",
-        "~15 min", "~9-18 h")
+        "~15 min", "5.2 h")
 def tau20nonisonosga(mode, out):
     """h = 1.25 m: at 2.5 m the tau20 non-isothermal model is under-resolved (e_kin grows without bound and the
     10 km run blows up at orbit 2,436; README, "Departures").  Full mode is the long run noniso_tau20_h125."""

@@ -87,14 +87,14 @@ LONG_RUNS = {
 L_X_FULL, H_FULL, BUFFER_FULL = 10000.0, H_PAPER, (-1250.0, 1250.0, -0.5)  # [m], [m], (x_min [m], x_max [m], beta)
 # wall time of --full, from the background runs' own rates (niced, shared 2-core machine, 2026-11-23;
 # scripts/longruns/progress.py) and, for the runs not yet started, the science helper's estimate
-# noniso_tau20_noise: 0.98 orbits/s measured, blew up at orbit 2,436; noniso_tau20_h125: 0.43 orbits/s over its
-# first 200 orbits (350 steps/orbit, three runs on 2 cores), up to 2x more steps per orbit once the waves saturate;
+# noniso_tau20_noise: 0.98 orbits/s measured, blew up at orbit 2,436; noniso_tau20_h125: 0.75 orbits/s on one core
+# over orbits 0-7,000 (2026-11-24 19:34-22:23, 640 steps/orbit; scripts/longruns/STATUS.md), so 5.2 h;
 # noniso_tau15_seed2: 46.5 min measured (2026-11-24, 111 steps/orbit, beside two other runs on 2 cores)
 # noniso_tau15_seed3: 38.1 min measured (2026-11-24 19:34-20:12, 140 steps/orbit, beside noniso_tau20_h125)
 FULL_COST = {"iso_tau15_mode100": "3.8 h", "iso_tau20_mode100": "6.7 h", "iso_st99_mode100": "9.2 h",
              "noniso_tau15_noise": "1.7 h", "noniso_tau15_seed2": "0.8 h", "noniso_tau15_seed3": "0.6 h",
              "noniso_tau20_noise": "~4 h",
-             "noniso_tau20_h125": "~9-18 h",
+             "noniso_tau20_h125": "5.2 h",
              "iso_tau15_buffer": "4.3 h"}
 # --quick (L_x = 2 km, 1,500 orbits): estimates from the measured quick costs of the recipes with the same box
 # and length (tau15nga 50 s, tau15bufnosg 100 s, tau20nonisonosga 130 s; steps per orbit scale with the set)
