@@ -45,7 +45,8 @@ costs no computation, so a whole class can replay at once.
   that is stable (dashed pink: the paper's number).
 * **White-noise runs** (non-isothermal): sources and sinks first, then one travelling wave (the paper finds about
   360 m for tau15 and 570 m for tau20). Which wave train a run ends in depends on the noise drawn: the three tau15
-  runs differ only in the seed and end at 625 m, 256 m and 345 m (a fourth seed, not shipped: 588 m).
+  runs differ only in the seed and end at 625 m, 256 m and 345 m (a fourth seed, not shipped: 588 m); the tau20
+  run (h = 1.25 m, one seed) settles at 370 m.
   **Buffer zone** (β = -0.5 in the middle, shown with
   "whole box"): waves run from one source into the buffer, the sink; λ<sub>p</sub> there counts wavelengths
   ≤ L<sub>x</sub>/4 only.

@@ -78,7 +78,11 @@ LONG_RUNS = {
     "noniso_tau20_h125": dict(set="tau20", isothermal=False, init="noise", orbits=14000, h=resolved_h("tau20", False),
                               figure="fig:tau20nonisonosga", paper_m=570.0,
                               paper_text=f"final wavelength about 570 m, {ref('sec:nonisonosg')}, "
-                                         f"{ref('fig:tau20nonisonosga')} ('tau20nonisonosga')"),
+                                         f"{ref('fig:tau20nonisonosga')} ('tau20nonisonosga')",
+                              known_issue="One white-noise seed settles at 370 m (from orbit ~7,500; 400 m from "
+                                          "~1,500, 385 m from ~4,500), 0.65 x the paper's 570 m. As for tau15, "
+                                          "where four seeds end at 256-625 m against 360 m, the final wave train "
+                                          "depends on the noise drawn (README, Departures)."),
     "iso_tau15_buffer": dict(set="tau15", isothermal=True, init="buffer", orbits=20000, figure="fig:tau15bufnosg",
                              paper_m=233.0, paper_text="'concentrated around' the homogeneous box's final "
                                                        f"wavelength (233 m for tau15), {ref('fig:tau15bufnosg')} "
