@@ -65,6 +65,7 @@ def main(argv=None) -> int:
             ap.error(f"{f} is at orbit {t:,.0f}, before the carry file {dst} "
                      f"({float(_attrs(dst)['time_orbits']):,.0f} orbits): allowed a later state (or --force)")
         try:
+            out.mkdir(parents=True, exist_ok=True)
             write_carry(f, dst)
         except OSError as exc:  # an unwritable place: the environment, not the input (status 1, as the CLI)
             print(f"carry.py: error: cannot write {dst}: {exc.strerror or exc}", file=sys.stderr)
