@@ -8,7 +8,7 @@ restoration, as one JSON attribute per group (``params_json``, ``options_json``)
 
 Reading checks all of this (:mod:`ringcore.io.validate`): a missing, corrupt or foreign file, a file of another kind, or a
 file written by a newer schema raises :class:`RunFileError` naming the file and the problem.
-Older schema versions listed in ``_MIGRATIONS`` are upgraded on read; anything else is refused.
+Older schema versions listed in ``ringcore.io.schema.MIGRATIONS`` are upgraded on read; anything else is refused.
 """
 from __future__ import annotations
 
@@ -21,13 +21,9 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
-SCHEMA = "ringlab-run"
-SCHEMA_VERSION = 1
-_MIGRATIONS: dict = {}  # version -> function(Dataset) -> Dataset of version + 1
-
-
-class RunFileError(ValueError):
-    """A run file cannot be read (missing, corrupt, foreign, wrong kind or unknown version)."""
+from .schema import MIGRATIONS as _MIGRATIONS  # noqa: F401 (older callers)
+from .schema import SCHEMA, SCHEMA_VERSION, RunFileError
+from .validate import checksum_attrs, validate_run
 
 
 def _clean(v):
@@ -104,7 +100,6 @@ def stamp_run(ds: xr.Dataset, kind: str) -> xr.Dataset:
     """A copy of ``ds`` with the schema attributes and (engine kinds) a fresh state checksum: what
     :func:`write_run` stores, so an in-memory run Dataset passes :func:`validate_run` like its file."""
     from .. import __version__
-    from .validate import checksum_attrs
 
     ds = ds.copy()
     for key in ("state_sha256", "state_checksums"):  # never carry over a stale checksum
@@ -144,8 +139,6 @@ def read_run(path, kind: str | None = None) -> xr.Dataset:
         One line with the file name and what is wrong (missing, unreadable, foreign, other kind,
         newer schema, missing or malformed variables, inconsistent, non-finite state, checksum mismatch).
     """
-    from .validate import validate_run
-
     path = Path(path)
     if not path.is_file():
         raise RunFileError(f"{path}: no such file")

@@ -1,7 +1,7 @@
 """One validation of every run file, whatever the entry point (path, ``xarray.Dataset``, CLI, app).
 
 :func:`validate_run` checks, in this order: the schema attribute, the schema version (newer:
-refused; older: upgraded through ``_MIGRATIONS`` or refused), the kind; and for the engine kinds
+refused; older: upgraded through :data:`ringcore.io.schema.MIGRATIONS` or refused), the kind; and for the engine kinds
 in :data:`LAYOUTS` (``"hydro"``, ``"nbody"``): the attributes a continuation needs, every
 required variable with its dimensions and dtype kind, the checksum ``state_sha256`` that
 :func:`ringcore.io.write_run` stamps (files written before it existed have none and are accepted
@@ -23,7 +23,8 @@ import json
 
 import numpy as np
 
-from .runfile import _MIGRATIONS, SCHEMA, SCHEMA_VERSION, RunFileError
+from .schema import MIGRATIONS as _MIGRATIONS
+from .schema import SCHEMA, SCHEMA_VERSION, RunFileError
 
 # name -> (dims, dtype kinds, required); required variables are what a restore reads.
 _F, _I, _S = "f", "iu", "OUS"

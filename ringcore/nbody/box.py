@@ -394,10 +394,7 @@ class ShearingBox:
     def profiles(self, n_zones: int | None = None) -> D.Profiles:
         """Radial profiles in SI units (x [m], u, v, c [m/s], C_ii [m^2/s^2], z_rms [m])."""
         n = self.options.zones if n_zones is None else check_int("n_zones", n_zones, 1, 10**6)
-        p = D.tabulate(self.pos, self.vel, self.L_x, n)
-        vu, L = self.v_unit, self.R_p
-        return D.Profiles(x=p.x * L, sigma=p.sigma, u=p.u * vu, v=p.v * vu, C_xx=p.C_xx * vu**2,
-                          C_yy=p.C_yy * vu**2, C_zz=p.C_zz * vu**2, c=p.c * vu, z_rms=p.z_rms * L)
+        return D.profiles_si(self.pos, self.vel, self.L_x, n, self.R_p, self.Omega)
 
     def transport(self) -> dict:
         """Ground-state transport averaged since the last :meth:`reset_accumulators` (SI units).
@@ -408,16 +405,7 @@ class ShearingBox:
         and ``c_eff_xx`` = (P_xx / sigma)^(1/2) [m/s]; ``collision_frequency`` [1/orbit];
         ``collisions``, ``unresolved``, ``unresolved_fraction``, ``max_overlap`` [R_p], ``orbits``.
         """
-        tr = D.transport(self.acc, self.N)
-        vu2, nu_u = self.v_unit**2, self.R_p**2 * self.Omega
-        for k in ("T", "C_xx", "C_yy", "C_zz", "C_xy", "P_xx_local", "P_xx_nonlocal", "P_yy_nonlocal",
-                  "P_zz_nonlocal"):
-            tr[k] *= vu2
-        for k in ("nu_local", "nu_nonlocal", "nu"):
-            tr[k] *= nu_u
-        tr["c_eff"] *= self.v_unit
-        tr["c_eff_xx"] *= self.v_unit
-        return tr
+        return D.transport_si(self.acc, self.N, self.R_p, self.Omega)
 
     def diagnostics(self) -> dict:
         """Current box means (SI): ``ekin`` (also ``e_kin``) [sigma0 (R_p Omega)^2], ``c_mean`` [m/s],

@@ -8,8 +8,8 @@ dispersion c = [(C_xx + C_yy + C_zz)/3]^(1/2) = T^(1/2), and the vertical extent
 Box means: e_kin, eq. (ekin), <c>, the PSD of sigma/sigma0 and its prevalent wavelength
 lambda_p; ground-state transport from the accumulators of :mod:`ringcore.nbody.kernels`.
 
-Functions take kernel units (R_p, 1/Omega) and return kernel units; the conversion to SI
-is done by :class:`ringcore.nbody.box.ShearingBox`.
+Functions take kernel units (R_p, 1/Omega) and return kernel units, except :func:`profiles_si` and
+:func:`transport_si` (the SI values the box and its run files report).
 """
 from __future__ import annotations
 
@@ -125,3 +125,28 @@ def transport(acc, n_particles: int) -> dict:
         unresolved_fraction=acc[K.A_NUNRES] / max(acc[K.A_NCOLL], 1.0),
         max_overlap=acc[K.A_MAXDEPTH], orbits=orbits,
     )
+
+
+def profiles_si(pos, vel, L_x: float, n_zones: int, R_p: float, Omega: float) -> Profiles:
+    """:func:`tabulate` in SI units: x [m], u, v, c [m/s], C_ii [m^2/s^2], z_rms [m] (sigma: sigma/sigma0).
+
+    ``L_x`` in kernel units [R_p]; ``R_p`` the particle radius [m], ``Omega`` [1/s]."""
+    p = tabulate(pos, vel, L_x, n_zones)
+    vu, L = R_p * Omega, R_p
+    return Profiles(x=p.x * L, sigma=p.sigma, u=p.u * vu, v=p.v * vu, C_xx=p.C_xx * vu**2,
+                    C_yy=p.C_yy * vu**2, C_zz=p.C_zz * vu**2, c=p.c * vu, z_rms=p.z_rms * L)
+
+
+def transport_si(acc, n_particles: int, R_p: float, Omega: float) -> dict:
+    """:func:`transport` in SI units (``R_p`` [m], ``Omega`` [1/s]; see ShearingBox.transport for the keys)."""
+    tr = transport(acc, n_particles)
+    v_unit = R_p * Omega
+    vu2, nu_u = v_unit**2, R_p**2 * Omega
+    for k in ("T", "C_xx", "C_yy", "C_zz", "C_xy", "P_xx_local", "P_xx_nonlocal", "P_yy_nonlocal",
+              "P_zz_nonlocal"):
+        tr[k] *= vu2
+    for k in ("nu_local", "nu_nonlocal", "nu"):
+        tr[k] *= nu_u
+    tr["c_eff"] *= v_unit
+    tr["c_eff_xx"] *= v_unit
+    return tr

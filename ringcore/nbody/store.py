@@ -23,6 +23,7 @@ import xarray as xr
 from ..io import attrs_from_dict, dict_from_attrs, read_run, stamp_run, status_attrs, validate_run, write_run
 from ..engine import State
 from ..params import RingParams
+from . import diagnostics as D
 from . import initial
 from . import kernels as K
 from .options import NBodyOptions
@@ -32,23 +33,32 @@ _HIST_UNITS = dict(ekin="sigma0 (R_p Omega)^2", c_mean="m/s", T="m^2/s^2", colli
                    lambda_p="m", unresolved="1", crossings="1")
 
 
-def _engine_and_state(src):
-    """(engine, State) of a ShearingBox or a State."""
-    from .box import ShearingBox
-
+def _state_of(src) -> State:
+    """The State of a ShearingBox (its ``snapshot()``) or the State itself: this module never builds a box."""
     if isinstance(src, State):
-        return ShearingBox.restore(src), src
-    return src, src.snapshot()
+        return src
+    if hasattr(src, "snapshot"):
+        return src.snapshot()
+    raise ValueError(f"src = {src!r:.80} is not valid: give a ShearingBox or its State")
+
+
+def _clock(st: State) -> tuple:
+    """(t [1/Omega], orbits, N, tau) of a State, as :class:`~ringcore.nbody.box.ShearingBox` computes them."""
+    o, m = st.options, st.meta
+    t = m["t0"] + m["steps"] * (2.0 * math.pi * o.dt_orbit)
+    n = st.arrays["pos"].shape[0]
+    return t, t / (2.0 * math.pi), n, n * math.pi / ((o.L_x / o.R_p) * (o.L_y / o.R_p))
 
 
 def to_dataset(src) -> xr.Dataset:
     """Dataset of a :class:`~ringcore.nbody.box.ShearingBox` or of its :class:`~ringcore.engine.State`
     (coords in m and orbits)."""
-    box, st = _engine_and_state(src)
-    a, m = st.arrays, st.meta
-    R, vu = box.R_p, box.v_unit
+    st = _state_of(src)
+    a, m, o, p = st.arrays, st.meta, st.options, st.params
+    R, vu = o.R_p, o.R_p * p.Omega
+    t, orbits, n_part, tau = _clock(st)
     pos, vel = a["pos"], a["vel"]
-    prof = box.profiles()
+    prof = D.profiles_si(pos, vel, o.L_x / o.R_p, o.zones, o.R_p, p.Omega)
     data = {}
     for i, name in enumerate("xyz"):
         data[f"pos_{name}"] = ("particle", pos[:, i] * R, dict(units="m", long_name=f"{name} position"))
@@ -73,18 +83,18 @@ def to_dataset(src) -> xr.Dataset:
     data["accumulators_last_record"] = ("acc", a["acc_last_record"],
                                         dict(long_name="run accumulators at the last record"))
     data["accumulators_total"] = ("acc", a["acc_before"] + a["acc"], dict(long_name="kernel accumulators (run)"))
-    coords = dict(particle=np.arange(box.N), time=("time", a["history_time"], dict(units="orbit")),
+    coords = dict(particle=np.arange(n_part), time=("time", a["history_time"], dict(units="orbit")),
                   time_profile=("time_profile", a["profile_time"], dict(units="orbit")),
                   x=("x", prof.x, dict(units="m", long_name="zone centre")))
     attrs = attrs_from_dict("param", st.params.as_dict())
     attrs.update(attrs_from_dict("option", asdict(st.options)))
     attrs.update(seed=m["seed"], rng_state_json=json.dumps(m["rng_state"]),
-                 t_s=box.t / box.Omega, t_kernel=box.t, t0_kernel=m["t0"], step_count=m["steps"],
-                 t_orbit=box.orbits, N=box.N, tau_box=box.tau,
+                 t_s=t / p.Omega, t_kernel=t, t0_kernel=m["t0"], step_count=m["steps"],
+                 t_orbit=orbits, N=n_part, tau_box=tau,
                  kernel_units="lengths R_p, times 1/Omega, velocities R_p Omega",
                  ekin_units="sigma0 (R_p Omega)^2", engine="ringcore.nbody")
     if a["acc"][K.A_TIME] > 0:
-        for k, v in box.transport().items():
+        for k, v in D.transport_si(a["acc"], n_part, o.R_p, p.Omega).items():
             attrs[f"transport_{k}"] = float(v)
     return stamp_run(xr.Dataset(data, coords=coords, attrs=attrs), "nbody")
 
@@ -141,40 +151,45 @@ def from_dataset(cls, ds, *, sigma0=None, tile_x: bool = False, options=None):
     return box
 
 
-def summary(box, last_fraction: float = 0.25) -> dict:
-    """Saturation summary over the last ``last_fraction`` (by time) of the recorded box means.
+def summary(src, last_fraction: float = 0.25) -> dict:
+    """Saturation summary of a ShearingBox or its State over the last ``last_fraction`` (by time) of the
+    recorded box means.
 
     Keys: ``lambda_p_m`` most frequent recorded prevalent wavelength [m]; ``lambda_p_mean_m``
     [m]; ``e_kin`` mean [sigma0 (R_p Omega)^2] (also ``e_kin_rp``); ``c_mean`` mean velocity
     dispersion [m/s]; ``orbits``; ``N``.
     """
-    h = box.history
-    t = np.asarray(h["time"], float)
-    out = dict(orbits=box.orbits, N=box.N)
+    st = _state_of(src)
+    a, o = st.arrays, st.options
+    _, orbits, n_part, _ = _clock(st)
+    t = np.asarray(a["history_time"], float)
+    out = dict(orbits=orbits, N=n_part)
     if t.size:
         sel = t >= t[-1] - last_fraction * (t[-1] - t[0])
-        lam = np.asarray(h["lambda_p"], float)[sel]
+        lam = np.asarray(a["history_lambda_p"], float)[sel]
         lam = lam[np.isfinite(lam)]
         if lam.size:
             vals, counts = np.unique(lam, return_counts=True)
             out.update(lambda_p_m=float(vals[np.argmax(counts)]), lambda_p_mean_m=float(lam.mean()))
         else:
             out.update(lambda_p_m=math.nan, lambda_p_mean_m=math.nan)
-        out.update(e_kin=float(np.mean(np.asarray(h["ekin"])[sel])),
-                   c_mean=float(np.mean(np.asarray(h["c_mean"])[sel])))
-    else:
-        d = box.diagnostics()
-        out.update(lambda_p_m=float(d["lambda_p"]), lambda_p_mean_m=float(d["lambda_p"]), e_kin=float(d["ekin"]),
-                   c_mean=float(d["c_mean"]))
+        out.update(e_kin=float(np.mean(np.asarray(a["history_ekin"])[sel])),
+                   c_mean=float(np.mean(np.asarray(a["history_c_mean"])[sel])))
+    else:  # nothing recorded yet: the current box means (as ShearingBox.diagnostics)
+        L_x = o.L_x / o.R_p
+        prof = D.tabulate(a["pos"], a["vel"], L_x, o.zones)
+        lam_p = D.psd(prof, L_x)[2] * o.R_p
+        out.update(lambda_p_m=float(lam_p), lambda_p_mean_m=float(lam_p), e_kin=float(D.e_kin(prof)),
+                   c_mean=float(D.mean_dispersion(prof) * (o.R_p * st.params.Omega)))
     out["e_kin_rp"] = out["e_kin"]
     return out
 
 
-def save(box, path, *, complete: bool = True, **attrs):
-    """Write ``box`` (a ShearingBox or its State) to ``path`` with :func:`ringcore.io.write_run` (kind "nbody")."""
-    box, _ = _engine_and_state(box)
-    ds = to_dataset(box)
-    ds.attrs.update(status_attrs(summary(box), complete))
+def save(src, path, *, complete: bool = True, **attrs):
+    """Write a ShearingBox or its State to ``path`` with :func:`ringcore.io.write_run` (kind "nbody")."""
+    st = _state_of(src)
+    ds = to_dataset(st)
+    ds.attrs.update(status_attrs(summary(st), complete))
     ds.attrs.update(attrs)
     return write_run(ds, path, kind="nbody")
 
