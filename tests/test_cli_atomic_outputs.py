@@ -43,7 +43,7 @@ def test_no_clobber_refuses_before_and_at_the_move(tmp_path):
         with atomic_output(g, overwrite=False) as tmp:
             tmp.write_bytes(b"new")
             g.write_bytes(b"someone else's")
-    assert g.read_bytes() == b"someone else's" and not (tmp_path / "late.png.part").exists()
+    assert g.read_bytes() == b"someone else's" and not list(tmp_path.glob(".late.png.*.part"))
     save_figure(_fig(), f, overwrite=True)
     assert f.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     with output_policy(False):  # overwrite=None follows the policy

@@ -218,7 +218,7 @@ def test_failed_write_leaves_target_and_no_part(files, tmp_path):
     with pytest.raises(Exception):
         write_run(ds, target, "recipe")
     assert target.read_bytes() == before
-    assert not list(tmp_path.glob("*.part")), list(tmp_path.iterdir())
+    assert not list(tmp_path.glob("*.part")) and not list(tmp_path.glob(".*.part")), list(tmp_path.iterdir())
 
 
 # ---------------------------------------------------------------------------- generated damage

@@ -39,16 +39,19 @@ def _kill_when(path: Path, sig, timeout: float = 60.0, delay: float = 0.0):
     """Send ``sig`` to this process as soon as ``path`` exists (plus ``delay``); returns (done, thread, sent)."""
     sent = {}
 
+    def present():  # a name with "*" is a glob pattern in its folder (temporary names are unique per write)
+        return any(path.parent.glob(path.name)) if "*" in path.name else path.exists()
+
     def watch():
         t0 = time.monotonic()
-        while not path.exists():
+        while not present():
             if done.is_set() or time.monotonic() - t0 > timeout:
                 return
             time.sleep(0.001)
         time.sleep(delay)
         if not done.is_set():
             sent["t"] = time.monotonic()
-            sent["part"] = path.name.endswith(".part") and path.exists()
+            sent["part"] = path.name.endswith(".part") and present()
             os.kill(os.getpid(), sig)
 
     done = threading.Event()
@@ -106,7 +109,7 @@ def test_signal_while_stepping_stops_fast_saves_and_resumes(tmp_path, capfd, arg
 def test_signal_during_checkpoint_save_stops_without_stepping_again(tmp_path, capfd, argv):
     """A signal while a checkpoint is being written: no further step, the saved state is that checkpoint."""
     out = tmp_path / "run.nc"
-    rc, sent, _ = _run_and_signal(argv + ["--out", out], out.with_name("run.nc.part"), signal.SIGTERM)
+    rc, sent, _ = _run_and_signal(argv + ["--out", out], out.with_name(".run.nc.*.part"), signal.SIGTERM)
     err = capfd.readouterr().err
     assert rc == 130, err
     if not sent.get("part"):

@@ -31,10 +31,14 @@ def status_and_message(exc: BaseException) -> tuple:
     msg = " ".join(str(exc).split()) or type(exc).__name__
     if isinstance(exc, EnvironmentProblem):
         return 1, msg
-    from ..io.atomic import OutputExists
+    from ..io.errors import OutputAppeared, OutputError, OutputExists
 
+    if isinstance(exc, OutputAppeared):  # appeared while the run computed: not the user's input
+        return 1, msg
     if isinstance(exc, OutputExists):  # an existing output, --overwrite not given: the user's choice
         return 2, msg
+    if isinstance(exc, OutputError):  # disk full, read-only, busy ...: already one line naming the file
+        return 1, msg
     if isinstance(exc, ModuleNotFoundError):
         return 1, (f"the optional package {exc.name!r} is not installed ({msg}); install it with "
                    f"pip install {exc.name}")

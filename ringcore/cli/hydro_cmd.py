@@ -8,7 +8,7 @@ from .. import params
 from ..checks import check_choice, check_real
 from .common import add_ring_arguments, check_self_gravity, given, ring_params_from_args, refuse_with
 from .errors import UsageError, is_blowup
-from .safety import check_memory, check_output_file
+from .safety import check_fallback_dir, check_memory, reserve_output_file
 
 # options that define a new run: refused with --init FILE.nc (the file's settings win)
 NEW_RUN_OPTIONS = ("set", "sigma0", "isothermal", "ps", "ps_scale", "beta", "lx", "h", "seed", "amplitude",
@@ -53,6 +53,10 @@ def register(sub) -> None:
     p.add_argument("--overwrite", action="store_true", help="replace FILE.nc if it exists (default: refuse)")
     p.add_argument("--checkpoint-every", type=float, default=None, metavar="ORBITS",
                    help="also write the run file every ORBITS orbits (SIGINT/SIGTERM always write it)")
+    p.add_argument("--fallback-dir", default=None, metavar="DIR",
+                   help="if the run file cannot be written at the end (disk full, quota, read-only), write the "
+                        "last good state to this existing folder instead (ideally on another disk); failed "
+                        "checkpoints only warn and are tried again at the next one")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
 
@@ -125,8 +129,9 @@ def run(args) -> int:
         n, rows = ds.sizes.get("x", 0), int(ds.attrs.get("option_spacetime_rows_per_orbit", 0) or 0)
         mem, size = estimate_bytes(n, args.orbits, int(ds.attrs.get("option_samples_per_orbit", 20) or 20), rows)
         check_memory(f"continuing {args.init} ({n} cells) for {args.orbits:g} orbits", mem, "use fewer --orbits")
-        check_output_file(args.out, overwrite=args.overwrite, size=size)
-        sim = Hydro1D.from_dataset(ds)
+
+        def make():
+            return Hydro1D.from_dataset(ds)
     else:
         check_resolution(args)
         p = ring_params_from_args(args)
@@ -137,12 +142,16 @@ def run(args) -> int:
                            buffer_on_orbit=args.buffer_on, samples_per_orbit=args.samples,
                            spacetime_rows_per_orbit=args.spacetime_rows, T_floor=args.T_floor)
         _, size = estimate_bytes(opt.n, args.orbits, opt.samples_per_orbit, opt.spacetime_rows_per_orbit)
-        check_output_file(args.out, overwrite=args.overwrite, size=size)
-        sim = Hydro1D(p, opt, initial=args.init, seed=args.seed, amplitude=args.amplitude,
-                      lambda_min=args.lambda_min, wavelength=args.wavelength, direction=args.direction)
+
+        def make():
+            return Hydro1D(p, opt, initial=args.init, seed=args.seed, amplitude=args.amplitude,
+                           lambda_min=args.lambda_min, wavelength=args.wavelength, direction=args.direction)
+    fallback = check_fallback_dir(args.fallback_dir)
     try:
-        run_checkpointed(sim, args.orbits, out=args.out, every=args.checkpoint_every,
-                         progress=not args.no_progress)
+        with reserve_output_file(args.out, overwrite=args.overwrite, size=size):  # the name is ours until the end
+            sim = make()
+            run_checkpointed(sim, args.orbits, out=args.out, every=args.checkpoint_every,
+                             progress=not args.no_progress, fallback=fallback)
     except Exception as exc:
         if not is_blowup(exc):
             raise

@@ -9,7 +9,7 @@ from .. import params
 from ..checks import check_real
 from .common import check_self_gravity, given, refuse_with
 from .errors import UsageError
-from .safety import check_memory, check_output_file
+from .safety import check_fallback_dir, check_memory, reserve_output_file
 
 # options that define a new box: refused with --from FILE (the file's box wins)
 NEW_BOX_OPTIONS = ("set", "L_x", "L_y", "R_p", "restitution", "epsilon", "dt", "seed", "m_max", "single_mode",
@@ -56,6 +56,10 @@ def register(sub) -> None:
     p.add_argument("--overwrite", action="store_true", help="replace FILE if it exists (default: refuse)")
     p.add_argument("--checkpoint-every", type=float, default=None, metavar="ORBITS",
                    help="also write the run file every ORBITS orbits (SIGINT/SIGTERM always write it)")
+    p.add_argument("--fallback-dir", default=None, metavar="DIR",
+                   help="if the run file cannot be written at the end (disk full, quota, read-only), write the "
+                        "last good state to this existing folder instead (ideally on another disk); failed "
+                        "checkpoints only warn and are tried again at the next one")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="print the final diagnostics as one JSON object")
     p.set_defaults(func=run)
@@ -103,12 +107,11 @@ def _build(args):
         o = NBodyOptions(**json.loads(ds.attrs.get("options_json", "{}")))
         mem, size = estimate_bytes(n, args.equilibrate + args.orbits, o)
         check_memory(f"continuing {args.from_file} ({n} particles)", mem, "use fewer --orbits")
-        check_output_file(args.out, overwrite=args.overwrite, size=size)
         if args.sigma0 is not None:
             from ..params import RingParams
 
             check_self_gravity(RingParams(**json.loads(ds.attrs["params_json"])).with_sigma0(args.sigma0))
-        return ShearingBox.from_dataset(ds, sigma0=args.sigma0, tile_x=args.tile_x)
+        return _reserved(args, size, lambda: ShearingBox.from_dataset(ds, sigma0=args.sigma0, tile_x=args.tile_x))
     p = params.get(args.set, sigma0=0.0 if args.sigma0 is None else args.sigma0)
     check_self_gravity(p)
     o = NBodyOptions(L_x=args.L_x, L_y=args.L_y, R_p=args.R_p, restitution=args.restitution,
@@ -125,19 +128,37 @@ def _build(args):
             raise UsageError(f"--seed-mode = {args.seed_mode} is not valid: its wavelength L_x/M = {lam:g} m "
                              f"is below 2 particle diameters ({4 * o.R_p:g} m); allowed 1 <= M <= "
                              f"{int(o.L_x / (4 * o.R_p))}")
-    check_output_file(args.out, overwrite=args.overwrite, size=size)
-    box = ShearingBox(p, o, seed=args.seed)
-    if args.seed_mode:
-        box.seed_mode(args.seed_mode, args.amplitude)
-    return box
+
+    def make():
+        box = ShearingBox(p, o, seed=args.seed)
+        if args.seed_mode:
+            box.seed_mode(args.seed_mode, args.amplitude)
+        return box
+    return _reserved(args, size, make)
+
+
+def _reserved(args, size: float, make) -> tuple:
+    """(box, reservation of --out): the name is taken before the box is built, and given back if that fails."""
+    res = reserve_output_file(args.out, overwrite=args.overwrite, size=size)
+    try:
+        return make(), res
+    except BaseException:
+        res.release()
+        raise
 
 
 def run(args) -> int:
+    check_options(args)
+    fallback = check_fallback_dir(args.fallback_dir)
+    box, res = _build(args)
+    with res:  # the output name is this run's until it ends
+        return _run(args, box, fallback)
+
+
+def _run(args, box, fallback) -> int:
     from ..experiments.checkpoint import run_checkpointed
 
-    check_options(args)
-    box = _build(args)
-    kw = dict(out=args.out, every=args.checkpoint_every, progress=not args.no_progress)
+    kw = dict(out=args.out, every=args.checkpoint_every, progress=not args.no_progress, fallback=fallback)
     end = box.orbits + args.equilibrate + args.orbits
     if args.equilibrate > 0:
         eq_end = box.orbits + args.equilibrate

@@ -1,7 +1,10 @@
 """``ringcore reproduce NAME --quick|--full`` and ``ringcore reproduce --list``."""
 from __future__ import annotations
 
+import contextlib
+
 from ..experiments.registry import get_recipe, load_all, outputs
+from ..io import reserve_output
 from .common import refuse_with
 from .safety import check_new_files, check_output_dir
 
@@ -34,7 +37,12 @@ def run(args) -> int:
         return 0
     recipe = get_recipe(args.name)
     check_output_dir(args.out)
-    check_new_files(outputs(args.name, args.out), overwrite=args.overwrite, label=f"reproduce {args.name}")
-    res = recipe.run(args.mode, args.out, overwrite=bool(args.overwrite))  # atomic; no-clobber unless --overwrite
+    files = outputs(args.name, args.out)
+    check_new_files(files, overwrite=args.overwrite, label=f"reproduce {args.name}")
+    with contextlib.ExitStack() as held:  # both outputs are this run's until it ends (a second run is refused)
+        for f in files:
+            f.parent.mkdir(parents=True, exist_ok=True)
+            held.enter_context(reserve_output(f, overwrite=bool(args.overwrite), label="--out"))
+        res = recipe.run(args.mode, args.out, overwrite=bool(args.overwrite))  # atomic; no-clobber unless --overwrite
     print(f"{args.name} ({args.mode}): {res.seconds:.1f} s\n  figure: {res.png}\n  data:   {res.data}\n  {res.caption}")
     return 0

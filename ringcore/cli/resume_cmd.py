@@ -6,7 +6,7 @@ import math
 import sys
 
 from .errors import UsageError
-from .safety import check_output_file
+from .safety import check_fallback_dir, reserve_output_file
 
 PLAN_ATTR = "equilibrate_until"  # written by ``ringcore nbody --equilibrate`` (see nbody_cmd)
 
@@ -26,6 +26,10 @@ def register(sub) -> None:
     p.add_argument("--overwrite", action="store_true", help="replace FILE2 if it exists (default: refuse)")
     p.add_argument("--checkpoint-every", type=float, default=None, metavar="ORBITS",
                    help="also write the run file every ORBITS orbits")
+    p.add_argument("--fallback-dir", default=None, metavar="DIR",
+                   help="if the run file cannot be written at the end (disk full, quota, read-only), write the "
+                        "last good state to this existing folder instead (ideally on another disk); failed "
+                        "checkpoints only warn and are tried again at the next one")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
     p.set_defaults(func=run)
@@ -33,9 +37,8 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from ..checks import check_real
-    from ..experiments.checkpoint import kind_of, load_model, run_checkpointed
+    from ..experiments.checkpoint import kind_of, load_model
     from ..io import read_run
-    from .errors import is_blowup
 
     if args.orbits is not None:
         check_real("--orbits", args.orbits, 0.0, math.inf, lo_open=True, unit="orbits")
@@ -52,9 +55,27 @@ def run(args) -> int:
     if until < start:
         raise UsageError(f"--until = {until:g} orbits is before the run's time {start:g} orbits: "
                          f"allowed --until >= {start:g} (or give --orbits N to add N orbits)")
-    check_output_file(out, overwrite=args.overwrite, label="FILE" if args.out is None else "--out",
-                      same_as=args.file)
-    kw = dict(out=out, every=args.checkpoint_every, progress=not args.no_progress)
+    fallback = check_fallback_dir(args.fallback_dir)
+    res = reserve_output_file(out, overwrite=args.overwrite, label="FILE" if args.out is None else "--out",
+                              same_as=args.file)
+    with res:  # the output name is this run's until it ends
+        status, s = _continue(args, model, attrs, out, until, fallback)
+    if status:
+        return status
+    if args.json:
+        print(json.dumps({"kind": kind, "file": str(out), **s}))
+    else:
+        print(f"{kind}: orbit {start:.2f} -> {model.orbits:.2f}, lambda_p = {s['lambda_p_m']:.1f} m, "
+              f"e_kin = {s['e_kin']:.4g}, <c> = {s['c_mean'] * 1e3:.4f} mm/s -> {out}")
+    return 0
+
+
+def _continue(args, model, attrs, out, until, fallback) -> tuple:
+    """Run ``model`` on to ``until`` (N-body: through its planned equilibration); (status, summary)."""
+    from ..experiments.checkpoint import run_checkpointed
+    from .errors import is_blowup
+
+    kw = dict(out=out, every=args.checkpoint_every, progress=not args.no_progress, fallback=fallback)
     eq = attrs.get(PLAN_ATTR)
     tol = 1e-9 * max(1.0, until)
     try:
@@ -75,10 +96,5 @@ def run(args) -> int:
         if not is_blowup(exc):
             raise
         sys.stderr.write(f"ringcore resume: error: {exc} (saved to {out}, complete = 0)\n")
-        return 1
-    if args.json:
-        print(json.dumps({"kind": kind, "file": str(out), **s}))
-    else:
-        print(f"{kind}: orbit {start:.2f} -> {model.orbits:.2f}, lambda_p = {s['lambda_p_m']:.1f} m, "
-              f"e_kin = {s['e_kin']:.4g}, <c> = {s['c_mean'] * 1e3:.4f} mm/s -> {out}")
-    return 0
+        return 1, None
+    return 0, s

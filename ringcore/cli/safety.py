@@ -11,6 +11,9 @@ Rules
   existing ancestor must be a writable folder.
 - The free disk space must exceed the estimated size of what is written; the estimated memory of
   the run must stay below :data:`MEMORY_FRACTION` of the machine's memory.
+- :func:`reserve_output_file` then takes the output name for the whole run
+  (:func:`ringcore.io.reserve_output`): a second run on the same name is refused before computing, the
+  name must fit the file system (at most 255 bytes), and an existing target must be replaceable.
 """
 from __future__ import annotations
 
@@ -96,6 +99,26 @@ def check_output_file(name, *, overwrite: bool, label: str = "--out", size: floa
         raise EnvironmentProblem(f"{label} {name!r}: the file is not writable")
     _free_space(d, label, name, size)
     return path
+
+
+def reserve_output_file(name, *, overwrite: bool, label: str = "--out", size: float = 0.0, same_as=None):
+    """:func:`check_output_file`, then reserve the name for the run (a :class:`ringcore.io.Reservation`,
+    to be used as a context manager around the run)."""
+    from ..io import reserve_output
+
+    check_output_file(name, overwrite=overwrite, label=label, size=size, same_as=same_as)
+    return reserve_output(name, overwrite=overwrite, label=label, same_as=same_as)
+
+
+def check_fallback_dir(name, label: str = "--fallback-dir"):
+    """The existing, writable folder ``name`` (None stays None) for the state when the output cannot be written."""
+    if name is None:
+        return None
+    if not str(name).strip():
+        raise UsageError(f"{label} = {name!r} is not valid: give a folder")
+    d = Path(name)
+    _writable_dir(d, label, str(name))
+    return d
 
 
 def check_output_dir(name, *, label: str = "--out", size: float = 0.0) -> Path:

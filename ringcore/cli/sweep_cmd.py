@@ -1,9 +1,13 @@
 """``ringcore sweep``: a grid of runs on dask.distributed (LocalCluster or --scheduler ADDRESS)."""
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 
 from ..checks import check_real
+from ..io import check_name, reserve_output
+from ..io.errors import output_error
 from .common import refuse_with
 from .errors import EnvironmentProblem, UsageError
 from .safety import check_output_dir
@@ -118,12 +122,20 @@ def run(args) -> int:
         check_int("--workers", args.workers, 1, 512)
     tasks = tasks_of(args)
     check_output_dir(args.out)
+    check_name(Path(args.out) / "sweep.nc", label="--out", utf8=True)  # task file names go into sweep.nc
     try:
-        res = run_sweep(tasks, args.out, scheduler=args.scheduler, n_workers=args.workers,
-                        attrs=provenance(args))
-    except SchedulerUnreachable as exc:
-        raise EnvironmentProblem(str(exc)) from None
-    png = figure_lambdap(res.dataset, f"{args.out}/lambdap.png", set_name=args.set, isothermal=args.isothermal)
+        Path(args.out).mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise output_error(exc, args.out) from None
+    # one sweep per folder at a time: a second one on the same --out is refused before computing
+    with reserve_output(Path(args.out) / "sweep.nc", overwrite=True, label="--out", utf8=True):
+        try:
+            res = run_sweep(tasks, args.out, scheduler=args.scheduler, n_workers=args.workers,
+                            attrs=provenance(args))
+        except SchedulerUnreachable as exc:
+            raise EnvironmentProblem(str(exc)) from None
+        png = figure_lambdap(res.dataset, f"{args.out}/lambdap.png", set_name=args.set,
+                             isothermal=args.isothermal)
     n_ok = len(res.rows) - len(res.failed)
     print(f"sweep: {n_ok} of {len(res.rows)} runs finished in {res.wall_s:.1f} s -> {args.out}/sweep.nc, {png}")
     for r in res.failed:

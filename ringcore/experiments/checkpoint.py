@@ -14,31 +14,90 @@ an end time and writes its run file
 - when a field blows up (the last good state; ``complete = 0``, ``blowup = message``), then re-raises,
 - at the end (``complete = 1``, ``summary_json``).
 
+A file that cannot be written (disk full, quota, read-only place: :class:`ringcore.io.OutputError`) never
+loses the run by itself: a failed checkpoint is reported in one line and the run goes on with its state in
+memory, trying again at the next checkpoint.  If the final, interrupted or blow-up save fails, the state is
+written to ``fallback`` (a folder, ideally on another disk; ``--fallback-dir`` on the command line) under
+a new name, and an :class:`~ringcore.io.OutputError` says where; without ``fallback`` it says that the
+state was not saved.
+
 Because both engines' runs are independent of how they are split into ``advance`` calls, continuing a file with :func:`load_model` and :func:`run_checkpointed` gives
 the same numbers, bit for bit, as the uninterrupted run.
 """
 from __future__ import annotations
 
+import errno
 import math
+import os
 import sys
 import time
+from pathlib import Path
 
 from ..checks import check_real
 from ..engine import ENGINES, BlowUp
 from ..engine import engine_class as _engine_class
-from ..io import RunFileError, graceful_interrupt, read_run
+from ..io import OutputError, RunFileError, graceful_interrupt, output_policy, read_run
+from ..io.atomic import conflicts_kept
 
 __all__ = ["ENGINES", "engine_class", "kind_of", "load_model", "run_checkpointed"]
 
 
-def _save_interrupted(model, out, stop, kind: str, until: float, attrs: dict) -> None:
+def _fallback_path(fallback, out) -> Path:
+    """A new name for ``out`` in the folder ``fallback`` (never an existing file)."""
+    out, d = Path(out), Path(fallback)
+    for i in range(1000):
+        cand = d / (out.name if i == 0 else f"{out.stem}.{i}{out.suffix}")
+        if not os.path.lexists(cand):
+            return cand
+    raise OutputError(d / out.name, errno.EEXIST, "no free name in the fallback folder")
+
+
+def _save(model, out, fallback, **attrs) -> Path:
+    """``model.save(out, **attrs)``; if that fails (:class:`OutputError`), save to the ``fallback`` folder and
+    raise an OutputError saying where the state is (or that it was not saved)."""
+    try:
+        return model.save(out, **attrs)
+    except OutputError as exc:
+        orbit = f"orbit {model.orbits:.4f}"
+        if fallback is None:
+            raise OutputError(out, exc.errno, f"the state of {orbit} was not saved (give a fallback folder on "
+                                              "another disk, --fallback-dir, to keep it)") from None
+        alt = _fallback_path(fallback, out)
+        try:
+            with output_policy(False):  # a new name: never replaces a file there
+                model.save(alt, **attrs)
+        except OutputError as exc2:
+            raise OutputError(out, exc.errno, f"the fallback {alt} failed too ({exc2.strerror}): the state of "
+                                              f"{orbit} was not saved") from None
+        raise OutputError(out, exc.errno, f"the state of {orbit} is saved to the fallback {alt} instead "
+                                          f"(continue with: ringcore resume {alt})") from None
+
+
+def _checkpoint(model, out, kind: str, every: float, failures: list, **attrs) -> None:
+    """Write a checkpoint; a failure is reported and the run goes on (state kept in memory)."""
+    try:
+        with conflicts_kept(False):  # a file that appeared at ``out``: reported, not kept at every checkpoint
+            model.save(out, complete=False, checkpoint_orbit=model.orbits, **attrs)
+    except (OutputError, FileExistsError) as exc:
+        failures.append(model.orbits)
+        sys.stderr.write(f"\n{kind}: checkpoint at orbit {model.orbits:.4f} not written ({exc}); the run goes on "
+                         f"with its state in memory and tries again at orbit {model.orbits + every:.4g}\n")
+        sys.stderr.flush()
+    else:
+        if failures:
+            sys.stderr.write(f"\n{kind}: checkpoint at orbit {model.orbits:.4f} written to {out} "
+                             f"({len(failures)} failed before)\n")
+            failures.clear()
+
+
+def _save_interrupted(model, out, stop, kind: str, until: float, attrs: dict, fallback=None) -> None:
     """Save the current (last good) state after a signal, say so, and raise KeyboardInterrupt."""
     lag = time.monotonic() - stop.at if stop.at is not None else math.nan
     sys.stderr.write(f"\n{kind}: {stop.signal} at orbit {model.orbits:.4f}: stopped {lag:.2f} s after the signal; "
                      f"saving the last good state to {out} ...\n")
     sys.stderr.flush()
     t0 = time.monotonic()
-    model.save(out, complete=False, interrupted=stop.signal, **attrs)
+    _save(model, out, fallback, complete=False, interrupted=stop.signal, **attrs)
     sys.stderr.write(f"{kind}: state saved to {out} in {time.monotonic() - t0:.2f} s; "
                      f"continue with: ringcore resume {out} --until {until!r}\n")
     raise KeyboardInterrupt(stop.signal)
@@ -68,11 +127,19 @@ def load_model(path):
 
 
 def run_checkpointed(model, orbits: float | None = None, *, out, until: float | None = None,
-                     every: float | None = None, progress: bool = True, finish: bool = True, **attrs) -> dict:
+                     every: float | None = None, progress: bool = True, finish: bool = True,
+                     fallback=None, **attrs) -> dict:
     """Run ``model`` for ``orbits`` more orbits (or up to orbit ``until``), writing ``out`` as above.
 
-    ``finish=False``: no final file (a first phase of a longer run).  ``attrs`` are added to every
-    file written.  Returns the model's summary.
+    ``finish=False``: no final file (a first phase of a longer run).  ``fallback``: a folder for the
+    state when ``out`` cannot be written at the end (see the module docstring).  ``attrs`` are added to
+    every file written.  Returns the model's summary.
+
+    Raises
+    ------
+    OutputError
+        The final (or interrupted, or blow-up) save failed; the message says whether and where the state
+        was saved instead.
     """
     from tqdm.auto import tqdm
 
@@ -91,24 +158,25 @@ def run_checkpointed(model, orbits: float | None = None, *, out, until: float | 
                 f"state to {out} (a second signal stops at once and keeps only the last checkpoint)")
     with graceful_interrupt(deferred=True, announce=announce) as stop, \
             tqdm(total=round(until - start, 6), unit="orbit", desc=kind, disable=not progress) as bar:
+        failures = []
         next_ckpt = (math.floor((start + tol) / every) + 1) * every if every else math.inf
         while model.orbits < until - tol and not stop.requested:
             target = min(until, math.floor(model.orbits + tol) + 1.0, next_ckpt)
             try:
                 advance(until=target, stop=stop)
             except BlowUp as exc:
-                model.save(out, complete=False, blowup=str(exc), **attrs)
+                _save(model, out, fallback, complete=False, blowup=str(exc), **attrs)
                 raise
             bar.update(round(model.orbits - start - bar.n, 6))
             if stop.requested:
                 break  # no checkpoint now: the interrupted save below writes this very state
-            if model.orbits >= next_ckpt - tol:
-                model.save(out, complete=False, checkpoint_orbit=model.orbits, **attrs)
+            if model.orbits >= next_ckpt - tol and not (finish and model.orbits >= until - tol):
+                _checkpoint(model, out, kind, every, failures, **attrs)
                 next_ckpt += every  # a signal during this save stops the loop before the next step
         if stop.requested and not (finish and model.orbits >= until - tol):
-            _save_interrupted(model, out, stop, kind, until, attrs)
+            _save_interrupted(model, out, stop, kind, until, attrs, fallback)
         if finish:  # still within the handlers: a signal during the final save cannot lose the result
-            model.save(out, complete=True, **attrs)
+            _save(model, out, fallback, complete=True, **attrs)
             if stop.requested:
                 sys.stderr.write(f"\n{kind}: {stop.signal} came as the run ended: the complete run is saved to {out}\n")
     return model.summary()

@@ -24,7 +24,8 @@ import numpy as np
 import xarray as xr
 
 from ..checks import check_choice, check_int
-from ..io import RunFileError, atomic_output, read_run
+from ..io import RunFileError, netcdf_bytes, read_run, write_bytes
+from ..io.errors import output_error
 
 # engine -> "module:function" taking (task: dict, path: Path) and returning a summary dict
 RUNNERS = {
@@ -201,7 +202,10 @@ def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int = 2, p
         _resolve(t.get("engine"))
     n_workers = check_int("n_workers", n_workers, 1, 512)
     out = Path(outdir)
-    out.mkdir(parents=True, exist_ok=True)
+    try:
+        out.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise output_error(exc, out) from None
     t0 = time.perf_counter()
     cluster = None
     if scheduler is not None:
@@ -229,7 +233,6 @@ def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int = 2, p
             cluster.close()
     ds = aggregate(rows)
     ds.attrs.update(attrs or {})
-    with atomic_output(out / "sweep.nc") as tmp:  # a stopped write never leaves a half sweep.nc
-        ds.to_netcdf(tmp, engine="h5netcdf")
+    write_bytes(out / "sweep.nc", netcdf_bytes(ds))  # atomic: a failed write never leaves a half sweep.nc
     failed = [r for r in rows if r["status"] == "failed"]
     return SweepResult(rows=rows, dataset=ds, failed=failed, wall_s=time.perf_counter() - t0)

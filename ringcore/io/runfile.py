@@ -110,24 +110,43 @@ def stamp_run(ds: xr.Dataset, kind: str) -> xr.Dataset:
     return ds
 
 
+def run_bytes(ds: xr.Dataset, kind: str) -> memoryview:
+    """The run file of ``ds`` (what :func:`write_run` writes: schema attributes, checksum) as bytes in
+    memory, for a download or any other writer; nothing touches the disk."""
+    from .atomic import netcdf_bytes
+
+    return netcdf_bytes(stamp_run(ds, kind))
+
+
 def write_run(ds: xr.Dataset, path, kind: str, overwrite: bool | None = None) -> Path:
     """Write ``ds`` to ``path`` atomically with the schema attributes (and, for the engine kinds, the
     checksum ``state_sha256`` of :func:`ringcore.io.validate.checksum_attrs`).
 
-    The data go to ``path.part`` first and replace ``path`` only when complete
-    (:func:`ringcore.io.atomic.atomic_output`): a failed or interrupted write leaves no ``.part``
-    file and never touches an existing ``path``.  ``overwrite=False`` refuses an existing ``path``
-    (:class:`~ringcore.io.atomic.OutputExists`); ``None``: the enclosing
-    :func:`~ringcore.io.atomic.output_policy` (default: replace, as checkpoints need).
+    The file is serialised in memory, written to a temporary name unique to this write and moved onto
+    ``path`` only when complete (:func:`ringcore.io.atomic.write_bytes`): a failed or interrupted write
+    leaves nothing behind and never touches an existing ``path``.  ``overwrite=False`` refuses an existing
+    ``path`` (:class:`~ringcore.io.OutputExists`); ``None``: the reservation of ``path`` held by this
+    process (:func:`ringcore.io.reserve_output`) or the enclosing :func:`~ringcore.io.output_policy`
+    (default: replace, as checkpoints need).
+
+    Raises
+    ------
+    OutputError
+        The file could not be written (disk full, quota, read-only place, permission ...): one line
+        naming the file and the cause; an :class:`OSError`.
+    OutputExists, OutputBusy
+        See :mod:`ringcore.io.atomic`.
     """
-    from .atomic import atomic_output
+    from .atomic import write_bytes
 
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    ds = stamp_run(ds, kind)
-    with atomic_output(path, overwrite) as tmp:
-        ds.to_netcdf(tmp, engine="h5netcdf")
-    return path
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        from .errors import output_error
+
+        raise output_error(exc, path) from None
+    return write_bytes(path, run_bytes(ds, kind), overwrite)
 
 
 def read_run(path, kind: str | None = None) -> xr.Dataset:
