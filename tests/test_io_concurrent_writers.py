@@ -4,6 +4,7 @@ it); temporary names are unique per write; output-name problems are found before
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
 import textwrap
@@ -79,7 +80,7 @@ def test_second_sweep_on_the_same_folder_is_refused(tmp_path, capfd, holder):
 
 def test_two_concurrent_cli_runs_keep_the_first_and_refuse_the_second(tmp_path):
     out = tmp_path / "run.nc"
-    cmd = [sys.executable, "-m", "ringcore.cli.main", "hydro", "--orbits", "0.3", *SMALL, "--out", str(out)]
+    cmd = [sys.executable, "-m", "ringcore.cli.main", *LONG, "--out", str(out)]
     a = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     t0 = time.monotonic()
     while not (tmp_path / ".run.nc.lock").exists():
@@ -87,9 +88,13 @@ def test_two_concurrent_cli_runs_keep_the_first_and_refuse_the_second(tmp_path):
         time.sleep(0.01)
     b = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
     assert b.returncode == 1 and "another run is writing" in err_line(b.stderr)
+    assert a.poll() is None  # the first run still computes; stop it: it saves its state
+    a.send_signal(signal.SIGINT)
     _, err_a = a.communicate(timeout=300)
-    assert a.returncode == 0, err_a
-    assert read_run(out).attrs["complete"] == 1 and sorted(p.name for p in tmp_path.iterdir()) == ["run.nc"]
+    assert a.returncode == 130, err_a
+    ds = read_run(out)
+    assert ds.attrs["interrupted"] == "SIGINT" and ds.attrs["time_orbits"] > 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["run.nc"]
 
 
 def test_file_appearing_mid_run_is_not_replaced(tmp_path, capfd):

@@ -85,7 +85,9 @@ def check_output_file(name, *, overwrite: bool, label: str = "--out", size: floa
     name = "" if name is None else str(name)
     if not name.strip():
         raise UsageError(f"{label} = {name!r} is not valid: give a file name")
-    path = Path(name)
+    from ..io import check_name
+
+    path = check_name(name, label)  # at most NAME_MAX bytes: its temporary and lock names are made to fit
     if path.is_dir():
         raise UsageError(f"{label} {name!r} is a folder: give a file name inside it")
     in_place = same_as is not None and path.exists() and Path(same_as).exists() and \

@@ -48,6 +48,12 @@ def output_policy(overwrite: bool):
         _OVERWRITE.reset(token)
 
 
+def _discard(tmp: Path) -> None:
+    """Remove a temporary file if it is there (a read-only place raises even for a missing name)."""
+    with contextlib.suppress(OSError):
+        tmp.unlink()
+
+
 @contextlib.contextmanager
 def conflicts_kept(keep: bool):
     """Within the block, a reserved write refused because a file appeared at its name keeps its own file
@@ -81,7 +87,7 @@ def _commit(tmp: Path, path: Path, overwrite: bool, res) -> None:
                 if os.path.lexists(path):
                     raise refuse(path) from None
                 os.replace(tmp, path)
-            tmp.unlink(missing_ok=True)
+            _discard(tmp)
     else:
         os.replace(tmp, path)
     if res is not None:
@@ -114,7 +120,7 @@ def atomic_output(path, overwrite: bool | None = None):
         with name_lock(path) if res is None else contextlib.nullcontext():
             _commit(tmp, path, overwrite, res)
     except BaseException as exc:
-        tmp.unlink(missing_ok=True)
+        _discard(tmp)
         err = output_error(exc, path) if isinstance(exc, Exception) else None
         if err is None or err is exc:
             raise

@@ -31,12 +31,12 @@ def check_name(path, label: str = "--out", utf8: bool = False) -> Path:
     if not str(name).strip():
         raise ValueError(f"{label} = {name!r} is not valid: give a file name")
     path = Path(name)
-    if path.is_dir():
-        raise ValueError(f"{label} {name!r} is a folder: give a file name inside it")
     n = len(os.fsencode(path.name))
     if n > NAME_MAX:
         raise ValueError(f"{label}: the file name {path.name[:40]!r}... has {n} bytes; allowed at most {NAME_MAX} "
                          "bytes (the file system's limit): choose a shorter name")
+    if path.is_dir():
+        raise ValueError(f"{label} {name!r} is a folder: give a file name inside it")
     if utf8:
         try:
             os.fspath(path.absolute()).encode("utf-8")
