@@ -159,6 +159,7 @@ def test_cli_full_disk_does_not_crash_the_interpreter(tmp_path):
 
 
 # ------------------------------------------------------------------ full disk: Python API
+@pytest.mark.slow  # ~10 s idle, 20 s under load
 def test_api_writers_on_a_full_disk_raise_output_error(tmp_path):
     from ringcore.experiments.carry import write_carry
     from ringcore.figures._mpl import subplots
