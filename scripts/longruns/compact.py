@@ -20,7 +20,7 @@ leaving the data byte for byte as they are.
 from __future__ import annotations
 
 import argparse
-import os
+import io
 import sys
 from pathlib import Path
 
@@ -28,6 +28,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 from ringcore.experiments.longruns import LONG_RUNS, check_compact, compact, text_attrs  # noqa: E402
+from ringcore.io import OutputError, netcdf_bytes, write_bytes  # noqa: E402
 
 DEFAULT_OUT = ROOT / "app" / "data" / "longruns"
 
@@ -68,9 +69,7 @@ def _main(argv=None) -> int:
     for r in runs:
         ds = check_compact(compact(r, args.rows, args.cols), r.name)
         f = out / f"{r.stem}.nc"
-        tmp = f.with_name(f.name + ".part")
-        ds.to_netcdf(tmp, engine="h5netcdf")
-        os.replace(tmp, f)
+        write_bytes(f, netcdf_bytes(ds), overwrite=True)  # atomic; a full disk is one line (OutputError)
         total += f.stat().st_size
         a = ds.attrs
         print(f"{f}: {a['status']}; lambda_p = {a['lambda_p_final_m']:.1f} m (last 1,000 orbits: "
@@ -95,11 +94,10 @@ def _refresh_text(out: Path, args, ap) -> int:
             print(f"{f}: text attributes current")
             continue
         ds.attrs.update(new_text)
-        tmp = f.with_name(f.name + ".part")
-        ds.to_netcdf(tmp, engine="h5netcdf")
-        with xr.open_dataset(tmp, engine="h5netcdf") as new:
-            check_compact(new.load(), tmp.name)
-        os.replace(tmp, f)
+        data = netcdf_bytes(ds)
+        with xr.open_dataset(io.BytesIO(bytes(data)), engine="h5netcdf") as new:
+            check_compact(new.load(), f.name)
+        write_bytes(f, data, overwrite=True)
         print(f"{f}: text attributes refreshed")
     if args.readme:
         _readme(out, args.readme_file)
@@ -129,4 +127,8 @@ def _readme(out: Path, readme_file) -> None:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except OutputError as exc:  # disk full, read-only ...: one line, the existing file untouched
+        sys.stderr.write(f"compact.py: error: {exc}\n")
+        sys.exit(1)
