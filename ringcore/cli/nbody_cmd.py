@@ -52,7 +52,8 @@ def register(sub) -> None:
     p.add_argument("--record-every", type=float, default=0.1, metavar="ORBITS", help="box means interval")
     p.add_argument("--profile-every", type=float, default=1.0, metavar="ORBITS", help="profiles interval")
     p.add_argument("--out", default="nbody.nc", metavar="FILE",
-                   help="run file to write (default nbody.nc); an existing file is kept unless --overwrite")
+                   help="run file to write (default nbody.nc); an existing file is kept unless --overwrite; reserved "
+                        "for this run (a second run on the same FILE is refused before computing)")
     p.add_argument("--overwrite", action="store_true", help="replace FILE if it exists (default: refuse)")
     p.add_argument("--checkpoint-every", type=float, default=None, metavar="ORBITS",
                    help="also write the run file every ORBITS orbits (SIGINT/SIGTERM always write it)")

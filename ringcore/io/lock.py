@@ -3,11 +3,17 @@ output, and the reservations this process holds (see :mod:`ringcore.io.reserve`)
 from __future__ import annotations
 
 import contextlib
-import fcntl
+import errno
 import os
 from pathlib import Path
 
 from .errors import OutputBusy, output_error, side_name
+
+try:
+    import fcntl
+except ImportError:  # pragma: no cover - not POSIX: the lock file is only a marker
+    fcntl = None
+NO_LOCKS = (errno.ENOLCK, errno.EOPNOTSUPP, errno.ENOSYS, errno.EINVAL)  # file systems without flock
 
 HELD: dict = {}  # (real folder, name) -> Reservation held by this process
 
@@ -31,7 +37,8 @@ def acquire(path: Path, holder: str) -> tuple:
         except OSError as exc:
             raise output_error(exc, lock) from None
         try:
-            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            if fcntl is not None:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
             try:
                 who = os.read(fd, 200).decode("utf-8", "replace").strip()
@@ -39,9 +46,11 @@ def acquire(path: Path, holder: str) -> tuple:
                 who = ""
             os.close(fd)
             raise OutputBusy(path, who) from None
-        except OSError as exc:  # a file system without locks
-            os.close(fd)
-            raise output_error(exc, lock) from None
+        except OSError as exc:
+            if exc.errno not in NO_LOCKS:
+                os.close(fd)
+                raise output_error(exc, lock) from None
+            # a file system without locks (some network and FUSE mounts): the run goes on unlocked
         try:  # the previous holder may have removed the file between our open and flock: retry then
             a, b = os.fstat(fd), os.stat(lock)
             if (a.st_dev, a.st_ino) == (b.st_dev, b.st_ino):
