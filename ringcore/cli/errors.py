@@ -5,6 +5,11 @@
   was asked (unwritable place, not enough memory or disk, unreachable scheduler, missing optional
   package) -> exit status 1.
 
+- :class:`ringcore.io.OutputError` (an ``OSError``: disk full, quota, read-only, permission, an output
+  reserved by another run) and :class:`ringcore.io.OutputAppeared` (a file appeared at a reserved output
+  while the run computed) -> exit status 1; :class:`ringcore.io.OutputExists` (an existing output without
+  ``--overwrite``) -> exit status 2.
+
 ``ringcore.cli.main`` prints either as ONE line (``ringcore CMD: error: ...``); ``--debug`` adds
 the traceback.
 """

@@ -73,7 +73,7 @@ def _save(model, out, fallback, **attrs) -> Path:
                                           f"(continue with: ringcore resume {alt})") from None
 
 
-def _checkpoint(model, out, kind: str, every: float, failures: list, **attrs) -> None:
+def _checkpoint(model, out, kind: str, next_try: float, failures: list, **attrs) -> None:
     """Write a checkpoint; a failure is reported and the run goes on (state kept in memory)."""
     try:
         with conflicts_kept(False):  # a file that appeared at ``out``: reported, not kept at every checkpoint
@@ -81,7 +81,7 @@ def _checkpoint(model, out, kind: str, every: float, failures: list, **attrs) ->
     except (OutputError, FileExistsError) as exc:
         failures.append(model.orbits)
         sys.stderr.write(f"\n{kind}: checkpoint at orbit {model.orbits:.4f} not written ({exc}); the run goes on "
-                         f"with its state in memory and tries again at orbit {model.orbits + every:.4g}\n")
+                         f"with its state in memory and tries again at orbit {next_try:.4g}\n")
         sys.stderr.flush()
     else:
         if failures:
@@ -171,7 +171,7 @@ def run_checkpointed(model, orbits: float | None = None, *, out, until: float | 
             if stop.requested:
                 break  # no checkpoint now: the interrupted save below writes this very state
             if model.orbits >= next_ckpt - tol and not (finish and model.orbits >= until - tol):
-                _checkpoint(model, out, kind, every, failures, **attrs)
+                _checkpoint(model, out, kind, min(next_ckpt + every, until), failures, **attrs)
                 next_ckpt += every  # a signal during this save stops the loop before the next step
         if stop.requested and not (finish and model.orbits >= until - tol):
             _save_interrupted(model, out, stop, kind, until, attrs, fallback)
