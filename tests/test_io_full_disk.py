@@ -225,13 +225,18 @@ def failing_write(monkeypatch):
     return arm
 
 
-@pytest.mark.parametrize("err", [errno.ENOSPC, errno.EDQUOT, errno.EIO, errno.EFBIG])
+@pytest.fixture(scope="module")
+def run_file(tmp_path_factory):
+    return small_run_file(tmp_path_factory.mktemp("src") / "src.nc")
+
+
+@pytest.mark.parametrize("err", [errno.ENOSPC, errno.EDQUOT, errno.EROFS, errno.EACCES, errno.EIO, errno.EFBIG])
 @pytest.mark.parametrize("nth", [1, 2, 3])
-def test_injected_write_failure_at_any_point(tmp_path, failing_write, monkeypatch, err, nth):
+def test_injected_write_failure_at_any_point(tmp_path, failing_write, monkeypatch, run_file, err, nth):
     import ringcore.io.atomic as atomic
 
     monkeypatch.setattr(atomic, "CHUNK", 8192)  # several writes per file
-    src = small_run_file(tmp_path / "src.nc")
+    src = run_file
     d = tmp_path / "out"
     d.mkdir()
     keep = d / "keep.nc"
