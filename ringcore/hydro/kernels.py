@@ -39,6 +39,7 @@ from numba import njit
 
 from .convert import temperature_nb
 from .fastmath import vexp, vlog
+from .mp5 import MP5_ALPHA, MP5_EPS, mp5, numerical_flux  # noqa: F401 (mp5 and its constants are re-exported)
 
 NG = 6  # ghost nodes per side (MP5 and the 6th-order central differences need 3)
 
@@ -50,56 +51,17 @@ R_FP = 16  # 4 rows F+
 R_FM = 20  # 4 rows F-
 R_FH = 24  # 4 rows numerical flux f_{i+1/2} (stored at index i)
 R_RATE = 28  # cooling relaxation rate (2/3) G_T Gamma/(sigma T) for the time step
-NW = 29
+R_MP5 = 29  # 4 scratch rows of the MP5 reconstruction (curvatures of F+ and F-, their limited averages)
+NW = 33
 
 # indices into the parameter vector
 P_NU0, P_KRATIO, P_T0, P_PS, P_PT, P_NT, P_GS, P_GT, P_GAMMA0, P_BULK, P_H = range(11)
 P_DTMODE, P_DTFACTOR, P_GRAVITY = 11, 12, 13
 NPAR = 14
 
-MP5_ALPHA = 4.0  # Suresh & Huynh (1997)
-MP5_EPS = 1e-10  # their accuracy-preserving switch
-
 _FM = {"nsz"}  # no contract/arcp/afn/reassoc: their use depends on inlining, and cached code
 # would then differ in the last bits from freshly compiled code (breaks bit-for-bit restarts);
 # no nnan/ninf: blow-ups stay visible
-
-
-@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM, inline="always")
-def _minmod(a, b):
-    return 0.5 * (np.sign(a) + np.sign(b)) * min(abs(a), abs(b))
-
-
-@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM, inline="always")
-def _minmod4(w, x, y, z):
-    sw = np.sign(w)
-    return 0.125 * (sw + np.sign(x)) * abs((sw + np.sign(y)) * (sw + np.sign(z))) * min(
-        min(abs(w), abs(x)), min(abs(y), abs(z)))
-
-
-@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM, inline="always")
-def mp5(fm2, fm1, f0, fp1, fp2):
-    """MP5 value at the right interface x_{j+1/2} of node j from f_{j-2} .. f_{j+2}.
-
-    Fifth-order upwind-biased interpolation of the flux primitive (eq. halfnodes, r = 3)
-    with the monotonicity-preserving bounds of Suresh & Huynh (1997), alpha = 4.
-    Written branch-free so that loops over nodes vectorize.
-    """
-    forig = (2.0 * fm2 - 13.0 * fm1 + 47.0 * f0 + 27.0 * fp1 - 3.0 * fp2) * (1.0 / 60.0)
-    fmp = f0 + _minmod(fp1 - f0, MP5_ALPHA * (f0 - fm1))
-    dm = fm2 - 2.0 * fm1 + f0
-    d0 = fm1 - 2.0 * f0 + fp1
-    dp = f0 - 2.0 * fp1 + fp2
-    dm4p = _minmod4(4.0 * d0 - dp, 4.0 * dp - d0, d0, dp)
-    dm4m = _minmod4(4.0 * d0 - dm, 4.0 * dm - d0, d0, dm)
-    ful = f0 + MP5_ALPHA * (f0 - fm1)
-    fav = 0.5 * (f0 + fp1)
-    fmd = fav - 0.5 * dm4p
-    flc = f0 + 0.5 * (f0 - fm1) + (4.0 / 3.0) * dm4m
-    fmin = max(min(min(f0, fp1), fmd), min(min(f0, ful), flc))
-    fmax = min(max(max(f0, fp1), fmd), max(max(f0, ful), flc))
-    flim = forig + _minmod(fmin - forig, fmax - forig)
-    return forig if (forig - f0) * (forig - fmp) <= MP5_EPS else flim
 
 
 @njit(nogil=True, cache=True, error_model="numpy")
@@ -245,19 +207,11 @@ def _split_fluxes(U, W):
 def _numerical_flux(W, nv, n):
     """Loop B: f_{i+1/2} = MP5(F+ from i-2..i+2) + MP5(F- from i+3..i-1), stored at index i.
 
-    Interfaces i = NG-1 .. NG+n-1.  Shifted views keep every index non-negative so the loop
-    vectorizes.
+    Interfaces i = NG-1 .. NG+n-1 (:func:`ringcore.hydro.mp5.numerical_flux`).
     """
-    lo = NG - 1
-    m = n + 1
     for k in range(nv):
-        fp = W[R_FP + k]
-        fm = W[R_FM + k]
-        o = W[R_FH + k][lo:]
-        a0, a1, a2, a3, a4 = fp[lo - 2:], fp[lo - 1:], fp[lo:], fp[lo + 1:], fp[lo + 2:]
-        b0, b1, b2, b3, b4 = fm[lo - 1:], fm[lo:], fm[lo + 1:], fm[lo + 2:], fm[lo + 3:]
-        for i in range(m):
-            o[i] = mp5(a0[i], a1[i], a2[i], a3[i], a4[i]) + mp5(b4[i], b3[i], b2[i], b1[i], b0[i])
+        numerical_flux(W[R_FP + k], W[R_FM + k], W[R_FH + k], W[R_MP5], W[R_MP5 + 1], W[R_MP5 + 2], W[R_MP5 + 3],
+                       NG - 1, n + 1)
 
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
