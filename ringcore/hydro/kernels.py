@@ -386,6 +386,19 @@ def check_state(U):
     """
     nv, N = U.shape
     n = N - 2 * NG
+    s_, mx_, my_ = U[0][NG:NG + n], U[1][NG:NG + n], U[2][NG:NG + n]
+    e_ = U[nv - 1][NG:NG + n]
+    bad = 0
+    for i in range(n):  # branch-free count first (vectorizes); the scan below only after a failure
+        s = s_[i]
+        u = mx_[i] / s
+        good = s > 0.0 and math.isfinite(s) and math.isfinite(u) and math.isfinite(my_[i] / s)
+        if nv == 4:
+            T = temperature_nb(e_[i] / s, u)
+            good = good and T > 0.0 and math.isfinite(T)
+        bad += 0 if good else 1
+    if bad == 0:
+        return -1, -1
     for i in range(NG, NG + n):
         s = U[0, i]
         if not (s > 0.0) or not math.isfinite(s):
@@ -413,13 +426,14 @@ def apply_temperature_floor(U, T_min):
     nv, N = U.shape
     n = N - 2 * NG
     hits = 0
-    for i in range(NG, NG + n):
-        s = U[0, i]
-        u = U[1, i] / s
-        T = temperature_nb(U[3, i] / s, u)
-        if T < T_min:
-            U[3, i] = 0.5 * U[1, i] * U[1, i] / s + 1.5 * s * T_min
-            hits += 1
+    s_, mx_, e_ = U[0][NG:NG + n], U[1][NG:NG + n], U[3][NG:NG + n]
+    for i in range(n):  # branch-free (vectorizes)
+        s = s_[i]
+        m = mx_[i]
+        T = temperature_nb(e_[i] / s, m / s)
+        low = T < T_min
+        e_[i] = 0.5 * m * m / s + 1.5 * s * T_min if low else e_[i]
+        hits += 1 if low else 0
     return hits
 
 
