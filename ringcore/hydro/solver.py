@@ -9,9 +9,11 @@
 The class owns the state and all preallocated work arrays and unpacks the
 parameters into a float vector for the compiled kernels of
 :mod:`ringcore.hydro.kernels`.  One step = 5 SSPRK(5,4) stages, each one FFT
-self-gravity evaluation (:mod:`ringcore.hydro.gravity`) plus one compiled
-:func:`~ringcore.hydro.kernels.rk_stage` call, driven by one loop over the tableau of
-:mod:`ringcore.hydro.timestep`; nothing is allocated per step.  The state goes in and
+self-gravity evaluation plus one :func:`~ringcore.hydro.kernels.rk_stage`, following the
+tableau of :mod:`ringcore.hydro.timestep`: by default all in one compiled call
+(:func:`ringcore.hydro.stepper.ssprk_step`, FFTs by rocket-fft); with ``fast_step = False``
+(or without rocket-fft) the reference path drives the stages from Python with pyfftw
+(:mod:`ringcore.hydro.gravity`).  Nothing is allocated per step.  The state goes in and
 out as a :class:`ringcore.engine.State` (:meth:`Hydro1D.snapshot`, :meth:`Hydro1D.restore`);
 run files are written from it by :mod:`ringcore.hydro.runfile` (this module does not import it).
 
@@ -83,6 +85,14 @@ class Hydro1D(StateIO):
         eigenmode (``wavelength`` [m], ``direction``, ``amplitude`` default 1e-3, ``phase``);
         ``"state"`` with ``state=(sigma, u, v, T)`` dimensionless arrays of length n; or a
         dataset written by :meth:`to_dataset` (its last state; time restarts at 0).
+
+    Attributes
+    ----------
+    fast_step : bool
+        True (the default where rocket-fft is installed): each step is one compiled call
+        (:mod:`ringcore.hydro.stepper`).  False: the reference path (stages driven from Python,
+        pyfftw self-gravity).  The two agree to ~1e-14 relative after 5 orbits (the FFT
+        libraries round differently), each is deterministic on its own; set it before the first step.
     """
 
     kind = "hydro"
