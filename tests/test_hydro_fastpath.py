@@ -10,7 +10,7 @@ import pytest
 from numba import njit
 
 from ringcore import params
-from ringcore.hydro import Hydro1D, HydroBlowUp, HydroOptions
+from ringcore.hydro import Hydro1D, HydroBlowUp, HydroOptions, growth_rate, lomb_frequency
 from ringcore.hydro import kernels as K
 from ringcore.hydro import stepper
 from ringcore.hydro.gravity import SelfGravity
@@ -164,3 +164,29 @@ def test_the_step_path_travels_with_the_state_and_the_run_file(tmp_path):
     ref.advance(orbits=0.2)
     assert not Hydro1D.restore(ref.snapshot()).fast_step
     assert Hydro1D.from_dataset(ref.to_dataset()).to_dataset().attrs["step_path"] == "reference"
+
+
+@pytest.mark.parametrize("iso", [False, True], ids=["noniso", "iso"])
+@pytest.mark.parametrize("sigma0,lam", [(350.0, 100.0), (600.0, 200.0)])
+def test_linear_growth_rates_and_frequencies_unchanged(iso, sigma0, lam):
+    """The measurement of tests/test_hydro_linear.py (growth of a seeded eigenmode, frequency of u at
+    x = 0) on both paths: equal to 1e-6 relative."""
+    import ringcore.hydro.solver as S
+
+    def measure(p, lam, orbits):
+        opt = HydroOptions(L_x=lam, h=1.0, track_modes=(1,), probes_m=(0.0,), samples_per_orbit=40, timestep="cfl")
+        sim = Hydro1D(p, opt, initial="mode", wavelength=lam, amplitude=1e-6)
+        sim.run(orbits=orbits)
+        a = sim.series()
+        gr = growth_rate(a["t"], np.abs(a["mode_sigma"][:, 0]))
+        return gr, lomb_frequency(a["t"], a["probe_u"][:, 0] * np.exp(-gr * a["t"]), 0.5, 1.5)
+
+    p = params.get("tau15", sigma0=sigma0, isothermal=iso)
+    fast = measure(p, lam, orbits=2.0)
+    was = S.HAVE_ROCKET_FFT
+    S.HAVE_ROCKET_FFT = False  # new solvers take the reference path
+    try:
+        ref = measure(p, lam, orbits=2.0)
+    finally:
+        S.HAVE_ROCKET_FFT = was
+    assert fast[0] == pytest.approx(ref[0], rel=1e-6) and fast[1] == pytest.approx(ref[1], rel=1e-6)
