@@ -190,3 +190,19 @@ def test_linear_growth_rates_and_frequencies_unchanged(iso, sigma0, lam):
     finally:
         S.HAVE_ROCKET_FFT = was
     assert fast[0] == pytest.approx(ref[0], rel=1e-6) and fast[1] == pytest.approx(ref[1], rel=1e-6)
+
+
+def test_every_hydro_kernel_is_stamped_with_all_kernel_sources():
+    """A cached caller (ssprk_step) must not outlive an edit of a kernel it calls (kernels, mp5, fastmath ...)."""
+    import os
+
+    from ringcore.hydro import cachestamp, fastmath, mp5
+
+    assert cachestamp.INSTALLED
+    for fn in (stepper.ssprk_step, K.compute_rhs, K.check_state, mp5.numerical_flux):
+        loc = fn._cache._impl._locator
+        assert type(loc).__name__.startswith("Hydro") and loc.get_source_stamp()[1] == cachestamp.kernel_sources_digest()
+    d = os.path.dirname(K.__file__)
+    held = {f for f in os.listdir(d) if f.endswith(".py") and b"njit" in open(os.path.join(d, f), "rb").read()}
+    assert {"kernels.py", "mp5.py", "fastmath.py", "convert.py", "stepper.py"} <= held
+    assert fastmath.vexp._cache._impl._locator.get_source_stamp()[1] == cachestamp.kernel_sources_digest()
