@@ -4,9 +4,8 @@ The reference path of :class:`ringcore.hydro.Hydro1D` drives the five stages fro
 per stage one pyfftw self-gravity evaluation (:class:`ringcore.hydro.gravity.SelfGravity`),
 one :func:`~ringcore.hydro.kernels.rk_stage` call and, with a temperature floor, one
 :func:`~ringcore.hydro.kernels.apply_temperature_floor` call, then one
-:func:`~ringcore.hydro.kernels.check_state`.  That is 16 crossings between Python and
-compiled code per step, about 60 us of the ~320 us a step of the app's default 800-node box
-costs.  :func:`ssprk_step` does the same work in one call: the stages, the floor and the
+:func:`~ringcore.hydro.kernels.check_state`: 16 crossings between Python and compiled code
+per step (measured 20-25 us of the ~300 us a step of the app's default 800-node box cost).  :func:`ssprk_step` does the same work in one call: the stages, the floor and the
 final check are the same compiled functions (the same arithmetic, bit for bit), and the
 self-gravity convolution uses ``numpy.fft`` inside numba (package ``rocket-fft``, PocketFFT's
 successor DUCC0, the library of ``scipy.fft``) instead of FFTW.  The two FFT libraries round
