@@ -12,8 +12,11 @@
 Modules: :mod:`.kernels` (compiled MP5 / AUSM / central differences / RK stage),
 :mod:`.gravity` (FFT self-gravity), :mod:`.timestep` (SSPRK(5,4), dt criteria),
 :mod:`.convert` (conservative <-> primitive), :mod:`.initial`, :mod:`.options`, :mod:`.solver`,
-:mod:`.state_io` (State in and out), :mod:`.diagnostics`, :mod:`.runfile` (State <-> run file), :mod:`.bench`.
+:mod:`.state_io` (State in and out), :mod:`.diagnostics`, :mod:`.runfile` (State <-> run file), :mod:`.bench`,
+:mod:`.mp5` (MP5 reconstruction), :mod:`.stepper` (a whole step in one compiled call), :mod:`.cachestamp`
+(one numba cache stamp for all hydro kernels).
 """
+from . import cachestamp  # noqa: F401  (first: the package-wide numba cache stamp, before any kernel)
 from .diagnostics import e_kin, growth_rate, lomb_frequency, prevalent_wavelength, psd
 from .gravity import SelfGravity
 from .options import HydroOptions

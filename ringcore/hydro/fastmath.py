@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
 from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
@@ -67,19 +68,23 @@ _LG7 = 1.479819860511658591e-01
 _SQRT2_BITS = 0x3FF6A09E667F3BCD  # bits of sqrt(2)
 _MANT = 0x000FFFFFFFFFFFFF
 _ONE_BITS = 0x3FF0000000000000
+# int <-> float of small integers through the bits of 1.5 * 2^52 + k: AVX2 has no vector
+# conversion between int64 and float64, and one scalar conversion keeps a whole loop scalar
+_MAGIC = 6755399441055744.0  # 1.5 * 2^52
+_MAGIC_BITS = 0x4338000000000000  # its bit pattern
 
 
 @njit(cache=True, error_model="numpy", fastmath=_FM, inline="always")
 def vexp(x):
     """exp(x), fdlibm e_exp.c algorithm, vectorizable."""
-    k = math.floor(x * _INV_LN2 + 0.5)
+    k = np.floor(x * _INV_LN2 + 0.5)  # a float (math.floor gives an int in numba)
     hi = x - k * _LN2_HI
     lo = k * _LN2_LO
     r = hi - lo
     t = r * r
     c = r - t * (_P1 + t * (_P2 + t * (_P3 + t * (_P4 + t * _P5))))
     y = 1.0 - ((lo - (r * c) / (2.0 - c)) - hi)
-    ki = int(k) if abs(x) < 708.0 else 0
+    ki = as_int64((k if abs(x) < 708.0 else 0.0) + _MAGIC) - _MAGIC_BITS  # int(k), exact for |k| < 2^51
     res = as_float64(as_int64(y) + (ki << 52))
     big = math.inf if x > 0.0 else (0.0 if x < 0.0 else x)  # x NaN -> NaN
     return res if abs(x) < 708.0 else big
@@ -94,7 +99,7 @@ def vlog(x):
     mb = mb - (1 << 52) if up else mb  # -> [sqrt(2)/2, sqrt(2))
     e = (bits >> 52) - 1023 + (1 if up else 0)
     f = as_float64(mb) - 1.0
-    dk = float(e)
+    dk = as_float64(e + _MAGIC_BITS) - _MAGIC  # float(e), exact
     s = f / (2.0 + f)
     z = s * s
     w = z * z

@@ -20,7 +20,9 @@ restores).  sigma0 = 0 (1/Q0 = 0) switches self-gravity off.
 FFTs use pyfftw (FFTW plans made once per solver with FFTW_ESTIMATE: the plan, and so the
 rounding, is the same in every process, which a bit-for-bit restart in a new process needs;
 FFTW_MEASURE picks plans by timing and can differ between processes; measured no slower
-for n = 1200 and 2000); numpy.fft is the fallback.
+for n = 1200 and 2000); numpy.fft is the fallback.  This class serves the reference path of
+:meth:`ringcore.hydro.Hydro1D.step`; the default one-call step does the same convolution inside
+numba (:func:`ringcore.hydro.stepper.gravity_force`, rocket-fft) with the response :attr:`SelfGravity.G`.
 """
 from __future__ import annotations
 

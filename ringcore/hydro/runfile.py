@@ -18,7 +18,8 @@ the kernels' dimensionless conservative state (``state``), the recorder's raw se
 (``restart_series``, ``restart_t_strobe``, ``restart_t_spacetime``; the space-time rows are
 stored as recorded, float32 sigma/sigma0) and the counters (attributes
 ``time_dimensionless``, ``steps``, ``k_sample``, ``dt_dimensionless``, ``floor_hits``,
-``buffer_active``, ``buffer``).
+``buffer_active``, ``buffer``, and ``step_path``: ``"one-call"`` or ``"reference"``, the step path of
+:class:`ringcore.hydro.Hydro1D` that continues the run; files without it continue on the reference path).
 """
 from __future__ import annotations
 
@@ -128,6 +129,7 @@ def dataset_from_state(st: State):
                  k_sample=m["k_sample"], dt_dimensionless=m["dt"], floor_hits=m["floor_hits"],
                  buffer_active=int(m["buffer_active"]), buffer=json.dumps(m["buffer"]), length_unit_m=sc.length,
                  c0_m_s=sc.velocity, Omega_per_s=p.Omega, model=p.model, n=n,
+                 step_path="one-call" if m.get("fast_step", False) else "reference",
                  title="ringcore 1D hydrodynamics (Lehmann, Schmidt & Salo 2017)")
     return stamp_run(xr.Dataset(dv, coords=coords, attrs=attrs), "hydro")
 
@@ -181,7 +183,7 @@ def state_from_dataset(ds) -> State:
     meta = dict(t=t, dt=float(at["dt_dimensionless"]), steps=int(at["steps"]), k_sample=k,
                 floor_hits=int(at.get("floor_hits", 0)), buffer_active=active,
                 buffer=[float(b) for b in buf] if active else None, max_samples=None, max_rows=None,
-                thinned=False)
+                thinned=False, fast_step=at.get("step_path") == "one-call")
     return State("hydro", p, opt, arrays, meta)
 
 

@@ -9,9 +9,11 @@
 The class owns the state and all preallocated work arrays and unpacks the
 parameters into a float vector for the compiled kernels of
 :mod:`ringcore.hydro.kernels`.  One step = 5 SSPRK(5,4) stages, each one FFT
-self-gravity evaluation (:mod:`ringcore.hydro.gravity`) plus one compiled
-:func:`~ringcore.hydro.kernels.rk_stage` call, driven by one loop over the tableau of
-:mod:`ringcore.hydro.timestep`; nothing is allocated per step.  The state goes in and
+self-gravity evaluation plus one :func:`~ringcore.hydro.kernels.rk_stage`, following the
+tableau of :mod:`ringcore.hydro.timestep`: by default all in one compiled call
+(:func:`ringcore.hydro.stepper.ssprk_step`, FFTs by rocket-fft); with ``fast_step = False``
+(or without rocket-fft) the reference path drives the stages from Python with pyfftw
+(:mod:`ringcore.hydro.gravity`).  Nothing is allocated per step.  The state goes in and
 out as a :class:`ringcore.engine.State` (:meth:`Hydro1D.snapshot`, :meth:`Hydro1D.restore`);
 run files are written from it by :mod:`ringcore.hydro.runfile` (this module does not import it).
 
@@ -35,6 +37,7 @@ from .gravity import SelfGravity
 from .initial import INITIAL_KINDS, make_initial
 from .state_io import StateIO
 from .options import HydroOptions
+from .stepper import HAVE_ROCKET_FFT, ssprk_step
 from .timestep import stage_plan
 
 NG = K.NG
@@ -42,6 +45,9 @@ FIELD_NAMES = ("sigma", "u", "v", "T")
 TWO_PI = 2.0 * math.pi
 # SSPRK(5,4), flat per stage: input, L slot, Lprev slot, (U index, alpha) x 3, beta_self, beta_prev
 STAGES = tuple((i, li, lp, *terms[0], *terms[1], *terms[2], b1, b2) for i, li, lp, terms, b1, b2 in stage_plan())
+# the same table as arrays for the one-call step of :mod:`.stepper`
+STAGE_I = np.array([(st[0], st[1], st[2], st[3], st[5], st[7]) for st in STAGES], dtype=np.int64)
+STAGE_F = np.array([(st[4], st[6], st[8], st[9], st[10]) for st in STAGES], dtype=float)
 
 
 class HydroBlowUp(BlowUp):
@@ -79,6 +85,14 @@ class Hydro1D(StateIO):
         eigenmode (``wavelength`` [m], ``direction``, ``amplitude`` default 1e-3, ``phase``);
         ``"state"`` with ``state=(sigma, u, v, T)`` dimensionless arrays of length n; or a
         dataset written by :meth:`to_dataset` (its last state; time restarts at 0).
+
+    Attributes
+    ----------
+    fast_step : bool
+        True (the default where rocket-fft is installed): each step is one compiled call
+        (:mod:`ringcore.hydro.stepper`).  False: the reference path (stages driven from Python,
+        pyfftw self-gravity).  The two agree to ~1e-14 relative after 5 orbits (the FFT
+        libraries round differently), each is deterministic on its own; set it before the first step.
     """
 
     kind = "hydro"
@@ -113,8 +127,11 @@ class Hydro1D(StateIO):
         self.x_m = -0.5 * opt.L_x + opt.h * np.arange(n)  # [m]
         self.x = self.x_m / self.length_unit
         N = n + 2 * NG
-        self._U = [np.zeros((self.nv, N)) for _ in range(6)]  # u0 .. u4, result
-        self._L = [np.zeros((self.nv, N)) for _ in range(1 + max(st[1] for st in STAGES))]
+        self._Ustack = np.zeros((6, self.nv, N))
+        self._U = list(self._Ustack)  # u0 .. u4, result (views; step swaps u0 and the result)
+        self._slot = np.arange(6, dtype=np.int64)  # physical index of each entry of _U
+        self._Lstack = np.zeros((1 + max(st[1] for st in STAGES), self.nv, N))
+        self._L = list(self._Lstack)
         self._W = np.zeros((K.NW, N))
         self._beta = np.full(N, d["beta"])
         self.buffer_active = False
@@ -133,6 +150,8 @@ class Hydro1D(StateIO):
         self._T_floor = 0.0 if self.isothermal else opt.T_floor * d["T0"]
         self.floor_hits = 0  # node-steps raised by the optional temperature floor
         self.gravity = SelfGravity(n, self.h, d["inv_Q0"], opt.gravity, opt.replicas, opt.bin_correction)
+        self._gs, self._gsk = np.zeros(n), np.zeros(n // 2 + 1, dtype=complex)  # FFT scratch of the fast path
+        self.fast_step = HAVE_ROCKET_FFT  # one compiled call per step (.stepper); False: the reference path
         self.t = 0.0  # [1/Omega]
         self._steps = 0
         self.dt = 0.0  # last time step [1/Omega]
@@ -277,6 +296,31 @@ class Hydro1D(StateIO):
         """
         if not dt_cap > 0.0:
             raise ValueError(f"dt_cap = {dt_cap!r} is invalid: the step cap must be > 0 [1/Omega]")
+        if self.fast_step:
+            grav = self.gravity
+            dt, hits, field, j, k = ssprk_step(self._Ustack, self._slot, self._Lstack, self._W, self._beta, self._par,
+                                               grav.enabled, grav.G, self._gs, self._gsk, grav.g, STAGE_I, STAGE_F,
+                                               dt_cap, self._T_floor)
+            bad = self._U[k] if field >= 0 else None
+        else:
+            dt, hits, field, j, bad = self._step_reference(dt_cap)
+        if field >= 0:
+            val = cons_to_prim(bad[:, NG + j], self._par[K.P_T0])[field]
+            raise HydroBlowUp(FIELD_NAMES[field], float(self.x_m[j]), self.orbits, self._steps + 1, float(val))
+        if not (dt > 0.0 and math.isfinite(dt)):
+            raise HydroBlowUp("dt", float(self.x_m[0]), self.orbits, self._steps + 1, float(dt))
+        U, sl = self._U, self._slot
+        U[0], U[5] = U[5], U[0]
+        sl[0], sl[5] = sl[5], sl[0]
+        self.floor_hits += hits
+        self.t += dt
+        self._steps += 1
+        self.dt = dt
+        return dt
+
+    def _step_reference(self, dt_cap):
+        """The five stages driven from Python with pyfftw self-gravity (the scheme as first written;
+        :mod:`.stepper` explains the fast path).  Returns ``(dt, floor_hits, field, index, bad_state)``."""
         U, Ls = self._U, self._L
         W, beta, par = self._W, self._beta, self._par
         grav, s = self.gravity.force, slice(NG, NG + self.n)
@@ -294,17 +338,8 @@ class Hydro1D(StateIO):
             for Us in U[1:]:  # earliest stage: before gravity spreads a NaN
                 field, j = K.check_state(Us)
                 if field >= 0:
-                    break
-            val = cons_to_prim(Us[:, NG + j], self._par[K.P_T0])[field]
-            raise HydroBlowUp(FIELD_NAMES[field], float(self.x_m[j]), self.orbits, self._steps + 1, float(val))
-        if not (dt > 0.0 and math.isfinite(dt)):
-            raise HydroBlowUp("dt", float(self.x_m[0]), self.orbits, self._steps + 1, float(dt))
-        U[0], U[5] = U[5], U[0]
-        self.floor_hits += hits
-        self.t += dt
-        self._steps += 1
-        self.dt = dt
-        return dt
+                    return dt, hits, field, j, Us
+        return dt, hits, -1, -1, None
 
     def advance(self, orbits: float | None = None, *, until: float | None = None,
                 max_wall_s: float | None = None, stop=None, progress: bool = False,

@@ -30,14 +30,16 @@ class StateIO:
         ``beta`` (n,) viscosity exponent per node, ``rec_<name>`` the recorder's raw series
         (:meth:`Recorder.arrays` names).  ``meta``: ``t``, ``dt`` [1/Omega], ``steps``,
         ``k_sample`` (next sample number), ``floor_hits``, ``buffer_active``, ``buffer``
-        ([x_min_m, x_max_m, beta] or None), ``max_samples``, ``max_rows``, ``thinned``.
+        ([x_min_m, x_max_m, beta] or None), ``max_samples``, ``max_rows``, ``thinned``,
+        ``fast_step`` (:attr:`Hydro1D.fast_step`: which step path continues the run).
         """
         n, rec = self.n, self.recorder
         arrays = {"U": self._U[0][:, NG:NG + n].copy(), "beta": self._beta[NG:NG + n].copy()}
         arrays.update({f"rec_{k}": np.array(v, copy=records) for k, v in rec.arrays(records).items()})
         meta = dict(t=self.t, dt=self.dt, steps=self._steps, k_sample=self._k_sample, floor_hits=self.floor_hits,
                     buffer_active=bool(self.buffer_active), buffer=None if self.buffer is None else list(self.buffer),
-                    max_samples=rec.max_samples, max_rows=rec.max_rows, thinned=bool(rec.thinned))
+                    max_samples=rec.max_samples, max_rows=rec.max_rows, thinned=bool(rec.thinned),
+                    fast_step=bool(self.fast_step))
         return State(self.kind, self.params, self.options, arrays, meta)
 
     @classmethod
@@ -61,6 +63,9 @@ class StateIO:
         sim.t, sim.dt = float(m["t"]), float(m["dt"])
         sim._steps, sim._k_sample = int(m["steps"]), int(m["k_sample"])
         sim.floor_hits = int(m.get("floor_hits", 0))
+        # the step path that computed the state continues it (bit for bit): states and files from
+        # before the one-call step carry no ``fast_step`` and continue on the reference path
+        sim.fast_step = bool(m.get("fast_step", False)) and sim.fast_step
         sim.limit_records(m.get("max_samples"), m.get("max_rows"))
         sim.recorder.load({k[4:]: np.array(v, copy=True) for k, v in a.items() if k.startswith("rec_")})
         sim.recorder.thinned = bool(m.get("thinned", False))

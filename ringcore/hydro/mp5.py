@@ -1,0 +1,117 @@
+"""MP5 reconstruction (Suresh & Huynh 1997) of the split fluxes: the numerical flux of eq. (defnumflux).
+
+:func:`mp5` is the scalar reconstruction at the right interface of a node from its five-point
+stencil.  :func:`numerical_flux` applies it to F+ and (mirrored) F- at every interface of the
+grid, sharing the work neighbouring interfaces have in common: the curvatures
+d_j = f_{j-1} - 2 f_j + f_{j+1} and their limited averages
+``dm4_{j+1/2} = minmod4(4 d_j - d_{j+1}, 4 d_{j+1} - d_j, d_j, d_{j+1})`` are computed once per
+node and half-node instead of three and two times per interface.  Every value is computed
+with the same operations in the same order as in :func:`mp5` (the curvature of the mirrored
+F- stencil keeps its own summation order), and minmod4 of those four arguments does not
+depend on their order, so the result equals node by node the per-interface evaluation
+(checked bit for bit in ``tests/test_hydro_fastpath.py``) at about 40 % less arithmetic.
+
+References: eqs. (halfnodes), (defnumflux).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+MP5_ALPHA = 4.0  # Suresh & Huynh (1997)
+MP5_EPS = 1e-10  # their accuracy-preserving switch
+
+_FM = {"nsz"}  # see ringcore.hydro.kernels: no reassociation, so cached and fresh code agree bit for bit
+
+
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM, inline="always")
+def _minmod(a, b):
+    return 0.5 * (np.sign(a) + np.sign(b)) * min(abs(a), abs(b))
+
+
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM, inline="always")
+def _minmod4(w, x, y, z):
+    sw = np.sign(w)
+    return 0.125 * (sw + np.sign(x)) * abs((sw + np.sign(y)) * (sw + np.sign(z))) * min(
+        min(abs(w), abs(x)), min(abs(y), abs(z)))
+
+
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM, inline="always")
+def _limit(forig, fm1, f0, fp1, dm4m, dm4p):
+    """MP5 value from the linear value ``forig``, the centre values and the limited curvatures."""
+    fmp = f0 + _minmod(fp1 - f0, MP5_ALPHA * (f0 - fm1))
+    ful = f0 + MP5_ALPHA * (f0 - fm1)
+    fav = 0.5 * (f0 + fp1)
+    fmd = fav - 0.5 * dm4p
+    flc = f0 + 0.5 * (f0 - fm1) + (4.0 / 3.0) * dm4m
+    fmin = max(min(min(f0, fp1), fmd), min(min(f0, ful), flc))
+    fmax = min(max(max(f0, fp1), fmd), max(max(f0, ful), flc))
+    flim = forig + _minmod(fmin - forig, fmax - forig)
+    return forig if (forig - f0) * (forig - fmp) <= MP5_EPS else flim
+
+
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM, inline="always")
+def mp5(fm2, fm1, f0, fp1, fp2):
+    """MP5 value at the right interface x_{j+1/2} of node j from f_{j-2} .. f_{j+2}.
+
+    Fifth-order upwind-biased interpolation of the flux primitive (eq. halfnodes, r = 3)
+    with the monotonicity-preserving bounds of Suresh & Huynh (1997), alpha = 4.
+    Written branch-free so that loops over nodes vectorize.
+    """
+    forig = (2.0 * fm2 - 13.0 * fm1 + 47.0 * f0 + 27.0 * fp1 - 3.0 * fp2) * (1.0 / 60.0)
+    dm = fm2 - 2.0 * fm1 + f0
+    d0 = fm1 - 2.0 * f0 + fp1
+    dp = f0 - 2.0 * fp1 + fp2
+    dm4p = _minmod4(4.0 * d0 - dp, 4.0 * dp - d0, d0, dp)
+    dm4m = _minmod4(4.0 * d0 - dm, 4.0 * dm - d0, d0, dm)
+    return _limit(forig, fm1, f0, fp1, dm4m, dm4p)
+
+
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
+def _curvatures(f, d, q, mirrored):
+    """d_j (nodes 1 .. N-2) and dm4_{j+1/2} = q_j (nodes 1 .. N-3) of the row ``f``.
+
+    ``mirrored``: d_j summed as f_{j+1} - 2 f_j + f_{j-1}, the order :func:`mp5` uses on the
+    reversed stencil of F-.
+    """
+    N = f.shape[0]
+    fl, fc, fr = f[:N - 2], f[1:N - 1], f[2:]
+    dc = d[1:N - 1]
+    if mirrored:
+        for i in range(N - 2):
+            dc[i] = fr[i] - 2.0 * fc[i] + fl[i]
+    else:
+        for i in range(N - 2):
+            dc[i] = fl[i] - 2.0 * fc[i] + fr[i]
+    a, b, qc = d[1:N - 2], d[2:N - 1], q[1:N - 2]
+    for i in range(N - 3):
+        qc[i] = _minmod4(4.0 * a[i] - b[i], 4.0 * b[i] - a[i], a[i], b[i])
+
+
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
+def numerical_flux(fp, fm, out, dp, qp, dm, qm, lo, m):
+    """``out[c] = MP5(F+ from c-2..c+2) + MP5(F- from c+3..c-1)`` for c = lo .. lo+m-1.
+
+    Parameters
+    ----------
+    fp, fm : (N,) float64
+        F+ and F- of one conservative variable at every node (ghosts filled).
+    out : (N,) float64
+        Numerical flux f_{c+1/2}, stored at index c.
+    dp, qp, dm, qm : (N,) float64
+        Scratch rows (curvatures and their limited averages of F+ and F-).
+    lo, m : int
+        First interface and number of interfaces (needs 3 <= lo and lo + m + 3 <= N).
+    """
+    _curvatures(fp, dp, qp, False)
+    _curvatures(fm, dm, qm, True)
+    o = out[lo:]
+    a0, a1, a2, a3, a4 = fp[lo - 2:], fp[lo - 1:], fp[lo:], fp[lo + 1:], fp[lo + 2:]
+    b0, b1, b2, b3, b4 = fm[lo - 1:], fm[lo:], fm[lo + 1:], fm[lo + 2:], fm[lo + 3:]
+    qa_m, qa_p = qp[lo - 1:], qp[lo:]  # F+ at c: dm4m = Q(d_c, d_{c-1}) = q_{c-1}, dm4p = q_c
+    qb_p, qb_m = qm[lo:], qm[lo + 1:]  # F- at c (centre c+1): dm4p = Q(d_{c+1}, d_c) = q_c, dm4m = q_{c+1}
+    for i in range(m):
+        fa = (2.0 * a0[i] - 13.0 * a1[i] + 47.0 * a2[i] + 27.0 * a3[i] - 3.0 * a4[i]) * (1.0 / 60.0)
+        fb = (2.0 * b4[i] - 13.0 * b3[i] + 47.0 * b2[i] + 27.0 * b1[i] - 3.0 * b0[i]) * (1.0 / 60.0)
+        o[i] = (_limit(fa, a1[i], a2[i], a3[i], qa_m[i], qa_p[i])
+                + _limit(fb, b3[i], b2[i], b1[i], qb_m[i], qb_p[i]))

@@ -1,0 +1,126 @@
+"""A whole SSPRK(5,4) step in one compiled call (the fast path of :meth:`Hydro1D.step`).
+
+The reference path of :class:`ringcore.hydro.Hydro1D` drives the five stages from Python:
+per stage one pyfftw self-gravity evaluation (:class:`ringcore.hydro.gravity.SelfGravity`),
+one :func:`~ringcore.hydro.kernels.rk_stage` call and, with a temperature floor, one
+:func:`~ringcore.hydro.kernels.apply_temperature_floor` call, then one
+:func:`~ringcore.hydro.kernels.check_state`: 16 crossings between Python and compiled code
+per step (measured 20-25 us of the ~300 us a step of the app's default 800-node box cost).  :func:`ssprk_step` does the same work in one call: the stages, the floor and the
+final check are the same compiled functions (the same arithmetic, bit for bit), and the
+self-gravity convolution uses ``numpy.fft`` inside numba (package ``rocket-fft``, PocketFFT's
+successor DUCC0, the library of ``scipy.fft``) instead of FFTW.  The two FFT libraries round
+differently in the last bit, so the fast path agrees with the reference path to ~1e-15
+relative per step and ~1e-13 after 5 orbits (checked in ``tests/test_hydro_fastpath.py``),
+not bit for bit; each path on its own is deterministic (no timing-based FFT plans), so
+restarts and repeated runs stay bit-identical.
+
+References: eqs. (hcl), (conv) and Section "Numerical Methods".
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from . import kernels as K
+
+try:  # rocket-fft registers numpy.fft with numba through an entry point on import of numba
+    import rocket_fft  # noqa: F401
+
+    HAVE_ROCKET_FFT = True
+except ImportError:  # pragma: no cover - the reference path is then used
+    HAVE_ROCKET_FFT = False
+
+NG = K.NG
+
+
+@njit(nogil=True, cache=True, error_model="numpy")
+def gravity_force(sigma, G, s, sk, g):
+    """``g = IFFT[FFT(sigma - sigma[0]) G]`` (unnormalised backward transform), as
+    :meth:`ringcore.hydro.gravity.SelfGravity.force`.
+
+    Parameters
+    ----------
+    sigma : (n,) float64
+        Dimensionless surface density at the interior nodes.
+    G : (n//2+1,) complex128
+        Response divided by n (:attr:`SelfGravity.G`).
+    s : (n,) float64
+        Scratch.
+    sk : (n//2+1,) complex128
+        Scratch spectrum.
+    g : (n,) float64
+        Output: force per unit mass [c0 Omega].
+    """
+    n = sigma.shape[0]
+    s0 = sigma[0]
+    for i in range(n):
+        s[i] = sigma[i] - s0  # a uniform state gives an exactly zero force
+    np.fft.rfft(s, out=sk)
+    for i in range(sk.shape[0]):
+        sk[i] = sk[i] * G[i]
+    np.fft.irfft(sk, n, norm="forward", out=g)  # "forward": no 1/n on the backward transform
+
+
+@njit(nogil=True, cache=True, error_model="numpy")
+def ssprk_step(U, slot, L, W, beta, par, gravity_on, G, s, sk, g, stage_i, stage_f, dt_cap, T_floor):
+    """One SSPRK step; returns ``(dt, floor_hits, field, index, stage)``.
+
+    Parameters
+    ----------
+    U : (6, nv, N) float64
+        States u0 .. u4 and the result; logical state k is ``U[slot[k]]`` (u0 is read, the
+        others are written; ghost nodes as in :mod:`ringcore.hydro.kernels`).
+    slot : (6,) int64
+        Physical index of each logical state (the caller swaps u0 and the result).
+    L : (nL, nv, N) float64
+        Right-hand-side slots.
+    W, beta, par
+        As in :func:`ringcore.hydro.kernels.compute_rhs`.
+    gravity_on : bool
+        Evaluate self-gravity (else ``g`` holds zeros).
+    G, s, sk, g
+        As in :func:`gravity_force`.
+    stage_i : (5, 6) int64
+        Per stage: input state, L slot, earlier L slot, three state indices of the alphas.
+    stage_f : (5, 5) float64
+        Per stage: the three alphas, beta_self, beta_prev (:func:`ringcore.hydro.timestep.stage_plan`).
+    dt_cap : float
+        Largest allowed dt [1/Omega].
+    T_floor : float
+        Temperature floor [c0^2] applied after every stage (0: off).
+
+    Returns
+    -------
+    dt : float
+        Time step used (chosen by the first stage).
+    floor_hits : int
+        Node-stages raised by the floor.
+    field, index, stage : int
+        ``-1, -1, -1`` if the result is good, else the first bad field and interior node of
+        the earliest bad stage (``stage`` = logical state 1 .. 5), as
+        :func:`~ringcore.hydro.kernels.check_state`.
+    """
+    n = U.shape[2] - 2 * NG
+    dt = -1.0
+    hits = 0
+    for st in range(stage_i.shape[0]):
+        i, li, lp, ja, jb, jc = (stage_i[st, 0], stage_i[st, 1], stage_i[st, 2], stage_i[st, 3],
+                                 stage_i[st, 4], stage_i[st, 5])
+        Uin = U[slot[i]]
+        if gravity_on:
+            gravity_force(Uin[0, NG:NG + n], G, s, sk, g)
+        out = U[slot[i + 1]]
+        dt = K.rk_stage(Uin, W, beta, g, par, L[li], L[lp], U[slot[ja]], stage_f[st, 0], U[slot[jb]],
+                        stage_f[st, 1], U[slot[jc]], stage_f[st, 2], stage_f[st, 3], stage_f[st, 4],
+                        dt, dt_cap, out)
+        if T_floor > 0.0:
+            hits += K.apply_temperature_floor(out, T_floor)
+    last = stage_i.shape[0]
+    field, j = K.check_state(U[slot[last]])
+    if field < 0:
+        return dt, hits, -1, -1, -1
+    for k in range(1, last + 1):  # earliest stage: before gravity spreads a NaN
+        field, j = K.check_state(U[slot[k]])
+        if field >= 0:
+            return dt, hits, field, j, k
+    return dt, hits, field, j, last
