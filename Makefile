@@ -16,7 +16,7 @@ $(BIN)/python:
 	$(BIN)/python -m pip install -q --upgrade pip
 
 $(STAMP): pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install -q -e ".[app,test]"
+	$(BIN)/python -m pip install -q -e ".[app,test,docs]"
 	touch $(STAMP)
 
 install: $(STAMP)

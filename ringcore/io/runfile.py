@@ -1,7 +1,8 @@
 """Run files: one NetCDF file per run, written through xarray with the h5netcdf engine.
 
 Every file carries the global attributes ``schema = "ringlab-run"``, ``schema_version``,
-``kind`` (``"hydro"`` or ``"nbody"``), ``ringcore_version``, ``created`` and ``written_on`` (CPU and
+``kind`` (``"hydro"`` or ``"nbody"``), ``ringcore_version`` and ``ringcore_commit`` (the code that wrote it:
+:func:`ringcore.provenance.software_attrs`), ``created`` and ``written_on`` (CPU and
 software: :func:`written_on`); parameters are
 stored as flat attributes with a prefix (``param_sigma0``, ``option_h`` ...) and, for exact
 restoration, as one JSON attribute per group (``params_json``, ``options_json``).
@@ -103,13 +104,13 @@ def written_on() -> str:
 def stamp_run(ds: xr.Dataset, kind: str) -> xr.Dataset:
     """A copy of ``ds`` with the schema attributes and (engine kinds) a fresh state checksum: what
     :func:`write_run` stores, so an in-memory run Dataset passes :func:`validate_run` like its file."""
-    from .. import __version__
+    from ..provenance import software_attrs
     from .validate import checksum_attrs
 
     ds = ds.copy()
     for key in ("state_sha256", "state_checksums"):  # never carry over a stale checksum
         ds.attrs.pop(key, None)
-    ds.attrs.update(schema=SCHEMA, schema_version=SCHEMA_VERSION, kind=kind, ringcore_version=__version__,
+    ds.attrs.update(schema=SCHEMA, schema_version=SCHEMA_VERSION, kind=kind, **software_attrs(),
                     created=datetime.now(timezone.utc).isoformat(timespec="seconds"), written_on=written_on())
     ds.attrs.update(checksum_attrs(ds, kind))
     return ds

@@ -28,6 +28,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 from ringcore.experiments.longruns import LONG_RUNS, check_compact, compact, text_attrs  # noqa: E402
+from ringcore.provenance import software_attrs  # noqa: E402
 
 DEFAULT_OUT = ROOT / "app" / "data" / "longruns"
 
@@ -95,6 +96,7 @@ def _refresh_text(out: Path, args, ap) -> int:
             print(f"{f}: text attributes current")
             continue
         ds.attrs.update(new_text)
+        ds.attrs.update(software_attrs())  # the code that wrote this version of the file
         tmp = f.with_name(f.name + ".part")
         ds.to_netcdf(tmp, engine="h5netcdf")
         with xr.open_dataset(tmp, engine="h5netcdf") as new:
