@@ -48,7 +48,7 @@ nl_kw = dict(orbits=40, discard=15, nodes=32, samples_per_orbit=8) if QUICK else
 # (lambdasigma). Then check the prediction against the wavelength of the minimum of the *nonlinear* dispersion
 # relation (notebook 3), measured with saturated wave trains in boxes of one wavelength.
 #
-# *Answer.* λ_zero(σ0) is the minimum of the linear ω_I(k) (exact dispersion relation, eq. matni); λ_p = 1.4 λ_zero.
+# *Answer.* λ_zero(σ0) is the minimum of the linear ω_I(k) (exact dispersion relation, Eq. (17)); λ_p = 1.4 λ_zero.
 
 # %%
 q = params.get("tau15", sigma0=500)
