@@ -10,7 +10,7 @@ After Lehmann, Schmidt & Salo (2017, ApJ 851:125). Modules:
 git (:mod:`ringcore.provenance`).
 """
 from . import params, units
-from .cite import cite
+from .citation import cite
 from .params import RingParams
 from .provenance import __version__
 

@@ -20,7 +20,9 @@ TABLE_TITLES = {"List of Symbols and their Scalings": "tab:scalings", "Hydrodyna
 _EQ_LABELS = {k.split(":", 1)[1] for k in NUMBERS if k.startswith("eq:")}
 _FIG_LABELS = {k.split(":", 1)[1] for k in NUMBERS if k.startswith("fig:")}
 _WORD = r"[a-z][a-z0-9]*"
-_GROUP = rf"{_WORD}(?:\s*(?:[-–]|,|and)\s*{_WORD})*"
+# only the paper's equation labels (longest first), so "eq. nleq, then" stops after the label
+_EQ_LABEL = r"(?:" + "|".join(sorted(_EQ_LABELS, key=len, reverse=True)) + r")\b"
+_GROUP = rf"{_EQ_LABEL}(?:\s*(?:[-–]|,|and)\s*{_EQ_LABEL})*"
 # "eq. (a)" or "eq. a": a closing parenthesis belongs to the citation only when it opened one
 _EQ = re.compile(rf"\b([Ee]q(?:uation)?s?)\.?\s*(?:\(({_GROUP})\)|({_GROUP}))")
 # "eqs. (osgrate) and (osfreq)": a further label in its own parentheses after an equation citation
