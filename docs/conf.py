@@ -20,7 +20,6 @@ extensions = [
     "sphinx.ext.autodoc",
     "sphinx.ext.autosummary",
     "numpydoc",
-    "sphinx.ext.mathjax",
     "sphinxarg.ext",                # the CLI reference from the argparse parser
     "ringlab_docs",                 # tutorials notebooks, benchmark tables, published numbers in docstrings
 ]
@@ -51,6 +50,7 @@ nitpick_ignore_regex = [
 ]
 
 # MyST: markdown pages; notebooks are executed before the build (ringlab_docs), never by MyST-NB itself
+html_math_renderer = "mathml"   # ringlab_docs: MathML at build time, no MathJax from a CDN
 myst_enable_extensions = ["dollarmath", "amsmath", "colon_fence", "deflist", "html_image"]
 myst_heading_anchors = 3
 nb_execution_mode = "off"
@@ -70,6 +70,8 @@ html_theme_options = {
     "footer_end": ["sphinx-version"],
 }
 html_static_path: list = []
+# single pages without a section of their own: no empty left sidebar (room for the wide tables)
+html_sidebars = {p: [] for p in ("index", "getting-started", "benchmarks/index", "changelog")}
 html_show_sourcelink = False
 html_copy_source = False
 html_last_updated_fmt = None

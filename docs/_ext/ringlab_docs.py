@@ -80,7 +80,9 @@ def _fmt(v, digits=3):
     if isinstance(v, bool):
         return "yes" if v else "no"
     if isinstance(v, float):
-        return f"{v:,.{digits}g}" if abs(v) >= 1e-3 or v == 0 else f"{v:.2e}"
+        if 1e3 <= abs(v) < 1e6:
+            return f"{v:,.0f}"
+        return f"{v:.{digits}g}" if abs(v) >= 1e-3 or v == 0 else f"{v:.2e}"
     if isinstance(v, int):
         return f"{v:,}"
     return str(v)
@@ -364,6 +366,32 @@ def check_api_coverage(app, exc) -> None:
                              + ", ".join(missing[:20]))
 
 
+def _mathml(latex: str, display: bool) -> str:
+    """MathML of a TeX formula (latex2mathml), or the TeX as code where the converter does not know it."""
+    import html
+
+    try:
+        from latex2mathml.converter import convert
+
+        return convert(latex.strip(), display="block" if display else "inline")
+    except Exception:
+        return f'<code class="math-tex">{html.escape(latex)}</code>'
+
+
+def _visit_math(self, node):
+    from docutils import nodes
+
+    self.body.append(f'<span class="math">{_mathml(node.astext(), False)}</span>')
+    raise nodes.SkipNode
+
+
+def _visit_displaymath(self, node):
+    from docutils import nodes
+
+    self.body.append(f'<div class="math">{_mathml(node.astext(), True)}</div>')
+    raise nodes.SkipNode
+
+
 def _on_init(app, config=None) -> None:
     write_api_pages(app)
     write_bench_tables(app)
@@ -372,6 +400,8 @@ def _on_init(app, config=None) -> None:
 
 
 def setup(app):
+    # formulas as MathML written at build time: the pages need no MathJax from another host (classroom offline)
+    app.add_html_math_renderer("mathml", (_visit_math, None), (_visit_displaymath, None))
     app.connect("config-inited", _on_init)  # before the sources are discovered: the generated pages are read
     app.connect("autodoc-process-docstring", published_docstrings, priority=400)
     app.connect("build-finished", check_api_coverage)
