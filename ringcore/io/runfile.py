@@ -73,7 +73,7 @@ def written_on() -> str:
 
     The same run is bit for bit the same on one machine, but another CPU can differ in the last bits, which a
     chaotic nonlinear run amplifies: OpenBLAS picks its kernels per CPU at run time, and the white-noise initial
-    state's eigenvectors come from LAPACK (README, "Run files, checkpoints and restart")."""
+    state's eigenvectors come from LAPACK (documentation: "Run files, checkpoints and restart")."""
     import platform
 
     import numba
