@@ -69,7 +69,8 @@ html_theme_options = {
     "footer_start": ["copyright"],
     "footer_end": ["sphinx-version"],
 }
-html_static_path: list = []
+html_static_path = ["_static"]
+html_css_files = ["ringlab.css"]
 # single pages without a section of their own: no empty left sidebar (room for the wide tables)
 html_sidebars = {p: [] for p in ("index", "getting-started", "benchmarks/index", "changelog")}
 html_show_sourcelink = False
