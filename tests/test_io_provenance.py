@@ -74,3 +74,16 @@ def test_license_and_citation_metadata():
     cff = (ROOT / "CITATION.cff").read_text()
     assert "cff-version: 1.2.0" in cff and "preferred-citation:" in cff and "volume: 851" in cff
     assert "license: BSD-3-Clause" in cff
+
+
+def test_compact_long_run_file_records_its_code_and_its_source(tmp_path):
+    from ringcore.experiments.longruns import compact
+
+    p = params.get("tau15", sigma0=0.0, isothermal=True)
+    sim = Hydro1D(p, HydroOptions(L_x=400.0, h=2.5, timestep="cfl", samples_per_orbit=10),
+                  initial="mode", wavelength=100.0, amplitude=1e-3)
+    sim.run(orbits=3)
+    src = sim.save(tmp_path / "iso_tau15_mode100.nc")
+    c = compact(src, rows=4, cols=20)
+    assert c.attrs["ringcore_version"] == ringcore.__version__ and c.attrs["ringcore_commit"] == provenance.commit()
+    assert c.attrs["source_ringcore_commit"] == provenance.commit()  # the run file's own record, carried over
