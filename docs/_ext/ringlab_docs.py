@@ -399,7 +399,39 @@ def _on_init(app, config=None) -> None:
     prepare_tutorials(app)
 
 
+def _rst_escape(text: str) -> str:
+    """Plain text as reStructuredText that shows it literally (help strings are not written as markup)."""
+    import re
+
+    text = text.replace("\\", "\\\\")
+    text = re.sub(r"([*`|])", r"\\\1", text)
+    return re.sub(r"(\w)_(?=\W|$)", r"\1\\_", text)  # "name_ " would be a reference
+
+
+def _plain_cli_help() -> None:
+    """The CLI reference (sphinx-argparse) shows help strings as written: a ``|x|`` or ``*`` in a new command's
+    help must not break the build."""
+    import sphinxarg.ext as argparse_ext
+
+    if getattr(argparse_ext.render_list, "_ringlab_plain", False):
+        return
+    original = argparse_ext.render_list
+
+    def render_list(items, markdown_help, settings=None):
+        return original([_rst_escape(i) if isinstance(i, str) else i for i in items], markdown_help, settings)
+
+    render_list._ringlab_plain = True
+    argparse_ext.render_list = render_list
+
+
+def _always_reread(app, env, added, changed, removed) -> list:
+    """The CLI reference is generated from code Sphinx does not track: read it again on every build."""
+    return [d for d in ("researcher/cli",) if d in env.found_docs]
+
+
 def setup(app):
+    _plain_cli_help()
+    app.connect("env-get-outdated", _always_reread)
     # formulas as MathML written at build time: the pages need no MathJax from another host (classroom offline)
     app.add_html_math_renderer("mathml", (_visit_math, None), (_visit_displaymath, None))
     app.connect("config-inited", _on_init)  # before the sources are discovered: the generated pages are read

@@ -45,7 +45,7 @@ def register(sub) -> None:
     p.add_argument("--amplitude", type=float, default=1.0, metavar="A",
                    help="amplitude of the seeded wave [R_p Omega] (default 1)")
     p.add_argument("--fill-fraction", type=float, default=1.0, metavar="F",
-                   help="spreading boundaries: particles initially fill -F L_x/2 < x < F L_x/2 (default 1)")
+                   help="spreading boundaries: particles initially fill |x| < F L_x/2 (default 1)")
     p.add_argument("--from", dest="from_file", default=None, metavar="FILE",
                    help="continue from a saved run file (box options taken from it)")
     p.add_argument("--tile-x", action="store_true", help="with --from: tile the box to twice its radial size")
