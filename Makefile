@@ -9,14 +9,14 @@ BIN     = $(VENV)/bin
 STAMP   = $(VENV)/.installed
 CHROMIUM ?= /usr/bin/chromium
 
-.PHONY: app test install clean bench browser tutorials-html
+.PHONY: app test install clean bench browser tutorials-html docs bench-record
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
 
 $(STAMP): pyproject.toml | $(BIN)/python
-	$(BIN)/python -m pip install -q -e ".[app,test]"
+	$(BIN)/python -m pip install -q -e ".[app,test,docs]"
 	touch $(STAMP)
 
 install: $(STAMP)
@@ -43,10 +43,28 @@ tutorials-html: $(STAMP)
 
 test: $(STAMP) browser
 	$(BIN)/python -m pytest
+	$(MAKE) docs
+
+# the documentation site: Sphinx with warnings as errors (-W; broken cross-references fail, nitpicky), into
+# build/docs/html, then copied to app/docs_site/ so that a wheel built afterwards carries it (served at /docs).
+# The tutorials are rendered from the notebooks the test suite executed (test-artifacts/tutorials) when they
+# are newer than their source, else executed here in quick mode (docs/_ext/ringlab_docs.py).
+DOCS_OUT ?= build/docs
+docs: $(STAMP)
+	@start=$$(date +%s); \
+	$(BIN)/python -m sphinx -W --keep-going -q -j 1 -b html -d $(DOCS_OUT)/doctrees docs $(DOCS_OUT)/html && \
+	rm -rf app/docs_site && cp -r $(DOCS_OUT)/html app/docs_site && \
+	echo "docs: $(DOCS_OUT)/html (copied to app/docs_site) in $$(( $$(date +%s) - start )) s"
+
+# record the benchmarks the docs' tables are generated from (docs/benchmarks/data/*.json; commit them)
+bench-record: $(STAMP)
+	$(BIN)/python docs/_ext/bench_record.py hydro
+	$(BIN)/python docs/_ext/bench_record.py nbody
 
 bench: $(STAMP)
 	$(BIN)/ringcore bench hydro
 	$(BIN)/ringcore bench nbody
 
 clean:
-	rm -rf $(VENV) build *.egg-info
+	rm -rf $(VENV) build *.egg-info app/docs_site docs/api/generated docs/tutorials/nb docs/benchmarks/generated \
+	  docs/teacher/generated

@@ -217,7 +217,10 @@ def number(label: str, prefix: str = "eq") -> str:
 
 
 def eq(label: str) -> str:
-    """``"Eq. (N)"`` for an equation label (``"matni"`` or ``"eq:matni"``)."""
+    """Printed citation of an equation label.
+
+    ``"matni"`` or ``"eq:matni"`` gives ``"Eq. (17)"``: ``"Eq. (N)"`` with the published number N.
+    """
     return f"Eq. ({number(label, 'eq')})"
 
 
@@ -238,7 +241,9 @@ def sec(label: str) -> str:
 
 
 def ref(label: str) -> str:
-    """Printed reference for a full label: ``"eq:matni" -> "Eq. (17)"``, ``"fig:lambdap" -> "Figure 20"``,
+    """Printed reference for a full label.
+
+    ``"eq:matni" -> "Eq. (17)"``, ``"fig:lambdap" -> "Figure 20"``,
     ``"tab:hydropar" -> "Table 2"``, ``"sec:isonosg" -> "Section 5.1.1"``."""
     kind = label.split(":", 1)[0] if ":" in label else ""
     funcs = {"eq": eq, "fig": fig, "tab": tab, "sec": sec}
@@ -249,7 +254,10 @@ def ref(label: str) -> str:
 
 
 def html(label: str) -> str:
-    """``ref(label)`` as HTML with the LaTeX label as tooltip: ``<abbr title="label matni">Eq. (17)</abbr>``."""
+    """:func:`ref` of ``label`` as HTML, with the LaTeX label as tooltip.
+
+    ``"eq:matni"`` gives ``<abbr title="label matni">Eq. (17)</abbr>``.
+    """
     return f'<abbr title="label {label.split(":", 1)[1]}">{ref(label)}</abbr>'
 
 

@@ -22,10 +22,10 @@
 # This notebook follows Section 2 of Lehmann, Schmidt & Salo (2017, ApJ 851:125, "the paper").
 # We use only the public API of `ringcore`.
 #
-# **The model.** Four fields depend on the radial coordinate x and time t (eq. nleq):
+# **The model.** Four fields depend on the radial coordinate x and time t (Eq. (1)):
 # surface density σ, radial and azimuthal velocities u, v (relative to Keplerian shear) and the
 # granular temperature T (the particles' velocity dispersion squared). Pressure p, shear viscosity η,
-# heat conductivity κ and collisional cooling Γ are power laws in σ and T (eqs. pres–coolfunc), e.g.
+# heat conductivity κ and collisional cooling Γ are power laws in σ and T (Eqs. (8)–(11)), e.g.
 #
 # $$\eta = \nu_0\sigma_0 (\sigma/\sigma_0)^{\beta+1}(T/T_0)^{n_T}.$$
 #
@@ -47,7 +47,7 @@ lam = np.geomspace(20, 3000, n_lambda)  # wavelengths [m]
 # %% [markdown]
 # ## The parameter sets
 # The transport coefficients were measured in N-body simulations by Salo et al. (2001)
-# (Table "Hydrodynamic Parameters"). `params.get` returns one set in physical units.
+# (Table 2). `params.get` returns one set in physical units.
 
 # %%
 for name in params.SET_NAMES:
@@ -58,11 +58,11 @@ for name in params.SET_NAMES:
 # %% [markdown]
 # ## The dispersion relation
 # Small perturbations $\propto \exp(\omega t + i k x)$ obey $\mathrm{Det}[M]=0$ with the 4×4 matrix of
-# eq. (matni). Its four roots are an energy mode, a viscous-instability mode and a pair of
+# Eq. (17). Its four roots are an energy mode, a viscous-instability mode and a pair of
 # **oscillatory modes** $\omega = \omega_R \pm i\,\omega_I$ with $\omega_I \approx \Omega$.
 # $\omega_R > 0$ means the wave grows: overstability.
 #
-# Let us reproduce the paper's Figure "omega" (τ = 1.5, Ω_z = 3.6: the set `tau15`).
+# Let us reproduce the paper's Figure 1 (τ = 1.5, Ω_z = 3.6: the set `tau15`).
 
 # %%
 fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4))
@@ -90,7 +90,7 @@ a1.legend(fontsize=7); plt.tight_layout(); plt.show()
 
 # %% [markdown]
 # ## The long-wave approximation and β_c
-# For small k, eqs. (osgrate) and (osfreq) give
+# For small k, Eqs. (21) and (22) give
 # $\omega_R \approx [\nu_0(2+9\beta-3\gamma)/6 + F_3/2]\,k^2$ and
 # $\omega_I \approx 1 - k/Q_0 + (p_s + F_2 - 1/Q_0^2)k^2/2$.
 # $F_2, F_3$ come from the temperature equation. `ringcore` extracts them from the exact relation —
@@ -114,7 +114,7 @@ k = linear.dispersion(p, lam).k
 d = linear.dispersion(p, lam)
 plt.figure(figsize=(6, 4))
 plt.plot(lam, d.frequency, "k-", label="exact")
-plt.plot(lam, linear.approx_frequency(p, k), "b--", label="k² approximation, eq. (osfreq)")
+plt.plot(lam, linear.approx_frequency(p, k), "b--", label="k² approximation, Eq. (22)")
 plt.xscale("log"); plt.xlabel("λ [m]"); plt.ylabel("ω_I [Ω]"); plt.ylim(0.6, 1.6); plt.legend()
 plt.title("tau15, σ0 = 400 kg m⁻²"); plt.show()
 
@@ -124,9 +124,9 @@ plt.title("tau15, σ0 = 400 kg m⁻²"); plt.show()
 
 # %% [markdown]
 # ## Group velocity and λ_zero
-# A disturbance of a wave train travels with the group velocity $v_g = d\omega_I/dk$ (eq. vg).
+# A disturbance of a wave train travels with the group velocity $v_g = d\omega_I/dk$ (Eq. (23)).
 # With self-gravity, $v_g$ changes sign at the frequency minimum, at the wavelength $\lambda_{zero}$
-# (Figure "vgroup"). $\lambda_{zero}$ falls as σ0 rises.
+# (Figure 2). $\lambda_{zero}$ falls as σ0 rises.
 
 # %%
 sig = np.linspace(50, 1000, 20 if QUICK else 80)

@@ -15,18 +15,18 @@
 # # 2. Nonlinear hydrodynamics without self-gravity
 #
 # Notebook 1 showed that small waves with wavelengths above a few tens of meters grow. What happens when
-# they are no longer small? Here we integrate the full nonlinear equations (eq. nleq) with the
+# they are no longer small? Here we integrate the full nonlinear equations (Eq. (1)) with the
 # 1D hydro solver `ringcore.hydro.Hydro1D` (Section "Hydrodynamic Scheme") and **no radial
 # self-gravity** (σ0 = 0), following Section "Hydrodynamical Integrations Without Self-Gravity" of
 # Lehmann, Schmidt & Salo (2017):
 #
 # 1. white noise grows at the linear rate, then saturates;
 # 2. counter-propagating wave patches form, separated by **sources** and **sinks**
-#    (Figures "tau15ngb", "tau15nga");
+#    (Figures 6, 7);
 # 3. the sources and sinks annihilate and a **single traveling wave** is left, whose wavelength can grow in
-#    steps (the *staircase*, LO2010; Figure "ekinisonosg");
+#    steps (the *staircase*, LO2010; Figure 8);
 # 4. a **buffer zone** with β = −0.5 < β_c damps the waves and keeps a source/sink pair alive
-#    (Figure "tau15bufnosg").
+#    (Figure 9).
 #
 # We use the **isothermal** model with p_s = 1 (`isothermal_limit()`), as Latter & Ogilvie (2009, 2010;
 # "LO2009/LO2010") did, so that our final wavelength can be compared with their stable wavelengths λ_st.
@@ -94,7 +94,7 @@ tl = np.linspace(0, 40, 50)
 e15 = np.interp(15, t, ekin)
 a1.semilogy(tl, e15 * np.exp(2 * s.max_growth_rate * 2 * np.pi * (tl - 15)), "r--",
             label=f"slope of the fastest linear mode, 2 × {s.max_growth_rate:.4f} Ω")
-a1.set_xlabel("t [orbits]"); a1.set_ylabel("e_kin [σ0 c0²]  (eq. ekin)"); a1.legend(fontsize=8)
+a1.set_xlabel("t [orbits]"); a1.set_ylabel("e_kin [σ0 c0²]  (Eq. (39))"); a1.legend(fontsize=8)
 a1.set_xscale("symlog", linthresh=100); a1.set_ylim(ekin.min() / 3, ekin.max() * 3)
 a2.plot(t, lam_p_t, "k.", ms=2)
 a2.axhline(233, color="C1", ls="--", label="λ_st = 233 m (LO2009, τ15)")
@@ -116,7 +116,7 @@ print(f"e_kin at orbit 100: {ekin[np.searchsorted(t, 100)]:.2f}, at the end: {ek
 # ## The stroboscopic space-time diagram: sources and sinks
 # In a stroboscopic diagram (one frame per orbit) a wave crest seems to drift with the *effective* phase
 # velocity $v_{ph}^{eff} = (\omega_I - \Omega)/k \approx c_0 p_s \Omega k/2$, and for σ0 = 0 it has the same sign
-# as the group velocity $v_g \approx c_0 p_s \Omega k$ (Appendix "Stroboscopic Space-Time Diagram", Figure "vgph").
+# as the group velocity $v_g \approx c_0 p_s \Omega k$ (Appendix "Stroboscopic Space-Time Diagram", Figure 27).
 # So the drift direction of the stripes tells where the wave energy goes: **away from a source, into a sink**.
 #
 # To find them automatically we take the complex (analytic) signal $z(x)$ of each row, form
@@ -192,7 +192,7 @@ print(f"last source seen at orbit {last_pair}; afterwards one wave train travell
 #   then is short (60–80 m, near the fastest-growing 59 m).
 # * Soon after saturation the box splits into patches of waves travelling in opposite directions. The V-shaped
 #   stripes that open upward are **sources** (waves leave them on both sides); the stripes where two wave
-#   trains run into each other are **sinks** (compare Figure "tau15nga"). The bottom row finds them: the counts
+#   trains run into each other are **sinks** (compare Figure 7). The bottom row finds them: the counts
 #   printed above fall as sinks drift into sources and the pairs annihilate — "the sinks wander in a stochastic
 #   manner towards the sources, resulting eventually in an annihilation of the two" (Section "Isothermal Model").
 # * Meanwhile λ_p climbs in steps (right panel of the first plot: ≈ 60 → 83 → 107 → 150 → 176 m): the
@@ -205,11 +205,11 @@ print(f"last source seen at orbit {last_pair}; afterwards one wave train travell
 
 # %% [markdown]
 # ## Run 2: one 100 m wave — the staircase
-# The paper's black curves in Figure "ekinisonosg" start from a single small wave with λ = 100 m instead of
+# The paper's black curves in Figure 8 start from a single small wave with λ = 100 m instead of
 # noise. No source/sink pairs form; the wave saturates and later *jumps* to a longer wavelength. LO2009 showed
 # that nonlinear wave trains are stable only for λ > λ_st; shorter trains are unstable to small perturbations
 # and move up a "staircase" of wavelengths towards λ_st. For the τ15, τ20 and st99 parameters LO2009 give
-# λ_st = 233 m, 455 m and 659 m (caption of Figure "ekinisonosg").
+# λ_st = 233 m, 455 m and 659 m (caption of Figure 8).
 
 # %%
 t0 = time.perf_counter()
@@ -246,7 +246,7 @@ print(f"e_kin of the saturated 100 m wave: {e_before:.2f}; after the step: {ekin
 
 # %% [markdown]
 # ## The final wave against Latter & Ogilvie
-# The final power spectrum (Figure "tau15nga", right) of the white-noise run, with the wavelengths the box allows
+# The final power spectrum (Figure 7, right) of the white-noise run, with the wavelengths the box allows
 # marked:
 
 # %%
@@ -276,7 +276,7 @@ print(f"final lambda_p (100 m seed)  = {lp2[-1]:.0f} m = {lp2[-1] / 233:.2f} x l
 # ## Run 3: a buffer zone
 # In Saturn's rings the background changes from place to place. The paper models such an obstacle with a
 # **buffer zone**: a strip where the viscosity exponent is β = −0.5 < β_c, so that overstability is switched off
-# there (eq. osgrate gives ω_R < 0) and waves entering it are damped (Figure "tau15bufnosg": β = −0.5 on
+# there (Eq. (21) gives ω_R < 0) and waves entering it are damped (Figure 9: β = −0.5 on
 # [−1.25 km, 1.25 km] of a 10 km box; we keep the same fraction of the box). Linear theory inside the strip:
 
 # %%

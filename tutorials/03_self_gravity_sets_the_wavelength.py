@@ -21,7 +21,7 @@
 #
 # * the prevalent wavelength λ_p of the saturated state **falls as σ0 rises** (<abbr title="label lambdap">Figure 20</abbr>);
 # * for a wide range of σ0 it follows the empirical relation **λ_p = C λ_zero(σ0) with C = 1.4**
-#   (eq. lambdasigma), where λ_zero is the wavelength of the minimum of the *linear* frequency ω_I(k), i.e.
+#   (Eq. (55)), where λ_zero is the wavelength of the minimum of the *linear* frequency ω_I(k), i.e.
 #   of vanishing group velocity (<abbr title="label vgroup">Figure 2</abbr>);
 # * the deeper reason: the saturated waves sit near the minimum of the **nonlinear** dispersion relation
 #   (Section "Nonlinear Dispersion Relation", <abbr title="label nlvg">Figure 21</abbr>), where the group velocity vanishes, so that
@@ -72,7 +72,7 @@ lapprox = np.array([analysis.lambda_p_approx(params.get(SET, sigma0=s)) for s in
 # ## The empirical relation, <abbr title="label lambdasigma">Eq. (55)</abbr>
 # λ_zero(σ0) comes from the exact linear dispersion relation (notebook 1). For Q0 ≫ 1 <abbr title="label osfreq">Eq. (22)</abbr> gives
 # λ_zero ≈ 2(p_s + F_2) λ_J (where its group velocity dω_I/dk vanishes), hence the estimate <abbr title="label lambdasigmaap">Eq. (56)</abbr>,
-# λ_p ≈ 2C(p_s + F_2) λ_J with the Jeans wavelength λ_J = c0²/(Gσ0) (eq. jeans). The paper prints
+# λ_p ≈ 2C(p_s + F_2) λ_J with the Jeans wavelength λ_J = c0²/(Gσ0) (Eq. (57)). The paper prints
 # <abbr title="label lambdasigmaap">Eq. (56)</abbr> with p_s − F_2; the sign that follows from <abbr title="label osfreq">Eq. (22)</abbr>, and that agrees with the exact
 # λ_zero at large Q0, is +F_2 (`analysis.lambda_p_approx` uses it; notebook 5 has an exercise on this).
 

@@ -18,13 +18,13 @@
 # Salo et al. (2001) measured them in **local N-body simulations** of colliding ice spheres (Table "Hydrodynamic
 # Parameters"). Here we run such a simulation ourselves with `ringcore.nbody.ShearingBox` (Section "N-Body Simulations"):
 # identical smooth spheres of radius R_p = 1 m in a co-moving box with shear-periodic boundaries, moving on the Hill
-# equations (eq. hill) with an enhanced vertical frequency Ω_z = 3.6 Ω, colliding with the velocity-dependent
-# coefficient of restitution of Bridges et al. (eq. bridges). Radial self-gravity enters, as in the paper, through the
-# Fourier modes of the binned surface density (eqs. fdecomp–sgmodes); σ0 is a free parameter.
+# equations (Eq. (49)) with an enhanced vertical frequency Ω_z = 3.6 Ω, colliding with the velocity-dependent
+# coefficient of restitution of Bridges et al. (Eq. (48)). Radial self-gravity enters, as in the paper, through the
+# Fourier modes of the binned surface density (Eqs. (52)–(54)); σ0 is a free parameter.
 #
 # 1. The **ground state**: velocity dispersion and viscosity of the particle box against the table.
 # 2. An **overstable box** next to the hydro model at the same settings: growth rate and frequency of one seeded
-#    wave (Figure "nblin2"), linear and saturated (Figure "nbvga").
+#    wave (Figure 5), linear and saturated (Figure 22).
 # 3. Where and why they differ: the paper's discussion of the pressure exponent p_s.
 #
 # **Quick mode** uses small boxes (a few hundred to a thousand particles) and 10–40 orbits per measurement; the paper
@@ -65,7 +65,7 @@ print(f"table (tau15): c0 = {p.c0 * 1e3:.2f} mm/s, nu0 = {p.nu0 * 1e3:.2f}e-3 m^
 # N = τ L_x L_y/(πR_p²) particles start uniformly with random velocities of 0.4 mm/s and settle within a few orbits
 # into a balance of viscous heating and collisional cooling. We discard the settling phase, then average.
 # The shear viscosity has a *local* part (particles carrying momentum between collisions) and a *nonlocal* part
-# (momentum jumping across the particle diameter in a collision, eq. ptot); in a dense ring the nonlocal part dominates.
+# (momentum jumping across the particle diameter in a collision, Eq. (12)); in a dense ring the nonlocal part dominates.
 
 # %%
 t0 = time.perf_counter()
@@ -95,7 +95,7 @@ ax.set_xlabel("t [orbits]"); ax.set_ylabel("T [1e-8 m²/s²]"); ax.legend(); plt
 # **What to notice** (numbers printed above).
 # * The box forgets its initial state in less than an orbit: T drops from the initial (0.4 mm/s)² = 16e-8 m²/s²
 #   to a steady value that fluctuates by about ±5 % around the table's T0.
-# * T, ν and c0 agree with Table "Hydrodynamic Parameters" to a few percent (the project's longer validation in
+# * T, ν and c0 agree with Table 2 to a few percent (the project's longer validation in
 #   the README gives +0.8 %, −1.8 %, −0.8 %). The remaining differences are statistical: a few hundred particles
 #   over a few orbits.
 # * More than 90 % of the viscosity is nonlocal, and the *effective* dispersion c0, which includes the nonlocal
@@ -107,7 +107,7 @@ ax.set_xlabel("t [orbits]"); ax.set_ylabel("T [1e-8 m²/s²]"); ax.legend(); plt
 # %% [markdown]
 # ## 2. One overstable wave: N-body next to hydro
 # We seed a single radial-velocity wave of λ = 100 m (the box length, mode m = 1) into a settled box with
-# σ0 = 600 kg m⁻² and let only that mode feel self-gravity (`single_mode=1`), as the paper does for Figure "nblin2".
+# σ0 = 600 kg m⁻² and let only that mode feel self-gravity (`single_mode=1`), as the paper does for Figure 5.
 # Growth rate and frequency come from a fit of the complex mode amplitude (`ringcore.nbody.growth.measure`; the
 # frequency first from the Lomb periodogram, as in the paper).
 #
@@ -161,18 +161,18 @@ a2.legend(fontsize=8); plt.tight_layout(); plt.show()
 # * The Hydro1D run reproduces its own linear theory (growth and frequency agree to the printed digits), so any
 #   difference to the N-body box is physics, not numerics.
 # * The N-body wave oscillates **faster** than the hydro model predicts (by about 6 %), and grows **about half as
-#   fast** — the trend of Figure "nblin2": "While the hydrodynamic model overestimates the growth rates, it tends to
+#   fast** — the trend of Figure 5: "While the hydrodynamic model overestimates the growth rates, it tends to
 #   underestimate the oscillation frequency." At σ0 = 600 kg m⁻² and λ = 100 m the discrepancy is large, as the paper
 #   reports for τ = 1.5 with strong self-gravity.
 # * Raising p_s by 40 % (dashed curve) moves the hydro frequency most of the way to the N-body one and lowers the
 #   growth rate, as the paper found; the growth rate is still overestimated (0.034 against 0.022 Ω here).
 
 # %% [markdown]
-# ## 3. Saturated waves: the nonlinear frequency (Figure "nbvga")
+# ## 3. Saturated waves: the nonlinear frequency (Figure 22)
 # Now a *large* seed (u ≈ 10 R_pΩ, as in the paper) in a box of 150 m, with all self-gravity modes down to 10 m:
 # the wave saturates and we measure its frequency after discarding the transient. The hydro counterpart is
 # `nonlinear.hydro_frequency` (notebook 3). The paper found that the N-body nonlinear frequencies lie well above the hydro
-# ones, and that doubling p_s in the hydro *linear* relation matches them (Figure "nbvga", right).
+# ones, and that doubling p_s in the hydro *linear* relation matches them (Figure 22, right).
 
 # %%
 lam2 = 150.0
@@ -192,27 +192,27 @@ for f_ps in (1.0, 1.4, 2.0):
 #   wave runs about 3 % faster still (0.924 Ω). The hydro model with the table's p_s cannot reproduce it.
 # * The saturated N-body frequency lies between the hydro *linear* values with p_s × 1.4 and p_s × 2, within about
 #   1.5 % of both (printed above). The paper found that p_s × 2 matches the saturated N-body frequencies over a wide
-#   range of σ0 and wavelengths (Figure "nbvga", right); one wavelength in a small, short quick-mode box cannot
+#   range of σ0 and wavelengths (Figure 22, right); one wavelength in a small, short quick-mode box cannot
 #   decide between 1.4 and 2.
 #
 # ## Why they differ
 # The transport coefficients were fitted to *small* perturbations of the ground state (Section "Hydrodynamic
-# Parameters": "it is not even clear if the particular form provided by equations (pres)–(coolfunc) is well suited to
+# Parameters": "it is not even clear if the particular form provided by Eqs. (8)–(11) is well suited to
 # follow the development into the nonlinear regime"). In the particle ring:
 # * compressions splash particles vertically (the ring is nearly incompressible), changing pressure and transport on
 #   the orbital time scale — not in a vertically averaged fluid (Section "Growth Rates ... in the Linear Regime");
 # * the collision frequency rises in the nonlinear waves by up to ~20 %, increasing the nonlocal pressure, which the
-#   hydro model does not follow (Section "N-Body Simulations" of the results, Figure "vdispnb");
+#   hydro model does not follow (Section "N-Body Simulations" of the results, Figure 19);
 # * the velocity dispersion never falls below about R_pΩ ≈ 0.2 mm/s because of nonlocal heating, while the hydro
-#   temperature can drop much lower in rarefied regions (Figure "fluctnb").
+#   temperature can drop much lower in rarefied regions (Figure 16).
 # A stiffer pressure (larger p_s) absorbs most of this: ×1.4 for linear waves, ×2 for saturated ones. Still, the
-# saturation *wavelengths* of both approaches agree for σ0 ≳ 300 kg m⁻² (Figure "lambdap"), because λ_p is set by the
+# saturation *wavelengths* of both approaches agree for σ0 ≳ 300 kg m⁻² (Figure 20), because λ_p is set by the
 # frequency minimum, which both models share.
 
 # %% [markdown]
 # ## Try this
 # Repeat section 2 with σ0 = 0 (`lam, s0 = 150.0, 0.0` and a seed of 1.0 R_pΩ, since the growth is slower). The
-# paper found that without self-gravity hydro and N-body growth rates agree well (Figure "nblin1"). The hydro
+# paper found that without self-gravity hydro and N-body growth rates agree well (Figure 4). The hydro
 # prediction to compare with:
 
 # %%

@@ -44,11 +44,11 @@ nl_kw = dict(orbits=40, discard=15, nodes=32, samples_per_orbit=8) if QUICK else
 
 # %% [markdown]
 # ## Exercise 1 — predict λ_p and check it
-# A ring region has the τ15 transport coefficients and σ0 = 500 kg m⁻². Predict the saturated wavelength with eq.
-# (lambdasigma). Then check the prediction against the wavelength of the minimum of the *nonlinear* dispersion
+# A ring region has the τ15 transport coefficients and σ0 = 500 kg m⁻². Predict the saturated wavelength with Eq.
+# (55). Then check the prediction against the wavelength of the minimum of the *nonlinear* dispersion
 # relation (notebook 3), measured with saturated wave trains in boxes of one wavelength.
 #
-# *Answer.* λ_zero(σ0) is the minimum of the linear ω_I(k) (exact dispersion relation, eq. matni); λ_p = 1.4 λ_zero.
+# *Answer.* λ_zero(σ0) is the minimum of the linear ω_I(k) (exact dispersion relation, Eq. (17)); λ_p = 1.4 λ_zero.
 
 # %%
 q = params.get("tau15", sigma0=500)
@@ -130,7 +130,7 @@ print(f"power-law slope d ln(lambda_p) / d ln(R_p) = {slope:.2f}")
 
 # %% [markdown]
 # *Discussion.* The N-body box confirms c0 ∝ R_p (ratio printed above: 2.00), and ν ∝ R_p² as well (ratio 4.0). Eq.
-# (lambdasigmaap) is exactly ∝ R_p² (blue, parallel to the red line), but the exact 1.4 λ_zero grows more slowly,
+# (56) is exactly ∝ R_p² (blue, parallel to the red line), but the exact 1.4 λ_zero grows more slowly,
 # with a slope of 1.7 (printed): at σ0 = 900 kg m⁻² the ring goes from Q0 ≈ 0.9 (R_p = 1 m) to 3.5 (R_p = 4 m), and the
 # small-k estimate is only rough over that range (−38 % at R_p = 1 m where Q0 < 1, −3 % at 4 m). "Roughly quadratic",
 # as the paper

@@ -9,9 +9,9 @@ import importlib
 
 def register(sub) -> None:
     p = sub.add_parser("bench", help="performance benchmarks of the hydro and N-body engines",
-                       description="Benchmarks; figures are reported in the README.")
+                       description="Benchmarks; recorded figures: the documentation's Benchmarks page.")
     p.add_argument("engine", choices=("hydro", "nbody"), help="which engine to benchmark")
-    p.add_argument("--json", action="store_true", help="emit one JSON object (keys in the README)")
+    p.add_argument("--json", action="store_true", help="emit one JSON object (keys: the Benchmarks page of the documentation)")
     p.add_argument("--quick", action="store_true", help="shorter timing runs (less accurate)")
     p.set_defaults(func=run)
 

@@ -37,7 +37,7 @@ def register(sub) -> None:
     p.add_argument("--direction", default="left", help="travel direction of --init mode: left or right")
     p.add_argument("--gravity", default="mode", help="self-gravity: mode (exact) or wire (kernel)")
     p.add_argument("--replicas", type=int, default=0, help="wire-kernel replicas on each side")
-    p.add_argument("--bin-correction", action="store_true", help="self-bin correction of eq. (cbin)")
+    p.add_argument("--bin-correction", action="store_true", help="self-bin correction of Eq. (43)")
     p.add_argument("--timestep", default="paper", help="time-step criterion: paper (f_t = 0.1) or cfl (fast)")
     p.add_argument("--dt-factor", type=float, default=None, help="time-step factor f_t")
     p.add_argument("--buffer", type=float, nargs=3, default=None, metavar=("XMIN", "XMAX", "BETA"),

@@ -10,7 +10,7 @@ from .common import add_ring_arguments, ring_params_from_args
 
 def register(sub) -> None:
     p = sub.add_parser("linear", help="linear theory summary (Q0, lambda_J, lambda_zero, max growth, beta_c, F2, F3)",
-                       description="Exact linear theory of eq. (matni) for one parameter set.")
+                       description="Exact linear theory of Eq. (17) for one parameter set.")
     add_ring_arguments(p)
     p.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     p.set_defaults(func=run)
@@ -38,7 +38,7 @@ def run(args) -> int:
         ("max growth rate", f"{s.max_growth_rate:.5g} Omega ({s.max_growth_rate * 2 * math.pi:.4g} e-folds/orbit)"),
         ("overstable band", band),
         ("beta_c (exact long-wave)", f"{s.beta_c:.4f}"),
-        ("beta_c (approx., eq. osgrate)", f"{s.beta_c_approx:.4f}"),
+        ("beta_c (approx., Eq. (21))", f"{s.beta_c_approx:.4f}"),
         ("F2, F3 (exact)", f"{s.F2:.4f}, {s.F3:.4f}"),
         ("F2, F3 (table)", f"{s.F2_table:.2f}, {s.F3_table:.2f}" if math.isfinite(s.F2_table) else "-"),
     ]

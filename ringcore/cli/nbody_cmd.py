@@ -184,7 +184,7 @@ def _run(args, box, fallback) -> int:
     if "T" in d:
         rows += [("T [m^2/s^2]", f"{d['T']:.4g}"), ("nu = nu_l + nu_nl [m^2/s]",
                   f"{d['nu']:.4g} = {d['nu_local']:.3g} + {d['nu_nonlocal']:.3g}"),
-                 ("c_eff (eq. ptot) [mm/s]", f"{d['c_eff'] * 1e3:.4f}"),
+                 ("c_eff (Eq. (12)) [mm/s]", f"{d['c_eff'] * 1e3:.4f}"),
                  ("collisions per particle per orbit", f"{d['collision_frequency']:.1f}"),
                  ("unresolved overlaps / collisions", f"{d['unresolved_fraction']:.3g}")]
     for a, b in rows:

@@ -75,12 +75,12 @@ def provenance(args) -> dict:
     import sys
     from datetime import datetime, timezone
 
-    from .. import __version__
     from ..experiments import runners
+    from ..provenance import software_attrs
 
     argv = getattr(args, "_argv", None) or (sys.argv[1:] if sys.argv and sys.argv[0].endswith("ringcore") else None)
     return dict(command=shlex.join(["ringcore", *argv]) if argv else f"ringcore sweep ({vars(args)})",
-                ringcore_version=__version__, created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
+                **software_attrs(), created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
                 engine=args.engine, set=args.set, isothermal=int(bool(args.isothermal)),
                 runner_defaults_json=json.dumps({"hydro": runners.HYDRO_DEFAULTS, "nbody": runners.NBODY_DEFAULTS}))
 

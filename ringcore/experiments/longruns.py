@@ -31,6 +31,7 @@ import xarray as xr
 
 from ..checks import check_choice, check_int
 from ..paperrefs import ref
+from ..provenance import software_attrs
 from .resolution import H_PAPER, resolved_h
 
 FIELDS = ("set", "isothermal", "init", "orbits", "figure", "paper_m", "paper_text")
@@ -259,6 +260,9 @@ def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) ->
         params_json=a.get("params_json", ""), options_json=a.get("options_json", ""), model=a.get("model", ""),
         source_file=path.name, source_written=str(a.get("created", "")),
         source_written_on=str(a.get("written_on", "not recorded")),
+        source_ringcore_version=str(a.get("ringcore_version", "not recorded")),
+        source_ringcore_commit=str(a.get("ringcore_commit", "not recorded")),
+        **software_attrs(),  # the code that compacted it
         compacted=dt.datetime.now(dt.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
         strobe_thinning=f"every {round(float(np.diff(t_strobe).max()), 3) if ir.size > 1 else 1:g} orbits, "
                         f"every {step} nodes ({step * float(opts.get('h', 2.5)):g} m)",

@@ -1,4 +1,4 @@
-"""Figures "omega" and "vgroup" of the paper from :mod:`ringcore.linear`.
+"""Figures 1 and 2 of the paper from :mod:`ringcore.linear`.
 
 Run ``python -m ringcore.figures.linear OUTDIR`` to write ``fig_omega.png`` and
 ``fig_vgroup.png``.
@@ -14,7 +14,7 @@ from ._mpl import cmap, subplots
 from .. import linear, params
 from ..io.atomic import save_figure
 
-SIGMAS = (0.0, 400.0, 800.0)  # [kg/m^2], as in Figure "omega"
+SIGMAS = (0.0, 400.0, 800.0)  # [kg/m^2], as in Figure 1
 
 
 def add_caption(fig, caption: str) -> None:
@@ -35,7 +35,7 @@ def _finish(fig, path, caption):
 
 
 def figure_omega(path, set_name: str = "tau15", wavelength_m=None, caption: str | None = None):
-    """Growth rates (left) and frequencies (right) against wavelength, Figure "omega".
+    """Growth rates (left) and frequencies (right) against wavelength, Figure 1.
 
     Black: non-isothermal; red dashed: isothermal p_s = 1; blue dashed: isothermal with the
     set's p_s at sigma0 = 800 kg/m^2.  Returns the matplotlib Figure.
@@ -63,12 +63,12 @@ def figure_omega(path, set_name: str = "tau15", wavelength_m=None, caption: str 
     a1.set_ylim(-0.1, None)
     a2.set_ylim(0.4, 2.0)
     a1.legend(fontsize=7)
-    fig.suptitle(f"Exact linear theory, eq. (matni), {set_name} ($\\sigma_0$ in kg m$^{{-2}}$)")
+    fig.suptitle(f"Exact linear theory, Eq. (17), {set_name} ($\\sigma_0$ in kg m$^{{-2}}$)")
     return _finish(fig, path, caption)
 
 
 def figure_vgroup(path, set_name: str = "tau15", caption: str | None = None):
-    """Group velocities (left) and lambda_zero(sigma0) (right), Figure "vgroup"."""
+    """Group velocities (left) and lambda_zero(sigma0) (right), Figure 2."""
     lam = np.geomspace(20, 3000, 600)
     base = params.get(set_name)
     fig, (a1, a2) = subplots(1, 2, figsize=(11, 4.8), constrained_layout=caption is None)
@@ -90,7 +90,7 @@ def figure_vgroup(path, set_name: str = "tau15", caption: str | None = None):
     a2.set_xlabel("$\\sigma_0$ [kg m$^{-2}$]")
     a2.set_ylabel("$\\lambda_{zero}$ [m]")
     a2.legend()
-    fig.suptitle(f"Group velocity eq. (vg) and wavelength of its sign change, {set_name}")
+    fig.suptitle(f"Group velocity Eq. (23) and wavelength of its sign change, {set_name}")
     return _finish(fig, path, caption)
 
 

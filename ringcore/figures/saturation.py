@@ -1,4 +1,4 @@
-"""Figure "lambdap": prevalent wavelength against sigma0 with lambda_p = C_EMPIRICAL lambda_zero (1.4)."""
+"""Figure 20: prevalent wavelength against sigma0 with lambda_p = C_EMPIRICAL lambda_zero (1.4)."""
 from __future__ import annotations
 
 import numpy as np
@@ -11,13 +11,13 @@ from ..analysis.saturation import C_EMPIRICAL
 
 
 def figure_lambdap(ds, path, set_name: str = "tau15", isothermal: bool = False, caption: str | None = None):
-    """Measured lambda_p (points, from a sweep dataset) against sigma0, with eq. (lambdasigma)
+    """Measured lambda_p (points, from a sweep dataset) against sigma0, with Eq. (55)
     (dashed) and the fastest-growing linear wavelength (dotted).  Returns the PNG path."""
     base = params.get(set_name, isothermal=isothermal or None)
     sig = np.linspace(25, 1000, 60)
     fig, ax = subplots(figsize=(6.5, 4.6))
     ax.plot(sig, [lambda_p_empirical(base.with_sigma0(s)) for s in sig], "k--",
-            label=f"{C_EMPIRICAL:g} $\\lambda_{{zero}}$, eq. (lambdasigma)")
+            label=f"{C_EMPIRICAL:g} $\\lambda_{{zero}}$, Eq. (55)")
     ax.plot(sig, [linear.max_growth(base.with_sigma0(s))[0] for s in sig], "k:", label="fastest-growing (linear)")
     if "lambda_p_m" in ds and ds.sizes.get("run", 0):
         ok = np.isfinite(ds.lambda_p_m.values)

@@ -13,9 +13,13 @@ Array layout (all C-contiguous float64)
              (eq. energy).  N = n + 2 NG: the n interior nodes are ``U[:, NG:NG+n]``,
              node j sits at x_j = -L_x/2 + j h; ``NG`` periodic ghost nodes on each side
              are refilled by the kernels themselves.
+
 ``W``        (NW, N): scratch rows (named ``R_*`` below), owned by the caller.
+
 ``beta``     (N,): viscosity exponent per node (buffer zones), ghosts included.
+
 ``g``        (n,): radial self-gravity force per unit mass -d(phi)/dx at interior nodes.
+
 ``par``      (NPAR,): plain floats, indices ``P_*`` below.
 
 Scheme

@@ -1,7 +1,8 @@
 """Run files: one NetCDF file per run, written through xarray with the h5netcdf engine.
 
 Every file carries the global attributes ``schema = "ringlab-run"``, ``schema_version``,
-``kind`` (``"hydro"`` or ``"nbody"``), ``ringcore_version``, ``created`` and ``written_on`` (CPU and
+``kind`` (``"hydro"`` or ``"nbody"``), ``ringcore_version`` and ``ringcore_commit`` (the code that wrote it:
+:func:`ringcore.provenance.software_attrs`), ``created`` and ``written_on`` (CPU and
 software: :func:`written_on`); parameters are
 stored as flat attributes with a prefix (``param_sigma0``, ``option_h`` ...) and, for exact
 restoration, as one JSON attribute per group (``params_json``, ``options_json``).
@@ -23,6 +24,7 @@ import xarray as xr
 
 from .schema import MIGRATIONS as _MIGRATIONS  # noqa: F401 (older callers)
 from .schema import SCHEMA, SCHEMA_VERSION, RunFileError
+from ..provenance import software_attrs
 from .validate import checksum_attrs, validate_run
 
 
@@ -68,7 +70,7 @@ def written_on() -> str:
 
     The same run is bit for bit the same on one machine, but another CPU can differ in the last bits, which a
     chaotic nonlinear run amplifies: OpenBLAS picks its kernels per CPU at run time, and the white-noise initial
-    state's eigenvectors come from LAPACK (README, "Run files, checkpoints and restart")."""
+    state's eigenvectors come from LAPACK (documentation: "Run files, checkpoints and restart")."""
     import platform
 
     import numba
@@ -99,12 +101,10 @@ def written_on() -> str:
 def stamp_run(ds: xr.Dataset, kind: str) -> xr.Dataset:
     """A copy of ``ds`` with the schema attributes and (engine kinds) a fresh state checksum: what
     :func:`write_run` stores, so an in-memory run Dataset passes :func:`validate_run` like its file."""
-    from .. import __version__
-
     ds = ds.copy()
     for key in ("state_sha256", "state_checksums"):  # never carry over a stale checksum
         ds.attrs.pop(key, None)
-    ds.attrs.update(schema=SCHEMA, schema_version=SCHEMA_VERSION, kind=kind, ringcore_version=__version__,
+    ds.attrs.update(schema=SCHEMA, schema_version=SCHEMA_VERSION, kind=kind, **software_attrs(),
                     created=datetime.now(timezone.utc).isoformat(timespec="seconds"), written_on=written_on())
     ds.attrs.update(checksum_attrs(ds, kind))
     return ds

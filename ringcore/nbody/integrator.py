@@ -90,11 +90,12 @@ def advance(pos, vel, ids, acc, fpar, ipar, work, step0, nsteps):
     :data:`RUNAWAY_X` (a particle beyond ``fpar[P_XMAX]``: the step ``steps_done`` + 1 failed, the
     arrays are partly updated and must be replaced by the caller's last good copy).
 
-    Parameters (kernel units: R_p, 1/Omega)
+    Parameters
     ----------
     pos, vel : (N, 3) float arrays, modified in place; ids (N,) particle labels (follow the sort).
     acc : (N_ACC,) accumulators (collisions, momentum fluxes, velocity moments).
     fpar (N_FPAR,), ipar (N_IPAR,) : packed parameters; work : tuple of work arrays (:func:`new_work`).
+        All in kernel units (R_p, 1/Omega).
     """
     dt = fpar[P_DT]
     t0 = fpar[P_T0]

@@ -10,7 +10,7 @@ Without run files: every ``/work/longruns/NAME.nc`` whose NAME is a long run of
 is fine: it is read, never written) and writes ``OUT/NAME.nc`` with
 :func:`ringcore.experiments.longruns.compact` (thinned stroboscopic diagram as uint8, e_kin(t), lambda_p(t),
 final PSD, settings, orbit reached, the paper's number and ``ringcore reproduce NAME --full``), atomically
-(``NAME.nc.part`` then rename); ``--readme`` also rewrites the table of shipped runs in README.md (between
+(``NAME.nc.part`` then rename); ``--readme`` also rewrites the table of shipped runs in docs/science/longruns.md (between
 ``<!--longruns-shipped-->`` markers) from all shipped files in OUT, so compacting one run keeps the
 others' rows.  Re-run it to refresh the shipped files while / after the runs compute.  ``--refresh-text``
 needs no run file: it re-stamps the attributes that come from the code (title, known issue, the paper's number
@@ -29,6 +29,7 @@ sys.path.insert(0, str(ROOT))
 
 from ringcore.experiments.longruns import LONG_RUNS, check_compact, compact, text_attrs  # noqa: E402
 from ringcore.io import OutputError, netcdf_bytes, write_bytes  # noqa: E402
+from ringcore.provenance import software_attrs  # noqa: E402
 
 DEFAULT_OUT = ROOT / "app" / "data" / "longruns"
 
@@ -47,10 +48,10 @@ def _main(argv=None) -> int:
     ap.add_argument("--out", default=str(DEFAULT_OUT), help=f"output folder (default {DEFAULT_OUT})")
     ap.add_argument("--rows", type=int, default=800, help="at most this many stroboscopic rows (default 800)")
     ap.add_argument("--cols", type=int, default=1000, help="at most this many columns (default 1000)")
-    ap.add_argument("--readme", action="store_true", help="rewrite the shipped-runs table in README.md")
+    ap.add_argument("--readme", action="store_true", help="rewrite the shipped-runs table in docs/science/longruns.md")
     ap.add_argument("--refresh-text", action="store_true",
                     help="re-stamp the code's text attributes on the shipped files in --out (no run files read)")
-    ap.add_argument("--readme-file", default=str(ROOT / "README.md"), help=argparse.SUPPRESS)  # for the tests
+    ap.add_argument("--readme-file", default=str(ROOT / "docs" / "science" / "longruns.md"), help=argparse.SUPPRESS)  # for the tests
     args = ap.parse_args(argv)
     for name in ("rows", "cols"):
         if getattr(args, name) < 2:
@@ -94,6 +95,7 @@ def _refresh_text(out: Path, args, ap) -> int:
             print(f"{f}: text attributes current")
             continue
         ds.attrs.update(new_text)
+        ds.attrs.update(software_attrs())  # the code that wrote this version of the file
         data = netcdf_bytes(ds)
         with xr.open_dataset(io.BytesIO(bytes(data)), engine="h5netcdf") as new:
             check_compact(new.load(), f.name)

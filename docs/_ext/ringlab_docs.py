@@ -1,0 +1,441 @@
+"""Sphinx extension of the ringlab site: what the pages are generated from.
+
+- **Tutorials.** ``tutorials/NN_*.py`` (jupytext percent format) become executed notebooks
+  ``docs/tutorials/nb/NN_*.ipynb`` that MyST-NB renders (it never executes them itself).  A notebook the test
+  suite executed (``test-artifacts/tutorials/NN_*.ipynb``, written by ``tests/test_tutorials.py``) and newer
+  than its source is copied; else the tutorial is executed here in its quick mode, as the tests do.  An
+  up-to-date notebook already in ``nb/`` is kept.
+- **Benchmarks.** ``docs/benchmarks/data/<engine>.json`` (the JSON of ``ringcore bench <engine> --json``,
+  recorded by ``docs/_ext/bench_record.py`` with date, machine, version and commit) become the markdown tables
+  ``docs/benchmarks/generated/<engine>.md`` that the benchmark page includes: no number is typed by hand.
+- **Published numbers.** Docstrings cite the paper by LaTeX label; the API reference shows the published
+  number with the label in brackets (``Eq. (17) [matni]``, :func:`ringcore.paperlabels.to_published`).
+"""
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import time
+from pathlib import Path
+
+DOCS = Path(__file__).resolve().parents[1]
+ROOT = DOCS.parent
+TUTORIALS = ROOT / "tutorials"
+NB_DIR = DOCS / "tutorials" / "nb"
+TEST_ARTIFACTS = ROOT / "test-artifacts" / "tutorials"
+BENCH_DATA = DOCS / "benchmarks" / "data"
+BENCH_OUT = DOCS / "benchmarks" / "generated"
+LIMIT_S = 600
+
+
+def _fresh(done: Path, source: Path) -> bool:
+    return done.is_file() and done.stat().st_mtime >= source.stat().st_mtime
+
+
+def _execute(source: Path):
+    import jupytext
+    import nbclient
+
+    nb = jupytext.read(source)
+    os.environ.setdefault("MPLBACKEND", "module://matplotlib_inline.backend_inline")
+    nbclient.NotebookClient(nb, timeout=LIMIT_S, kernel_name="python3",
+                            resources={"metadata": {"path": str(source.parent)}}).execute()
+    return nb
+
+
+def prepare_tutorials(app=None) -> dict:
+    """Executed notebooks of every tutorial in ``nb/``; returns ``{stem: "kept" | "copied" | "executed (s)"}``."""
+    import nbformat
+
+    NB_DIR.mkdir(parents=True, exist_ok=True)
+    sources = sorted(TUTORIALS.glob("[0-9][0-9]_*.py"))
+    for stale in NB_DIR.glob("*.ipynb"):  # a tutorial removed or renamed
+        if not (TUTORIALS / f"{stale.stem}.py").exists():
+            stale.unlink()
+    how = {}
+    for src in sources:
+        dst = NB_DIR / f"{src.stem}.ipynb"
+        tested = TEST_ARTIFACTS / f"{src.stem}.ipynb"
+        if _fresh(dst, src) and not (_fresh(tested, src) and tested.stat().st_mtime > dst.stat().st_mtime):
+            how[src.stem] = "kept"
+        elif _fresh(tested, src):
+            shutil.copy2(tested, dst)
+            how[src.stem] = "copied from test-artifacts"
+        else:
+            t0 = time.perf_counter()
+            nb = _execute(src)
+            nbformat.write(nb, dst)
+            how[src.stem] = f"executed ({time.perf_counter() - t0:.0f} s)"
+    if app is not None:
+        from sphinx.util import logging
+
+        log = logging.getLogger(__name__)
+        for stem, h in how.items():
+            log.info(f"tutorial {stem}: {h}")
+    return how
+
+
+def _fmt(v, digits=3):
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if isinstance(v, float):
+        if 1e3 <= abs(v) < 1e6:
+            return f"{v:,.0f}"
+        return f"{v:.{digits}g}" if abs(v) >= 1e-3 or v == 0 else f"{v:.2e}"
+    if isinstance(v, int):
+        return f"{v:,}"
+    return str(v)
+
+
+def _table(rows: list, columns: list) -> str:
+    """Markdown table of ``rows`` (dicts) with ``columns`` = [(key, heading)]; missing values as '-'."""
+    head = "| " + " | ".join(h for _, h in columns) + " |\n|" + "---|" * len(columns) + "\n"
+    return head + "".join("| " + " | ".join(_fmt(r[k]) if k in r else "-" for k, _ in columns) + " |\n"
+                          for r in rows)
+
+
+def _recorded(d: dict) -> str:
+    r = d.get("recorded", {})
+    mode = "quick mode (shorter timing runs)" if d.get("quick") else "full mode"
+    return (f"Recorded {r.get('date', 'at an unknown date')} with `{r.get('command', 'ringcore bench')}` "
+            f"({mode}), ringcore {r.get('ringcore_version', '?')}, commit `{str(r.get('ringcore_commit', '?'))[:12]}`, "
+            f"on {r.get('machine', 'an unrecorded machine')}.\n\n")
+
+
+def hydro_tables(d: dict) -> str:
+    """Markdown of ``ringcore bench hydro --json``."""
+    cols = [("model", "model"), ("n", "cells"), ("ns_per_cell_stage", "ns per cell and RK stage"),
+            ("steps_per_orbit", "steps per orbit"), ("orbits_per_minute", "orbits per minute"),
+            ("steps_per_orbit_fast", f"steps per orbit (f_t = {d.get('fast_dt_factor', '?')})"),
+            ("orbits_per_minute_fast", f"orbits per minute (f_t = {d.get('fast_dt_factor', '?')})")]
+    extra = [k for k in (d.get("configs") or [{}])[0] if k not in {c for c, _ in cols}]
+    text = _recorded(d) + _table(d.get("configs", []), cols)
+    text += (f"\nnumba {d.get('numba', '?')}, pyFFTW {'used' if d.get('pyfftw') else 'not installed (numpy FFT)'}."
+             + (f" Further keys per row in the JSON: {', '.join(f'`{k}`' for k in extra)}." if extra else "") + "\n")
+    return text
+
+
+def nbody_tables(d: dict) -> str:
+    """Markdown of ``ringcore bench nbody --json``."""
+    cols = [("box", "box"), ("N", "particles"), ("L_x_m", "L_x [m]"), ("L_y_m", "L_y [m]"), ("steps", "steps"),
+            ("particle_steps_per_s", "particle-steps/s"), ("collisions_per_s", "collisions/s"),
+            ("orbits_per_minute", "orbits per minute"), ("rebound_particle_steps_per_s", "REBOUND particle-steps/s"),
+            ("rebound_ratio", "ringcore / REBOUND")]
+    text = _recorded(d) + _table(d.get("boxes", []), cols)
+    steady = d.get("steady_state") or {}
+    codes = [c for c in ("ringcore", "rebound") if c in steady]
+    if codes:
+        text += (f"\nSteady state of the first box after {_fmt(steady.get('orbits', '?'))} orbits from the same "
+                 "initial state:\n\n")
+        text += _table([dict(code=c, **steady[c]) for c in codes],
+                       [("code", "code"), ("T", "T [m²/s²]"), ("c", "c [m/s]"), ("nu", "ν [m²/s]")])
+    app = d.get("app") or {}
+    if app:
+        text += "\nSpeed of the app's N-body boxes:\n\n"
+        text += _table([dict(box=k, **v) for k, v in app.items()],
+                       [("box", "box"), ("N", "particles"), ("orbits_per_s", "orbits per second")])
+    if not d.get("rebound_available"):
+        text += "\nREBOUND was not installed when this was recorded (`pip install .[bench]`): no reference columns.\n"
+    return text
+
+
+RENDERERS = {"hydro": hydro_tables, "nbody": nbody_tables}
+
+
+def write_bench_tables(app=None) -> list:
+    """``generated/<engine>.md`` for every recorded benchmark; an engine without a record says so."""
+    BENCH_OUT.mkdir(parents=True, exist_ok=True)
+    written = []
+    for engine, render in RENDERERS.items():
+        src = BENCH_DATA / f"{engine}.json"
+        text = (render(json.loads(src.read_text())) if src.is_file() else
+                f"No record yet: run `python docs/_ext/bench_record.py {engine}` to make one.\n")
+        out = BENCH_OUT / f"{engine}.md"
+        if not out.is_file() or out.read_text() != text:  # unchanged files keep their time (no rebuild)
+            out.write_text(text)
+        written.append(out)
+    return written
+
+
+def write_worksheet_list(app=None) -> list:
+    """Copy the lessons' printable worksheets (wherever the app keeps them) next to the teacher's guide and
+    list them in ``teacher/generated/worksheets.md``."""
+    import re
+
+    found = sorted(ROOT.glob("app/**/worksheets/lesson*.html"), key=lambda f: f.name)
+    out = DOCS / "teacher" / "generated"
+    out.mkdir(parents=True, exist_ok=True)
+    lines = []
+    for f in found:
+        shutil.copy2(f, out / f.name)
+        m = re.search(r"<title>(.*?)</title>", f.read_text(encoding="utf-8"), re.S)
+        title = " ".join(m.group(1).split()) if m else f.stem
+        lines.append(f"- {{download}}`{title} <generated/{f.name}>`")
+    text = "\n".join(lines) + "\n" if lines else "No worksheets found in this checkout.\n"
+    md = out / "worksheets.md"
+    if not md.is_file() or md.read_text() != text:
+        md.write_text(text)
+    return found
+
+
+_BARS = None
+
+
+def _escape_bars(line: str) -> str:
+    """``|x|`` (an absolute value) outside literals, escaped: reStructuredText reads it as a substitution."""
+    import re
+
+    global _BARS
+    _BARS = _BARS or re.compile(r"(?<![\\|])\|([^|\s`][^|`]{0,30}?)\|(?![|_])")
+    parts = re.split(r"(``.*?``|`[^`]*`)", line)
+    return "".join(p if p.startswith("`") else _BARS.sub(r"\\|\1\\|", p) for p in parts)
+
+
+def published_docstrings(app, what, name, obj, options, lines) -> None:
+    """Docstrings cite LaTeX labels; readers get the published numbers, the label in brackets."""
+    from ringcore.paperlabels import to_published
+
+    lines[:] = [_escape_bars(ln) for ln in to_published("\n".join(lines), keep_label=True).split("\n")]
+
+
+def _locate(dotted: str):
+    """``(object, module name, attribute path)`` of an importable dotted name, or None."""
+    import importlib
+
+    parts = dotted.split(".")
+    for i in range(len(parts), 0, -1):
+        try:
+            mod = importlib.import_module(".".join(parts[:i]))
+        except Exception:
+            continue
+        obj = mod
+        try:
+            for a in parts[i:]:
+                obj = getattr(obj, a)
+        except AttributeError:
+            return None
+        return obj, mod.__name__, parts[i:]
+    return None
+
+
+_INDEX: dict = {}
+
+
+def _name_index() -> dict:
+    """``{name: [module, ...]}`` of every name defined at module level in ringcore (private ones too)."""
+    import importlib
+    import pkgutil
+
+    import ringcore
+
+    if not _INDEX:
+        for info in pkgutil.walk_packages(ringcore.__path__, "ringcore."):
+            try:
+                mod = importlib.import_module(info.name)
+            except Exception:  # pragma: no cover - every module imports (the API check would fail)
+                continue
+            for name, obj in vars(mod).items():
+                if getattr(obj, "__module__", info.name) == info.name and not name.startswith("__"):
+                    _INDEX.setdefault(name, []).append(info.name)
+        _INDEX.update({k: v for k, v in _INDEX.items() if len(v) == 1})
+        for k in [k for k, v in _INDEX.items() if len(v) != 1]:  # ambiguous short names are not guessed
+            del _INDEX[k]
+    return _INDEX
+
+
+def resolve_reexport(app, env, node, contnode):
+    """Resolve what a docstring cites under another name than its page's.
+
+    ``ringcore.hydro.Hydro1D`` is documented where it is defined (``ringcore.hydro.solver.Hydro1D``); a module
+    constant or a private helper (``LONG_RUNS``, ``_overstable_runs``) has no page of its own and links to its
+    module's page.  A name that does not exist in ringcore stays a broken reference (and fails the build).
+    """
+    import inspect
+
+    if node.get("refdomain") != "py":
+        return None
+    target, modname = node["reftarget"].lstrip("~."), node.get("py:module") or ""
+    candidates = [target]
+    parts = modname.split(".") if modname else []
+    for i in range(len(parts), 0, -1):  # relative to the module and to each package above it
+        candidates.append(".".join(parts[:i] + [target]))
+    candidates += [f"{m}.{target}" for m in _name_index().get(target.split(".")[0], [])]  # a name known in one module
+    if node.get("py:class") and modname:  # an attribute of the documented class: its page
+        candidates += [f"{modname}.{node['py:class']}.{target}", f"{modname}.{node['py:class']}"]
+    domain = env.get_domain("py")
+    for cand in candidates:
+        if not cand.startswith("ringcore"):
+            continue
+        found = _locate(cand)
+        if found is None:
+            continue
+        obj, owner, attrs = found
+        real = None
+        if (inspect.isclass(obj) or inspect.isroutine(obj)) and getattr(obj, "__module__", "").startswith("ringcore"):
+            real = f"{obj.__module__}.{getattr(obj, '__qualname__', attrs[-1] if attrs else '')}"
+        for name, kind in ((real, "obj"), (cand, "obj"), (owner if attrs else cand, "mod")):
+            if not name:
+                continue
+            ref = domain.resolve_xref(env, node["refdoc"], app.builder, kind, name, node, contnode)
+            if ref is not None:
+                return ref
+    return None
+
+
+def public_objects() -> list:
+    """``module.name`` of every public function and class defined in a public module of ringcore."""
+    import importlib
+    import inspect
+    import pkgutil
+
+    import ringcore
+
+    names = []
+    for info in pkgutil.walk_packages(ringcore.__path__, "ringcore."):
+        if any(part.startswith("_") for part in info.name.split(".")):
+            continue
+        mod = importlib.import_module(info.name)
+        for name, obj in vars(mod).items():
+            if name.startswith("_") or getattr(obj, "__module__", None) != info.name:
+                continue
+            if inspect.isclass(obj) or inspect.isroutine(obj):
+                names.append(f"{info.name}.{name}")
+    return sorted(names)
+
+
+API_OUT = DOCS / "api" / "generated"
+
+
+def _module_page(modname: str, submodules: list) -> str:
+    """reStructuredText of one module's page: its docstring, its submodules, classes and functions."""
+    import importlib
+    import inspect
+
+    mod = importlib.import_module(modname)  # the module itself, even where a function of the package shadows it
+    classes, functions = [], []
+    for name, obj in vars(mod).items():
+        if name.startswith("_") or getattr(obj, "__module__", None) != modname:
+            continue
+        if inspect.isclass(obj):
+            classes.append(name)
+        elif inspect.isroutine(obj):
+            functions.append(name)
+    lines = [modname, "=" * len(modname), "", f".. automodule:: {modname}", "   :no-members:", ""]
+    if submodules:
+        lines += [".. rubric:: Modules", "", ".. toctree::", "   :maxdepth: 1", ""]
+        lines += [f"   {m}" for m in submodules] + [""]
+    for title, names in (("Classes", sorted(classes)), ("Functions", sorted(functions))):
+        if names:
+            lines += [f".. rubric:: {title}", "", f".. currentmodule:: {modname}", "", ".. autosummary::",
+                      "   :toctree: .", "", *[f"   {n}" for n in names], ""]
+    return "\n".join(lines)
+
+
+def write_api_pages(app=None) -> list:
+    """One page per public module of ringcore (found recursively: new modules appear without edits), written
+    before autosummary generates the pages of their classes and functions."""
+    import pkgutil
+
+    import ringcore
+
+    names = ["ringcore"] + [i.name for i in pkgutil.walk_packages(ringcore.__path__, "ringcore.")
+                            if not any(p.startswith("_") for p in i.name.split("."))]
+    API_OUT.mkdir(parents=True, exist_ok=True)
+    written = []
+    for name in names:
+        subs = [m for m in names if m.rsplit(".", 1)[0] == name and m != name]
+        text = _module_page(name, subs)
+        out = API_OUT / f"{name}.rst"
+        if not out.is_file() or out.read_text() != text:
+            out.write_text(text)
+        written.append(out)
+    return written
+
+
+def check_api_coverage(app, exc) -> None:
+    """Fail the build when a public function or class of ringcore has no page in the API reference."""
+    if exc is not None or app.builder.name != "html":
+        return
+    from sphinx.errors import ExtensionError
+
+    pages = {f.stem for f in (DOCS / "api" / "generated").glob("*.rst")}
+    missing = [n for n in public_objects() if n not in pages]
+    if missing:
+        raise ExtensionError(f"{len(missing)} public objects of ringcore missing from the API reference: "
+                             + ", ".join(missing[:20]))
+
+
+def _mathml(latex: str, display: bool) -> str:
+    """MathML of a TeX formula (latex2mathml), or the TeX as code where the converter does not know it."""
+    import html
+
+    try:
+        from latex2mathml.converter import convert
+
+        return convert(latex.strip(), display="block" if display else "inline")
+    except Exception:
+        return f'<code class="math-tex">{html.escape(latex)}</code>'
+
+
+def _visit_math(self, node):
+    from docutils import nodes
+
+    self.body.append(f'<span class="math">{_mathml(node.astext(), False)}</span>')
+    raise nodes.SkipNode
+
+
+def _visit_displaymath(self, node):
+    from docutils import nodes
+
+    self.body.append(f'<div class="math">{_mathml(node.astext(), True)}</div>')
+    raise nodes.SkipNode
+
+
+def _on_init(app, config=None) -> None:
+    write_api_pages(app)
+    write_bench_tables(app)
+    write_worksheet_list(app)
+    prepare_tutorials(app)
+
+
+def _rst_escape(text: str) -> str:
+    """Plain text as reStructuredText that shows it literally (help strings are not written as markup)."""
+    import re
+
+    text = text.replace("\\", "\\\\")
+    text = re.sub(r"([*`|])", r"\\\1", text)
+    return re.sub(r"(\w)_(?=\W|$)", r"\1\\_", text)  # "name_ " would be a reference
+
+
+def _plain_cli_help() -> None:
+    """The CLI reference (sphinx-argparse) shows help strings as written: a ``|x|`` or ``*`` in a new command's
+    help must not break the build."""
+    import sphinxarg.ext as argparse_ext
+
+    if getattr(argparse_ext.render_list, "_ringlab_plain", False):
+        return
+    original = argparse_ext.render_list
+
+    def render_list(items, markdown_help, settings=None):
+        return original([_rst_escape(i) if isinstance(i, str) else i for i in items], markdown_help, settings)
+
+    render_list._ringlab_plain = True
+    argparse_ext.render_list = render_list
+
+
+def _always_reread(app, env, added, changed, removed) -> list:
+    """The CLI reference is generated from code Sphinx does not track: read it again on every build."""
+    return [d for d in ("researcher/cli",) if d in env.found_docs]
+
+
+def setup(app):
+    _plain_cli_help()
+    app.connect("env-get-outdated", _always_reread)
+    # formulas as MathML written at build time: the pages need no MathJax from another host (classroom offline)
+    app.add_html_math_renderer("mathml", (_visit_math, None), (_visit_displaymath, None))
+    app.connect("config-inited", _on_init)  # before the sources are discovered: the generated pages are read
+    app.connect("autodoc-process-docstring", published_docstrings, priority=400)
+    app.connect("build-finished", check_api_coverage)
+    app.connect("missing-reference", resolve_reexport)
+    return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
