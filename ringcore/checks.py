@@ -42,9 +42,11 @@ def check_real(name: str, value, lo=-math.inf, hi=math.inf, *, lo_open=False,
     if math.isinf(lo):
         rng = f"allowed {name} {hi_sym} {_fmt(hi)}" if not math.isinf(hi) else "allowed: any finite number"
     u = f" {unit}" if unit else ""
+    if isinstance(value, (str, bytes)):  # "400" would stay a string in the caller's dataclass
+        raise ValueError(f"{name} = {value!r} is not a number (a string): {rng}")
     try:
         x = float(value)
-    except (TypeError, ValueError):
+    except (TypeError, ValueError, OverflowError):
         raise ValueError(f"{name} = {value!r} is not a number: {rng}") from None
     if isinstance(value, bool):
         raise ValueError(f"{name} = {value!r} is not a number: {rng}")

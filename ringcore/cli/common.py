@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 from .. import params
+from ..ranges import Q0_MIN  # engines refuse stronger self-gravity (see ringcore.ranges)
 from ..units import G
 from ..spec import RunSpec, resolve
 from .errors import UsageError
@@ -60,7 +61,6 @@ def refuse_with(args, dests, reason: str) -> None:
         raise UsageError(f"{', '.join(bad)} {'has' if len(bad) == 1 else 'have'} no effect {reason}")
 
 
-Q0_MIN = 0.1  # engines refuse stronger self-gravity: the ground state collapses within a fraction of an orbit
 
 
 def check_self_gravity(p) -> None:

@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from .. import linear
+from .. import linear, ranges
 from ..checks import check_choice, check_int, check_real
 from ..params import RingParams
 
@@ -72,7 +72,7 @@ def white_noise(p: RingParams, x, L_x_m: float, lambda_min_m: float = 50.0, ampl
     """
     check_real("lambda_min", lambda_min_m, 0.0, L_x_m, lo_open=True, unit="m")
     check_real("amplitude", amplitude, 0.0, 0.1, lo_open=True)
-    seed = check_int("seed", seed, 0, 2**63 - 1)
+    seed = ranges.check("seed", seed)
     mmax = int(math.floor(L_x_m / lambda_min_m + 1e-9))
     m = np.arange(1, mmax + 1)
     k = linear.wavelengths_to_k(p, L_x_m / m)
@@ -95,15 +95,21 @@ def white_noise(p: RingParams, x, L_x_m: float, lambda_min_m: float = 50.0, ampl
 
 
 def make_initial(kind: str, p: RingParams, x, L_x_m: float, **kw):
-    """Dispatch by name (``"ground"``, ``"noise"``, ``"mode"``); keyword arguments as above."""
+    """Dispatch by name (``"ground"``, ``"noise"``, ``"mode"``); keyword arguments as above.
+
+    ``amplitude = None`` (or absent) means the kind's default (noise 1e-4, mode 1e-3); any other
+    value, 0 included, is checked against :mod:`ringcore.ranges` (0 is refused, never replaced)."""
     check_choice("initial", kind, INITIAL_KINDS)
     if kind == "ground":
         return ground(p, len(x))
+    amp = kw.get("amplitude")
     if kind == "noise":
-        return white_noise(p, x, L_x_m, kw.get("lambda_min", 50.0), kw.get("amplitude") or 1e-4,
-                           kw.get("seed", 0))
+        amp = 1e-4 if amp is None else ranges.check("amplitude_noise", amp, "amplitude")
+        lam = kw.get("lambda_min", 50.0)
+        return white_noise(p, x, L_x_m, 50.0 if lam is None else lam, amp, kw.get("seed", 0))
     wl = kw.get("wavelength")
     if wl is None:
         raise ValueError("wavelength = None is not valid for initial = 'mode': give a wavelength in m")
-    return single_mode(p, x, L_x_m, wl, kw.get("direction", "left"), kw.get("amplitude") or 1e-3,
-                       kw.get("phase", 0.0))
+    amp = 1e-3 if amp is None else ranges.check("amplitude_mode", amp, "amplitude")
+    return single_mode(p, x, L_x_m, wl, check_choice("direction", kw.get("direction", "left"), ("left", "right")),
+                       amp, ranges.check("phase", kw.get("phase", 0.0)))

@@ -24,6 +24,7 @@ import time
 
 import numpy as np
 
+from .. import ranges
 from ..checks import check_int, check_real
 from ..engine import BlowUp, SampleHub
 from ..params import RingParams
@@ -42,6 +43,14 @@ FIELD_NAMES = ("sigma", "u", "v", "T")
 TWO_PI = 2.0 * math.pi
 # SSPRK(5,4), flat per stage: input, L slot, Lprev slot, (U index, alpha) x 3, beta_self, beta_prev
 STAGES = tuple((i, li, lp, *terms[0], *terms[1], *terms[2], b1, b2) for i, li, lp, terms, b1, b2 in stage_plan())
+
+
+def _same(a, b) -> bool:
+    """``a is b`` or equal scalars (a default left as is)."""
+    try:
+        return a is b or bool(a == b)
+    except (TypeError, ValueError):
+        return False
 
 
 class HydroBlowUp(BlowUp):
@@ -84,7 +93,7 @@ class Hydro1D(StateIO):
     kind = "hydro"
 
     def __init__(self, params: RingParams, options: HydroOptions | None = None, initial="ground", *,
-                 seed: int = 0, amplitude: float | None = None, lambda_min: float = 50.0,
+                 seed: int | None = None, amplitude: float | None = None, lambda_min: float | None = None,
                  wavelength: float | None = None, direction: str = "left", phase: float = 0.0, state=None,
                  max_samples: int | None = None, max_rows: int | None = None):
         self._allocate(params, options)
@@ -150,7 +159,35 @@ class Hydro1D(StateIO):
         rec.max_rows = None if max_rows is None else check_int("max_rows", max_rows, 2, 10**9)
 
     # ------------------------------------------------------------------ set-up
+    # the keyword arguments each initial kind uses (others given are warned about, never silently dropped)
+    _INITIAL_KW = {"ground": (), "noise": ("seed", "amplitude", "lambda_min"), "state": ("state",),
+                   "mode": ("amplitude", "wavelength", "direction", "phase"), "dataset": ()}
+    _KW_DEFAULTS = {"seed": None, "amplitude": None, "lambda_min": None, "wavelength": None, "direction": "left",
+                    "phase": 0.0, "state": None}
+
     def _set_initial(self, initial, state=None, **kw):
+        kind = initial if isinstance(initial, str) else ("dataset" if hasattr(initial, "data_vars") else None)
+        if kind in self._INITIAL_KW:
+            given = {**kw, "state": state}
+            unused = [k for k, v in given.items() if k not in self._INITIAL_KW[kind] and not _same(v, self._KW_DEFAULTS[k])]
+            if unused:
+                import warnings
+
+                what = ", ".join(k + " = " + (repr(given[k]) if k != "state" else "(arrays)") for k in unused)
+                warnings.warn(f"{what} {'has' if len(unused) == 1 else 'have'} no effect with initial = "
+                              f"{kind!r} (ignored)", UserWarning, stacklevel=3)
+        h2 = 2.0 * self.options.h
+        for k_, who in (("wavelength", "mode"), ("lambda_min", "noise")):
+            if kind == who and kw.get(k_) is not None:
+                try:
+                    check_real(k_, kw[k_], h2, self.options.L_x, unit="m")
+                except ValueError as exc:
+                    if "out of range" not in str(exc):
+                        raise
+                    raise ValueError(f"{exc} (a wave needs at least 2 grid cells, 2 h = {h2:g} m, and must fit "
+                                     f"in the box L_x = {self.options.L_x:g} m)") from None
+        if kind == "noise":
+            kw["seed"] = 0 if kw.get("seed") is None else kw["seed"]
         if isinstance(initial, str) and initial == "state":
             if state is None or len(state) != 4:
                 raise ValueError("state = None is not valid for initial = 'state': give (sigma, u, v, T) arrays")
@@ -331,10 +368,12 @@ class Hydro1D(StateIO):
         if (orbits is None) == (until is None):
             raise ValueError("give exactly one of orbits (duration) or until (end time), in orbits")
         if until is None:
-            until = self.orbits + check_real("orbits", orbits, 0.0, math.inf, unit="orbits")
-        until = check_real("until", until, self.orbits - self.dt_orbits, math.inf, unit="orbits")
+            until = self.orbits + check_real("orbits", orbits, 0.0, ranges.ORBITS_MAX, unit="orbits")
+        until = ranges.check("until", until, lo=self.orbits - self.dt_orbits)
         if max_wall_s is not None:
-            max_wall_s = check_real("max_wall_s", max_wall_s, 0.0, math.inf, unit="s")
+            max_wall_s = ranges.check("max_wall_s", max_wall_s)
+        if max_steps is not None:
+            max_steps = ranges.check("max_steps", max_steps)
         t_end = until * TWO_PI
         ds = TWO_PI / self.options.samples_per_orbit
         k_end = round(t_end / ds) if math.isfinite(t_end) else 0
@@ -353,7 +392,7 @@ class Hydro1D(StateIO):
             if self._k_sample * ds <= self.t:  # bare step() calls went past sample times: resume the grid
                 self._k_sample = math.floor(self.t / ds) + 1
             while self.t < t_end * (1.0 - 1e-15):
-                if max_steps is not None and self._steps - steps0 >= max_steps:
+                if max_steps is not None and self._steps - steps0 >= max_steps:  # (checked >= 1 above)
                     break
                 t_next = min(self._k_sample * ds, t_buf)  # the run's own events only, never t_end
                 cap = t_next - self.t
