@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import json
-import math
 import sys
 
 from .errors import UsageError
@@ -32,15 +31,16 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..checks import check_real
     from ..experiments.checkpoint import kind_of, load_model, run_checkpointed
     from ..io import read_run
     from .errors import is_blowup
 
-    if args.orbits is not None:
-        check_real("--orbits", args.orbits, 0.0, math.inf, lo_open=True, unit="orbits")
-    if args.until is not None:
-        check_real("--until", args.until, 0.0, math.inf, unit="orbits")
+    from .. import ranges
+    from .common import check_flag
+
+    check_flag(args, "orbits")
+    check_flag(args, "until")
+    check_flag(args, "checkpoint_every")
     if not args.file.strip():
         raise UsageError("FILE = '' is not valid: give a run file (ringcore hydro/nbody/sweep)")
     model = load_model(args.file)  # refuses foreign, damaged and non-continuable files
@@ -52,6 +52,14 @@ def run(args) -> int:
     if until < start:
         raise UsageError(f"--until = {until:g} orbits is before the run's time {start:g} orbits: "
                          f"allowed --until >= {start:g} (or give --orbits N to add N orbits)")
+    if until > ranges.ORBITS_MAX:
+        raise UsageError(f"--orbits = {args.orbits:g} from orbit {start:g} ends at orbit {until:g}, out of range: allowed "
+                         f"--orbits <= {ranges.ORBITS_MAX - start:g} ({ranges.RANGES['until'].why})")
+    label = "--orbits" if args.until is None else "--until"
+    if kind == "hydro":
+        model.check_work(until - start, label)
+    else:
+        ranges.check_work(label, until - start, 1.0 / model.options.dt_orbit, model.N, "particles")
     check_output_file(out, overwrite=args.overwrite, label="FILE" if args.out is None else "--out",
                       same_as=args.file)
     kw = dict(out=out, every=args.checkpoint_every, progress=not args.no_progress)

@@ -303,6 +303,21 @@ class Hydro1D(StateIO):
         vmax, numax, rmax = K.compute_rhs(self._U[0], self._W, self._beta, self.gravity.g, self._par, self._L[0])
         return K.stable_dt(vmax, numax, rmax, self.h, int(self._par[K.P_DTMODE]), self._par[K.P_DTFACTOR])
 
+    def estimate_steps(self, orbits: float) -> float:
+        """Steps that ``orbits`` more orbits would take at the time step of the current state (an
+        estimate, without self-gravity, for refusing runs that could not finish; it works on copies
+        of the work arrays, so the run is untouched).  inf if the criterion gives no positive step."""
+        vmax, numax, rmax = K.compute_rhs(self._U[0].copy(), self._W.copy(), self._beta,
+                                          np.zeros_like(self.gravity.g), self._par, self._L[0].copy())
+        dt = K.stable_dt(vmax, numax, rmax, self.h, int(self._par[K.P_DTMODE]), self._par[K.P_DTFACTOR])
+        n = orbits * TWO_PI / dt if dt > 0.0 and math.isfinite(dt) else math.inf
+        return max(n, orbits * self.options.samples_per_orbit)
+
+    def check_work(self, orbits: float, label: str = "orbits") -> None:
+        """ValueError if ``orbits`` more orbits need more than :data:`ringcore.ranges.WORK_MAX`
+        node-steps (a run that could not finish), naming ``label`` and the allowed duration."""
+        ranges.check_work(label, orbits, self.estimate_steps(orbits) / max(orbits, 1e-300), self.n, "nodes")
+
     # ------------------------------------------------------------------ stepping
     def step(self, dt_cap: float = math.inf) -> float:
         """Advance one SSPRK(5,4) step (dt from the criterion, at most ``dt_cap``); returns dt.
@@ -374,6 +389,8 @@ class Hydro1D(StateIO):
             max_wall_s = ranges.check("max_wall_s", max_wall_s)
         if max_steps is not None:
             max_steps = ranges.check("max_steps", max_steps)
+        if until - self.orbits >= 1.0 and max_steps is None and max_wall_s is None and stop is None:
+            self.check_work(until - self.orbits, "orbits" if orbits is not None else "until - orbits")
         t_end = until * TWO_PI
         ds = TWO_PI / self.options.samples_per_orbit
         k_end = round(t_end / ds) if math.isfinite(t_end) else 0
