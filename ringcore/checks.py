@@ -81,7 +81,11 @@ def check_int(name: str, value, lo: int = -(2**62), hi: int = 2**62) -> int:
 def check_choice(name: str, value, choices) -> str:
     """Return ``value`` if it is one of ``choices``; else list the valid ones."""
     choices = list(choices)
-    if value not in choices:
+    try:  # an array or other unhashable/odd object is not a choice (and must not raise elsewhere)
+        ok = isinstance(value, (str, int, float)) and not isinstance(value, bool) and value in choices
+    except Exception:  # pragma: no cover - defensive
+        ok = False
+    if not ok:
         raise ValueError(f"{name} = {value!r} is not valid: choose one of {', '.join(map(str, choices))}")
     return value
 

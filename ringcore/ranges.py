@@ -16,7 +16,8 @@ Where the bounds come from
   bounded: the hydro time-step factor f_t >= 1e-3 (the paper uses 0.1: at most 100x its steps,
   ~6e4 steps per orbit at h = 2.5 m), the N-body step >= 1e-5 orbits (1e5 steps per orbit,
   100x the default) and a checkpoint interval >= 1e-3 orbits (at most 1,000 files per orbit).
-- sigma0 <= 1e4 kg/m^2: the parameter tables are fits to simulations of ~1 m ice particles at
+- sigma0 = 0 (no self-gravity) or >= 1e-3 kg/m^2 (below, self-gravity is negligible and
+  lambda_zero would lie beyond 4.7e7 m, outside a local model), and sigma0 <= 1e4 kg/m^2: the parameter tables are fits to simulations of ~1 m ice particles at
   tau = 1 .. 2, i.e. surface densities of some hundred to ~2,000 kg/m^2 (Saturn's A and B
   rings); besides, the ground state must be gravitationally followable, Q0 >= :data:`Q0_MIN`
   (:func:`sigma0_max`), which is the binding limit for every set (4,000 .. 18,000 kg/m^2).
@@ -34,6 +35,7 @@ from .checks import check_int, check_real
 
 ORBITS_MAX = 1.0e6  # [orbits] longest duration / latest end time of a run
 Q0_MIN = 0.1  # engines and tables: stronger self-gravity collapses the ground state within an orbit
+SIGMA0_MIN = 1.0e-3  # [kg/m^2] smallest non-zero sigma0 (see check_sigma0)
 SEED_MAX = 2**63 - 1  # numpy's default_rng and the N-body generator take 64-bit seeds
 
 
@@ -64,10 +66,11 @@ class Range:
     hi_open: bool = False
     integer: bool = False
 
-    def check(self, value, label: str | None = None, *, lo=None, hi=None):
+    def check(self, value, label: str | None = None, *, lo=None, hi=None, note: str = ""):
         """The value as float (int if ``integer``), or a ValueError naming ``label`` (default
         ``name``), the value, the allowed range and :attr:`why`.  ``lo``/``hi`` narrow the bounds
-        for a value that depends on other inputs (e.g. h <= L_x / 16)."""
+        for a value that depends on other inputs (e.g. h <= L_x / 16); ``note`` says which (shown
+        when out of range)."""
         label = label or self.name
         a = self.lo if lo is None else max(self.lo, lo)
         b = self.hi if hi is None else min(self.hi, hi)
@@ -79,8 +82,9 @@ class Range:
             return check_real(label, value, a, b, lo_open=self.lo_open and lo is None,
                               hi_open=self.hi_open and hi is None, unit=self.unit)
         except ValueError as exc:
-            if self.why and "out of range" in str(exc):
-                raise ValueError(f"{exc} ({self.why})") from None
+            if "out of range" in str(exc):
+                why = "; ".join(w for w in (note, self.why) if w)
+                raise ValueError(f"{exc} ({why})" if why else str(exc)) from None
             raise
 
     def record(self) -> dict:
@@ -138,6 +142,9 @@ _RANGES = (
     Range("fill_fraction", 0.0, 1.0, "", "filled radial fraction of the box", lo_open=True),
     Range("v_init", 0.0, 1.0, "m/s", "initial velocity dispersion (ring particles: mm/s)"),
     Range("seed_amplitude", -1.0e3, 1.0e3, "R_p Omega", "amplitude of a seeded velocity wave"),
+    # linear theory
+    Range("wavelength_m", 1.0e-3, 1.0e9, "m", "the local (shearing-sheet) theory: from particle size far below "
+          "the 1 m particles to far beyond any overstable wave, well below the orbital radius"),
     # analysis
     Range("last_fraction", 0.0, 1.0, "", "fraction of the run at its end", lo_open=True),
     Range("workers", 1, 512, "", "worker processes of a local sweep", integer=True),
@@ -154,9 +161,11 @@ def get(name: str) -> Range:
         raise ValueError(f"range {name!r} is not known: choose one of {', '.join(RANGES)}") from None
 
 
-def check(name: str, value, label: str | None = None, *, lo=None, hi=None):
-    """Validate ``value`` against range ``name`` (see :meth:`Range.check`); returns the value."""
-    return get(name).check(value, label, lo=lo, hi=hi)
+def check(name: str, value, label: str | None = None, *, lo=None, hi=None, note: str = ""):
+    """Validate ``value`` against range ``name`` (see :meth:`Range.check`); returns the value.
+
+    This is also the function the web app calls for its controls and settings uploads."""
+    return get(name).check(value, label, lo=lo, hi=hi, note=note)
 
 
 def sigma0_max(Omega: float, c0: float) -> float:
@@ -168,13 +177,19 @@ def sigma0_max(Omega: float, c0: float) -> float:
 
 
 def check_sigma0(sigma0, Omega: float, c0: float, label: str = "sigma0", set_name: str = "") -> float:
-    """``sigma0`` [kg/m^2] within 0 .. :func:`sigma0_max`; the message says which limit binds and why."""
+    """``sigma0`` [kg/m^2]: 0 (no self-gravity) or :data:`SIGMA0_MIN` .. :func:`sigma0_max`; the message
+    says which limit binds and why."""
     from .units import G
 
     s_max = sigma0_max(Omega, c0)
     x = check_real(label, sigma0, 0.0, s_max, unit="kg/m^2") if not isinstance(sigma0, (int, float)) or \
         isinstance(sigma0, bool) or not math.isfinite(sigma0) or sigma0 < 0 else float(sigma0)
     x += 0.0  # -0.0 -> 0.0 (no self-gravity either way)
+    if 0.0 < x < SIGMA0_MIN:
+        raise ValueError(f"{label} = {x:g} kg/m^2 is out of range: allowed {label} = 0 (no self-gravity) or "
+                         f"{SIGMA0_MIN:g} <= {label} <= {s_max:.0f} kg/m^2 (below {SIGMA0_MIN:g} kg/m^2 self-gravity is "
+                         "negligible: lambda_zero ~ 47 km x (1 kg/m^2 / sigma0) would exceed 4.7e7 m, far beyond a "
+                         "local model; give 0 to switch it off)")
     if x > s_max:
         of = f" for set {set_name!r}" if set_name else ""
         q0 = Omega * c0 / (math.pi * G * x)

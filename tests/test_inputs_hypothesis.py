@@ -271,9 +271,26 @@ def stubbed(tmp_path_factory):
     def stop(*a, **k):
         raise Reached("validation passed")
 
+    import ringcore.hydro
+    import ringcore.nbody
+
+    class BigHydro(Hydro1D):  # a valid large box: building its initial state is work, not validation
+        def __init__(self, p, opt=None, *a, **k):
+            if opt is not None and opt.n > 20000:
+                raise Reached("validation passed (large grid)")
+            super().__init__(p, opt, *a, **k)
+
+    class BigBox(ShearingBox):
+        def __init__(self, p, o=None, *a, **k):
+            if o is not None and p.tau * o.fill_fraction * o.L_x * o.L_y / (math.pi * o.R_p ** 2) > 1e5:
+                raise Reached("validation passed (large box)")
+            super().__init__(p, o, *a, **k)
+
     mp = pytest.MonkeyPatch()
     mp.setattr(checkpoint, "run_checkpointed", stop)
     mp.setattr(sweep, "run_sweep", stop)
+    mp.setattr(ringcore.hydro, "Hydro1D", BigHydro)
+    mp.setattr(ringcore.nbody, "ShearingBox", BigBox)
     yield d
     mp.undo()
 

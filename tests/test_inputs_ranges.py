@@ -81,8 +81,11 @@ def test_lambda_zero_at_weak_self_gravity_matches_the_small_k_expansion(sigma0):
     assert lz * sigma0 == pytest.approx(47257.7, rel=1e-4)
 
 
-def test_lambda_zero_beyond_the_local_limit_is_none():
-    assert math.isnan(linear.lambda_zero(params.get("tau15", sigma0=1e-4)))  # ~4.7e8 m > 1e7 m
+def test_lambda_zero_beyond_the_local_limit_is_none_and_tiny_sigma0_refused():
+    assert math.isnan(linear.lambda_zero(params.get("tau15", sigma0=2e-3)))  # ~2.4e7 m > 1e7 m
+    for s in (5e-324, 1e-308, 1e-4):
+        with pytest.raises(ValueError, match=r"sigma0 = .* allowed sigma0 = 0 \(no self-gravity\) or 0.001 <="):
+            params.get("tau15", sigma0=s)
 
 
 # ------------------------------------------------------------------ hangs and overflows (issue: absurd numbers)

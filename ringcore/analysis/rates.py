@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal, stats
 
-from ..checks import check_real
+from ..checks import check_int, check_real
 
 
 @dataclass(frozen=True)
@@ -81,8 +81,11 @@ def lomb_frequency(t, y, fmin: float, fmax: float, n: int = 20000) -> Fit:
         and an uncertainty: the half width at half maximum of the peak divided by
         sqrt(number of samples) (a conservative resolution-based estimate).
     """
-    check_real("fmin", fmin, 0.0, np.inf, lo_open=True)
-    check_real("fmax", fmax, fmin, np.inf, lo_open=True)
+    fmin = check_real("fmin", fmin, 0.0, np.inf, lo_open=True)
+    fmax = check_real("fmax", fmax, 0.0, np.inf, lo_open=True)
+    if not fmax > fmin:
+        raise ValueError(f"fmin = {fmin:g}, fmax = {fmax:g} are not valid: allowed 0 < fmin < fmax")
+    n = check_int("n", n, 3, 10**8)
     t, y = _window(t, y, None)
     w = np.linspace(fmin, fmax, int(n))
     P = signal.lombscargle(t, y - y.mean(), w, normalize=True)

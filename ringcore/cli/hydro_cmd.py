@@ -97,7 +97,10 @@ def check_numbers(args) -> None:
     """Every numeric option of a new run within :mod:`ringcore.ranges`, named as its flag."""
     check_ring_flags(args)
     lx = check_flag(args, "lx", "L_x")
-    h = check_flag(args, "h", hi=lx / 16.0)
+    h = check_flag(args, "h")
+    if lx < 16.0 * h:
+        raise UsageError(f"--lx = {lx:g} m is out of range for --h = {h:g} m: allowed --lx >= 16 --h = {16 * h:g} m "
+                         "(at least 16 nodes)")
     check_flag(args, "seed")
     if args.amplitude is not None and args.init in ("noise", "mode"):
         check_flag(args, "amplitude", f"amplitude_{args.init}")

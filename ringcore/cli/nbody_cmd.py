@@ -99,7 +99,7 @@ def check_numbers(args) -> None:
     """Every numeric option of a new box within :mod:`ringcore.ranges`, named as its flag."""
     R_p = check_flag(args, "R_p")
     for dest in ("L_x", "L_y"):
-        check_flag(args, dest, lo=6.0 * R_p)
+        check_flag(args, dest, lo=6.0 * R_p, note=f"at least 6 --R-p, --R-p = {R_p:g} m")
     check_flag(args, "epsilon")
     dt = check_flag(args, "dt", "dt_orbit")
     check_flag(args, "seed")
@@ -109,6 +109,11 @@ def check_numbers(args) -> None:
     check_flag(args, "fill_fraction")
     check_flag(args, "record_every", lo=dt)
     check_flag(args, "profile_every")
+    n = params.get(args.set).tau * args.fill_fraction * args.L_x * args.L_y / (math.pi * R_p ** 2)
+    if not 0.5 <= n <= 1e8:
+        raise UsageError(f"--fill-fraction, --L-x, --L-y, --R-p = {args.fill_fraction:g}, {args.L_x:g} m, {args.L_y:g} m, "
+                         f"{R_p:g} m give N = tau F L_x L_y / (pi R_p^2) = {n:.3g} particles: out of range, allowed "
+                         "1 <= N <= 1e8")
 
 
 def estimate_bytes(n: float, orbits: float, o) -> tuple:

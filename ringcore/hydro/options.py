@@ -73,7 +73,10 @@ class HydroOptions:
 
     def __post_init__(self):
         L_x = ranges.check("L_x", self.L_x)
-        h = ranges.check("h", self.h, hi=L_x / 16.0)
+        h = ranges.check("h", self.h)
+        if L_x < 16.0 * h:
+            raise ValueError(f"L_x = {L_x:g} m is out of range for h = {h:g} m: allowed L_x >= 16 h = {16 * h:g} m "
+                             "(at least 16 nodes)")
         ratio = L_x / h
         if abs(ratio - round(ratio)) > 1e-9 * ratio:
             raise ValueError(f"L_x/h = {ratio:g} is not an integer: allowed L_x = n h with integer n >= 16 "

@@ -202,7 +202,17 @@ class Hydro1D(StateIO):
         else:
             raise ValueError(f"initial = {initial!r} is not valid: choose one of "
                              f"{', '.join(INITIAL_KINDS + ('state',))} or an xarray.Dataset")
-        self.set_state(*prim)
+        try:
+            self.set_state(*prim)
+        except ValueError as exc:
+            if kind not in ("noise", "mode"):
+                raise
+            amp = kw.get("amplitude") or (1e-4 if kind == "noise" else 1e-3)
+            what = (f"lambda_min = {kw.get('lambda_min') or 50.0:g} m" if kind == "noise" else
+                    f"wavelength = {kw.get('wavelength'):g} m")
+            raise ValueError(f"amplitude = {amp:g} is too large for initial = {kind!r} ({what}, beta = "
+                             f"{self.params.beta:g}, p_s = {self.params.p_s:g}): {exc}; allowed: a smaller amplitude"
+                             ) from None
 
     def set_state(self, sigma, u, v, T=None):
         """Replace the state by dimensionless primitive arrays of length n (T ignored if isothermal)."""

@@ -87,10 +87,10 @@ class ShearingBox:
         self.rng = np.random.default_rng(self.seed)
         if state is None:
             n_real = params.tau * o.fill_fraction * o.L_x * o.L_y / (math.pi * o.R_p**2)
-            if not n_real <= 1e8:  # before int(): a huge box must not overflow
-                raise ValueError(f"N = tau fill_fraction L_x L_y / (pi R_p^2) = {n_real:.3g} particles (L_x = "
-                                 f"{o.L_x:g} m, L_y = {o.L_y:g} m, R_p = {o.R_p:g} m) is out of range: allowed "
-                                 "1 <= N <= 1e8 (use a smaller box or larger particles)")
+            if not 0.5 <= n_real <= 1e8:  # before int(): a huge box must not overflow
+                raise ValueError(f"N = tau fill_fraction L_x L_y / (pi R_p^2) = {n_real:.3g} particles (tau = "
+                                 f"{params.tau:g}, fill_fraction = {o.fill_fraction:g}, L_x = {o.L_x:g} m, L_y = "
+                                 f"{o.L_y:g} m, R_p = {o.R_p:g} m) is out of range: allowed 1 <= N <= 1e8")
             n = int(round(n_real))
             check_int("N (from tau, L_x, L_y, R_p)", n, 1, 10**8)
             pos, vel = initial.uniform_state(self.rng, n, self.L_x, self.L_y, params.tau,

@@ -77,8 +77,8 @@ class NBodyOptions:
     def __post_init__(self):
         R_p = ranges.check("R_p", self.R_p)
         fl = {"R_p": R_p,
-              "L_x": ranges.check("L_x", self.L_x, lo=6.0 * R_p),
-              "L_y": ranges.check("L_y", self.L_y, lo=6.0 * R_p)}
+              "L_x": ranges.check("L_x", self.L_x, lo=6.0 * R_p, note=f"at least 6 R_p, R_p = {R_p:g} m"),
+              "L_y": ranges.check("L_y", self.L_y, lo=6.0 * R_p, note=f"at least 6 R_p, R_p = {R_p:g} m")}
         check_choice("restitution", self.restitution, RESTITUTION_LAWS)
         fl["epsilon"] = ranges.check("epsilon", self.epsilon)
         fl["v_c"] = check_real("v_c", self.v_c, 0.0, 1.0, lo_open=True, unit="m/s")
@@ -93,7 +93,8 @@ class NBodyOptions:
             raise ValueError(f"n_bins = {self.n_bins} is out of range: allowed 0 (auto) or "
                              f"{4 * self.m_hi} <= n_bins (4 x highest mode {self.m_hi})")
         object.__setattr__(self, "n_zones", check_int("n_zones", self.n_zones, 0, 10**6))
-        fl["record_every"] = ranges.check("record_every", self.record_every, lo=fl["dt_orbit"])
+        fl["record_every"] = ranges.check("record_every", self.record_every, lo=fl["dt_orbit"],
+                                          note=f"at least one step, dt_orbit = {fl['dt_orbit']:g} orbits")
         fl["profile_every"] = ranges.check("profile_every", self.profile_every)
         fl["v_init"] = ranges.check("v_init", self.v_init)
         fl["fill_fraction"] = ranges.check("fill_fraction", self.fill_fraction)
