@@ -15,7 +15,7 @@ def _fmt(x) -> str:
 
 
 def check_real(name: str, value, lo=-math.inf, hi=math.inf, *, lo_open=False,
-               hi_open=False, unit: str = "") -> float:
+               hi_open=False, unit: str = "", allow_str: bool = True) -> float:
     """Return ``float(value)`` if it is finite and within the interval.
 
     Parameters
@@ -28,6 +28,9 @@ def check_real(name: str, value, lo=-math.inf, hi=math.inf, *, lo_open=False,
         Interval bounds; ``lo_open``/``hi_open`` make them exclusive.
     unit : str
         Unit shown after the value, e.g. ``"kg/m^2"``.
+    allow_str : bool
+        Parse a numeric string (text input, e.g. a list typed in a form); False at the Python API,
+        where a string given for a number is refused (:mod:`ringcore.ranges` checks that way).
 
     Raises
     ------
@@ -42,7 +45,7 @@ def check_real(name: str, value, lo=-math.inf, hi=math.inf, *, lo_open=False,
     if math.isinf(lo):
         rng = f"allowed {name} {hi_sym} {_fmt(hi)}" if not math.isinf(hi) else "allowed: any finite number"
     u = f" {unit}" if unit else ""
-    if isinstance(value, (str, bytes)):  # "400" would stay a string in the caller's dataclass
+    if isinstance(value, bytes) or (isinstance(value, str) and not allow_str):  # never kept as a string
         raise ValueError(f"{name} = {value!r} is not a number (a string): {rng}")
     try:
         x = float(value)

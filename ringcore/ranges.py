@@ -12,6 +12,8 @@ Where the bounds come from
   took 5 h on one core; 1e6 orbits at the paper's step is about two weeks of one core for the
   default hydro box, and any longer duration cannot finish in a working lifetime (1e308 would
   never end and its step count overflows).
+  With a wall-time budget (``advance(..., max_wall_s=...)``, the app's live runs) the call ends
+  anyway: there up to :data:`OPEN_END_ORBITS` orbits may be asked for.
 - Step factors and intervals have a floor so that the number of steps or files per orbit stays
   bounded: the hydro time-step factor f_t >= 1e-3 (the paper uses 0.1: at most 100x its steps,
   ~6e4 steps per orbit at h = 2.5 m), the N-body step >= 1e-5 orbits (1e5 steps per orbit,
@@ -34,6 +36,7 @@ from dataclasses import dataclass
 from .checks import check_int, check_real
 
 ORBITS_MAX = 1.0e6  # [orbits] longest duration / latest end time of a run
+OPEN_END_ORBITS = 1.0e12  # [orbits] duration allowed with a wall-time budget (live runs: "until stopped")
 Q0_MIN = 0.1  # engines and tables: stronger self-gravity collapses the ground state within an orbit
 SIGMA0_MIN = 1.0e-3  # [kg/m^2] smallest non-zero sigma0 (see check_sigma0)
 SEED_MAX = 2**63 - 1  # numpy's default_rng and the N-body generator take 64-bit seeds
@@ -80,7 +83,7 @@ class Range:
                     raise ValueError(f"{label} = {value!r} is not an integer: allowed {int(a)} <= {label} <= {int(b)}")
                 return check_int(label, value, int(math.ceil(a)), int(math.floor(b)))
             return check_real(label, value, a, b, lo_open=self.lo_open and lo is None,
-                              hi_open=self.hi_open and hi is None, unit=self.unit)
+                              hi_open=self.hi_open and hi is None, unit=self.unit, allow_str=False)
         except ValueError as exc:
             if "out of range" in str(exc):
                 why = "; ".join(w for w in (note, self.why) if w)
@@ -182,7 +185,7 @@ def check_sigma0(sigma0, Omega: float, c0: float, label: str = "sigma0", set_nam
     from .units import G
 
     s_max = sigma0_max(Omega, c0)
-    x = check_real(label, sigma0, 0.0, s_max, unit="kg/m^2") if not isinstance(sigma0, (int, float)) or \
+    x = check_real(label, sigma0, 0.0, s_max, unit="kg/m^2", allow_str=False) if not isinstance(sigma0, (int, float)) or \
         isinstance(sigma0, bool) or not math.isfinite(sigma0) or sigma0 < 0 else float(sigma0)
     x += 0.0  # -0.0 -> 0.0 (no self-gravity either way)
     if 0.0 < x < SIGMA0_MIN:

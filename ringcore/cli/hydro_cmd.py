@@ -101,6 +101,10 @@ def check_numbers(args) -> None:
     if lx < 16.0 * h:
         raise UsageError(f"--lx = {lx:g} m is out of range for --h = {h:g} m: allowed --lx >= 16 --h = {16 * h:g} m "
                          "(at least 16 nodes)")
+    ratio = lx / h
+    if abs(ratio - round(ratio)) > 1e-9 * ratio:
+        raise UsageError(f"--lx / --h = {lx:g} m / {h:g} m = {ratio:g} is not an integer: allowed --lx = n --h with "
+                         "integer n >= 16 (whole grid cells)")
     check_flag(args, "seed")
     if args.amplitude is not None and args.init in ("noise", "mode"):
         check_flag(args, "amplitude", f"amplitude_{args.init}")

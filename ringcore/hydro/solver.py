@@ -392,9 +392,10 @@ class Hydro1D(StateIO):
         """
         if (orbits is None) == (until is None):
             raise ValueError("give exactly one of orbits (duration) or until (end time), in orbits")
+        cap = ranges.ORBITS_MAX if max_wall_s is None else ranges.OPEN_END_ORBITS  # a wall budget ends the call
         if until is None:
-            until = self.orbits + check_real("orbits", orbits, 0.0, ranges.ORBITS_MAX, unit="orbits")
-        until = ranges.check("until", until, lo=self.orbits - self.dt_orbits)
+            until = self.orbits + check_real("orbits", orbits, 0.0, cap, unit="orbits")
+        until = check_real("until", until, self.orbits - self.dt_orbits, max(cap, self.orbits), unit="orbits")
         if max_wall_s is not None:
             max_wall_s = ranges.check("max_wall_s", max_wall_s)
         if max_steps is not None:

@@ -310,10 +310,12 @@ class ShearingBox:
         """
         if (orbits is None) == (until is None):
             raise ValueError("give exactly one of orbits (duration) or until (end time), in orbits")
+        cap = ranges.ORBITS_MAX if max_wall_s is None else ranges.OPEN_END_ORBITS  # a wall budget ends the call
         if until is not None:
-            orbits = ranges.check("until", until, lo=self.orbits - 0.5 * self.options.dt_orbit) - self.orbits
+            orbits = check_real("until", until, self.orbits - 0.5 * self.options.dt_orbit, max(cap, self.orbits),
+                                unit="orbits") - self.orbits
             orbits = max(orbits, 0.0)  # an end time passed by less than half a step: nothing to do
-        orbits = check_real("orbits", orbits, 0.0, ranges.ORBITS_MAX, unit="orbits")
+        orbits = check_real("orbits", orbits, 0.0, cap, unit="orbits")
         deadline = None
         if max_wall_s is not None:
             deadline = time.perf_counter() + ranges.check("max_wall_s", max_wall_s)
