@@ -230,18 +230,21 @@ def test_nan_in_a_loaded_series_is_refused_with_the_variable_named(tmp_path):
         validate_run(ds, source="x.nc")
 
 
-def test_string_parameter_in_a_run_file_is_a_named_error():
+def test_string_parameter_in_a_run_file_is_a_named_error(tmp_path):
     import json
 
-    from ringcore.io import RunFileError, validate_run
+    from ringcore.io import RunFileError, stamp_run, validate_run
 
     sim = Hydro1D(params.get("tau15", sigma0=400), SMALL_HYDRO, initial="ground")
     ds = sim.to_dataset()
     d = json.loads(ds.attrs["params_json"])
     d["sigma0"] = "400"
     ds.attrs["params_json"] = json.dumps(d)
-    for k in ("state_sha256", "state_checksums"):
-        ds.attrs.pop(k, None)
+    ds = stamp_run(ds, "hydro")  # checksummed as written: the checksum matches, the value is still refused
     with pytest.raises(RunFileError, match=r"params_json .*sigma0 = '400' is not a number"):
         validate_run(ds, source="x.nc")
+    path = tmp_path / "s.nc"
+    ds.to_netcdf(path, engine="h5netcdf")
+    rc, _, err = cli(["resume", path, "--orbits", "1"])
+    assert rc == 2 and "sigma0 = '400'" in err and len(err.strip().splitlines()) == 1, err
     assert isinstance(xr.Dataset(), xr.Dataset)

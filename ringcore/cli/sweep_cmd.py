@@ -107,9 +107,16 @@ def tasks_of(args) -> list:
         if args.h > 0 and 2 * args.h > lam:
             raise UsageError(f"--h = {args.h:g} m: the sweep's noise reaches down to {lam:g} m, below 2 grid cells "
                              f"(2 h = {2 * args.h:g} m); allowed --h <= {lam / 2:g} m")
+    from ..checks import check_choice
+    from .. import params as _params
+
+    check_choice("--set", args.set, _params.SET_NAMES)
+    p0 = _params.get(args.set)
+    ps_values = [ranges.check("ps_scale", v, "--ps-scale") for v in parse_values("ps-scale", args.ps_scale)]
+    s_values = [ranges.check_sigma0(v, p0.Omega, p0.c0, "--sigma0", args.set) for v in parse_values("sigma0", args.sigma0)]
     tasks = []
-    for ps in parse_values("ps-scale", args.ps_scale):
-        for s in parse_values("sigma0", args.sigma0):
+    for ps in ps_values:
+        for s in s_values:
             t = {"engine": args.engine, "set": args.set, "sigma0": s, "ps_scale": ps,
                  "isothermal": bool(args.isothermal), "seed": args.seed}
             for k in ("lx", "h", "orbits"):
