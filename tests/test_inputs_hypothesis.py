@@ -29,7 +29,7 @@ from hypothesis import given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 from ringcore import linear, params, ranges  # noqa: E402
-from ringcore.analysis import rates, spectra  # noqa: E402
+from ringcore.analysis import rates, saturation, spectra  # noqa: E402
 from ringcore.analysis.summary import series_summary  # noqa: E402
 from ringcore.cli.main import main  # noqa: E402
 from ringcore.hydro import Hydro1D, HydroOptions  # noqa: E402
@@ -236,8 +236,11 @@ ANALYSIS_CALLS = {
     "fmin": lambda v: rates.lomb_frequency(T, np.sin(T), v, 2.0, n=200),
     "fmax": lambda v: rates.lomb_frequency(T, np.sin(T), 0.1, v, n=200),
     "last_fraction": lambda v: series_summary(T, np.ones(50), np.ones(50), v),
+    "window": lambda v: rates.growth_rate(T, np.exp(0.1 * T), (v, 8.0)),
+    "C": lambda v: saturation.lambda_p_approx(P400, v),
+    "F2": lambda v: saturation.lambda_zero_approx(P400, v),
 }
-ANALYSIS_NAMES = {"eigenmode wavelength_m": ("wavelength_m",), "prevalent L_x": ("L_x",)}
+ANALYSIS_NAMES = {"eigenmode wavelength_m": ("wavelength_m",), "prevalent L_x": ("L_x",), "window": ("window",)}
 
 
 @given(which=st.sampled_from(sorted(ANALYSIS_CALLS)), value=VALUES)

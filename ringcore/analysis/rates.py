@@ -30,7 +30,10 @@ def _window(t, y, window):
     if t.shape != y.shape or t.ndim != 1:
         raise ValueError(f"t and the signal must be 1-d arrays of equal length, got {t.shape} and {y.shape}")
     if window is not None:
-        lo, hi = window
+        if isinstance(window, (str, bytes)) or not hasattr(window, "__len__") or len(window) != 2:
+            raise ValueError(f"window = {window!r} is not valid: give (t_start, t_end) in the units of t")
+        lo = check_real("window start", window[0], allow_str=False)
+        hi = check_real("window end", window[1], lo, allow_str=False)
         sel = (t >= lo) & (t <= hi)
         t, y = t[sel], y[sel]
     if t.size < 4:

@@ -133,6 +133,8 @@ def _build(args):
         o = NBodyOptions(**json.loads(ds.attrs.get("options_json", "{}")))
         mem, size = estimate_bytes(n, args.equilibrate + args.orbits, o)
         check_memory(f"continuing {args.from_file} ({n} particles)", mem, "use fewer --orbits")
+        ranges.check_work("--equilibrate + --orbits" if args.equilibrate else "--orbits", args.equilibrate + args.orbits,
+                          1.0 / o.dt_orbit, n, "particles")
         check_output_file(args.out, overwrite=args.overwrite, size=size)
         if args.sigma0 is not None:
             from ..params import RingParams
