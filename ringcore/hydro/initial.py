@@ -113,3 +113,54 @@ def make_initial(kind: str, p: RingParams, x, L_x_m: float, **kw):
     amp = 1e-3 if amp is None else ranges.check("amplitude_mode", amp, "amplitude")
     return single_mode(p, x, L_x_m, wl, check_choice("direction", kw.get("direction", "left"), ("left", "right")),
                        amp, ranges.check("phase", kw.get("phase", 0.0)))
+
+
+# the keyword arguments each initial kind uses (others given are warned about, never silently dropped)
+_INITIAL_KW = {"ground": (), "noise": ("seed", "amplitude", "lambda_min"), "state": ("state",),
+               "mode": ("amplitude", "wavelength", "direction", "phase"), "dataset": ()}
+_KW_DEFAULTS = {"seed": None, "amplitude": None, "lambda_min": None, "wavelength": None, "direction": "left",
+                "phase": 0.0, "state": None}
+
+
+def _same(a, b) -> bool:
+    """``a is b`` or equal scalars (a default left as is)."""
+    try:
+        return a is b or bool(a == b)
+    except (TypeError, ValueError):
+        return False
+
+
+def check_initial_arguments(kind, L_x_m: float, h_m: float, kw: dict, state=None) -> None:
+    """Before an initial state is built: warn about arguments that ``kind`` does not use (a
+    ``UserWarning`` naming them), refuse wavelengths the grid cannot carry (below 2 h) or the box
+    cannot hold, and fill in ``kw["seed"] = 0`` for noise when none was given."""
+    if kind in _INITIAL_KW:
+        given = {**kw, "state": state}
+        unused = [k for k, v in given.items() if k not in _INITIAL_KW[kind] and not _same(v, _KW_DEFAULTS[k])]
+        if unused:
+            import warnings
+
+            what = ", ".join(k + " = " + (repr(given[k]) if k != "state" else "(arrays)") for k in unused)
+            warnings.warn(f"{what} {'has' if len(unused) == 1 else 'have'} no effect with initial = "
+                          f"{kind!r} (ignored)", UserWarning, stacklevel=4)
+    h2 = 2.0 * h_m
+    for key, who in (("wavelength", "mode"), ("lambda_min", "noise")):
+        if kind == who and kw.get(key) is not None:
+            try:
+                check_real(key, kw[key], h2, L_x_m, unit="m", allow_str=False)
+            except ValueError as exc:
+                if "out of range" not in str(exc):
+                    raise
+                raise ValueError(f"{exc} (a wave needs at least 2 grid cells, 2 h = {h2:g} m, and must fit "
+                                 f"in the box L_x = {L_x_m:g} m)") from None
+    if kind == "noise":
+        kw["seed"] = 0 if kw.get("seed") is None else kw["seed"]
+
+
+def amplitude_too_large(kind: str, kw: dict, p: RingParams, exc: Exception) -> str:
+    """The message when the perturbation of ``kind`` makes sigma or T non-positive: it names the amplitude."""
+    amp = kw.get("amplitude") or (1e-4 if kind == "noise" else 1e-3)
+    what = (f"lambda_min = {kw.get('lambda_min') or 50.0:g} m" if kind == "noise" else
+            f"wavelength = {kw.get('wavelength'):g} m")
+    return (f"amplitude = {amp:g} is too large for initial = {kind!r} ({what}, beta = {p.beta:g}, "
+            f"p_s = {p.p_s:g}): {exc}; allowed: a smaller amplitude")

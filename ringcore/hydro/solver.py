@@ -33,7 +33,7 @@ from . import kernels as K
 from .convert import cons_to_prim
 from .diagnostics import Recorder, e_kin, prevalent_wavelength, psd
 from .gravity import SelfGravity
-from .initial import INITIAL_KINDS, make_initial
+from .initial import INITIAL_KINDS, amplitude_too_large, check_initial_arguments, make_initial
 from .state_io import StateIO
 from .options import HydroOptions
 from .timestep import stage_plan
@@ -43,14 +43,6 @@ FIELD_NAMES = ("sigma", "u", "v", "T")
 TWO_PI = 2.0 * math.pi
 # SSPRK(5,4), flat per stage: input, L slot, Lprev slot, (U index, alpha) x 3, beta_self, beta_prev
 STAGES = tuple((i, li, lp, *terms[0], *terms[1], *terms[2], b1, b2) for i, li, lp, terms, b1, b2 in stage_plan())
-
-
-def _same(a, b) -> bool:
-    """``a is b`` or equal scalars (a default left as is)."""
-    try:
-        return a is b or bool(a == b)
-    except (TypeError, ValueError):
-        return False
 
 
 class HydroBlowUp(BlowUp):
@@ -159,35 +151,9 @@ class Hydro1D(StateIO):
         rec.max_rows = None if max_rows is None else check_int("max_rows", max_rows, 2, 10**9)
 
     # ------------------------------------------------------------------ set-up
-    # the keyword arguments each initial kind uses (others given are warned about, never silently dropped)
-    _INITIAL_KW = {"ground": (), "noise": ("seed", "amplitude", "lambda_min"), "state": ("state",),
-                   "mode": ("amplitude", "wavelength", "direction", "phase"), "dataset": ()}
-    _KW_DEFAULTS = {"seed": None, "amplitude": None, "lambda_min": None, "wavelength": None, "direction": "left",
-                    "phase": 0.0, "state": None}
-
     def _set_initial(self, initial, state=None, **kw):
         kind = initial if isinstance(initial, str) else ("dataset" if hasattr(initial, "data_vars") else None)
-        if kind in self._INITIAL_KW:
-            given = {**kw, "state": state}
-            unused = [k for k, v in given.items() if k not in self._INITIAL_KW[kind] and not _same(v, self._KW_DEFAULTS[k])]
-            if unused:
-                import warnings
-
-                what = ", ".join(k + " = " + (repr(given[k]) if k != "state" else "(arrays)") for k in unused)
-                warnings.warn(f"{what} {'has' if len(unused) == 1 else 'have'} no effect with initial = "
-                              f"{kind!r} (ignored)", UserWarning, stacklevel=3)
-        h2 = 2.0 * self.options.h
-        for k_, who in (("wavelength", "mode"), ("lambda_min", "noise")):
-            if kind == who and kw.get(k_) is not None:
-                try:
-                    check_real(k_, kw[k_], h2, self.options.L_x, unit="m")
-                except ValueError as exc:
-                    if "out of range" not in str(exc):
-                        raise
-                    raise ValueError(f"{exc} (a wave needs at least 2 grid cells, 2 h = {h2:g} m, and must fit "
-                                     f"in the box L_x = {self.options.L_x:g} m)") from None
-        if kind == "noise":
-            kw["seed"] = 0 if kw.get("seed") is None else kw["seed"]
+        check_initial_arguments(kind, self.options.L_x, self.options.h, kw, state)
         if isinstance(initial, str) and initial == "state":
             if state is None or len(state) != 4:
                 raise ValueError("state = None is not valid for initial = 'state': give (sigma, u, v, T) arrays")
@@ -207,12 +173,7 @@ class Hydro1D(StateIO):
         except ValueError as exc:
             if kind not in ("noise", "mode"):
                 raise
-            amp = kw.get("amplitude") or (1e-4 if kind == "noise" else 1e-3)
-            what = (f"lambda_min = {kw.get('lambda_min') or 50.0:g} m" if kind == "noise" else
-                    f"wavelength = {kw.get('wavelength'):g} m")
-            raise ValueError(f"amplitude = {amp:g} is too large for initial = {kind!r} ({what}, beta = "
-                             f"{self.params.beta:g}, p_s = {self.params.p_s:g}): {exc}; allowed: a smaller amplitude"
-                             ) from None
+            raise ValueError(amplitude_too_large(kind, kw, self.params, exc)) from None
 
     def set_state(self, sigma, u, v, T=None):
         """Replace the state by dimensionless primitive arrays of length n (T ignored if isothermal)."""
