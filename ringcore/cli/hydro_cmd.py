@@ -4,7 +4,7 @@ from __future__ import annotations
 import math
 import sys
 
-from .. import params
+from .. import params, ranges
 from ..checks import check_choice, check_int, check_real
 from .common import (add_ring_arguments, check_flag, check_ring_flags, check_self_gravity, flag,
                      ring_params_from_args, refuse_with)
@@ -165,6 +165,9 @@ def run(args) -> int:
             dict(amplitude=args.amplitude, wavelength=args.wavelength, direction=args.direction) \
             if args.init == "mode" else {}
         sim = Hydro1D(p, opt, initial=args.init, **kw)
+    if sim.orbits + args.orbits > ranges.ORBITS_MAX:
+        raise UsageError(f"--orbits = {args.orbits:.7g} from orbit {sim.orbits:.10g} of {args.init} ends beyond orbit "
+                         f"{ranges.ORBITS_MAX:g}: allowed --orbits <= {ranges.ORBITS_MAX - sim.orbits:.10g}")
     sim.check_work(args.orbits, "--orbits")
     try:
         run_checkpointed(sim, args.orbits, out=args.out, every=args.checkpoint_every,

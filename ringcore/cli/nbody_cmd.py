@@ -171,6 +171,9 @@ def run(args) -> int:
 
     check_options(args)
     box = _build(args)
+    if box.orbits + args.equilibrate + args.orbits > ranges.ORBITS_MAX:
+        raise UsageError(f"--orbits = {args.orbits:.7g} from orbit {box.orbits:.10g} of {args.from_file} ends beyond orbit "
+                         f"{ranges.ORBITS_MAX:g}: allowed --equilibrate + --orbits <= {ranges.ORBITS_MAX - box.orbits:.10g}")
     kw = dict(out=args.out, every=args.checkpoint_every, progress=not args.no_progress)
     end = box.orbits + args.equilibrate + args.orbits
     if args.equilibrate > 0:

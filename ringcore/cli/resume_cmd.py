@@ -53,8 +53,8 @@ def run(args) -> int:
         raise UsageError(f"--until = {until:g} orbits is before the run's time {start:g} orbits: "
                          f"allowed --until >= {start:g} (or give --orbits N to add N orbits)")
     if until > ranges.ORBITS_MAX:
-        raise UsageError(f"--orbits = {args.orbits:g} from orbit {start:g} ends at orbit {until:g}, out of range: allowed "
-                         f"--orbits <= {ranges.ORBITS_MAX - start:g} ({ranges.RANGES['until'].why})")
+        raise UsageError(f"--orbits = {args.orbits:.7g} from orbit {start:.10g} ends at orbit {until:.7g}, out of range: "
+                         f"allowed --orbits <= {ranges.ORBITS_MAX - start:.10g} ({ranges.RANGES['until'].why})")
     label = "--orbits" if args.until is None else "--until"
     if kind == "hydro":
         model.check_work(until - start, label)
