@@ -12,7 +12,7 @@ import math
 import numpy as np
 
 from .. import linear, ranges
-from ..checks import check_choice, check_int, check_real
+from ..checks import check_choice, check_real
 from ..params import RingParams
 
 INITIAL_KINDS = ("ground", "noise", "mode")

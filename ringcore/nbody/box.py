@@ -21,7 +21,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from .. import ranges
-from ..checks import check_bool, check_int, check_real
+from ..checks import check_int, check_real
 from ..engine import BlowUp, SampleHub, State
 from ..params import RingParams
 from ..units import G

@@ -5,7 +5,6 @@ everything here is a numerical or set-up choice, in physical units at the API.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 
 from .. import ranges
