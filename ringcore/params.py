@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, replace
 
+from . import ranges
 from .checks import check_bool, check_choice, check_real
 from .units import G, OMEGA, Scales
 
@@ -48,7 +49,8 @@ class RingParams:
     F2, F3 : float
         Tabulated thermal corrections of eqs. (osgrate), (osfreq) (nan where not given).
     sigma0 : float
-        Ground-state surface density [kg/m^2]; 0 switches radial self-gravity off.
+        Ground-state surface density [kg/m^2]; 0 switches radial self-gravity off.  At most
+        ``ringcore.ranges.sigma0_max`` (1e4 kg/m^2 and Q0 >= 0.1; see :mod:`ringcore.ranges`).
     isothermal : bool
         True for the 3-equation isothermal model (G_T -> infinity).
     Omega : float
@@ -77,13 +79,24 @@ class RingParams:
 
     def __post_init__(self):
         check_bool("isothermal", self.isothermal)
-        check_real("sigma0", self.sigma0, 0.0, math.inf, unit="kg/m^2")
-        check_real("beta", self.beta, -1.0, math.inf, lo_open=True)
-        check_real("p_s", self.p_s, 0.0, math.inf, lo_open=True)
-        check_real("c0", self.c0, 0.0, math.inf, lo_open=True, unit="m/s")
-        check_real("nu0", self.nu0, 0.0, math.inf, lo_open=True, unit="m^2/s")
-        check_real("gamma", self.gamma, -4.0 / 3.0, math.inf, lo_open=True)
-        check_real("Omega", self.Omega, 0.0, math.inf, lo_open=True, unit="1/s")
+        if not isinstance(self.name, str):
+            raise ValueError(f"name = {self.name!r} is not valid: give the parameter set's name (a string)")
+        real = {"c0": check_real("c0", self.c0, 0.0, math.inf, lo_open=True, unit="m/s"),
+                "nu0": check_real("nu0", self.nu0, 0.0, math.inf, lo_open=True, unit="m^2/s"),
+                "gamma": check_real("gamma", self.gamma, -4.0 / 3.0, math.inf, lo_open=True),
+                "Omega": check_real("Omega", self.Omega, 0.0, math.inf, lo_open=True, unit="1/s"),
+                "beta": ranges.check("beta", self.beta), "p_s": ranges.check("p_s", self.p_s),
+                "tau": check_real("tau", self.tau, 0.0, math.inf, lo_open=True),
+                "omega_z": check_real("omega_z", self.omega_z, 0.0, math.inf, lo_open=True)}
+        real["sigma0"] = ranges.check_sigma0(self.sigma0, real["Omega"], real["c0"], set_name=self.name)
+        for nm in ("kappa0", "T0", "n_T", "p_T", "G_s", "G_T", "F2", "F3"):  # nan where the table has none
+            v = getattr(self, nm)
+            if isinstance(v, (str, bytes)) or isinstance(v, bool):
+                raise ValueError(f"{nm} = {v!r} is not a number")
+            try:
+                real[nm] = float(v)
+            except (TypeError, ValueError):
+                raise ValueError(f"{nm} = {v!r} is not a number") from None
         if not self.isothermal:
             if not (math.isfinite(self.T0) and math.isfinite(self.kappa0)):
                 raise ValueError(
@@ -95,24 +108,27 @@ class RingParams:
             for nm in ("n_T", "p_T", "G_s", "G_T"):
                 check_real(nm, getattr(self, nm))
             check_real("G_T - n_T", self.G_T - self.n_T, 0.0, math.inf, lo_open=True)
+        for nm, v in real.items():  # plain floats (a value given as int or numpy scalar is stored as float)
+            if type(getattr(self, nm)) is not float:
+                object.__setattr__(self, nm, v)
 
     # ---------------------------------------------------------------- variants
     def with_sigma0(self, sigma0: float) -> "RingParams":
         """Same set at surface density ``sigma0`` [kg/m^2] (0: no self-gravity)."""
-        return replace(self, sigma0=check_real("sigma0", sigma0, 0.0, math.inf, unit="kg/m^2"))
+        return replace(self, sigma0=ranges.check_sigma0(sigma0, self.Omega, self.c0, set_name=self.name))
 
     def with_beta(self, beta: float) -> "RingParams":
         """Same set with viscosity exponent ``beta`` (> -1), e.g. a buffer zone's -0.5."""
-        return replace(self, beta=check_real("beta", beta, -1.0, math.inf, lo_open=True))
+        return replace(self, beta=ranges.check("beta", beta))
 
     def scaled_ps(self, factor: float) -> "RingParams":
         """Multiply the pressure exponent p_s by ``factor`` (> 0; the paper uses 1.4 and 2)."""
-        f = check_real("ps_scale", factor, 0.0, math.inf, lo_open=True)
-        return replace(self, p_s=self.p_s * f)
+        f = ranges.check("ps_scale", factor)
+        return replace(self, p_s=ranges.check("p_s", self.p_s * f, f"p_s = {self.p_s:g} x ps_scale"))
 
     def isothermal_limit(self, p_s: float = 1.0) -> "RingParams":
         """The isothermal model (G_T -> infinity) with pressure exponent ``p_s`` (default 1, ideal gas)."""
-        return replace(self, isothermal=True, p_s=check_real("p_s", p_s, 0.0, math.inf, lo_open=True))
+        return replace(self, isothermal=True, p_s=ranges.check("p_s", p_s))
 
     # ---------------------------------------------------------------- derived
     @property
@@ -215,7 +231,7 @@ def get(name: str = "tau15", sigma0: float = 0.0, isothermal: bool | None = None
     name : {"tau10", "tau15", "tau20", "tau15_oz2", "tau20_oz2", "st99"}
         Table label. ``st99`` exists only as an isothermal model.
     sigma0 : float
-        Ground-state surface density [kg/m^2], >= 0 (0: no self-gravity).
+        Ground-state surface density [kg/m^2], 0 (no self-gravity) .. ``ringcore.ranges.sigma0_max``.
     isothermal : bool, optional
         Default: False, except for ``st99`` (True). Asking for the isothermal
         model here gives the table's sets in the isothermal limit with p_s = 1.

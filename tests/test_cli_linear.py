@@ -48,7 +48,7 @@ def test_text_output():
     (["--sigma0", "nan"], "sigma0"),
     (["--set", "tau99"], "tau99"),
     (["--beta", "-1"], "beta"),
-    (["--ps-scale", "0"], "ps_scale"),
+    (["--ps-scale", "0"], "--ps-scale"),
     (["--set", "tau15", "--ps", "2"], "--ps"),
     (["--sigma0", "abc"], "sigma0"),
 ])

@@ -153,12 +153,17 @@ def test_params_booleans_must_be_bools():
 
 # ------------------------------------------------------------------ sanity limits
 def test_huge_grids_and_boxes_refused_in_one_line(tmp_path, capsys):
+    rc, _, err = cli(capsys, ["hydro", "--lx", "1e6", "--h", "1e-3", "--out", tmp_path / "x.nc"])
+    assert rc == 1 and "memory" in err and "GiB" in err
+    # beyond the physical ranges of ringcore.ranges: refused as input (exit 2) before the memory estimate
     rc, _, err = cli(capsys, ["hydro", "--lx", "2.5e11", "--out", tmp_path / "x.nc"])
-    assert rc == 1 and "memory" in err and "TiB" in err
+    assert rc == 2 and "--lx = 2.5e+11" in err
     rc, _, err = cli(capsys, ["hydro", "--orbits", "1e13", "--out", tmp_path / "x.nc"])
-    assert rc == 1 and "memory" in err
+    assert rc == 2 and "--orbits = 1e+13" in err
+    rc, _, err = cli(capsys, ["nbody", "--L-x", "1.4e4", "--L-y", "1.4e4", "--out", tmp_path / "x.nc"])
+    assert rc == 1 and "memory" in err  # 9.4e7 particles: within N <= 1e8, not within this machine's memory
     rc, _, err = cli(capsys, ["nbody", "--L-x", "1e6", "--L-y", "1e6", "--out", tmp_path / "x.nc"])
-    assert rc == 1 and "memory" in err
+    assert rc == 2 and "N = tau F L_x L_y / (pi R_p^2) = 4.77e+11" in err
 
 
 def test_features_below_two_cells_refused(tmp_path, capsys):

@@ -83,7 +83,7 @@ def test_cli_hydro_run_and_continue(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("args,msg", [
-    (["--lx", "500", "--h", "3"], "L_x/h"),
+    (["--lx", "500", "--h", "3"], "--lx / --h"),
     (["--init", "mode", "--wavelength", "33", "--lx", "500"], "wavelength"),
     (["--orbits", "-1"], "--orbits"),
     (["--gravity", "direct"], "gravity"),

@@ -27,6 +27,6 @@ def test_nbody_command_writes_run_file(tmp_path, capsys):
 def test_nbody_command_bad_input_exit_2(capsys):
     assert main(["nbody", "--L-y", "2", "--orbits", "0.1", "--no-progress"]) == 2
     err = capsys.readouterr().err
-    assert "L_y" in err and len(err.strip().splitlines()) == 1
+    assert "--L-y = 2 m" in err and len(err.strip().splitlines()) == 1
     assert main(["nbody", "--restitution", "elastic", "--no-progress"]) == 2
     assert "bridges" in capsys.readouterr().err

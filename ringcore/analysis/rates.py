@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import signal, stats
 
-from ..checks import check_real
+from ..checks import check_int, check_real
 
 
 @dataclass(frozen=True)
@@ -30,7 +30,10 @@ def _window(t, y, window):
     if t.shape != y.shape or t.ndim != 1:
         raise ValueError(f"t and the signal must be 1-d arrays of equal length, got {t.shape} and {y.shape}")
     if window is not None:
-        lo, hi = window
+        if isinstance(window, (str, bytes)) or not hasattr(window, "__len__") or len(window) != 2:
+            raise ValueError(f"window = {window!r} is not valid: give (t_start, t_end) in the units of t")
+        lo = check_real("window start", window[0], allow_str=False)
+        hi = check_real("window end", window[1], lo, allow_str=False)
         sel = (t >= lo) & (t <= hi)
         t, y = t[sel], y[sel]
     if t.size < 4:
@@ -81,8 +84,11 @@ def lomb_frequency(t, y, fmin: float, fmax: float, n: int = 20000) -> Fit:
         and an uncertainty: the half width at half maximum of the peak divided by
         sqrt(number of samples) (a conservative resolution-based estimate).
     """
-    check_real("fmin", fmin, 0.0, np.inf, lo_open=True)
-    check_real("fmax", fmax, fmin, np.inf, lo_open=True)
+    fmin = check_real("fmin", fmin, 0.0, np.inf, lo_open=True)
+    fmax = check_real("fmax", fmax, 0.0, np.inf, lo_open=True)
+    if not fmax > fmin:
+        raise ValueError(f"fmin = {fmin:g}, fmax = {fmax:g} are not valid: allowed 0 < fmin < fmax")
+    n = check_int("n", n, 3, 10**8)
     t, y = _window(t, y, None)
     w = np.linspace(fmin, fmax, int(n))
     P = signal.lombscargle(t, y - y.mean(), w, normalize=True)

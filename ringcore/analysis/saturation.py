@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..checks import check_real
 from ..params import RingParams
 
 C_EMPIRICAL = 1.4  # eq. (lambdasigma)
@@ -12,12 +13,17 @@ def lambda_p_empirical(p: RingParams, C: float = C_EMPIRICAL) -> float:
     """lambda_p = C lambda_zero(sigma0) [m], eq. (lambdasigma); nan without self-gravity."""
     from ..linear import lambda_zero
 
-    return C * lambda_zero(p)
+    return _C(C) * lambda_zero(p)
+
+
+def _C(C) -> float:
+    """The factor C of eq. (lambdasigma), > 0 (the paper: 1.4)."""
+    return check_real("C", C, 0.0, 100.0, lo_open=True, allow_str=False)
 
 
 def _F2(p: RingParams, F2: float | None) -> float:
     if F2 is not None:
-        return float(F2)
+        return check_real("F2", F2, -100.0, 100.0, allow_str=False)
     return 0.0 if p.isothermal else p.F2
 
 
@@ -70,7 +76,7 @@ def lambda_p_approx(p: RingParams, C: float = C_EMPIRICAL, F2: float | None = No
     float
         Wavelength [m].
     """
-    return C * lambda_zero_approx(p, F2)
+    return _C(C) * lambda_zero_approx(p, F2)
 
 
 def lagrange_derivative(x, y) -> np.ndarray:

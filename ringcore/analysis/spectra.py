@@ -37,7 +37,7 @@ def power_spectrum(field, L_x: float):
     power : ndarray, shape (..., n//2)
         Squared Fourier amplitudes (U^m)^2 of the mean-free field.
     """
-    check_real("L_x", L_x, 0.0, np.inf, lo_open=True, unit="m")
+    L_x = check_real("L_x", L_x, 0.0, np.inf, lo_open=True, unit="m", allow_str=False)
     A = fourier_amplitudes(field)
     m = np.arange(1, A.shape[-1])
     return L_x / m, A[..., 1:] ** 2

@@ -12,18 +12,21 @@ import math
 
 import numpy as np
 
+from .. import ranges
 from ..engine import State
 from ..units import R_P
 
 
 def _last(t, last_fraction: float):
-    """Mask of the samples in the last ``last_fraction`` (by time) of the series ``t``."""
+    """Mask of the samples in the last ``last_fraction`` (0 < f <= 1, by time) of the series ``t``."""
+    ranges.check("last_fraction", last_fraction)
     return t >= t[-1] - last_fraction * (t[-1] - t[0])
 
 
 def series_summary(t, lambda_p, e_kin, last_fraction: float = 0.25) -> dict:
     """``lambda_p_m`` (most frequent finite value [m]), ``lambda_p_mean_m`` [m] and ``e_kin`` (mean,
     units of the input) over the last ``last_fraction`` of the sample times ``t`` (any unit); nan if empty."""
+    ranges.check("last_fraction", last_fraction)
     t = np.asarray(t, float)
     out = dict(lambda_p_m=math.nan, lambda_p_mean_m=math.nan, e_kin=math.nan)
     if t.size == 0:
@@ -98,6 +101,7 @@ def summary(run, last_fraction: float = 0.25) -> dict:
     from ..hydro.convert import cons_to_prim
     from ..units import time_to_orbits
 
+    ranges.check("last_fraction", last_fraction)
     st = run if isinstance(run, State) else run.snapshot()
     if st.kind != "hydro":
         raise ValueError(f"run of kind {st.kind!r} is not valid here: give a hydro State or engine")

@@ -7,7 +7,9 @@ from __future__ import annotations
 
 import math
 
-from .. import params
+from .. import params, ranges
+from ..checks import check_choice
+from ..ranges import Q0_MIN  # engines refuse stronger self-gravity (see ringcore.ranges)
 from ..units import G
 from ..spec import RunSpec, resolve
 from .errors import UsageError
@@ -37,6 +39,7 @@ def spec_from_args(args, **options) -> RunSpec:
 
 def ring_params_from_args(args) -> params.RingParams:
     """Build (and validate) the RingParams the arguments describe; raises ValueError."""
+    check_ring_flags(args)
     if args.ps is not None and not args.isothermal and not params.is_isothermal_only(args.set):
         raise UsageError(f"--ps = {args.ps:g} is only valid with --isothermal (p_s of the isothermal model); "
                          "use --ps-scale for the non-isothermal model")
@@ -53,6 +56,24 @@ def flag(dest: str) -> str:
     return {"from_file": "--from", "T_floor": "--T-floor"}.get(dest, "--" + dest.replace("_", "-"))
 
 
+def check_flag(args, dest: str, range_name: str | None = None, **kw):
+    """The value of option ``dest`` checked against :mod:`ringcore.ranges` (``range_name``, default
+    ``dest``) with the flag as its name in the message; None if the option is None."""
+    v = getattr(args, dest)
+    return None if v is None else ranges.check(range_name or dest, v, flag(dest), **kw)
+
+
+def check_ring_flags(args) -> None:
+    """--sigma0, --ps, --ps-scale, --beta within :mod:`ringcore.ranges` (named as flags), before anything."""
+    check_choice("--set", args.set, params.SET_NAMES)
+    p0 = params.get(args.set)
+    if getattr(args, "sigma0", None) is not None:
+        ranges.check_sigma0(args.sigma0, p0.Omega, p0.c0, "--sigma0", args.set)
+    for dest, rng in (("ps", "p_s"), ("ps_scale", "ps_scale"), ("beta", "beta")):
+        if getattr(args, dest, None) is not None:
+            check_flag(args, dest, rng)
+
+
 def refuse_with(args, dests, reason: str) -> None:
     """UsageError if any option in ``dests`` was given explicitly; ``reason`` says why and what to do."""
     bad = [flag(d) for d in dests if d in given(args)]
@@ -60,7 +81,6 @@ def refuse_with(args, dests, reason: str) -> None:
         raise UsageError(f"{', '.join(bad)} {'has' if len(bad) == 1 else 'have'} no effect {reason}")
 
 
-Q0_MIN = 0.1  # engines refuse stronger self-gravity: the ground state collapses within a fraction of an orbit
 
 
 def check_self_gravity(p) -> None:

@@ -4,9 +4,10 @@ from __future__ import annotations
 import math
 import sys
 
-from .. import params
-from ..checks import check_choice, check_real
-from .common import add_ring_arguments, check_self_gravity, given, ring_params_from_args, refuse_with
+from .. import params, ranges
+from ..checks import check_choice, check_int, check_real
+from .common import (add_ring_arguments, check_flag, check_ring_flags, check_self_gravity, flag,
+                     ring_params_from_args, refuse_with)
 from .errors import UsageError, is_blowup
 from .safety import check_fallback_dir, check_memory, reserve_output_file
 
@@ -71,7 +72,6 @@ def estimate_bytes(n: int, orbits: float, samples: int, rows: int) -> tuple:
 
 def check_options(args) -> None:
     """Contradictory or ineffective options (UsageError), before anything is computed."""
-    g = given(args)
     if args.init.endswith(".nc"):
         refuse_with(args, NEW_RUN_OPTIONS, f"with --init {args.init}: a continued run keeps the parameters "
                     "and options saved in the file (the file wins); to change them start a new run "
@@ -95,33 +95,64 @@ def check_options(args) -> None:
     if args.isothermal or (args.set in params.SET_NAMES and params.is_isothermal_only(args.set)):
         refuse_with(args, ("T_floor",), "with the isothermal model (there is no temperature; "
                     "drop --isothermal for the non-isothermal model)")
-    if "dt_factor" in g:
-        check_real("--dt-factor", args.dt_factor, 0.0, 10.0, lo_open=True)
+    check_numbers(args)
+
+
+def check_numbers(args) -> None:
+    """Every numeric option of a new run within :mod:`ringcore.ranges`, named as its flag."""
+    check_ring_flags(args)
+    lx = check_flag(args, "lx", "L_x")
+    h = check_flag(args, "h")
+    if lx < 16.0 * h:
+        raise UsageError(f"--lx = {lx:g} m is out of range for --h = {h:g} m: allowed --lx >= 16 --h = {16 * h:g} m "
+                         "(at least 16 nodes)")
+    ratio = lx / h
+    if abs(ratio - round(ratio)) > 1e-9 * ratio:
+        raise UsageError(f"--lx / --h = {lx:g} m / {h:g} m = {ratio:g} is not an integer: allowed --lx = n --h with "
+                         "integer n >= 16 (whole grid cells)")
+    check_flag(args, "seed")
+    if args.amplitude is not None and args.init in ("noise", "mode"):
+        check_flag(args, "amplitude", f"amplitude_{args.init}")
+    check_flag(args, "replicas")
+    check_flag(args, "dt_factor")
+    if args.buffer is not None:
+        lo = check_real("--buffer XMIN", args.buffer[0], -lx / 2, lx / 2, unit="m")
+        check_real("--buffer XMAX", args.buffer[1], lo, lx / 2, unit="m")
+        check_real("--buffer BETA", args.buffer[2], -1.0, math.inf, lo_open=True)
+    check_flag(args, "buffer_on", "buffer_on_orbit")
+    samples = check_flag(args, "samples", "samples_per_orbit")
+    check_int("--spacetime-rows", args.spacetime_rows, 0, samples)
+    check_flag(args, "T_floor")
+    for dest in ("lambda_min", "wavelength"):
+        if getattr(args, dest) is not None and (dest != "wavelength" or args.init == "mode"):
+            v = check_real(flag(dest), getattr(args, dest), 0.0, lx, lo_open=True, unit="m")
+            if v < 2 * h:
+                raise UsageError(f"{flag(dest)} = {v:g} m is below 2 grid cells (2 h = {2 * h:g} m): the grid "
+                                 f"cannot carry it; allowed {2 * h:g} <= {flag(dest)} <= {lx:g} m (or a smaller --h)")
 
 
 def check_resolution(args) -> None:
-    """Features the grid cannot carry (below 2 cells) and the memory of the run."""
-    h = check_real("--h", args.h, 0.0, math.inf, lo_open=True, unit="m")
-    lx = check_real("--lx", args.lx, 0.0, math.inf, lo_open=True, unit="m")
-    checks = {"noise": ("lambda_min", "shortest noise wavelength"), "mode": ("wavelength", "--init mode wavelength")}
-    if args.init in checks:
-        dest, what = checks[args.init]
-        v = getattr(args, dest)
-        if v is not None and v < 2 * h:
-            raise UsageError(f"--{dest.replace('_', '-')} = {v:g} m ({what}) is below 2 grid cells "
-                             f"(2 h = {2 * h:g} m): the grid cannot carry it; allowed >= {2 * h:g} m "
-                             "(or a smaller --h)")
-    n = lx / h
+    """The memory of the run (the grid and wavelengths are checked by :func:`check_numbers`)."""
+    n = args.lx / args.h
     mem, _ = estimate_bytes(n, args.orbits, max(args.samples, 1), max(args.spacetime_rows, 0))
     check_memory(f"a hydro run of {n:.3g} cells (L_x / h) for {args.orbits:g} orbits", mem,
                  "use a smaller --lx, a larger --h or fewer --orbits")
+
+
+def _check_duration(sim, args) -> None:
+    """The run must end within ``ranges.ORBITS_MAX`` and within the work limit (before any step is taken)."""
+    if sim.orbits + args.orbits > ranges.ORBITS_MAX:
+        raise UsageError(f"--orbits = {args.orbits:.7g} from orbit {sim.orbits:.10g} of {args.init} ends beyond orbit "
+                         f"{ranges.ORBITS_MAX:g}: allowed --orbits <= {ranges.ORBITS_MAX - sim.orbits:.10g}")
+    sim.check_work(args.orbits, "--orbits")
 
 
 def run(args) -> int:
     from ..experiments.checkpoint import run_checkpointed
     from ..hydro import Hydro1D, HydroOptions
 
-    check_real("--orbits", args.orbits, 0.0, math.inf, lo_open=True, unit="orbits")
+    check_flag(args, "orbits")
+    check_flag(args, "checkpoint_every")
     check_options(args)
     if args.init.endswith(".nc"):
         from ..io import read_run
@@ -143,14 +174,17 @@ def run(args) -> int:
                            buffer_on_orbit=args.buffer_on, samples_per_orbit=args.samples,
                            spacetime_rows_per_orbit=args.spacetime_rows, T_floor=args.T_floor)
         _, size = estimate_bytes(opt.n, args.orbits, opt.samples_per_orbit, opt.spacetime_rows_per_orbit)
+        kw = dict(seed=args.seed, amplitude=args.amplitude, lambda_min=args.lambda_min) if args.init == "noise" else \
+            dict(amplitude=args.amplitude, wavelength=args.wavelength, direction=args.direction) \
+            if args.init == "mode" else {}
 
         def make():
-            return Hydro1D(p, opt, initial=args.init, seed=args.seed, amplitude=args.amplitude,
-                           lambda_min=args.lambda_min, wavelength=args.wavelength, direction=args.direction)
+            return Hydro1D(p, opt, initial=args.init, **kw)
     fallback = check_fallback_dir(args.fallback_dir)
     try:
         with reserve_output_file(args.out, overwrite=args.overwrite, size=size):  # the name is ours until the end
             sim = make()
+            _check_duration(sim, args)
             run_checkpointed(sim, args.orbits, out=args.out, every=args.checkpoint_every,
                              progress=not args.no_progress, fallback=fallback)
     except Exception as exc:

@@ -6,8 +6,9 @@ import math
 import sys
 
 from .. import params
-from ..checks import check_real
-from .common import check_self_gravity, given, refuse_with
+from .. import ranges
+from ..checks import check_choice, check_int
+from .common import check_flag, check_self_gravity, refuse_with
 from .errors import UsageError
 from .safety import check_fallback_dir, check_memory, reserve_output_file
 
@@ -68,8 +69,12 @@ def register(sub) -> None:
 
 def check_options(args) -> None:
     """Contradictory or ineffective options (UsageError), before anything is computed."""
-    check_real("--orbits", args.orbits, 0.0, math.inf, lo_open=True, unit="orbits")
-    check_real("--equilibrate", args.equilibrate, 0.0, math.inf, unit="orbits")
+    check_flag(args, "orbits")
+    eq = check_flag(args, "equilibrate")
+    if args.orbits + eq > ranges.ORBITS_MAX:
+        raise UsageError(f"--equilibrate + --orbits = {args.orbits + eq:g} orbits is out of range: allowed at most "
+                         f"{ranges.ORBITS_MAX:g} orbits in all ({ranges.RANGES['orbits'].why})")
+    check_flag(args, "checkpoint_every")
     if args.from_file is not None:
         if not args.from_file.strip():
             raise UsageError("--from = '' is not valid: give a run file written by ringcore nbody")
@@ -87,8 +92,33 @@ def check_options(args) -> None:
             refuse_with(args, ("m_max", "single_mode"), "without self-gravity (give --sigma0 > 0)")
         if args.single_mode:
             refuse_with(args, ("m_max",), "with --single-mode (only that mode is used)")
+    check_choice("--set", args.set, params.SET_NAMES)
     if args.sigma0 is not None:
-        check_real("--sigma0", args.sigma0, 0.0, math.inf, unit="kg/m^2")
+        p0 = params.get(args.set)
+        ranges.check_sigma0(args.sigma0, p0.Omega, p0.c0, "--sigma0", args.set)
+    if args.from_file is None:
+        check_numbers(args)
+
+
+def check_numbers(args) -> None:
+    """Every numeric option of a new box within :mod:`ringcore.ranges`, named as its flag."""
+    R_p = check_flag(args, "R_p")
+    for dest in ("L_x", "L_y"):
+        check_flag(args, dest, lo=6.0 * R_p, note=f"at least 6 --R-p, --R-p = {R_p:g} m")
+    check_flag(args, "epsilon")
+    dt = check_flag(args, "dt", "dt_orbit")
+    check_flag(args, "seed")
+    check_flag(args, "m_max")
+    check_int("--single-mode", args.single_mode, 0, 100000)
+    check_flag(args, "amplitude", "seed_amplitude")
+    check_flag(args, "fill_fraction")
+    check_flag(args, "record_every", lo=dt)
+    check_flag(args, "profile_every")
+    n = params.get(args.set).tau * args.fill_fraction * args.L_x * args.L_y / (math.pi * R_p ** 2)
+    if not 0.5 <= n <= 1e8:
+        raise UsageError(f"--fill-fraction, --L-x, --L-y, --R-p = {args.fill_fraction:g}, {args.L_x:g} m, {args.L_y:g} m, "
+                         f"{R_p:g} m give N = tau F L_x L_y / (pi R_p^2) = {n:.3g} particles: out of range, allowed "
+                         "1 <= N <= 1e8")
 
 
 def estimate_bytes(n: float, orbits: float, o) -> tuple:
@@ -108,6 +138,8 @@ def _build(args):
         o = NBodyOptions(**json.loads(ds.attrs.get("options_json", "{}")))
         mem, size = estimate_bytes(n, args.equilibrate + args.orbits, o)
         check_memory(f"continuing {args.from_file} ({n} particles)", mem, "use fewer --orbits")
+        ranges.check_work("--equilibrate + --orbits" if args.equilibrate else "--orbits", args.equilibrate + args.orbits,
+                          1.0 / o.dt_orbit, n, "particles")
         if args.sigma0 is not None:
             from ..params import RingParams
 
@@ -123,6 +155,8 @@ def _build(args):
     mem, size = estimate_bytes(n, args.equilibrate + args.orbits, o)
     check_memory(f"a box of {n:.3g} particles for {args.equilibrate + args.orbits:g} orbits", mem,
                  "use a smaller box (--L-x, --L-y) or fewer --orbits")
+    ranges.check_work("--equilibrate + --orbits" if args.equilibrate else "--orbits", args.equilibrate + args.orbits,
+                      1.0 / args.dt, n, "particles")
     if args.seed_mode:
         lam = o.L_x / args.seed_mode
         if args.seed_mode < 0 or lam < 4.0 * o.R_p:
@@ -159,6 +193,9 @@ def run(args) -> int:
 def _run(args, box, fallback) -> int:
     from ..experiments.checkpoint import run_checkpointed
 
+    if box.orbits + args.equilibrate + args.orbits > ranges.ORBITS_MAX:
+        raise UsageError(f"--orbits = {args.orbits:.7g} from orbit {box.orbits:.10g} of {args.from_file} ends beyond orbit "
+                         f"{ranges.ORBITS_MAX:g}: allowed --equilibrate + --orbits <= {ranges.ORBITS_MAX - box.orbits:.10g}")
     kw = dict(out=args.out, every=args.checkpoint_every, progress=not args.no_progress, fallback=fallback)
     end = box.orbits + args.equilibrate + args.orbits
     if args.equilibrate > 0:

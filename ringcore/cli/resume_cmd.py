@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import json
-import math
 import sys
 
 from .errors import UsageError
@@ -36,14 +35,15 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..checks import check_real
     from ..experiments.checkpoint import kind_of, load_model
     from ..io import read_run
 
-    if args.orbits is not None:
-        check_real("--orbits", args.orbits, 0.0, math.inf, lo_open=True, unit="orbits")
-    if args.until is not None:
-        check_real("--until", args.until, 0.0, math.inf, unit="orbits")
+    from .. import ranges
+    from .common import check_flag
+
+    check_flag(args, "orbits")
+    check_flag(args, "until")
+    check_flag(args, "checkpoint_every")
     if not args.file.strip():
         raise UsageError("FILE = '' is not valid: give a run file (ringcore hydro/nbody/sweep)")
     model = load_model(args.file)  # refuses foreign, damaged and non-continuable files
@@ -55,6 +55,14 @@ def run(args) -> int:
     if until < start:
         raise UsageError(f"--until = {until:g} orbits is before the run's time {start:g} orbits: "
                          f"allowed --until >= {start:g} (or give --orbits N to add N orbits)")
+    if until > ranges.ORBITS_MAX:
+        raise UsageError(f"--orbits = {args.orbits:.7g} from orbit {start:.10g} ends at orbit {until:.7g}, out of range: "
+                         f"allowed --orbits <= {ranges.ORBITS_MAX - start:.10g} ({ranges.RANGES['until'].why})")
+    label = "--orbits" if args.until is None else "--until"
+    if kind == "hydro":
+        model.check_work(until - start, label)
+    else:
+        ranges.check_work(label, until - start, 1.0 / model.options.dt_orbit, model.N, "particles")
     fallback = check_fallback_dir(args.fallback_dir)
     res = reserve_output_file(out, overwrite=args.overwrite, label="FILE" if args.out is None else "--out",
                               same_as=args.file)

@@ -1,6 +1,7 @@
 """``ringcore sweep``: a grid of runs on dask.distributed (LocalCluster or --scheduler ADDRESS)."""
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 import numpy as np
@@ -89,6 +90,19 @@ def tasks_of(args) -> list:
     """The task dicts of the command line, each validated through the one resolver."""
     from ..experiments.runners import ring_params
 
+    from .. import ranges
+    from .common import check_flag
+
+    check_flag(args, "seed")
+    check_flag(args, "orbits")
+    lx = check_flag(args, "lx", "L_x")
+    if args.engine == "nbody" and lx is not None:
+        ranges.check("L_x", lx, "--lx", lo=6.0)  # at least 6 particle radii (R_p = 1 m)
+    if args.engine == "hydro":
+        from ..experiments.runners import HYDRO_DEFAULTS
+
+        lx = HYDRO_DEFAULTS["lx"] if lx is None else lx
+        check_flag(args, "h", hi=lx / 16.0)
     if args.engine == "hydro" and args.h is not None:
         from ..experiments.runners import HYDRO_DEFAULTS
 
@@ -96,17 +110,49 @@ def tasks_of(args) -> list:
         if args.h > 0 and 2 * args.h > lam:
             raise UsageError(f"--h = {args.h:g} m: the sweep's noise reaches down to {lam:g} m, below 2 grid cells "
                              f"(2 h = {2 * args.h:g} m); allowed --h <= {lam / 2:g} m")
+    from ..checks import check_choice
+    from .. import params as _params
+
+    check_choice("--set", args.set, _params.SET_NAMES)
+    p0 = _params.get(args.set)
+    ps_values = [ranges.check("ps_scale", v, "--ps-scale") for v in parse_values("ps-scale", args.ps_scale)]
+    s_values = [ranges.check_sigma0(v, p0.Omega, p0.c0, "--sigma0", args.set) for v in parse_values("sigma0", args.sigma0)]
     tasks = []
-    for ps in parse_values("ps-scale", args.ps_scale):
-        for s in parse_values("sigma0", args.sigma0):
+    for ps in ps_values:
+        for s in s_values:
             t = {"engine": args.engine, "set": args.set, "sigma0": s, "ps_scale": ps,
                  "isothermal": bool(args.isothermal), "seed": args.seed}
             for k in ("lx", "h", "orbits"):
                 if getattr(args, k) is not None:
                     t[k] = check_real(f"--{k}", getattr(args, k), 0.0, np.inf, lo_open=True)
-            ring_params(t)  # bad settings are refused here, not in the workers
+            p = ring_params(t)  # bad settings are refused here, not in the workers
+            check_task(t, p)
             tasks.append(t)
     return tasks
+
+
+def check_task(t: dict, p) -> None:
+    """What a worker would refuse, refused in the parent: the grid (hydro: L_x = n h, n >= 16) and
+    the amount of work of the task (:func:`ringcore.ranges.check_work`)."""
+    from .. import ranges
+    from ..experiments.runners import HYDRO_DEFAULTS, NBODY_DEFAULTS
+
+    if t["engine"] == "hydro":
+        from ..hydro import HydroOptions
+
+        cfg = {**HYDRO_DEFAULTS, **t}
+        opt = HydroOptions(L_x=float(cfg["lx"]), h=float(cfg["h"]), timestep=cfg["timestep"],
+                           samples_per_orbit=int(cfg["samples_per_orbit"]), T_floor=float(cfg["T_floor"]))
+        r = 2.5 / opt.h  # ~640 steps per orbit at h = 2.5 m; the viscous limit scales as 1/h^2 below
+        ranges.check_work("--orbits", float(cfg["orbits"]), 640.0 * max(r, r * r), opt.n, "nodes")
+    elif t["engine"] == "nbody":
+        from ..nbody import NBodyOptions
+
+        cfg = {**NBODY_DEFAULTS, **t}
+        o = NBodyOptions(L_x=float(cfg["lx"]), L_y=float(cfg["ly"]), dt_orbit=float(cfg["dt_orbit"]),
+                         record_every=float(cfg["record_every"]), profile_every=float(cfg["profile_every"]))
+        n = p.tau * o.L_x * o.L_y / (math.pi * o.R_p ** 2)
+        ranges.check_work("--orbits", float(cfg["orbits"]), 1.0 / o.dt_orbit, n, "particles")
 
 
 def run(args) -> int:

@@ -33,6 +33,7 @@ import sys
 import time
 from pathlib import Path
 
+from .. import ranges
 from ..checks import check_real
 from ..engine import ENGINES, BlowUp
 from ..engine import engine_class as _engine_class
@@ -147,10 +148,10 @@ def run_checkpointed(model, orbits: float | None = None, *, out, until: float | 
         raise ValueError("give exactly one of orbits (duration) or until (end time), in orbits")
     start = model.orbits
     if until is None:
-        until = start + check_real("orbits", orbits, 0.0, math.inf, unit="orbits")
-    until = check_real("until", until, start, math.inf, unit="orbits")
+        until = start + check_real("orbits", orbits, 0.0, ranges.ORBITS_MAX, unit="orbits")
+    until = ranges.check("until", until, lo=start)
     if every is not None:
-        every = check_real("checkpoint-every", every, 0.0, math.inf, lo_open=True, unit="orbits")
+        every = ranges.check("checkpoint_every", every, "checkpoint-every")
     tol = 1e-9 * max(1.0, until)
     kind = kind_of(model)
     advance = model.advance if hasattr(model, "advance") else model.run  # run: until contract-nbody merges

@@ -11,8 +11,8 @@ import math
 
 import numpy as np
 
-from .. import linear
-from ..checks import check_choice, check_int, check_real
+from .. import linear, ranges
+from ..checks import check_choice, check_real
 from ..params import RingParams
 
 INITIAL_KINDS = ("ground", "noise", "mode")
@@ -72,7 +72,7 @@ def white_noise(p: RingParams, x, L_x_m: float, lambda_min_m: float = 50.0, ampl
     """
     check_real("lambda_min", lambda_min_m, 0.0, L_x_m, lo_open=True, unit="m")
     check_real("amplitude", amplitude, 0.0, 0.1, lo_open=True)
-    seed = check_int("seed", seed, 0, 2**63 - 1)
+    seed = ranges.check("seed", seed)
     mmax = int(math.floor(L_x_m / lambda_min_m + 1e-9))
     m = np.arange(1, mmax + 1)
     k = linear.wavelengths_to_k(p, L_x_m / m)
@@ -95,15 +95,72 @@ def white_noise(p: RingParams, x, L_x_m: float, lambda_min_m: float = 50.0, ampl
 
 
 def make_initial(kind: str, p: RingParams, x, L_x_m: float, **kw):
-    """Dispatch by name (``"ground"``, ``"noise"``, ``"mode"``); keyword arguments as above."""
+    """Dispatch by name (``"ground"``, ``"noise"``, ``"mode"``); keyword arguments as above.
+
+    ``amplitude = None`` (or absent) means the kind's default (noise 1e-4, mode 1e-3); any other
+    value, 0 included, is checked against :mod:`ringcore.ranges` (0 is refused, never replaced)."""
     check_choice("initial", kind, INITIAL_KINDS)
     if kind == "ground":
         return ground(p, len(x))
+    amp = kw.get("amplitude")
     if kind == "noise":
-        return white_noise(p, x, L_x_m, kw.get("lambda_min", 50.0), kw.get("amplitude") or 1e-4,
-                           kw.get("seed", 0))
+        amp = 1e-4 if amp is None else ranges.check("amplitude_noise", amp, "amplitude")
+        lam = kw.get("lambda_min", 50.0)
+        return white_noise(p, x, L_x_m, 50.0 if lam is None else lam, amp, kw.get("seed", 0))
     wl = kw.get("wavelength")
     if wl is None:
         raise ValueError("wavelength = None is not valid for initial = 'mode': give a wavelength in m")
-    return single_mode(p, x, L_x_m, wl, kw.get("direction", "left"), kw.get("amplitude") or 1e-3,
-                       kw.get("phase", 0.0))
+    amp = 1e-3 if amp is None else ranges.check("amplitude_mode", amp, "amplitude")
+    return single_mode(p, x, L_x_m, wl, check_choice("direction", kw.get("direction", "left"), ("left", "right")),
+                       amp, ranges.check("phase", kw.get("phase", 0.0)))
+
+
+# the keyword arguments each initial kind uses (others given are warned about, never silently dropped)
+_INITIAL_KW = {"ground": (), "noise": ("seed", "amplitude", "lambda_min"), "state": ("state",),
+               "mode": ("amplitude", "wavelength", "direction", "phase"), "dataset": ()}
+_KW_DEFAULTS = {"seed": None, "amplitude": None, "lambda_min": None, "wavelength": None, "direction": "left",
+                "phase": 0.0, "state": None}
+
+
+def _same(a, b) -> bool:
+    """``a is b`` or equal scalars (a default left as is)."""
+    try:
+        return a is b or bool(a == b)
+    except (TypeError, ValueError):
+        return False
+
+
+def check_initial_arguments(kind, L_x_m: float, h_m: float, kw: dict, state=None) -> None:
+    """Before an initial state is built: warn about arguments that ``kind`` does not use (a
+    ``UserWarning`` naming them), refuse wavelengths the grid cannot carry (below 2 h) or the box
+    cannot hold, and fill in ``kw["seed"] = 0`` for noise when none was given."""
+    if kind in _INITIAL_KW:
+        given = {**kw, "state": state}
+        unused = [k for k, v in given.items() if k not in _INITIAL_KW[kind] and not _same(v, _KW_DEFAULTS[k])]
+        if unused:
+            import warnings
+
+            what = ", ".join(k + " = " + (repr(given[k]) if k != "state" else "(arrays)") for k in unused)
+            warnings.warn(f"{what} {'has' if len(unused) == 1 else 'have'} no effect with initial = "
+                          f"{kind!r} (ignored)", UserWarning, stacklevel=4)
+    h2 = 2.0 * h_m
+    for key, who in (("wavelength", "mode"), ("lambda_min", "noise")):
+        if kind == who and kw.get(key) is not None:
+            try:
+                check_real(key, kw[key], h2, L_x_m, unit="m", allow_str=False)
+            except ValueError as exc:
+                if "out of range" not in str(exc):
+                    raise
+                raise ValueError(f"{exc} (a wave needs at least 2 grid cells, 2 h = {h2:g} m, and must fit "
+                                 f"in the box L_x = {L_x_m:g} m)") from None
+    if kind == "noise":
+        kw["seed"] = 0 if kw.get("seed") is None else kw["seed"]
+
+
+def amplitude_too_large(kind: str, kw: dict, p: RingParams, exc: Exception) -> str:
+    """The message when the perturbation of ``kind`` makes sigma or T non-positive: it names the amplitude."""
+    amp = kw.get("amplitude") or (1e-4 if kind == "noise" else 1e-3)
+    what = (f"lambda_min = {kw.get('lambda_min') or 50.0:g} m" if kind == "noise" else
+            f"wavelength = {kw.get('wavelength'):g} m")
+    return (f"amplitude = {amp:g} is too large for initial = {kind!r} ({what}, beta = {p.beta:g}, "
+            f"p_s = {p.p_s:g}): {exc}; allowed: a smaller amplitude")

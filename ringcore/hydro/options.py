@@ -4,7 +4,8 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, field
 
-from ..checks import check_choice, check_int, check_real
+from .. import ranges
+from ..checks import check_bool, check_choice, check_int, check_real
 from .gravity import GRAVITY_METHODS
 from .timestep import TIMESTEP_MODES, default_dt_factor
 
@@ -15,6 +16,8 @@ class HydroOptions:
 
     Attributes
     ----------
+    (Ranges of the numbers: :mod:`ringcore.ranges`.)
+
     L_x : float
         Periodic box size [m]; nodes at x_j = -L_x/2 + j h, j = 0 .. n-1.
     h : float
@@ -69,37 +72,49 @@ class HydroOptions:
     T_floor: float = 0.0  # [T0]
 
     def __post_init__(self):
-        check_real("L_x", self.L_x, 0.0, math.inf, lo_open=True, unit="m")
-        check_real("h", self.h, 0.0, self.L_x / 16.0, lo_open=True, unit="m")
-        ratio = self.L_x / self.h
+        L_x = ranges.check("L_x", self.L_x)
+        h = ranges.check("h", self.h)
+        if L_x < 16.0 * h:
+            raise ValueError(f"L_x = {L_x:g} m is out of range for h = {h:g} m: allowed L_x >= 16 h = {16 * h:g} m "
+                             "(at least 16 nodes)")
+        ratio = L_x / h
         if abs(ratio - round(ratio)) > 1e-9 * ratio:
             raise ValueError(f"L_x/h = {ratio:g} is not an integer: allowed L_x = n h with integer n >= 16 "
-                             f"(L_x = {self.L_x:g} m, h = {self.h:g} m)")
+                             f"(L_x = {L_x:g} m, h = {h:g} m)")
         check_choice("gravity", self.gravity, GRAVITY_METHODS)
-        check_int("replicas", self.replicas, 0, 1000)
-        if not isinstance(self.bin_correction, bool):
-            raise ValueError(f"bin_correction = {self.bin_correction!r} is not valid: choose one of True, False")
+        ranges.check("replicas", self.replicas)
+        check_bool("bin_correction", self.bin_correction)
+        check_bool("strobe", self.strobe)
         check_choice("timestep", self.timestep, TIMESTEP_MODES)
         if self.dt_factor is not None:
-            check_real("dt_factor", self.dt_factor, 0.0, 10.0, lo_open=True)
+            object.__setattr__(self, "dt_factor", ranges.check("dt_factor", self.dt_factor))
         if self.buffer is not None:
-            if len(self.buffer) != 3:
+            if isinstance(self.buffer, (str, bytes)) or not hasattr(self.buffer, "__len__") or len(self.buffer) != 3:
                 raise ValueError(f"buffer = {self.buffer!r} is not valid: allowed (x_min_m, x_max_m, beta)")
-            lo = check_real("buffer x_min", self.buffer[0], -self.L_x / 2, self.L_x / 2, unit="m")
-            check_real("buffer x_max", self.buffer[1], lo, self.L_x / 2, unit="m")
+            lo = check_real("buffer x_min", self.buffer[0], -L_x / 2, L_x / 2, unit="m")
+            check_real("buffer x_max", self.buffer[1], lo, L_x / 2, unit="m")
             check_real("buffer beta", self.buffer[2], -1.0, math.inf, lo_open=True)
-        check_real("buffer_on_orbit", self.buffer_on_orbit, 0.0, math.inf, unit="orbits")
-        check_int("samples_per_orbit", self.samples_per_orbit, 1, 10000)
+        object.__setattr__(self, "buffer_on_orbit", ranges.check("buffer_on_orbit", self.buffer_on_orbit))
+        ranges.check("samples_per_orbit", self.samples_per_orbit)
         check_int("spacetime_rows_per_orbit", self.spacetime_rows_per_orbit, 0, self.samples_per_orbit)
         if self.spacetime_rows_per_orbit and self.samples_per_orbit % self.spacetime_rows_per_orbit:
             raise ValueError(f"spacetime_rows_per_orbit = {self.spacetime_rows_per_orbit} is not valid: it must "
                              f"divide samples_per_orbit = {self.samples_per_orbit}")
-        n = self.n
+        n = int(round(L_x / h))
+        for nm in ("track_modes", "probes_m"):
+            if isinstance(getattr(self, nm), (str, bytes)) or not hasattr(getattr(self, nm), "__iter__"):
+                raise ValueError(f"{nm} = {getattr(self, nm)!r} is not valid: give a sequence of numbers")
         for m in self.track_modes:
             check_int("track_modes entry", m, 1, n // 2 - 1)
         for x in self.probes_m:
-            check_real("probes_m entry", x, -self.L_x / 2, self.L_x / 2, unit="m")
-        check_real("T_floor", self.T_floor, 0.0, 1.0)
+            check_real("probes_m entry", x, -L_x / 2, L_x / 2, unit="m")
+        object.__setattr__(self, "T_floor", ranges.check("T_floor", self.T_floor))
+        object.__setattr__(self, "L_x", L_x)
+        object.__setattr__(self, "h", h)
+        for nm in ("replicas", "samples_per_orbit", "spacetime_rows_per_orbit"):
+            object.__setattr__(self, nm, int(getattr(self, nm)))
+        object.__setattr__(self, "bin_correction", bool(self.bin_correction))
+        object.__setattr__(self, "strobe", bool(self.strobe))
         object.__setattr__(self, "track_modes", tuple(int(m) for m in self.track_modes))
         object.__setattr__(self, "probes_m", tuple(float(x) for x in self.probes_m))
         if self.buffer is not None:

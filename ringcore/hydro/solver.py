@@ -26,6 +26,7 @@ import time
 
 import numpy as np
 
+from .. import ranges
 from ..checks import check_int, check_real
 from ..engine import BlowUp, SampleHub
 from ..params import RingParams
@@ -34,7 +35,7 @@ from . import kernels as K
 from .convert import cons_to_prim
 from .diagnostics import Recorder, e_kin, prevalent_wavelength, psd
 from .gravity import SelfGravity
-from .initial import INITIAL_KINDS, make_initial
+from .initial import INITIAL_KINDS, amplitude_too_large, check_initial_arguments, make_initial
 from .state_io import StateIO
 from .options import HydroOptions
 from .stepper import HAVE_ROCKET_FFT, ssprk_step
@@ -98,7 +99,7 @@ class Hydro1D(StateIO):
     kind = "hydro"
 
     def __init__(self, params: RingParams, options: HydroOptions | None = None, initial="ground", *,
-                 seed: int = 0, amplitude: float | None = None, lambda_min: float = 50.0,
+                 seed: int | None = None, amplitude: float | None = None, lambda_min: float | None = None,
                  wavelength: float | None = None, direction: str = "left", phase: float = 0.0, state=None,
                  max_samples: int | None = None, max_rows: int | None = None):
         self._allocate(params, options)
@@ -170,6 +171,8 @@ class Hydro1D(StateIO):
 
     # ------------------------------------------------------------------ set-up
     def _set_initial(self, initial, state=None, **kw):
+        kind = initial if isinstance(initial, str) else ("dataset" if hasattr(initial, "data_vars") else None)
+        check_initial_arguments(kind, self.options.L_x, self.options.h, kw, state)
         if isinstance(initial, str) and initial == "state":
             if state is None or len(state) != 4:
                 raise ValueError("state = None is not valid for initial = 'state': give (sigma, u, v, T) arrays")
@@ -184,7 +187,12 @@ class Hydro1D(StateIO):
         else:
             raise ValueError(f"initial = {initial!r} is not valid: choose one of "
                              f"{', '.join(INITIAL_KINDS + ('state',))} or an xarray.Dataset")
-        self.set_state(*prim)
+        try:
+            self.set_state(*prim)
+        except ValueError as exc:
+            if kind not in ("noise", "mode"):
+                raise
+            raise ValueError(amplitude_too_large(kind, kw, self.params, exc)) from None
 
     def set_state(self, sigma, u, v, T=None):
         """Replace the state by dimensionless primitive arrays of length n (T ignored if isothermal)."""
@@ -285,6 +293,21 @@ class Hydro1D(StateIO):
         vmax, numax, rmax = K.compute_rhs(self._U[0], self._W, self._beta, self.gravity.g, self._par, self._L[0])
         return K.stable_dt(vmax, numax, rmax, self.h, int(self._par[K.P_DTMODE]), self._par[K.P_DTFACTOR])
 
+    def estimate_steps(self, orbits: float) -> float:
+        """Steps that ``orbits`` more orbits would take at the time step of the current state (an
+        estimate, without self-gravity, for refusing runs that could not finish; it works on copies
+        of the work arrays, so the run is untouched).  inf if the criterion gives no positive step."""
+        vmax, numax, rmax = K.compute_rhs(self._U[0].copy(), self._W.copy(), self._beta,
+                                          np.zeros_like(self.gravity.g), self._par, self._L[0].copy())
+        dt = K.stable_dt(vmax, numax, rmax, self.h, int(self._par[K.P_DTMODE]), self._par[K.P_DTFACTOR])
+        n = orbits * TWO_PI / dt if dt > 0.0 and math.isfinite(dt) else math.inf
+        return max(n, orbits * self.options.samples_per_orbit)
+
+    def check_work(self, orbits: float, label: str = "orbits") -> None:
+        """ValueError if ``orbits`` more orbits need more than :data:`ringcore.ranges.WORK_MAX`
+        node-steps (a run that could not finish), naming ``label`` and the allowed duration."""
+        ranges.check_work(label, orbits, self.estimate_steps(orbits) / max(orbits, 1e-300), self.n, "nodes")
+
     # ------------------------------------------------------------------ stepping
     def step(self, dt_cap: float = math.inf) -> float:
         """Advance one SSPRK(5,4) step (dt from the criterion, at most ``dt_cap``); returns dt.
@@ -365,11 +388,16 @@ class Hydro1D(StateIO):
         """
         if (orbits is None) == (until is None):
             raise ValueError("give exactly one of orbits (duration) or until (end time), in orbits")
+        cap = ranges.ORBITS_MAX if max_wall_s is None else ranges.OPEN_END_ORBITS  # a wall budget ends the call
         if until is None:
-            until = self.orbits + check_real("orbits", orbits, 0.0, math.inf, unit="orbits")
-        until = check_real("until", until, self.orbits - self.dt_orbits, math.inf, unit="orbits")
+            until = self.orbits + check_real("orbits", orbits, 0.0, cap, unit="orbits")
+        until = check_real("until", until, self.orbits - self.dt_orbits, max(cap, self.orbits), unit="orbits")
         if max_wall_s is not None:
-            max_wall_s = check_real("max_wall_s", max_wall_s, 0.0, math.inf, unit="s")
+            max_wall_s = ranges.check("max_wall_s", max_wall_s)
+        if max_steps is not None:
+            max_steps = ranges.check("max_steps", max_steps)
+        if until - self.orbits >= 1.0 and max_steps is None and max_wall_s is None and stop is None:
+            self.check_work(until - self.orbits, "orbits" if orbits is not None else "until - orbits")
         t_end = until * TWO_PI
         ds = TWO_PI / self.options.samples_per_orbit
         k_end = round(t_end / ds) if math.isfinite(t_end) else 0
@@ -388,7 +416,7 @@ class Hydro1D(StateIO):
             if self._k_sample * ds <= self.t:  # bare step() calls went past sample times: resume the grid
                 self._k_sample = math.floor(self.t / ds) + 1
             while self.t < t_end * (1.0 - 1e-15):
-                if max_steps is not None and self._steps - steps0 >= max_steps:
+                if max_steps is not None and self._steps - steps0 >= max_steps:  # (checked >= 1 above)
                     break
                 t_next = min(self._k_sample * ds, t_buf)  # the run's own events only, never t_end
                 cap = t_next - self.t

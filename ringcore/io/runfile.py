@@ -159,8 +159,10 @@ def read_run(path, kind: str | None = None) -> xr.Dataset:
         newer schema, missing or malformed variables, inconsistent, non-finite state, checksum mismatch).
     """
     path = Path(path)
+    if path.is_dir():
+        raise RunFileError(f"{path}: is a folder, not a run file (give a .nc file written by ringcore)")
     if not path.is_file():
-        raise RunFileError(f"{path}: no such file")
+        raise RunFileError(f"{path}: no such file" if not path.exists() else f"{path}: not a regular file")
     try:
         with xr.open_dataset(path, engine="h5netcdf") as f:
             ds = f.load()

@@ -5,7 +5,8 @@ refused; older: upgraded through :data:`ringcore.io.schema.MIGRATIONS` or refuse
 in :data:`LAYOUTS` (``"hydro"``, ``"nbody"``): the attributes a continuation needs, every
 required variable with its dimensions and dtype kind, the checksum ``state_sha256`` that
 :func:`ringcore.io.write_run` stamps (files written before it existed have none and are accepted
-on the other checks), finiteness of the state arrays, the parameters and options (they must
+on the other checks), finiteness of the state arrays and of the recorded series in
+:data:`FINITE_SERIES`, the parameters and options (they must
 build) and cross-consistency (grid ``n`` vs ``L_x/h``, particle count vs array lengths, mode,
 probe, zone and accumulator dimensions).  Other kinds (``"recipe"``, ``"linear"``, ``"sweep"``)
 get the schema checks only.  Any failure raises :class:`~ringcore.io.RunFileError` with one line
@@ -67,6 +68,11 @@ CHECKSUM_ATTRS = {"hydro": ("params_json", "options_json", "time_dimensionless",
                   "nbody": ("params_json", "options_json", "seed", "rng_state_json", "t0_kernel", "step_count",
                             "t_kernel", "N")}
 STATE_ARRAYS = {"hydro": ("state",), "nbody": ("state_pos", "state_vel")}
+# recorded series that a run always writes finite (summaries average them): NaN or inf there is damage.
+# (N-body lambda_p is nan while no wave stands out, so it is not listed.)
+FINITE_SERIES = {"hydro": ("t", "e_kin", "e_kin_si", "e_kin_rp", "lambda_p", "dt", "t_strobe", "t_spacetime",
+                           "restart_series", "restart_t_strobe", "restart_t_spacetime"),
+                 "nbody": ("time", "time_profile", "ekin", "c_mean", "T", "collision_frequency")}
 
 
 def _digest(name: str, item) -> str:
@@ -288,5 +294,12 @@ def validate_run(ds, kind: str | None = None, source: str = "<dataset>"):
         if not np.all(np.isfinite(a)):
             bad = np.argwhere(~np.isfinite(a))[0]
             _fail(source, f"state array {name!r} has non-finite values (first at index {tuple(int(i) for i in bad)})")
+    for name in FINITE_SERIES[kind]:
+        if name in ds.variables:
+            a = np.asarray(ds.variables[name].values)
+            if a.dtype.kind == "f" and not np.all(np.isfinite(a)):
+                bad = np.argwhere(~np.isfinite(a))[0]
+                _fail(source, f"variable {name!r} has non-finite values (first {float(a[tuple(bad)])!r} at index "
+                              f"{tuple(int(i) for i in bad)}): a run writes it finite (damaged or edited file)")
     (_check_hydro if kind == "hydro" else _check_nbody)(ds, source)
     return ds

@@ -9,7 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..checks import check_real
+from .. import ranges
 from ..params import RingParams
 from .matrix import track_overstable
 
@@ -82,10 +82,13 @@ class Dispersion:
 
 def wavelengths_to_k(p: RingParams, wavelength_m) -> np.ndarray:
     """Dimensionless k of wavelengths in meters (each must be finite and > 0)."""
+    if isinstance(wavelength_m, (str, bytes)) or np.asarray(wavelength_m).dtype.kind not in "iuf":
+        raise ValueError(f"wavelength_m = {wavelength_m!r} is not valid: give a number or an array of numbers [m]")
     lam = np.asarray(wavelength_m, float)
-    if lam.size and (not np.all(np.isfinite(lam)) or np.any(lam <= 0)):
-        bad = lam[~(np.isfinite(lam) & (lam > 0))].ravel()[0]
-        check_real("wavelength_m", bad, 0.0, np.inf, lo_open=True, unit="m")
+    r = ranges.get("wavelength_m")
+    if lam.size and not np.all((lam >= r.lo) & (lam <= r.hi)):
+        bad = lam[~((lam >= r.lo) & (lam <= r.hi))].ravel()[0]
+        r.check(float(bad))
     return 2.0 * np.pi / (lam / p.scales.length)
 
 
@@ -105,8 +108,8 @@ def dispersion(p: RingParams, wavelength_m=None) -> Dispersion:
     """
     if wavelength_m is None:
         wavelength_m = np.geomspace(10.0, 1.0e4, 400)
+    k = wavelengths_to_k(p, wavelength_m)
     lam = np.asarray(wavelength_m, float)
-    k = wavelengths_to_k(p, lam)
     om, dom, _ = track_overstable(p, k)
     return Dispersion(wavelength_m=lam, k=k, omega=om, domega_dk=dom, c0=p.c0, Omega=p.Omega)
 

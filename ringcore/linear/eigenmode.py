@@ -8,7 +8,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..checks import check_choice, check_real
+from .. import ranges
+from ..checks import check_choice
 from ..params import RingParams
 from .dispersion import wavelengths_to_k
 from .matrix import track_overstable
@@ -51,7 +52,7 @@ class Eigenmode:
 
 def eigenmode(p: RingParams, wavelength_m: float, direction: str = "left") -> Eigenmode:
     """The overstable eigenmode of wavelength ``wavelength_m`` [m]."""
-    check_real("wavelength_m", wavelength_m, 0.0, np.inf, lo_open=True, unit="m")
+    wavelength_m = ranges.check("wavelength_m", wavelength_m)
     check_choice("direction", direction, ("left", "right"))
     k = float(wavelengths_to_k(p, wavelength_m))
     om, _, vec = track_overstable(p, np.array([k]))

@@ -140,12 +140,22 @@ def overstable_band(p: RingParams):
 def lambda_zero(p: RingParams) -> float:
     """Wavelength [m] of the omega_I minimum (v_g changes from - to + with k); nan if none.
 
-    Exists only with self-gravity (sigma0 > 0).  References: eq. (vg), Figure "vgroup".
+    Exists only with self-gravity (sigma0 > 0): from k = 0 on, omega_I = 1 - k/Q0 + O(k^2)
+    falls (v_g = -1/Q0 < 0) until its minimum at lambda_zero, roughly proportional to Q0 (i.e.
+    1/sigma0).  This is the FIRST sign change of v_g coming from long waves; at weak self-gravity
+    (tau15: sigma0 < ~0.25 kg/m^2) it lies beyond the wavenumber grid (``LAMBDA_MAX_M``) and is
+    followed there along the branch to longer waves, up to :data:`LAMBDA_ZERO_MAX_M` (nan beyond:
+    no local minimum inside a shearing sheet).  The later sign changes at wavelengths of a few
+    metres (present also without self-gravity) are not lambda_zero.
+
+    References: eq. (vg), Figure "vgroup".
     """
     if p.sigma0 == 0:
         return math.nan
     k, om, dom = _grid(p)
     vg = dom.imag
+    if vg[0] >= 0:  # the minimum lies at longer waves than the grid reaches
+        return _lambda_zero_long(p, float(k[0]), om[0])
     idx = np.nonzero((vg[:-1] < 0) & (vg[1:] >= 0))[0]
     if idx.size == 0:
         return math.nan
@@ -154,6 +164,24 @@ def lambda_zero(p: RingParams) -> float:
     kz = _bracketed_root(lambda x: refine_branch(p, x, g0)[1].imag, k[i], k[i + 1], p, "lambda_zero",
                          xtol=1e-12)
     return float(_to_lambda(p, kz))
+
+
+LAMBDA_ZERO_MAX_M = 1.0e7  # [m] beyond, a wavelength is no longer small against the orbital radius (~1e8 m)
+
+
+def _lambda_zero_long(p: RingParams, k_hi: float, guess) -> float:
+    """lambda_zero [m] at wavenumbers below ``k_hi`` (where v_g >= 0), followed down the branch
+    in steps of 2; nan if it lies beyond LAMBDA_ZERO_MAX_M."""
+    k_min = 2 * np.pi * p.scales.length / LAMBDA_ZERO_MAX_M
+    k_b = k_hi
+    while k_b > k_min:
+        k_a = max(k_b / 2.0, k_min)
+        w, dw, _ = refine_branch(p, k_a, guess)
+        if dw.imag < 0:
+            kz = _bracketed_root(lambda x: refine_branch(p, x, w)[1].imag, k_a, k_b, p, "lambda_zero", xtol=1e-14)
+            return float(_to_lambda(p, kz))
+        k_b, guess = k_a, w
+    return math.nan
 
 
 def _bracketed_root(f, a, b, p: RingParams, what: str, **kw) -> float:

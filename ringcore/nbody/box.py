@@ -20,6 +20,7 @@ import time
 import numpy as np
 from tqdm.auto import tqdm
 
+from .. import ranges
 from ..checks import check_int, check_real
 from ..engine import BlowUp, SampleHub, State
 from ..params import RingParams
@@ -76,14 +77,21 @@ class ShearingBox:
             raise ValueError(f"params = {params!r} is not valid: pass a ringcore.params.RingParams")
         self.params = params
         self.options = o = options if options is not None else NBodyOptions()
-        self.seed = check_int("seed", seed, 0, 2**63 - 1)
+        if not isinstance(o, NBodyOptions):
+            raise ValueError(f"options = {o!r} is not valid: pass a ringcore.nbody.NBodyOptions")
+        self.seed = ranges.check("seed", seed)
         self.R_p, self.Omega = o.R_p, params.Omega
         self.L_x, self.L_y = o.L_x / o.R_p, o.L_y / o.R_p  # [R_p]
         self.dt = 2.0 * math.pi * o.dt_orbit  # [1/Omega]
         sanity.check_sigma0(params.sigma0, o.R_p, params.Omega, o.L_x, o.m_hi, self.dt)
         self.rng = np.random.default_rng(self.seed)
         if state is None:
-            n = int(round(params.tau * o.fill_fraction * o.L_x * o.L_y / (math.pi * o.R_p**2)))
+            n_real = params.tau * o.fill_fraction * o.L_x * o.L_y / (math.pi * o.R_p**2)
+            if not 0.5 <= n_real <= 1e8:  # before int(): a huge box must not overflow
+                raise ValueError(f"N = tau fill_fraction L_x L_y / (pi R_p^2) = {n_real:.3g} particles (tau = "
+                                 f"{params.tau:g}, fill_fraction = {o.fill_fraction:g}, L_x = {o.L_x:g} m, L_y = "
+                                 f"{o.L_y:g} m, R_p = {o.R_p:g} m) is out of range: allowed 1 <= N <= 1e8")
+            n = int(round(n_real))
             check_int("N (from tau, L_x, L_y, R_p)", n, 1, 10**8)
             pos, vel = initial.uniform_state(self.rng, n, self.L_x, self.L_y, params.tau,
                                              o.v_init / self.v_unit, o.fill_fraction)
@@ -148,7 +156,8 @@ class ShearingBox:
 
     @t.setter
     def t(self, value: float) -> None:
-        self._t0, self._steps = float(value), 0
+        lim = ranges.ORBITS_MAX * 2.0 * math.pi
+        self._t0, self._steps = check_real("t", value, -lim, lim, unit="1/Omega"), 0
 
     @property
     def acc_total(self) -> np.ndarray:
@@ -197,8 +206,9 @@ class ShearingBox:
 
         ``m`` is the mode number (wavelength L_x / m); ``amplitude`` in units of R_p Omega.
         """
-        check_int("m", m, 1, int(self.L_x))
-        check_real("amplitude", amplitude, -1e3, 1e3, unit="R_p Omega")
+        m = check_int("m", m, 1, max(1, int(self.L_x / 4.0)))  # wavelength >= 2 particle diameters
+        amplitude = ranges.check("seed_amplitude", amplitude, "amplitude")
+        phase = ranges.check("phase", phase)
         initial.add_radial_mode(self.pos, self.vel, self.L_x, m, amplitude, phase)
 
     def reset_accumulators(self) -> None:
@@ -300,14 +310,15 @@ class ShearingBox:
         """
         if (orbits is None) == (until is None):
             raise ValueError("give exactly one of orbits (duration) or until (end time), in orbits")
+        cap = ranges.ORBITS_MAX if max_wall_s is None else ranges.OPEN_END_ORBITS  # a wall budget ends the call
         if until is not None:
-            orbits = check_real("until", until, self.orbits - 0.5 * self.options.dt_orbit, 1e7,
+            orbits = check_real("until", until, self.orbits - 0.5 * self.options.dt_orbit, max(cap, self.orbits),
                                 unit="orbits") - self.orbits
             orbits = max(orbits, 0.0)  # an end time passed by less than half a step: nothing to do
-        orbits = check_real("orbits", orbits, 0.0, 1e7, unit="orbits")
+        orbits = check_real("orbits", orbits, 0.0, cap, unit="orbits")
         deadline = None
         if max_wall_s is not None:
-            deadline = time.perf_counter() + check_real("max_wall_s", max_wall_s, 0.0, math.inf, unit="s")
+            deadline = time.perf_counter() + ranges.check("max_wall_s", max_wall_s)
         o = self.options
         n_total = int(round(orbits / o.dt_orbit))
         chunk = max(1, int(round(o.record_every / o.dt_orbit)))

@@ -5,10 +5,10 @@ everything here is a numerical or set-up choice, in physical units at the API.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, replace
 
-from ..checks import check_choice, check_int, check_real
+from .. import ranges
+from ..checks import check_bool, check_choice, check_int, check_real
 
 RESTITUTION_LAWS = ("bridges", "constant")
 V_C_BRIDGES = 0.077e-3  # [m/s] scale of the Bridges et al. (1984) law, eq. (bridges)
@@ -18,7 +18,7 @@ V_C_BRIDGES = 0.077e-3  # [m/s] scale of the Bridges et al. (1984) law, eq. (bri
 class NBodyOptions:
     """Box geometry, collision law, time step and self-gravity resolution.
 
-    Attributes
+    Attributes (ranges of the numbers: :mod:`ringcore.ranges`)
     ----------
     L_x, L_y : float
         Radial and azimuthal box size [m]; each at least 6 R_p (three neighbour cells).
@@ -74,26 +74,33 @@ class NBodyOptions:
     fill_fraction: float = 1.0
 
     def __post_init__(self):
-        check_real("R_p", self.R_p, 0.0, math.inf, lo_open=True, unit="m")
-        check_real("L_x", self.L_x, 6.0 * self.R_p, 1.0e6, unit="m")
-        check_real("L_y", self.L_y, 6.0 * self.R_p, 1.0e6, unit="m")
+        R_p = ranges.check("R_p", self.R_p)
+        fl = {"R_p": R_p,
+              "L_x": ranges.check("L_x", self.L_x, lo=6.0 * R_p, note=f"at least 6 R_p, R_p = {R_p:g} m"),
+              "L_y": ranges.check("L_y", self.L_y, lo=6.0 * R_p, note=f"at least 6 R_p, R_p = {R_p:g} m")}
         check_choice("restitution", self.restitution, RESTITUTION_LAWS)
-        check_real("epsilon", self.epsilon, 0.0, 1.0, lo_open=True)
-        check_real("v_c", self.v_c, 0.0, math.inf, lo_open=True, unit="m/s")
-        check_real("dt_orbit", self.dt_orbit, 0.0, 0.05, lo_open=True, unit="orbits")
-        if not isinstance(self.collisions, bool):
-            raise ValueError(f"collisions = {self.collisions!r} is not valid: choose one of True, False")
-        check_int("m_max", self.m_max, 1, 100000)
+        fl["epsilon"] = ranges.check("epsilon", self.epsilon)
+        fl["v_c"] = check_real("v_c", self.v_c, 0.0, 1.0, lo_open=True, unit="m/s")
+        fl["dt_orbit"] = ranges.check("dt_orbit", self.dt_orbit)
+        check_bool("collisions", self.collisions)
+        ranges.check("m_max", self.m_max)
         check_int("single_mode", self.single_mode, 0, 100000)
         check_int("n_bins", self.n_bins, 0, 10**7)
+        for nm in ("m_max", "single_mode", "n_bins"):
+            object.__setattr__(self, nm, int(getattr(self, nm)))
         if 0 < self.n_bins < 4 * self.m_hi:
             raise ValueError(f"n_bins = {self.n_bins} is out of range: allowed 0 (auto) or "
                              f"{4 * self.m_hi} <= n_bins (4 x highest mode {self.m_hi})")
-        check_int("n_zones", self.n_zones, 0, 10**6)
-        check_real("record_every", self.record_every, self.dt_orbit, math.inf, unit="orbits")
-        check_real("profile_every", self.profile_every, 0.0, math.inf, unit="orbits")
-        check_real("v_init", self.v_init, 0.0, 1.0, unit="m/s")
-        check_real("fill_fraction", self.fill_fraction, 0.0, 1.0, lo_open=True)
+        object.__setattr__(self, "n_zones", check_int("n_zones", self.n_zones, 0, 10**6))
+        fl["record_every"] = ranges.check("record_every", self.record_every, lo=fl["dt_orbit"],
+                                          note=f"at least one step, dt_orbit = {fl['dt_orbit']:g} orbits")
+        fl["profile_every"] = ranges.check("profile_every", self.profile_every)
+        fl["v_init"] = ranges.check("v_init", self.v_init)
+        fl["fill_fraction"] = ranges.check("fill_fraction", self.fill_fraction)
+        for nm, v in fl.items():  # plain floats (ints and numpy scalars as given become float)
+            if type(getattr(self, nm)) is not float:
+                object.__setattr__(self, nm, v)
+        object.__setattr__(self, "collisions", bool(self.collisions))
 
     @property
     def m_lo(self) -> int:

@@ -20,6 +20,8 @@ from dataclasses import asdict
 import numpy as np
 import xarray as xr
 
+from .. import ranges
+from ..checks import check_bool
 from ..io import attrs_from_dict, dict_from_attrs, read_run, stamp_run, status_attrs, validate_run, write_run
 from ..engine import State
 from ..params import RingParams
@@ -127,6 +129,9 @@ def from_dataset(cls, ds, *, sigma0=None, tile_x: bool = False, options=None):
     continues bit for bit.  Otherwise a new run (time origin, accumulators and records reset) from
     the saved particles, with the new surface density [kg/m^2], tiled box or options.
     """
+    tile_x = check_bool("tile_x", tile_x)
+    if options is not None and not isinstance(options, NBodyOptions):
+        raise ValueError(f"options = {options!r} is not valid: pass a ringcore.nbody.NBodyOptions")
     st = state_from_dataset(ds)
     if sigma0 is None and not tile_x and options is None:
         return cls.restore(st)
@@ -159,6 +164,7 @@ def summary(src, last_fraction: float = 0.25) -> dict:
     [m]; ``e_kin`` mean [sigma0 (R_p Omega)^2] (also ``e_kin_rp``); ``c_mean`` mean velocity
     dispersion [m/s]; ``orbits``; ``N``.
     """
+    last_fraction = ranges.check("last_fraction", last_fraction)
     st = _state_of(src)
     a, o = st.arrays, st.options
     _, orbits, n_part, _ = _clock(st)
