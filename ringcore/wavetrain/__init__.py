@@ -14,3 +14,7 @@ from .result import WaveTrain
 
 __all__ = ["Branch", "compute_branch", "neutral_wavelength", "solve_at", "Grid", "Model", "linear_operator",
            "residual", "NewtonFailure", "WaveTrain"]
+from .boundary import StabilityBoundary, stability_boundary  # noqa: E402
+from .floquet import FloquetSpectrum, floquet  # noqa: E402
+
+__all__ += ["StabilityBoundary", "stability_boundary", "FloquetSpectrum", "floquet"]
