@@ -121,3 +121,44 @@ def test_wave_train_travels_unchanged_in_hydro1d():
     # a phase-speed error of 1 % would move the wave by |c| t / 100: far more than the error above
     wrong = tr.fields(x_m - 1.01 * shift_m)
     assert np.abs(sim.sigma - wrong[0]).max() > 5 * err
+
+
+@pytest.mark.slow
+def test_unstable_wave_train_breaks_up_at_floquet_rate():
+    """(b) An unstable wave train seeded with its fastest q = k/2 Floquet mode grows at the computed rate in Hydro1D."""
+    from ringcore.wavetrain.floquet import most_unstable_mode
+
+    p = params.get("tau15", isothermal=True)
+    lam = 70.0
+    tr = solve_at(compute_branch(p, lam * 1.01, N=65, N_max=129), lam)
+    mu, phi = most_unstable_mode(tr, 0.5)
+    assert mu.real > 1e-3  # unstable (lambda < lambda_st)
+    N = tr.N
+    n = 2 * N  # box of two wavelengths: q = k/2 is periodic there; hydro node j = wave node j mod N
+    opt = HydroOptions(L_x=2 * lam, h=lam / N)
+    x = tr.lam * np.arange(n) / N
+    eps = 1e-4
+    pert = np.real(eps * np.tile(phi, 2) * np.exp(0.5j * tr.k * x)[None, :])
+    w = np.tile(tr.w, 2) + pert
+    sim = Hydro1D(p, opt, initial="state", state=(w[0], w[1], w[2], np.ones(n)))
+
+    def sub_amp():  # the odd Fourier modes of sigma in the 2-lambda box belong to the perturbation only
+        s = np.fft.rfft(sim.sigma)
+        return float(np.sqrt(np.sum(np.abs(s[1::2]) ** 2)))
+
+    # the real seed holds the mode and its complex conjugate (also q = k/2): their sum beats, so the
+    # growth rate is read from the envelope (maxima over one-orbit windows)
+    ts, amps = [], []
+    for _ in range(7 * 20):
+        ts.append(sim.t)
+        amps.append(sub_amp())
+        sim.advance(orbits=0.05)
+    ts, amps = np.array(ts), np.log(amps)
+    peaks_t, peaks_a = [], []
+    for k in range(1, 7):
+        sl = slice(20 * k, 20 * (k + 1))
+        i = int(np.argmax(amps[sl]))
+        peaks_t.append(ts[sl][i])
+        peaks_a.append(amps[sl][i])
+    rate = np.polyfit(peaks_t, peaks_a, 1)[0]
+    assert rate == pytest.approx(mu.real, rel=0.15), (rate, mu.real)

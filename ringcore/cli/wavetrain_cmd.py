@@ -42,6 +42,15 @@ def _params(args):
 
 
 def run(args) -> int:
+    try:  # one BLAS thread: the dense eigen-solver is fastest so on a shared machine (documented timing)
+        from threadpoolctl import threadpool_limits
+    except ImportError:  # pragma: no cover
+        return _run(args)
+    with threadpool_limits(1):
+        return _run(args)
+
+
+def _run(args) -> int:
     from .. import wavetrain as wtm
 
     p = _params(args)

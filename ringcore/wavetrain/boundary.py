@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..params import RingParams
-from .branch import compute_branch, solve_at
+from .branch import compute_branch, neutral_wavelength, solve_at
 from .floquet import DEFAULT_Q, floquet
 
 STABLE_TOL = 1e-9  # [Omega] growth rates below this count as stable (eigen-solver rounding ~1e-12)
@@ -66,7 +66,8 @@ class StabilityBoundary:
 
 
 def stability_boundary(p: RingParams, lam_max_m: float | None = None, N: int = 65, N_max: int = 201,
-                       q_over_k=DEFAULT_Q, scan_step: float = 0.5, bisections: int = 3) -> StabilityBoundary:
+                       q_over_k=DEFAULT_Q, scan_step: float = 0.5, bisections: int = 3,
+                       confirm: float = 1.5) -> StabilityBoundary:
     """Find lambda_st for parameter set ``p``.
 
     Parameters
@@ -82,26 +83,40 @@ def stability_boundary(p: RingParams, lam_max_m: float | None = None, N: int = 6
         Spacing of the stability scan in lambda/lambda_c.
     bisections : int
         Bisection steps in the bracket before the final interpolation.
+    confirm : float
+        The scan ends once the wave trains have been stable from some lambda to ``confirm`` times it.
     """
     t0 = time.perf_counter()
-    from .branch import neutral_wavelength
-
     lam_c = neutral_wavelength(p)
     if not math.isfinite(lam_c):
         return StabilityBoundary(None, "no overstable band: there are no wave trains", lam_c)
     lam_max_m = 25.0 * lam_c if lam_max_m is None else lam_max_m
-    br = compute_branch(p, lam_max_m, N=N, N_max=N_max)
     lams, grs, qs, amps, ns = [], [], [], [], []
     spectra = []
-    next_ell = 0.0
-    for tr in br.trains[2:]:  # the first trains sit at lambda_c (amplitude start)
-        if tr.wavelength_m / lam_c < next_ell and tr is not br.trains[-1]:
-            continue
-        next_ell = tr.wavelength_m / lam_c + scan_step
+    state = dict(next_ell=0.0, first_stable=None)
+
+    def scan(tr):
+        ell = tr.wavelength_m / lam_c
+        if ell < state["next_ell"]:
+            return None
+        state["next_ell"] = ell + scan_step
         fs = floquet(tr, q_over_k)
         lams.append(tr.wavelength_m), grs.append(fs.growth_rate), qs.append(fs.q_max_over_k)
         amps.append(tr.amplitude), ns.append(tr.N)
         spectra.append((tr, fs))
+        if fs.growth_rate > STABLE_TOL:
+            state["first_stable"] = None
+        elif state["first_stable"] is None:
+            state["first_stable"] = tr.wavelength_m
+        if state["first_stable"] is not None and tr.wavelength_m >= confirm * state["first_stable"]:
+            return (f"stopped at {tr.wavelength_m:.1f} m: stable from {state['first_stable']:.1f} m to "
+                    f"{confirm:g} times that")
+        return None
+
+    br = compute_branch(p, lam_max_m, N=N, N_max=N_max, stop=scan)
+    if br.trains and (not lams or lams[-1] < br.trains[-1].wavelength_m) and len(br.trains) > 2:
+        state["next_ell"] = 0.0
+        scan(br.trains[-1])
     res = StabilityBoundary(None, "", lam_c, np.array(lams), np.array(grs), np.array(qs), np.array(amps),
                             np.array(ns, int), br.stop_reason)
     unstable = res.growth_rate > STABLE_TOL

@@ -95,8 +95,8 @@ def _physical(model, w):
 
 
 def compute_branch(p: RingParams, lam_max_m: float, N: int = 65, N_max: int = 301, amp0: float = 1e-3,
-                   dell: float = 0.03,
-                   dell_max: float = 0.1, tol: float = 1e-11) -> Branch:
+                   dell: float = 0.03, dell_max: float = 0.1, tol: float = 1e-11, stop=None,
+                   tail_max: float = TAIL_MAX) -> Branch:
     """Continue the wave-train branch from lambda_c to ``lam_max_m`` [m].
 
     Parameters
@@ -114,6 +114,11 @@ def compute_branch(p: RingParams, lam_max_m: float, N: int = 65, N_max: int = 30
         Initial and largest step in lambda/lambda_c per continuation step.
     tol : float
         Newton tolerance on max |F| (dimensionless).
+    tail_max : float
+        Largest accepted spectral tail (:attr:`WaveTrain.spectral_tail`) before N is raised.
+    stop : callable, optional
+        ``stop(train) -> str or None`` called with each new continuation point; a string ends the
+        continuation with that reason.
     """
     N = check_int("N", N, 9, 1001)
     N_max = check_int("N_max", N_max, N, 1001)
@@ -170,12 +175,12 @@ def compute_branch(p: RingParams, lam_max_m: float, N: int = 65, N_max: int = 30
                                       "even at the smallest step")
                     return br
         tr = _train(p, model, N, z, lam_ref, res)
-        if tr.spectral_tail > TAIL_MAX:  # refine the grid and redo this step
+        if tr.spectral_tail > tail_max:  # refine the grid and redo this step
             N2 = min(2 * int(0.75 * N) + 1, N_max)  # about 1.5 N, odd
             if N2 <= N:
                 br.stop_reason = (f"continuation stopped at lambda = {tr.wavelength_m:.1f} m: the profile is not "
                                   f"resolved by N_max = {N_max} Fourier nodes (spectral tail "
-                                  f"{tr.spectral_tail:.1e} > {TAIL_MAX:g}); use a larger N_max")
+                                  f"{tr.spectral_tail:.1e} > {tail_max:g}); use a larger N_max")
                 return br
             zs = [_regrid(zz, nv, N, N2) for zz in zs[-2:]]
             N = N2
@@ -185,6 +190,10 @@ def compute_branch(p: RingParams, lam_max_m: float, N: int = 65, N_max: int = 30
         br.trains.append(tr)
         if z[-1] >= ell_max:
             br.stop_reason = "reached lam_max"
+            return br
+        why = stop(tr) if stop is not None else None
+        if why:
+            br.stop_reason = why
             return br
         step_ell = abs(z[-1] - z1[-1])
         grow = 1.5 if it <= 4 else (1.0 if it <= 8 else 0.6)

@@ -88,3 +88,23 @@ def floquet(train: WaveTrain, q_over_k=DEFAULT_Q) -> FloquetSpectrum:
         g = _drop_neutral(mu) if f == 0.0 else mu
         growth.append(float(g.real.max()))
     return FloquetSpectrum(q_over_k=q_over_k, mu=np.array(mus), growth_per_q=np.array(growth))
+
+
+def most_unstable_mode(train: WaveTrain, q_over_k: float):
+    """Fastest-growing Floquet mode at one Bloch wavenumber q = q_over_k * k.
+
+    Returns
+    -------
+    mu : complex
+        Exponent [Omega] (neutral symmetry modes excluded at q = 0 are not excluded here).
+    phi : ndarray (nv, N) complex
+        Periodic factor of the perturbation exp(i q x) phi(x) on the wave train's nodes, normalised to
+        max |phi_sigma| = 1.
+    """
+    model = Model(train.params)
+    grid = Grid(train.N, train.lam, model.inv_Q0)
+    M = linear_operator(model, grid, train.w, train.c, q=float(q_over_k * train.k))
+    mu, vec = scipy.linalg.eig(M)
+    i = int(np.argmax(mu.real))
+    phi = vec[:, i].reshape(model.nv, train.N)
+    return complex(mu[i]), phi / phi[0][np.argmax(np.abs(phi[0]))]
