@@ -1,0 +1,103 @@
+"""lambda_st(sigma0) table: the stability boundary of nonlinear wave trains for several models.
+
+Usage (the recipe that made app/data/lambda_st.nc; two processes share the cases)::
+
+    OMP_NUM_THREADS=1 python scripts/wavetrain_lambda_st.py run --cases tau15:iso,tau15:noniso,st99:iso \
+        --sigma0 0,300,600,900 --jsonl runs/lambda_st_a.jsonl
+    OMP_NUM_THREADS=1 python scripts/wavetrain_lambda_st.py run --cases tau20:iso,tau20:noniso \
+        --sigma0 0,300,600,900 --jsonl runs/lambda_st_b.jsonl
+    python scripts/wavetrain_lambda_st.py assemble runs/lambda_st_a.jsonl runs/lambda_st_b.jsonl \
+        --out app/data/lambda_st.nc
+
+Each (case, sigma0) is one :func:`ringcore.wavetrain.stability_boundary` call at the defaults of
+``ringcore wavetrain --stability-boundary`` except ``N_max`` (``--n-max``, default 301); one JSON line
+per result is appended as soon as it is done (an interrupted run keeps what it finished).
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+import time
+
+import numpy as np
+
+
+def _case_params(case, sigma0):
+    from ringcore import params
+
+    name, model = case.split(":")
+    return params.get(name, sigma0=sigma0, isothermal=(model == "iso"))
+
+
+def run(args):
+    from ringcore import linear
+    from ringcore.wavetrain import stability_boundary
+
+    for case in args.cases.split(","):
+        for s0 in (float(x) for x in args.sigma0.split(",")):
+            t0 = time.process_time()
+            rec = dict(case=case, sigma0=s0)
+            try:
+                p = _case_params(case, s0)
+                lz = linear.lambda_zero(p) if s0 > 0 else math.nan
+                r = stability_boundary(p, N_max=args.n_max)
+                rec.update(r.to_json_dict(), lambda_zero_m=lz)
+            except Exception as exc:  # recorded, the table goes on
+                rec.update(lambda_st_m=None, reason=f"{type(exc).__name__}: {exc}")
+            rec["cpu_s"] = time.process_time() - t0
+            with open(args.jsonl, "a") as fh:
+                fh.write(json.dumps(rec) + "\n")
+            print(case, s0, rec.get("lambda_st_m"), rec.get("reason"), f"{rec['cpu_s']:.0f} s cpu", flush=True)
+
+
+def assemble(args):
+    import xarray as xr
+
+    recs = [json.loads(line) for f in args.files for line in open(f) if line.strip()]
+    cases = sorted({r["case"] for r in recs})
+    s0 = sorted({r["sigma0"] for r in recs})
+    shape = (len(cases), len(s0))
+    st, lc, lz, cpu = (np.full(shape, np.nan) for _ in range(4))
+    reason = np.full(shape, "", dtype=object)
+    for r in recs:
+        i, j = cases.index(r["case"]), s0.index(r["sigma0"])
+        st[i, j] = np.nan if r.get("lambda_st_m") is None else r["lambda_st_m"]
+        lc[i, j] = r.get("lambda_c_m", np.nan) or np.nan
+        lz[i, j] = r.get("lambda_zero_m", np.nan) if r.get("lambda_zero_m") is not None else np.nan
+        cpu[i, j] = r["cpu_s"]
+        reason[i, j] = r.get("reason") or ""
+    ds = xr.Dataset(
+        dict(lambda_st_m=(("case", "sigma0"), st, {"units": "m", "long_name": "shortest stable wave-train wavelength"}),
+             lambda_c_m=(("case", "sigma0"), lc, {"units": "m", "long_name": "neutral wavelength (omega_R = 0)"}),
+             lambda_zero_m=(("case", "sigma0"), lz, {"units": "m", "long_name": "lambda_zero (v_g = 0)"}),
+             cpu_s=(("case", "sigma0"), cpu, {"units": "s"}),
+             reason=(("case", "sigma0"), reason.astype(str), {"long_name": "why lambda_st is missing"})),
+        coords=dict(case=("case", cases, {"long_name": "parameter set:model"}),
+                    sigma0=("sigma0", np.array(s0), {"units": "kg m-2"})))
+    ds.attrs["command"] = " ".join(["python scripts/wavetrain_lambda_st.py"] + sys.argv[1:])
+    ds.attrs["recipe"] = __doc__
+    ds.to_netcdf(args.out, engine="h5netcdf")
+    print(ds.lambda_st_m.to_pandas().round(1))
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    sub = ap.add_subparsers(dest="cmd", required=True)
+    a = sub.add_parser("run")
+    a.add_argument("--cases", required=True)
+    a.add_argument("--sigma0", default="0,300,600,900")
+    a.add_argument("--n-max", type=int, default=301)
+    a.add_argument("--jsonl", required=True)
+    a.set_defaults(func=run)
+    b = sub.add_parser("assemble")
+    b.add_argument("files", nargs="+")
+    b.add_argument("--out", required=True)
+    b.set_defaults(func=assemble)
+    args = ap.parse_args()
+    args.func(args)
+
+
+if __name__ == "__main__":
+    main()
