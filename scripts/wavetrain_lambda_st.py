@@ -35,21 +35,39 @@ def run(args):
     from ringcore import linear
     from ringcore.wavetrain import stability_boundary
 
-    for case in args.cases.split(","):
-        for s0 in (float(x) for x in args.sigma0.split(",")):
-            t0 = time.process_time()
-            rec = dict(case=case, sigma0=s0)
-            try:
-                p = _case_params(case, s0)
-                lz = linear.lambda_zero(p) if s0 > 0 else math.nan
-                r = stability_boundary(p, N_max=args.n_max)
-                rec.update(r.to_json_dict(), lambda_zero_m=lz)
-            except Exception as exc:  # recorded, the table goes on
-                rec.update(lambda_st_m=None, reason=f"{type(exc).__name__}: {exc}")
-            rec["cpu_s"] = time.process_time() - t0
-            with open(args.jsonl, "a") as fh:
-                fh.write(json.dumps(rec) + "\n")
-            print(case, s0, rec.get("lambda_st_m"), rec.get("reason"), f"{rec['cpu_s']:.0f} s cpu", flush=True)
+    todo = [tuple(c.split("@")) if "@" in c else None for c in args.cases.split(",")]
+    if all(todo):  # explicit case@sigma0 list
+        pairs = [(c, float(s)) for c, s in todo]
+    else:
+        pairs = [(c, float(s)) for c in args.cases.split(",") for s in args.sigma0.split(",")]
+    for case, s0 in pairs:
+        t0 = time.process_time()
+        rec = dict(case=case, sigma0=s0)
+        try:
+            p = _case_params(case, s0)
+            lz = linear.lambda_zero(p) if s0 > 0 else math.nan
+            r = stability_boundary(p, lam_max_m=args.lam_max, N_max=args.n_max, scan_step=args.scan_step)
+            rec.update(r.to_json_dict(), lambda_zero_m=lz)
+        except Exception as exc:  # recorded, the table goes on
+            rec.update(lambda_st_m=None, reason=f"{type(exc).__name__}: {exc}")
+        rec["cpu_s"] = time.process_time() - t0
+        with open(args.jsonl, "a") as fh:
+            fh.write(json.dumps(rec) + "\n")
+        print(case, s0, rec.get("lambda_st_m"), rec.get("reason"), f"{rec['cpu_s']:.0f} s cpu", flush=True)
+
+
+G_SLOW = 1.0 / (2 * math.pi * 1.0e4)  # [Omega] growth rate with an e-folding time of 10,000 orbits
+
+
+def lambda_slow(scan):
+    """Wavelength [m] above which the Floquet growth rate stays below G_SLOW (log-linear interpolation)."""
+    lam, g = np.asarray(scan["wavelength_m"]), np.asarray(scan["growth_rate_Omega"])
+    above = np.nonzero(g >= G_SLOW)[0]
+    if above.size == 0 or above[-1] + 1 >= lam.size:
+        return math.nan
+    i = above[-1]
+    g2 = max(g[i + 1], 1e-12)
+    return float(lam[i] + (lam[i + 1] - lam[i]) * math.log(g[i] / G_SLOW) / math.log(g[i] / g2))
 
 
 def assemble(args):
@@ -59,7 +77,7 @@ def assemble(args):
     cases = sorted({r["case"] for r in recs})
     s0 = sorted({r["sigma0"] for r in recs})
     shape = (len(cases), len(s0))
-    st, lc, lz, cpu = (np.full(shape, np.nan) for _ in range(4))
+    st, lc, lz, cpu, ls = (np.full(shape, np.nan) for _ in range(5))
     reason = np.full(shape, "", dtype=object)
     for r in recs:
         i, j = cases.index(r["case"]), s0.index(r["sigma0"])
@@ -67,12 +85,15 @@ def assemble(args):
         lc[i, j] = r.get("lambda_c_m", np.nan) or np.nan
         lz[i, j] = r.get("lambda_zero_m", np.nan) if r.get("lambda_zero_m") is not None else np.nan
         cpu[i, j] = r["cpu_s"]
+        ls[i, j] = lambda_slow(r["scan"]) if r.get("scan") else np.nan
         reason[i, j] = r.get("reason") or ""
     ds = xr.Dataset(
         dict(lambda_st_m=(("case", "sigma0"), st, {"units": "m", "long_name": "shortest stable wave-train wavelength"}),
              lambda_c_m=(("case", "sigma0"), lc, {"units": "m", "long_name": "neutral wavelength (omega_R = 0)"}),
              lambda_zero_m=(("case", "sigma0"), lz, {"units": "m", "long_name": "lambda_zero (v_g = 0)"}),
-             cpu_s=(("case", "sigma0"), cpu, {"units": "s"}),
+             lambda_slow_m=(("case", "sigma0"), ls, {"units": "m", "long_name": "wavelength above which the "
+                                                     "Floquet e-folding time exceeds 10,000 orbits"}),
+             cpu_s=(("case", "sigma0"), cpu, {"units": "s", "long_name": "CPU time of the computation"}),
              reason=(("case", "sigma0"), reason.astype(str), {"long_name": "why lambda_st is missing"})),
         coords=dict(case=("case", cases, {"long_name": "parameter set:model"}),
                     sigma0=("sigma0", np.array(s0), {"units": "kg m-2"})))
@@ -80,6 +101,7 @@ def assemble(args):
     ds.attrs["recipe"] = __doc__
     ds.to_netcdf(args.out, engine="h5netcdf")
     print(ds.lambda_st_m.to_pandas().round(1))
+    print(ds.lambda_slow_m.to_pandas().round(1))
 
 
 def main():
@@ -89,6 +111,8 @@ def main():
     a.add_argument("--cases", required=True)
     a.add_argument("--sigma0", default="0,300,600,900")
     a.add_argument("--n-max", type=int, default=301)
+    a.add_argument("--lam-max", type=float, default=1200.0, help="largest wavelength scanned [m]")
+    a.add_argument("--scan-step", type=float, default=1.0, help="scan spacing in lambda/lambda_c")
     a.add_argument("--jsonl", required=True)
     a.set_defaults(func=run)
     b = sub.add_parser("assemble")
