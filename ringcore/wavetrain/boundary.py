@@ -21,7 +21,9 @@ from ..params import RingParams
 from .branch import compute_branch, neutral_wavelength, solve_at
 from .floquet import DEFAULT_Q, floquet
 
-STABLE_TOL = 1e-9  # [Omega] growth rates below this count as stable (eigen-solver rounding ~1e-12)
+STABLE_TOL = 1e-7  # [Omega] growth rates below this count as stable: an e-folding time of 1.6 million orbits.
+# Wave trains resolved to a spectral tail of 1e-6 can show spurious long-wave growth up to ~5e-9 Omega
+# (tau20 non-isothermal at 570 m: +5e-9 with N = 97, tail 7e-7; -3e-11 with N = 145, tail 3e-8).
 
 
 @dataclass
