@@ -27,8 +27,8 @@ def register(sub) -> None:
                    help="largest wavelength scanned by --stability-boundary [m] (default 25 lambda_c)")
     p.add_argument("--n-fourier", type=int, default=65, metavar="N",
                    help="Fourier nodes per wavelength at the start of the branch (odd; default 65)")
-    p.add_argument("--n-max", type=int, default=201, metavar="N",
-                   help="largest number of Fourier nodes (odd; default 201)")
+    p.add_argument("--n-max", type=int, default=301, metavar="N",
+                   help="largest number of Fourier nodes (odd; default 301)")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=run)
 

@@ -67,7 +67,7 @@ class StabilityBoundary:
                               n_fourier=[int(n) for n in self.n_fourier]))
 
 
-def stability_boundary(p: RingParams, lam_max_m: float | None = None, N: int = 65, N_max: int = 201,
+def stability_boundary(p: RingParams, lam_max_m: float | None = None, N: int = 65, N_max: int = 301,
                        q_over_k=DEFAULT_Q, scan_step: float = 0.5, bisections: int = 3,
                        confirm: float = 1.5) -> StabilityBoundary:
     """Find lambda_st for parameter set ``p``.
