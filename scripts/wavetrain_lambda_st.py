@@ -104,6 +104,34 @@ def assemble(args):
     print(ds.lambda_slow_m.to_pandas().round(1))
 
 
+RUNS = {("tau15:iso", 0.0): ("LO2009 233", "263"), ("tau20:iso", 0.0): ("LO2009 455", "526"),
+        ("st99:iso", 0.0): ("LO2009 659", "588"), ("tau15:noniso", 0.0): ("~360", "256-625 (4 seeds)"),
+        ("tau20:noniso", 0.0): ("~570", "370 (1 seed)")}
+
+
+def table(args):
+    """Markdown table of the assembled file (for docs/science/wave_trains.md)."""
+    import xarray as xr
+
+    ds = xr.open_dataset(args.file, engine="h5netcdf")
+
+    def f(v):
+        return "-" if not np.isfinite(v) else f"{v:.0f}"
+
+    print("| model | sigma0 [kg/m^2] | lambda_c [m] | lambda_st [m] | lambda_slow [m] | 1.4 lambda_zero [m] "
+          "| paper (long run) [m] | ours (long run) [m] |")
+    print("|---|---|---|---|---|---|---|---|")
+    for c in ds.case.values:
+        for s0 in ds.sigma0.values:
+            d = ds.sel(case=c, sigma0=s0)
+            if not np.isfinite(float(d.cpu_s)):
+                continue  # not computed
+            st = f(float(d.lambda_st_m)) if np.isfinite(float(d.lambda_st_m)) else f"none: {d.reason.values}"
+            pr, ou = RUNS.get((str(c), float(s0)), ("-", "-"))
+            print(f"| {c} | {s0:g} | {f(float(d.lambda_c_m))} | {st} | {f(float(d.lambda_slow_m))} "
+                  f"| {f(1.4 * float(d.lambda_zero_m))} | {pr} | {ou} |")
+
+
 def main():
     ap = argparse.ArgumentParser()
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -119,6 +147,9 @@ def main():
     b.add_argument("files", nargs="+")
     b.add_argument("--out", required=True)
     b.set_defaults(func=assemble)
+    c = sub.add_parser("table")
+    c.add_argument("file")
+    c.set_defaults(func=table)
     args = ap.parse_args()
     args.func(args)
 

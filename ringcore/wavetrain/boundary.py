@@ -158,4 +158,5 @@ def _refine(br, lo, hi, q_over_k, bisections):
     la, lb = tr_a.wavelength_m, tr_b.wavelength_m
     if gb >= ga:  # not a clean sign change at q*: the midpoint is the best estimate
         return 0.5 * (la + lb)
-    return float(la + (lb - la) * ga / (ga - gb))
+    # gb may be slightly positive (below STABLE_TOL): keep the root inside the bracket
+    return float(min(lb, la + (lb - la) * ga / (ga - gb)))
