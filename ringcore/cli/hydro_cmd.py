@@ -7,6 +7,7 @@ import sys
 from .. import params
 from ..checks import check_choice, check_real
 from .common import add_ring_arguments, check_self_gravity, given, ring_params_from_args, refuse_with
+from .archive_opt import add_archive_arguments, start_archive
 from .errors import UsageError, is_blowup
 from .safety import check_fallback_dir, check_memory, reserve_output_file
 
@@ -58,6 +59,7 @@ def register(sub) -> None:
                    help="if the run file cannot be written at the end (disk full, quota, read-only), write the "
                         "last good state to this existing folder instead (ideally on another disk); failed "
                         "checkpoints only warn and are tried again at the next one")
+    add_archive_arguments(p)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
 
@@ -151,6 +153,7 @@ def run(args) -> int:
     try:
         with reserve_output_file(args.out, overwrite=args.overwrite, size=size):  # the name is ours until the end
             sim = make()
+            start_archive(sim, args, args.orbits)
             run_checkpointed(sim, args.orbits, out=args.out, every=args.checkpoint_every,
                              progress=not args.no_progress, fallback=fallback)
     except Exception as exc:

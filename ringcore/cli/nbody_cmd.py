@@ -8,6 +8,7 @@ import sys
 from .. import params
 from ..checks import check_real
 from .common import check_self_gravity, given, refuse_with
+from .archive_opt import add_archive_arguments, start_archive
 from .errors import UsageError
 from .safety import check_fallback_dir, check_memory, reserve_output_file
 
@@ -61,6 +62,7 @@ def register(sub) -> None:
                    help="if the run file cannot be written at the end (disk full, quota, read-only), write the "
                         "last good state to this existing folder instead (ideally on another disk); failed "
                         "checkpoints only warn and are tried again at the next one")
+    add_archive_arguments(p)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="print the final diagnostics as one JSON object")
     p.set_defaults(func=run)
@@ -161,6 +163,7 @@ def _run(args, box, fallback) -> int:
 
     kw = dict(out=args.out, every=args.checkpoint_every, progress=not args.no_progress, fallback=fallback)
     end = box.orbits + args.equilibrate + args.orbits
+    start_archive(box, args, args.equilibrate + args.orbits)
     if args.equilibrate > 0:
         eq_end = box.orbits + args.equilibrate
         try:

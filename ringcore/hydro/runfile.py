@@ -187,12 +187,14 @@ def state_from_dataset(ds) -> State:
     return State("hydro", p, opt, arrays, meta)
 
 
-def save_state(st: State, path, *, complete: bool = True, **attrs):
+def save_state(st: State, path, *, complete: bool = True, archive_of=None, **attrs):
     """Write the hydro state ``st`` to ``path`` with :func:`ringcore.io.write_run` (kind "hydro"),
-    with the ``complete`` flag, the :func:`ringcore.analysis.summary.summary` and ``attrs``."""
+    with the ``complete`` flag, the :func:`ringcore.analysis.summary.summary` and ``attrs``; ``archive_of``:
+    the engine whose archive of states (:mod:`ringcore.archive`) the file also holds."""
     from ..analysis.summary import summary
+    from ..archive import with_archive
 
-    ds = dataset_from_state(st)
+    ds = with_archive(dataset_from_state(st), archive_of) if archive_of is not None else dataset_from_state(st)
     ds.attrs.update(status_attrs(summary(st), complete))
     ds.attrs.update(attrs)
     return write_run(ds, path, kind="hydro")

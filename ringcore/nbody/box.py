@@ -21,6 +21,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from ..checks import check_int, check_real
+from ..archive import ArchiveMixin
 from ..engine import BlowUp, SampleHub, State
 from ..params import RingParams
 from ..units import G
@@ -43,7 +44,7 @@ class NBodyBlowUp(BlowUp):
     engine = "nbody"
 
 
-class ShearingBox:
+class ShearingBox(ArchiveMixin):
     """N identical smooth spheres in a co-moving box with shear-periodic boundaries.
 
     Satisfies the engine contract :class:`ringcore.engine.Engine` (``kind = "nbody"``).
@@ -443,10 +444,11 @@ class ShearingBox:
 
     def save(self, path, *, complete: bool = True, **attrs):
         """Write the run file ``path`` (:func:`ringcore.io.write_run`, kind "nbody") with everything
-        needed to continue bit-for-bit; ``complete`` and ``summary_json`` attributes, plus ``attrs``."""
+        needed to continue bit-for-bit; ``complete`` and ``summary_json`` attributes, plus ``attrs``; with
+        :meth:`keep_archive`, the archived states too (:mod:`ringcore.archive`)."""
         from .store import save
 
-        return save(self, path, complete=complete, **attrs)
+        return save(self, path, complete=complete, archive_of=self, **attrs)
 
     @classmethod
     def load(cls, path) -> "ShearingBox":

@@ -127,9 +127,14 @@ def from_dataset(cls, ds, *, sigma0=None, tile_x: bool = False, options=None):
     continues bit for bit.  Otherwise a new run (time origin, accumulators and records reset) from
     the saved particles, with the new surface density [kg/m^2], tiled box or options.
     """
+    from ..archive import resume_archive
+
+    ds = read_run(ds, kind="nbody") if not isinstance(ds, xr.Dataset) else ds
     st = state_from_dataset(ds)
     if sigma0 is None and not tile_x and options is None:
-        return cls.restore(st)
+        box = cls.restore(st)
+        resume_archive(box, ds)  # the file's archive of states goes on growing
+        return box
     p, o, a = st.params, st.options, st.arrays
     if sigma0 is not None:
         p = p.with_sigma0(sigma0)
@@ -185,10 +190,13 @@ def summary(src, last_fraction: float = 0.25) -> dict:
     return out
 
 
-def save(src, path, *, complete: bool = True, **attrs):
-    """Write a ShearingBox or its State to ``path`` with :func:`ringcore.io.write_run` (kind "nbody")."""
+def save(src, path, *, complete: bool = True, archive_of=None, **attrs):
+    """Write a ShearingBox or its State to ``path`` with :func:`ringcore.io.write_run` (kind "nbody");
+    ``archive_of``: the box whose archive of states (:mod:`ringcore.archive`) the file also holds."""
+    from ..archive import with_archive
+
     st = _state_of(src)
-    ds = to_dataset(st)
+    ds = with_archive(to_dataset(st), archive_of) if archive_of is not None else to_dataset(st)
     ds.attrs.update(status_attrs(summary(st), complete))
     ds.attrs.update(attrs)
     return write_run(ds, path, kind="nbody")
