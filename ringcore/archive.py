@@ -226,9 +226,9 @@ def archive_variables(engine) -> tuple:
     rec = getattr(engine, "_archiver", None)
     if rec is None or not rec.entries:
         return {}, {}
-    kind = engine.kind
-    first = rec.entries[0][0]
-    dv = {"archive_orbit": ("snapshot", rec.archive(engine.snapshot()).orbits, {"units": "orbits"})}
+    final = engine.snapshot(records=False) if engine.kind == "hydro" else engine.snapshot()
+    arc, first = rec.archive(final), rec.entries[0][0]
+    dv = {"archive_orbit": ("snapshot", arc.orbits, {"units": "orbits"})}
     for name, a in first.items():
         dims = ("snapshot",) + tuple(f"archive_{name}_{j}" for j in range(np.ndim(a)))
         dv[f"archive_{name}"] = (dims, np.stack([e[0][name] for e in rec.entries]),
@@ -240,9 +240,8 @@ def archive_variables(engine) -> tuple:
     dv["archive_record"] = ("archive_record", np.array(names, dtype=object))
     dv["archive_meta"] = ("snapshot", np.array([json.dumps(e[1]) for e in rec.entries], dtype=object),
                           {"long_name": "metadata of each snapshot (JSON)"})
-    thinned = bool(engine.snapshot().meta.get("thinned") or engine.snapshot().meta.get("history_thinned"))
-    attrs = dict(archive_every_orbits=rec.every, archive_max_bytes=rec.max_bytes, archive_kind=kind,
-                 archive_records_thinned=int(thinned))
+    attrs = dict(archive_every_orbits=rec.every, archive_max_bytes=rec.max_bytes, archive_kind=engine.kind,
+                 archive_records_thinned=int(not arc._records_valid))
     attrs["archive_sha256"] = _digest(dv)
     return dv, attrs
 

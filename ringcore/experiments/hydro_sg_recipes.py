@@ -120,7 +120,7 @@ def sgstable(mode, out):
                 break
             sim.run(orbits=0.02)
             t.append(sim.orbits)
-            st_rows.append(sim.sigma)
+            st_rows.append(sim.sigma_dimless)
         sig, u, v, _ = sim.primitives()
         ax = axes[0, j]
         ax.plot(sim.x_m / 1e3, sig, "k-", lw=0.8, label="sigma/sigma0")

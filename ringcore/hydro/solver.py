@@ -33,6 +33,7 @@ from ..units import time_to_orbits
 from . import kernels as K
 from .convert import cons_to_prim
 from .diagnostics import Recorder, e_kin, prevalent_wavelength, psd
+from .fields import PhysicalFields
 from .gravity import SelfGravity
 from .initial import INITIAL_KINDS, make_initial
 from .state_io import StateIO
@@ -70,7 +71,7 @@ class HydroBlowUp(BlowUp):
         return self.where_m
 
 
-class Hydro1D(StateIO):
+class Hydro1D(StateIO, PhysicalFields):
     """Axisymmetric 1D hydrodynamics of a dense ring in a periodic box.
 
     Parameters
@@ -88,6 +89,10 @@ class Hydro1D(StateIO):
 
     Attributes
     ----------
+    x_m : numpy.ndarray
+        Node positions [m]; ``x_dimless`` the same in c0/Omega.  The fields in SI units are
+        ``sigma_kg_m2``, ``u_m_s``, ``v_m_s``, ``T_m2_s2`` and the time ``t_s`` [s] (``orbits`` [orbits]);
+        the kernels' dimensionless ones ``sigma_dimless`` ... (:mod:`ringcore.hydro.fields`).
     fast_step : bool
         True (the default where rocket-fft is installed): each step is one compiled call
         (:mod:`ringcore.hydro.stepper`).  False: the reference path (stages driven from Python,
@@ -125,7 +130,7 @@ class Hydro1D(StateIO):
         self.length_unit = params.scales.length  # [m] per dimensionless length
         self.h = opt.h / self.length_unit
         self.x_m = -0.5 * opt.L_x + opt.h * np.arange(n)  # [m]
-        self.x = self.x_m / self.length_unit
+        self.x_dimless = self.x_m / self.length_unit  # x Omega/c0 (kernel units)
         N = n + 2 * NG
         self._Ustack = np.zeros((6, self.nv, N))
         self._U = list(self._Ustack)  # u0 .. u4, result (views; step swaps u0 and the result)
@@ -178,7 +183,7 @@ class Hydro1D(StateIO):
             if initial not in INITIAL_KINDS:
                 raise ValueError(f"initial = {initial!r} is not valid: choose one of "
                                  f"{', '.join(INITIAL_KINDS + ('state',))} or an xarray.Dataset")
-            prim = make_initial(initial, self.params, self.x, self.options.L_x, **kw)
+            prim = make_initial(initial, self.params, self.x_dimless, self.options.L_x, **kw)
         elif hasattr(initial, "data_vars"):
             prim = cons_to_prim(initial["state"].values)  # a run file's exact conservative state
         else:
@@ -230,26 +235,6 @@ class Hydro1D(StateIO):
         return self._U[0][:, NG:NG + self.n]
 
     @property
-    def sigma(self):
-        """sigma/sigma0 at the nodes (copy)."""
-        return self.U[0].copy()
-
-    @property
-    def u(self):
-        """u/c0 at the nodes."""
-        return self.U[1] / self.U[0]
-
-    @property
-    def v(self):
-        """v/c0 at the nodes."""
-        return self.U[2] / self.U[0]
-
-    @property
-    def T(self):
-        """T/c0^2 at the nodes (T0 everywhere for the isothermal model)."""
-        return cons_to_prim(self.U, self._par[K.P_T0])[3]
-
-    @property
     def orbits(self) -> float:
         """Elapsed time [orbits]."""
         return time_to_orbits(self.t)
@@ -270,7 +255,7 @@ class Hydro1D(StateIO):
 
     def e_kin(self) -> float:
         """Current mean kinetic energy density [sigma0 c0^2], eq. (ekin)."""
-        return e_kin(self.U[0], self.u, self.v)
+        return e_kin(self.U[0], self.u_dimless, self.v_dimless)
 
     def psd(self):
         """(wavelength_m, normalised PSD of sigma) of the current state."""

@@ -30,6 +30,7 @@ from . import initial
 from . import integrator as I
 from . import kernels as K
 from . import sanity
+from .fields import PhysicalParticles
 from .options import NBodyOptions
 from .recorder import Recorder
 
@@ -44,7 +45,7 @@ class NBodyBlowUp(BlowUp):
     engine = "nbody"
 
 
-class ShearingBox(ArchiveMixin):
+class ShearingBox(ArchiveMixin, PhysicalParticles):
     """N identical smooth spheres in a co-moving box with shear-periodic boundaries.
 
     Satisfies the engine contract :class:`ringcore.engine.Engine` (``kind = "nbody"``).
