@@ -160,7 +160,7 @@ def summary(src, last_fraction: float = 0.25) -> dict:
     """Saturation summary of a ShearingBox or its State over the last ``last_fraction`` (by time) of the
     recorded box means.
 
-    Keys: ``lambda_p_m`` most frequent recorded prevalent wavelength [m]; ``lambda_p_mean_m``
+    Keys: ``lambda_p_m`` (also ``lambda_p_most_frequent_m``) most frequent recorded prevalent wavelength [m]; ``lambda_p_mean_m``
     [m]; ``e_kin`` mean [sigma0 (R_p Omega)^2] (also ``e_kin_rp``); ``c_mean`` mean velocity
     dispersion [m/s]; ``orbits``; ``N``.
     """
@@ -187,6 +187,7 @@ def summary(src, last_fraction: float = 0.25) -> dict:
         out.update(lambda_p_m=float(lam_p), lambda_p_mean_m=float(lam_p), e_kin=float(D.e_kin(prof)),
                    c_mean=float(D.mean_dispersion(prof) * (o.R_p * st.params.Omega)))
     out["e_kin_rp"] = out["e_kin"]
+    out["lambda_p_most_frequent_m"] = out["lambda_p_m"]  # the name of its method (ringcore.analysis.prevalent)
     return out
 
 
