@@ -65,3 +65,24 @@ def test_nbody_particles_are_si():
     assert box.t_s == pytest.approx(box.orbits * 2 * math.pi / Om, rel=1e-14)
     ds = box.to_dataset()
     assert np.array_equal(ds["pos_x"].values, box.pos_m[:, 0])
+
+
+def test_one_e_kin_unit_on_both_engines(sim, capsys, tmp_path):
+    """e_kin_rp is sigma0 (R_p Omega)^2 (R_p = 1 m) on both engines, their summaries, run files and the CLI."""
+    from ringcore.cli.main import main
+    from ringcore.units import E_KIN_UNIT, e_kin_rp
+
+    p = sim.params
+    d = sim.diagnostics()
+    assert E_KIN_UNIT == "sigma0 (R_p Omega)^2"
+    assert d["e_kin_rp"] == pytest.approx(d["e_kin"] * (p.c0 / p.Omega) ** 2, rel=1e-14)  # R_p = 1 m
+    assert sim.e_kin_rp() == d["e_kin_rp"] == e_kin_rp(d["e_kin"], p.c0, p.Omega)
+    ds = sim.to_dataset()
+    assert np.allclose(ds["e_kin_rp"].values, ds["e_kin"].values * (p.c0 / p.Omega) ** 2, rtol=1e-14)
+    s = sim.summary()
+    assert s["e_kin_rp"] == pytest.approx(s["e_kin"] * (p.c0 / p.Omega) ** 2, rel=1e-14)
+    box = ShearingBox(params.get("tau15", sigma0=300), NBodyOptions(L_x=30, L_y=12), seed=1)
+    box.advance(orbits=0.05)
+    assert box.diagnostics()["e_kin_rp"] == box.diagnostics()["ekin"] and "e_kin_rp" in box.summary()
+    assert main(["hydro", "--lx", "200", "--orbits", "0.1", "--out", str(tmp_path / "h.nc"), "--no-progress"]) == 0
+    assert f"{E_KIN_UNIT}" in capsys.readouterr().out

@@ -13,7 +13,7 @@ import math
 import numpy as np
 
 from ..engine import State
-from ..units import R_P
+from ..units import e_kin_rp
 
 
 def _last(t, last_fraction: float):
@@ -106,7 +106,7 @@ def summary(run, last_fraction: float = 0.25) -> dict:
     out.update(series_summary(a["rec_t"], a["rec_lambda_p"], a["rec_e_kin"], last_fraction))
     out.update(saturation_flag(a["rec_t"], a["rec_lambda_p"], last_fraction))
     sc = p.scales
-    out["e_kin_rp"] = out["e_kin"] * sc.velocity ** 2 / (R_P * p.Omega) ** 2
+    out["e_kin_rp"] = e_kin_rp(out["e_kin"], sc.velocity, p.Omega)
     out["lambda_p_most_frequent_m"] = out["lambda_p_m"]  # the name of its method (ringcore.analysis.prevalent)
     out["lambda_p_psd_m"] = strobe_wavelength(a["rec_t_strobe"], a["rec_strobe"], st.options.L_x, last_fraction)
     sig, _, _, T = cons_to_prim(a["U"])

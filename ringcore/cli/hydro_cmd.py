@@ -6,6 +6,7 @@ import sys
 
 from .. import params
 from ..checks import check_choice, check_real
+from ..units import E_KIN_UNIT
 from .common import add_ring_arguments, check_self_gravity, given, ring_params_from_args, refuse_with
 from .archive_opt import add_archive_arguments, start_archive
 from .errors import UsageError, is_blowup
@@ -161,6 +162,6 @@ def run(args) -> int:
             raise
         sys.stderr.write(f"ringcore hydro: error: {exc} (saved to {args.out}, complete = 0)\n")
         return 1
-    print(f"{sim.orbits:.2f} orbits, {sim.steps} steps, e_kin = {sim.e_kin():.4e} sigma0 c0^2, "
+    print(f"{sim.orbits:.2f} orbits, {sim.steps} steps, e_kin = {sim.e_kin_rp():.4e} {E_KIN_UNIT}, "
           f"lambda_p = {sim.prevalent_wavelength():.1f} m -> {args.out}")
     return 0

@@ -7,6 +7,7 @@ import sys
 
 from .. import params
 from ..checks import check_real
+from ..units import E_KIN_UNIT
 from .common import check_self_gravity, given, refuse_with
 from .archive_opt import add_archive_arguments, start_archive
 from .errors import UsageError
@@ -182,7 +183,7 @@ def _run(args, box, fallback) -> int:
         print(json.dumps({k: (float(v) if isinstance(v, float) else v) for k, v in d.items()}))
         return 0
     print(f"N = {d['N']}, tau = {d['tau']:.3f}, t = {d['orbit']:.2f} orbits -> {args.out}")
-    rows = [("e_kin [sigma0 (R_p Omega)^2]", f"{d['ekin']:.4g}"), ("<c> [mm/s]", f"{d['c_mean'] * 1e3:.4f}"),
+    rows = [(f"e_kin [{E_KIN_UNIT}]", f"{d['ekin']:.4g}"), ("<c> [mm/s]", f"{d['c_mean'] * 1e3:.4f}"),
             ("lambda_p [m]", f"{d['lambda_p']:.1f}" if math.isfinite(d["lambda_p"]) else "-")]
     if "T" in d:
         rows += [("T [m^2/s^2]", f"{d['T']:.4g}"), ("nu = nu_l + nu_nl [m^2/s]",

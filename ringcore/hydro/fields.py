@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..deprecation import warn_once
+from ..units import e_kin_rp
 
 
 class PhysicalFields:
@@ -70,6 +71,11 @@ class PhysicalFields:
     def t_s(self) -> float:
         """Elapsed time [s] (``orbits`` in orbits, ``t`` dimensionless in 1/Omega)."""
         return self.t * self.params.scales.time
+
+    def e_kin_rp(self) -> float:
+        """Current mean kinetic energy density, Eq. (39), in the public unit sigma0 (R_p Omega)^2 with R_p = 1 m
+        (:data:`ringcore.units.E_KIN_UNIT`; :meth:`e_kin` gives it in sigma0 c0^2)."""
+        return float(e_kin_rp(self.e_kin(), self.params.scales.velocity, self.params.Omega))
 
     # ------------------------------------------------------------ deprecated names
     @property

@@ -29,7 +29,7 @@ import numpy as np
 from ..checks import check_int, check_real
 from ..engine import BlowUp, SampleHub
 from ..params import RingParams
-from ..units import time_to_orbits
+from ..units import e_kin_rp, time_to_orbits
 from . import kernels as K
 from .convert import cons_to_prim
 from .diagnostics import Recorder, e_kin, prevalent_wavelength, psd
@@ -434,13 +434,16 @@ class Hydro1D(StateIO, PhysicalFields):
 
     # ------------------------------------------------------------------ output
     def diagnostics(self) -> dict:
-        """Current scalars: ``orbit``, ``steps``, ``dt_orbits``, ``e_kin`` [sigma0 c0^2], ``lambda_p_m`` [m],
+        """Current scalars: ``orbit``, ``steps``, ``dt_orbits``, ``e_kin`` [sigma0 c0^2] and ``e_kin_rp``
+        [sigma0 (R_p Omega)^2, the public unit], ``lambda_p_m`` [m] (instantaneous),
         ``sigma_min``/``sigma_max`` [sigma0], ``T_min``/``T_max`` [c0^2], ``floor_hits``."""
         sig, u, v, T = self.primitives()
-        return dict(orbit=self.orbits, steps=self._steps, dt_orbits=self.dt_orbits, e_kin=e_kin(sig, u, v),
-                    lambda_p_m=prevalent_wavelength(sig, self.options.L_x), sigma_min=float(sig.min()),
-                    sigma_max=float(sig.max()), T_min=float(T.min()), T_max=float(T.max()),
-                    floor_hits=self.floor_hits)
+        out = dict(orbit=self.orbits, steps=self._steps, dt_orbits=self.dt_orbits, e_kin=e_kin(sig, u, v),
+                   lambda_p_m=prevalent_wavelength(sig, self.options.L_x), sigma_min=float(sig.min()),
+                   sigma_max=float(sig.max()), T_min=float(T.min()), T_max=float(T.max()),
+                   floor_hits=self.floor_hits)
+        out["e_kin_rp"] = float(e_kin_rp(out["e_kin"], self.params.scales.velocity, self.params.Omega))
+        return out
 
     def series(self) -> dict:
         """Recorded diagnostics as numpy arrays (dimensionless; see :meth:`to_dataset` for units)."""

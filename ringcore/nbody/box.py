@@ -416,7 +416,7 @@ class ShearingBox(ArchiveMixin, PhysicalParticles):
         out = dict(orbit=self.orbits, N=self.N, tau=self.tau, ekin=D.e_kin(p),
                    c_mean=D.mean_dispersion(p) * self.v_unit, lambda_p=D.psd(p, self.L_x)[2] * self.R_p,
                    z_rms=float(np.sqrt(np.mean(self.pos[:, 2] ** 2))) * self.R_p, steps=self._steps)
-        out.update(e_kin=out["ekin"], lambda_p_m=out["lambda_p"])  # the contract's names (as the hydro engine)
+        out.update(e_kin=out["ekin"], e_kin_rp=out["ekin"], lambda_p_m=out["lambda_p"])  # the contract's names (as the hydro engine)
         if self.acc[K.A_TIME] > 0:
             out.update(self.transport())
         return out
