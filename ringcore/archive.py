@@ -26,7 +26,7 @@ the limit is not taken, a :class:`UserWarning` says so once and the run goes on.
 ``--archive-every`` whose planned archive exceeds the limit before computing (:func:`planned_bytes`).
 
 File layout (kind-independent): dimension ``snapshot`` with coordinate ``archive_orbit`` [orbits]; one
-variable ``archive_<name>`` (``snapshot``, ...) per kernel array of :meth:`snapshot`; ``archive_meta``
+variable ``archive_<name>`` (``snapshot``, ...) per kernel array of the engine's ``snapshot()``; ``archive_meta``
 (JSON of each snapshot's metadata); ``archive_record_length`` (``snapshot``, ``archive_record``): the
 length of each recorded series at the snapshot; attributes ``archive_every_orbits``, ``archive_max_bytes``,
 ``archive_records_thinned`` and ``archive_sha256`` (checked on reading).
@@ -147,7 +147,7 @@ def _orbit_of(kind: str, final: State, meta: dict) -> float:
 
 
 class ArchiveMixin:
-    """``keep_archive``, ``archive`` of both engines (the snapshots are taken in an :meth:`on_sample` callback)."""
+    """``keep_archive``, ``archive`` of both engines (the snapshots are taken in an ``on_sample`` callback)."""
 
     def keep_archive(self, every: float, *, max_bytes: int = MAX_BYTES) -> None:
         """Keep the full state at the first sample at or after each multiple of ``every`` orbits.
