@@ -18,8 +18,8 @@ including the hydro engine's step path (``fast_step``).  Were the series thinned
 (the web app's memory limit), a reopened snapshot starts with empty series instead (its kernel state, and so
 all later numbers, are unchanged) and a :class:`UserWarning` says so.
 
-Size.  One snapshot holds the kernel arrays only: :func:`snapshot_bytes` (hydro: 8 (4 n + n) bytes for n nodes,
-about 40 kB for the default 5000 m box at h = 2.5 m; N-body: 56 N bytes plus the accumulators, 0.56 MB for
+Size.  One snapshot holds the kernel arrays only: :func:`snapshot_bytes` (hydro: 8 (4 n + n) bytes for n nodes, 8 (3 n + n) isothermal,
+about 80 kB for the default 5000 m box at h = 2.5 m (2000 nodes); N-body: 56 N bytes plus the accumulators, 0.56 MB for
 10^4 particles) plus about 2 kB of metadata (N-body: the generator state).  The archive is kept in memory
 until saved and is limited to ``max_bytes`` (default :data:`MAX_BYTES`, 256 MiB): the snapshot that would pass
 the limit is not taken, a :class:`UserWarning` says so once and the run goes on.  The command line refuses an
