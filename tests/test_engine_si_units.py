@@ -81,8 +81,16 @@ def test_one_e_kin_unit_on_both_engines(sim, capsys, tmp_path):
     assert np.allclose(ds["e_kin_rp"].values, ds["e_kin"].values * (p.c0 / p.Omega) ** 2, rtol=1e-14)
     s = sim.summary()
     assert s["e_kin_rp"] == pytest.approx(s["e_kin"] * (p.c0 / p.Omega) ** 2, rel=1e-14)
-    box = ShearingBox(params.get("tau15", sigma0=300), NBodyOptions(L_x=30, L_y=12), seed=1)
+    seen = []
+    h = sim.on_sample(lambda eng, smp: seen.append(smp))
+    sim.advance(orbits=0.05)
+    sim.remove_callback(h)
+    assert seen and all(smp["e_kin_rp"] == e_kin_rp(smp["e_kin"], p.c0, p.Omega) for smp in seen)
+    box = ShearingBox(params.get("tau15", sigma0=300), NBodyOptions(L_x=30, L_y=12, record_every=0.05), seed=1)
+    got = []
+    box.on_sample(lambda eng, smp: got.append(smp))
     box.advance(orbits=0.05)
     assert box.diagnostics()["e_kin_rp"] == box.diagnostics()["ekin"] and "e_kin_rp" in box.summary()
+    assert got and all(smp["e_kin_rp"] == smp["e_kin"] for smp in got)
     assert main(["hydro", "--lx", "200", "--orbits", "0.1", "--out", str(tmp_path / "h.nc"), "--no-progress"]) == 0
     assert f"{E_KIN_UNIT}" in capsys.readouterr().out

@@ -405,7 +405,8 @@ class Hydro1D(StateIO, PhysicalFields):
     def on_sample(self, fn) -> int:
         """Call ``fn(sim, sample)`` after every recorded sample; returns a handle for
         :meth:`remove_callback`.  ``sample``: ``orbit``, ``t`` [1/Omega], ``steps``, ``dt_orbits``,
-        ``e_kin`` [sigma0 c0^2], ``lambda_p_m`` [m], ``strobe_row`` and ``spacetime_row`` (the
+        ``e_kin`` [sigma0 c0^2] and ``e_kin_rp`` [sigma0 (R_p Omega)^2, the public unit], ``lambda_p_m`` [m],
+        ``strobe_row`` and ``spacetime_row`` (the
         float32 sigma/sigma0 row just added, or None)."""
         return self._hub.add(fn)
 
@@ -430,7 +431,8 @@ class Hydro1D(StateIO, PhysicalFields):
         if self._hub:
             self._hub.emit(self, dict(orbit=self.orbits, t=self.t, steps=self._steps, dt_orbits=self.dt_orbits,
                                       e_kin=rec.e_kin[-1], lambda_p_m=rec.lambda_p[-1], strobe_row=strobe,
-                                      spacetime_row=st_row))
+                                      spacetime_row=st_row, e_kin_rp=e_kin_rp(rec.e_kin[-1], self.params.c0,
+                                                                              self.params.Omega)))
 
     # ------------------------------------------------------------------ output
     def diagnostics(self) -> dict:

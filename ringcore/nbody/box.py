@@ -212,7 +212,7 @@ class ShearingBox(ArchiveMixin, PhysicalParticles):
     def on_sample(self, fn) -> int:
         """Call ``fn(box, sample)`` after every recorded box mean; returns a handle.
 
-        ``sample`` keys: ``orbit``, ``steps``, ``e_kin`` [sigma0 (R_p Omega)^2], ``lambda_p_m`` [m],
+        ``sample`` keys: ``orbit``, ``steps``, ``e_kin`` (also ``e_kin_rp``) [sigma0 (R_p Omega)^2], ``lambda_p_m`` [m],
         ``c_mean`` [m/s], ``T`` [m^2/s^2], ``collision_frequency`` [1/orbit], ``unresolved``,
         ``crossings``, and ``profile`` (dict ``sigma``, ``u``, ``v``, ``c`` [m/s] zone rows) when a
         profile was recorded too.
@@ -350,7 +350,8 @@ class ShearingBox(ArchiveMixin, PhysicalParticles):
             prow["time"] = self.orbits
         self._rec.append(row, prow)
         if self._hub:
-            sample = dict(orbit=row["time"], steps=self._steps, e_kin=row["ekin"], lambda_p_m=row["lambda_p"],
+            sample = dict(orbit=row["time"], steps=self._steps, e_kin=row["ekin"], e_kin_rp=row["ekin"],
+                          lambda_p_m=row["lambda_p"],
                           **{k: row[k] for k in ("c_mean", "T", "collision_frequency", "unresolved", "crossings")})
             if prow is not None:
                 sample["profile"] = {k: prow[k] for k in ("sigma", "u", "v", "c")}
