@@ -202,6 +202,10 @@ class _Archiver:
         o = engine.orbits
         if o < self.next - 1e-9 * max(1.0, abs(o)) or self.full:
             return
+        if self.entries and self.entries[-1][1]["steps"] == engine.steps:
+            # this very state is archived already (keep_archive called again, or after a resume)
+            self.next = (math.floor(o / self.every + 1e-9) + 1) * self.every
+            return
         st = _kernel_state(engine)
         arrays = {k: v for k, v in st.arrays.items() if not is_record(st.kind, k)}
         size = sum(a.nbytes for a in arrays.values()) + META_BYTES

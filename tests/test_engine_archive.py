@@ -167,3 +167,16 @@ def test_thinned_series_reopen_empty_with_a_warning():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         sim.archive.state(1)  # the state alone does not warn
+
+
+def test_keep_archive_again_or_after_resume_takes_no_duplicate(tmp_path):
+    sim = _hydro()
+    sim.keep_archive(0.5)
+    sim.advance(until=1.0)
+    sim.keep_archive(0.5)  # at orbit 1.0, already archived
+    assert len(sim.archive) == 3
+    path = sim.save(tmp_path / "a.nc")
+    again = E.load(path)
+    again.keep_archive(0.25)  # a finer interval from here on
+    again.advance(until=1.5)
+    assert np.array_equal(again.archive.orbits, [0.0, 0.5, 1.0, 1.25, 1.5])
