@@ -252,6 +252,11 @@ def load(path, kind: str | None = None, index: int | None = None):
         A running engine that continues bit for bit.
     """
     ds = read_dataset(path, kind)
+    if ds.attrs.get("kind") not in ENGINES:
+        from .io import RunFileError
+
+        raise RunFileError(f"{path}: a {ds.attrs.get('kind')!r} run cannot be continued: allowed kinds "
+                           f"{', '.join(ENGINES)}")
     if index is not None:
         arc = importlib.import_module(ARCHIVE).archive_from_dataset(ds, source=str(path))
         if not len(arc):

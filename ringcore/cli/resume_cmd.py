@@ -37,7 +37,8 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from ..checks import check_real
-    from ..experiments.checkpoint import kind_of, load_model
+    from ..engine import load
+    from ..experiments.checkpoint import kind_of
     from ..io import read_run
 
     if args.orbits is not None:
@@ -46,7 +47,7 @@ def run(args) -> int:
         check_real("--until", args.until, 0.0, math.inf, unit="orbits")
     if not args.file.strip():
         raise UsageError("FILE = '' is not valid: give a run file (ringcore hydro/nbody/sweep)")
-    model = load_model(args.file)  # refuses foreign, damaged and non-continuable files
+    model = load(args.file)  # refuses foreign, damaged and non-continuable files
     kind = kind_of(model)
     attrs = read_run(args.file).attrs
     out = args.file if args.out is None else args.out  # --out "" is refused, not read as "in place"

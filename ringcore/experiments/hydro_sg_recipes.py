@@ -118,7 +118,7 @@ def sgstable(mode, out):
         for _ in range(rows):  # orbit-resolved rows every 0.02 orbits
             if st != "ok":
                 break
-            sim.run(orbits=0.02)
+            sim.advance(orbits=0.02)
             t.append(sim.orbits)
             st_rows.append(sim.sigma_dimless)
         sig, u, v, _ = sim.primitives()

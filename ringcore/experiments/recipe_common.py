@@ -70,7 +70,7 @@ def hydro_run(p, L_x, h, orbits, *, initial="noise", seed=1, wavelength=None, am
     sim = Hydro1D(p, opt, initial=initial, amplitude=amplitude, **kw)
     status = "ok"
     try:
-        sim.run(orbits=orbits)
+        sim.advance(orbits=orbits)
     except HydroBlowUp as exc:
         status = str(exc)
     return sim, status

@@ -27,6 +27,7 @@ import time
 import numpy as np
 
 from ..checks import check_int, check_real
+from ..deprecation import warn_once
 from ..engine import BlowUp, SampleHub
 from ..params import RingParams
 from ..units import e_kin_rp, time_to_orbits
@@ -398,7 +399,8 @@ class Hydro1D(StateIO, PhysicalFields):
 
     def run(self, orbits: float | None = None, *, until: float | None = None, progress: bool = False,
             max_steps: int | None = None, stop=None, max_wall_s: float | None = None) -> "Hydro1D":
-        """:meth:`advance`, returning the solver (for chaining; the older name)."""
+        """Deprecated: :meth:`advance` (the one way to run), returning the solver (for chaining; the older name)."""
+        warn_once("Hydro1D.run", "Hydro1D.advance (returns the orbits advanced)")
         self.advance(orbits, until=until, max_wall_s=max_wall_s, stop=stop, progress=progress, max_steps=max_steps)
         return self
 

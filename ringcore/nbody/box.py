@@ -21,6 +21,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from ..checks import check_int, check_real
+from ..deprecation import warn_once
 from ..archive import ArchiveMixin
 from ..engine import BlowUp, SampleHub, State
 from ..params import RingParams
@@ -331,7 +332,9 @@ class ShearingBox(ArchiveMixin, PhysicalParticles):
 
     def run(self, orbits: float | None = None, progress: bool = False, *, until: float | None = None,
             stop=None) -> "ShearingBox":
-        """:meth:`advance` (without a wall budget), returning the box (the older name)."""
+        """Deprecated: :meth:`advance` (the one way to run; here without a wall budget), returning the box (the
+        older name)."""
+        warn_once("ShearingBox.run", "ShearingBox.advance (returns the orbits advanced)")
         self.advance(orbits, until=until, stop=stop, progress=progress)
         return self
 
