@@ -191,6 +191,7 @@ class SampleHub:
 # state_from_dataset(ds) -> State and save_state(state, path, complete=, **attrs)
 ENGINES = {"hydro": ("ringcore.hydro", "Hydro1D"), "nbody": ("ringcore.nbody", "ShearingBox")}
 RUNFILES = {"hydro": "ringcore.hydro.runfile", "nbody": "ringcore.nbody.store"}
+ARCHIVE = "ringcore.archive"  # the archive of states: imports this module, never the reverse (as RUNFILES)
 
 
 def _check_kind(kind, table):
@@ -232,7 +233,40 @@ def save_state(state: State, path, *, complete: bool = True, **attrs):
     return _runfile(state.kind).save_state(state, path, complete=complete, **attrs)
 
 
-def load(path, kind: str | None = None):
-    """The engine continuing the run file ``path`` (its ``kind`` attribute picks the class)."""
+def load(path, kind: str | None = None, index: int | None = None):
+    """The engine continuing the run file ``path`` (its ``kind`` attribute picks the class).
+
+    Parameters
+    ----------
+    path : str or path-like
+        A run file (:func:`ringcore.io.read_run`).
+    kind : str, optional
+        ``"hydro"`` or ``"nbody"``: refuse a file of another kind.
+    index : int, optional
+        Reopen snapshot ``index`` of the file's archive of states (:func:`open_archive`; negative
+        indices count from the end) instead of the final state.
+
+    Returns
+    -------
+    Hydro1D or ShearingBox
+        A running engine that continues bit for bit.
+    """
     ds = read_dataset(path, kind)
+    if ds.attrs.get("kind") not in ENGINES:
+        from .io import RunFileError
+
+        raise RunFileError(f"{path}: a {ds.attrs.get('kind')!r} run cannot be continued: allowed kinds "
+                           f"{', '.join(ENGINES)}")
+    if index is not None:
+        arc = importlib.import_module(ARCHIVE).archive_from_dataset(ds, source=str(path))
+        if not len(arc):
+            raise ValueError(f"index = {index!r} is not valid: {path} holds no archive of states "
+                             "(write one with keep_archive / --archive-every)")
+        return arc[index]
     return engine_class(ds.attrs.get("kind")).from_dataset(ds)
+
+
+def open_archive(path, kind: str | None = None):
+    """The archive of states of the run file ``path`` (:class:`ringcore.archive.Archive`: ``len()``,
+    ``orbits`` [orbits], ``arc[i]`` a running engine); empty if the run kept none."""
+    return importlib.import_module(ARCHIVE).archive_from_dataset(read_dataset(path, kind), source=str(path))

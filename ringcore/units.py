@@ -92,3 +92,26 @@ def orbits_to_time(orbits):
 def time_to_orbits(t):
     """Number of orbits of a dimensionless time (units of 1/Omega)."""
     return t / (2.0 * math.pi)
+
+
+E_KIN_UNIT = "sigma0 (R_p Omega)^2"
+"""The public unit of the mean kinetic energy density e_kin, Eq. (39): sigma0 (R_p Omega)^2 with the
+paper's R_p = 1 m (its Figure 8 and the N-body box's own unit), the same in Python, on the command line, in run
+files and in the app.  The hydro kernels compute e_kin in sigma0 c0^2 (dimensionless); :func:`e_kin_rp`
+converts."""
+
+
+def e_kin_rp(e_kin_dimless, c0: float, Omega: float):
+    """e_kin in sigma0 c0^2 (the hydro kernels' dimensionless unit) converted to :data:`E_KIN_UNIT`,
+    sigma0 (R_p Omega)^2 with R_p = 1 m.
+
+    Parameters
+    ----------
+    e_kin_dimless : float or array_like
+        e_kin [sigma0 c0^2].
+    c0 : float
+        Ground-state velocity dispersion [m/s].
+    Omega : float
+        Orbital frequency [1/s].
+    """
+    return e_kin_dimless * c0 ** 2 / (R_P * Omega) ** 2

@@ -138,7 +138,7 @@ def hydro_frequency(p: RingParams, wavelength_m: float, *, amplitude: float = 0.
     sim = Hydro1D(p, opt, initial="mode", wavelength=lam, amplitude=amp)
     status = "ok"
     try:
-        sim.run(orbits=orbits)
+        sim.advance(orbits=orbits)
     except HydroBlowUp as exc:
         status = f"blow-up at orbit {exc.orbit:.1f}"
     a = sim.series()
@@ -195,7 +195,7 @@ def nbody_frequency(p: RingParams, wavelength_m: float, *, amplitude: float = 10
                        record_every=1.0, profile_every=0.0)
     box = ShearingBox(p, opt, seed=seed)
     if equilibrate > 0:
-        box.run(equilibrate)
+        box.advance(equilibrate)
     box.seed_mode(1, amplitude)
     nstep = max(1, int(round(sample_every / dt_orbit)))
     n = int(round(orbits / (nstep * dt_orbit)))

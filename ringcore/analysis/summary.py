@@ -14,7 +14,7 @@ import numpy as np
 
 from .. import ranges
 from ..engine import State
-from ..units import R_P
+from ..units import e_kin_rp
 
 
 def _last(t, last_fraction: float):
@@ -91,7 +91,7 @@ def summary(run, last_fraction: float = 0.25) -> dict:
     """Saturation summary of a hydro run (a ``State`` of kind "hydro" or an engine) over its last
     ``last_fraction`` (by time).
 
-    Keys: ``lambda_p_m`` most frequent sampled prevalent wavelength [m];
+    Keys: ``lambda_p_m`` (also ``lambda_p_most_frequent_m``) most frequent sampled prevalent wavelength [m];
     ``lambda_p_mean_m`` its mean [m]; ``lambda_p_psd_m`` peak of the time-averaged PSD of the
     stroboscopic sigma rows [m] (nan without strobe rows); ``e_kin`` mean kinetic energy density
     [sigma0 c0^2] and ``e_kin_rp`` [sigma0 (R_p Omega)^2, R_p = 1 m]; ``c_mean`` mass-weighted
@@ -110,7 +110,8 @@ def summary(run, last_fraction: float = 0.25) -> dict:
     out.update(series_summary(a["rec_t"], a["rec_lambda_p"], a["rec_e_kin"], last_fraction))
     out.update(saturation_flag(a["rec_t"], a["rec_lambda_p"], last_fraction))
     sc = p.scales
-    out["e_kin_rp"] = out["e_kin"] * sc.velocity ** 2 / (R_P * p.Omega) ** 2
+    out["e_kin_rp"] = e_kin_rp(out["e_kin"], sc.velocity, p.Omega)
+    out["lambda_p_most_frequent_m"] = out["lambda_p_m"]  # the name of its method (ringcore.analysis.prevalent)
     out["lambda_p_psd_m"] = strobe_wavelength(a["rec_t_strobe"], a["rec_strobe"], st.options.L_x, last_fraction)
     sig, _, _, T = cons_to_prim(a["U"])
     out["c_mean"] = float(np.sum(sig * np.sqrt(np.maximum(T, 0.0))) / np.sum(sig)) * sc.velocity

@@ -6,6 +6,8 @@ import sys
 
 from .. import params, ranges
 from ..checks import check_choice, check_int, check_real
+from ..units import E_KIN_UNIT
+from .archive_opt import add_archive_arguments, start_archive
 from .common import (add_ring_arguments, check_flag, check_ring_flags, check_self_gravity, flag,
                      ring_params_from_args, refuse_with)
 from .errors import UsageError, is_blowup
@@ -59,6 +61,7 @@ def register(sub) -> None:
                    help="if the run file cannot be written at the end (disk full, quota, read-only), write the "
                         "last good state to this existing folder instead (ideally on another disk); failed "
                         "checkpoints only warn and are tried again at the next one")
+    add_archive_arguments(p)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=run)
 
@@ -185,6 +188,7 @@ def run(args) -> int:
         with reserve_output_file(args.out, overwrite=args.overwrite, size=size):  # the name is ours until the end
             sim = make()
             _check_duration(sim, args)
+            start_archive(sim, args, args.orbits)
             run_checkpointed(sim, args.orbits, out=args.out, every=args.checkpoint_every,
                              progress=not args.no_progress, fallback=fallback)
     except Exception as exc:
@@ -192,6 +196,6 @@ def run(args) -> int:
             raise
         sys.stderr.write(f"ringcore hydro: error: {exc} (saved to {args.out}, complete = 0)\n")
         return 1
-    print(f"{sim.orbits:.2f} orbits, {sim.steps} steps, e_kin = {sim.e_kin():.4e} sigma0 c0^2, "
+    print(f"{sim.orbits:.2f} orbits, {sim.steps} steps, e_kin = {sim.e_kin_rp():.4e} {E_KIN_UNIT}, "
           f"lambda_p = {sim.prevalent_wavelength():.1f} m -> {args.out}")
     return 0

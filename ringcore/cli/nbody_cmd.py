@@ -8,6 +8,8 @@ import sys
 from .. import params
 from .. import ranges
 from ..checks import check_choice, check_int
+from ..units import E_KIN_UNIT
+from .archive_opt import add_archive_arguments, start_archive
 from .common import check_flag, check_self_gravity, refuse_with
 from .errors import UsageError
 from .safety import check_fallback_dir, check_memory, reserve_output_file
@@ -62,6 +64,7 @@ def register(sub) -> None:
                    help="if the run file cannot be written at the end (disk full, quota, read-only), write the "
                         "last good state to this existing folder instead (ideally on another disk); failed "
                         "checkpoints only warn and are tried again at the next one")
+    add_archive_arguments(p)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="print the final diagnostics as one JSON object")
     p.set_defaults(func=run)
@@ -198,6 +201,7 @@ def _run(args, box, fallback) -> int:
                          f"{ranges.ORBITS_MAX:g}: allowed --equilibrate + --orbits <= {ranges.ORBITS_MAX - box.orbits:.10g}")
     kw = dict(out=args.out, every=args.checkpoint_every, progress=not args.no_progress, fallback=fallback)
     end = box.orbits + args.equilibrate + args.orbits
+    start_archive(box, args, args.equilibrate + args.orbits)
     if args.equilibrate > 0:
         eq_end = box.orbits + args.equilibrate
         try:
@@ -216,7 +220,7 @@ def _run(args, box, fallback) -> int:
         print(json.dumps({k: (float(v) if isinstance(v, float) else v) for k, v in d.items()}))
         return 0
     print(f"N = {d['N']}, tau = {d['tau']:.3f}, t = {d['orbit']:.2f} orbits -> {args.out}")
-    rows = [("e_kin [sigma0 (R_p Omega)^2]", f"{d['ekin']:.4g}"), ("<c> [mm/s]", f"{d['c_mean'] * 1e3:.4f}"),
+    rows = [(f"e_kin [{E_KIN_UNIT}]", f"{d['ekin']:.4g}"), ("<c> [mm/s]", f"{d['c_mean'] * 1e3:.4f}"),
             ("lambda_p [m]", f"{d['lambda_p']:.1f}" if math.isfinite(d["lambda_p"]) else "-")]
     if "T" in d:
         rows += [("T [m^2/s^2]", f"{d['T']:.4g}"), ("nu = nu_l + nu_nl [m^2/s]",

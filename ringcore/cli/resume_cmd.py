@@ -35,7 +35,8 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..experiments.checkpoint import kind_of, load_model
+    from ..engine import load
+    from ..experiments.checkpoint import kind_of
     from ..io import read_run
 
     from .. import ranges
@@ -46,7 +47,7 @@ def run(args) -> int:
     check_flag(args, "checkpoint_every")
     if not args.file.strip():
         raise UsageError("FILE = '' is not valid: give a run file (ringcore hydro/nbody/sweep)")
-    model = load_model(args.file)  # refuses foreign, damaged and non-continuable files
+    model = load(args.file)  # refuses foreign, damaged and non-continuable files
     kind = kind_of(model)
     attrs = read_run(args.file).attrs
     out = args.file if args.out is None else args.out  # --out "" is refused, not read as "in place"

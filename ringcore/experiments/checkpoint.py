@@ -21,7 +21,7 @@ written to ``fallback`` (a folder, ideally on another disk; ``--fallback-dir`` o
 a new name, and an :class:`~ringcore.io.OutputError` says where; without ``fallback`` it says that the
 state was not saved.
 
-Because both engines' runs are independent of how they are split into ``advance`` calls, continuing a file with :func:`load_model` and :func:`run_checkpointed` gives
+Because both engines' runs are independent of how they are split into ``advance`` calls, continuing a file with :func:`ringcore.engine.load` and :func:`run_checkpointed` gives
 the same numbers, bit for bit, as the uninterrupted run.
 """
 from __future__ import annotations
@@ -37,7 +37,7 @@ from .. import ranges
 from ..checks import check_real
 from ..engine import ENGINES, BlowUp
 from ..engine import engine_class as _engine_class
-from ..io import OutputError, RunFileError, graceful_interrupt, output_policy, read_run
+from ..io import OutputError, graceful_interrupt, output_policy
 from ..io.atomic import conflicts_kept
 
 __all__ = ["ENGINES", "engine_class", "kind_of", "load_model", "run_checkpointed"]
@@ -119,12 +119,12 @@ def kind_of(model) -> str:
 
 
 def load_model(path):
-    """The model of any continuable run file (kind "hydro" or "nbody" from its ``kind`` attribute)."""
-    ds = read_run(path)
-    kind = ds.attrs.get("kind")
-    if kind not in ENGINES:
-        raise RunFileError(f"{path}: a {kind!r} run cannot be continued: allowed kinds {', '.join(ENGINES)}")
-    return engine_class(kind).from_dataset(ds)
+    """Deprecated: :func:`ringcore.engine.load` (the one way to load), the engine continuing any run file."""
+    from ..deprecation import warn_once
+    from ..engine import load
+
+    warn_once("ringcore.experiments.checkpoint.load_model", "ringcore.engine.load")
+    return load(path)
 
 
 def run_checkpointed(model, orbits: float | None = None, *, out, until: float | None = None,

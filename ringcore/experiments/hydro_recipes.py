@@ -31,7 +31,7 @@ def _grates_growth(p, h, orbits):
     opt = HydroOptions(L_x=L, h=h, timestep="cfl", gravity="wire", replicas=5, bin_correction=True,
                        samples_per_orbit=40, strobe=False, track_modes=ms)
     sim = Hydro1D(p, opt, initial="noise", amplitude=1e-9, lambda_min=38.0, seed=3)
-    sim.run(orbits=orbits)
+    sim.advance(orbits=orbits)
     a = sim.series()
     g = []
     for j, m in enumerate(ms):
@@ -52,7 +52,7 @@ def _grates_frequency(p, lam, h, orbits):
     opt = HydroOptions(L_x=lam, h=h, timestep="cfl", gravity="wire", replicas=5, bin_correction=True,
                        samples_per_orbit=40, strobe=False, probes_m=(0.0,), track_modes=(1,))
     sim = Hydro1D(p, opt, initial="mode", wavelength=lam, amplitude=1e-6)
-    sim.run(orbits=orbits)
+    sim.advance(orbits=orbits)
     a = sim.series()
     gr = growth_rate(a["t"], np.abs(a["mode_sigma"][:, 0])).value
     return lomb_frequency(a["t"], a["probe_u"][:, 0] * np.exp(-gr * a["t"]), 0.5, 1.5).value

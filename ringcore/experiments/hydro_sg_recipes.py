@@ -118,9 +118,9 @@ def sgstable(mode, out):
         for _ in range(rows):  # orbit-resolved rows every 0.02 orbits
             if st != "ok":
                 break
-            sim.run(orbits=0.02)
+            sim.advance(orbits=0.02)
             t.append(sim.orbits)
-            st_rows.append(sim.sigma)
+            st_rows.append(sim.sigma_dimless)
         sig, u, v, _ = sim.primitives()
         ax = axes[0, j]
         ax.plot(sim.x_m / 1e3, sig, "k-", lw=0.8, label="sigma/sigma0")

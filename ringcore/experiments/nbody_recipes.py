@@ -25,7 +25,7 @@ def _linear_nbody(p, lams, L_y, eq, orbits, single=True):
     for lam in lams:
         box = ShearingBox(p, NBodyOptions(L_x=lam, L_y=L_y, single_mode=1 if single else 0, record_every=1.0,
                                           profile_every=0.0), seed=1)
-        box.run(eq)
+        box.advance(eq)
         box.seed_mode(1, 2.0)
         r = growth.measure(box, 1, orbits, skip=1.0)
         g.append(r.growth_rate)
@@ -112,7 +112,7 @@ def _overstable_runs(mode, sigmas, set_name="tau15"):
     for s in sigmas:
         box = ShearingBox(params.get(set_name, sigma0=s), NBodyOptions(L_x=L, L_y=L_y, record_every=1.0,
                                                                       profile_every=0.0), seed=1)
-        box.run(orbits)
+        box.advance(orbits)
         runs[s] = box
     return runs, dict(L_x=L, L_y=L_y, orbits=orbits)
 

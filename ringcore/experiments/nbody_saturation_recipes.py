@@ -47,7 +47,7 @@ def hydro_dispersion(p, L_x, orbits, *, h=2.5, initial="noise", seed=1):
     if status == "ok":
         sim.on_sample(sample)
         try:
-            sim.run(orbits=0.5 * orbits)
+            sim.advance(orbits=0.5 * orbits)
         except HydroBlowUp as exc:
             status = str(exc)
     return (float(np.mean(vals)) if vals else math.nan), status, sim
@@ -57,7 +57,8 @@ def run_box(p, L_x, L_y, orbits, *, R_p=1.0, record_every=0.5, profile_every=0.0
     """An N-body box of ``L_x`` x ``L_y`` [m] run ``orbits`` from the uniform state (boxdouble, radvar)."""
     box = ShearingBox(p, NBodyOptions(L_x=L_x, L_y=L_y, R_p=R_p, record_every=record_every,
                                       profile_every=profile_every, fill_fraction=fill_fraction), seed=seed)
-    return box.run(orbits)
+    box.advance(orbits)
+    return box
 
 
 def final_psd(box):
@@ -151,7 +152,7 @@ def boxdouble(mode, out):
     for s, c in ((150.0, "k"), (0.0, "C0"), (600.0, "C3")):
         big = ShearingBox.from_dataset(snap, sigma0=s, tile_x=True)
         h0 = len(big.history["time"])
-        big.run(t2)
+        big.advance(t2)
         t = np.array(big.history["time"][h0:])
         e = np.array(big.history["ekin"][h0:])
         ax.semilogy(t, e, "-", color=c, lw=1, label=f"tiled to {2 * L:g} m, sigma0 = {s:g}")

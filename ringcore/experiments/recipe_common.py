@@ -70,7 +70,7 @@ def hydro_run(p, L_x, h, orbits, *, initial="noise", seed=1, wavelength=None, am
     sim = Hydro1D(p, opt, initial=initial, amplitude=amplitude, **kw)
     status = "ok"
     try:
-        sim.run(orbits=orbits)
+        sim.advance(orbits=orbits)
     except HydroBlowUp as exc:
         status = str(exc)
     return sim, status
@@ -103,10 +103,10 @@ def series_dataset(runs: dict) -> xr.Dataset:
 def strobe_dataset(sim, prefix: str = "", lam_max=None) -> xr.Dataset:
     """Stroboscopic sigma rows, final sigma profile and final normalised PSD (wavelengths <= lam_max)."""
     a = sim.series()
-    wl, P = psd_below(sim.sigma, sim.options.L_x, lam_max)
+    wl, P = psd_below(sim.sigma_dimless, sim.options.L_x, lam_max)
     tname, lname = prefix + "t_strobe", prefix + "wavelength"
     return xr.Dataset({prefix + "strobe_sigma": ((tname, prefix + "x"), a["strobe"], {"units": "sigma0"}),
-                       prefix + "sigma_final": ((prefix + "x",), sim.sigma, {"units": "sigma0"}),
+                       prefix + "sigma_final": ((prefix + "x",), sim.sigma_dimless, {"units": "sigma0"}),
                        prefix + "psd_final": ((lname,), P, {"units": "normalised to max 1"})},
                       coords={tname: (tname, a["t_strobe"] / (2 * math.pi), {"units": "orbits"}),
                               prefix + "x": (prefix + "x", sim.x_m, {"units": "m"}),
@@ -155,7 +155,7 @@ def strobe_psd_figure(sim, suptitle: str, lam_max=None):
     a = sim.series()
     fig, (ax1, ax2) = subplots(1, 2, figsize=(11, 5))
     plot_spacetime(ax1, a["t_strobe"] / (2 * math.pi), sim.x_m, a["strobe"], "stroboscopic (1/orbit) sigma/sigma0")
-    wl, P = psd_below(sim.sigma, sim.options.L_x, lam_max)
+    wl, P = psd_below(sim.sigma_dimless, sim.options.L_x, lam_max)
     plot_psd(ax2, wl, P, "final PSD of sigma" + (f" (lambda <= {lam_max:.0f} m)" if lam_max else ""))
     fig.suptitle(suptitle, fontsize=10)
     return fig

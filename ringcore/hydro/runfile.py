@@ -31,7 +31,7 @@ import numpy as np
 from ..engine import State
 from ..io import attrs_from_dict, dict_from_attrs, stamp_run, status_attrs, write_run
 from ..params import RingParams
-from ..units import R_P, time_to_orbits
+from ..units import e_kin_rp, time_to_orbits
 from .convert import cons_to_prim
 from .diagnostics import psd
 from .options import HydroOptions
@@ -97,7 +97,7 @@ def dataset_from_state(st: State):
         psd=("wavelength", P, {"long_name": "normalised PSD of sigma (final state)"}),
         e_kin=("t", a["e_kin"], {"units": "sigma0 c0^2", "long_name": "mean kinetic energy density, eq. (ekin)"}),
         e_kin_si=("t", e_si, {"units": "J m-2" if p.sigma0 > 0 else "sigma0 m2 s-2"}),
-        e_kin_rp=("t", a["e_kin"] * sc.velocity ** 2 / (R_P * p.Omega) ** 2,
+        e_kin_rp=("t", e_kin_rp(a["e_kin"], sc.velocity, p.Omega),
                   {"units": "sigma0 (R_p Omega)^2 with R_p = 1 m"}),
         lambda_p=("t", a["lambda_p"], {"units": "m", "long_name": "prevalent wavelength"}),
         dt=("t", time_to_orbits(a["dt"]), {"units": "orbits", "long_name": "last time step"}),
@@ -187,12 +187,14 @@ def state_from_dataset(ds) -> State:
     return State("hydro", p, opt, arrays, meta)
 
 
-def save_state(st: State, path, *, complete: bool = True, **attrs):
+def save_state(st: State, path, *, complete: bool = True, archive_of=None, **attrs):
     """Write the hydro state ``st`` to ``path`` with :func:`ringcore.io.write_run` (kind "hydro"),
-    with the ``complete`` flag, the :func:`ringcore.analysis.summary.summary` and ``attrs``."""
+    with the ``complete`` flag, the :func:`ringcore.analysis.summary.summary` and ``attrs``; ``archive_of``:
+    the engine whose archive of states (:mod:`ringcore.archive`) the file also holds."""
     from ..analysis.summary import summary
+    from ..archive import with_archive
 
-    ds = dataset_from_state(st)
+    ds = with_archive(dataset_from_state(st), archive_of) if archive_of is not None else dataset_from_state(st)
     ds.attrs.update(status_attrs(summary(st), complete))
     ds.attrs.update(attrs)
     return write_run(ds, path, kind="hydro")

@@ -28,12 +28,14 @@ import numpy as np
 
 from .. import ranges
 from ..checks import check_int, check_real
+from ..deprecation import warn_once
 from ..engine import BlowUp, SampleHub
 from ..params import RingParams
-from ..units import time_to_orbits
+from ..units import e_kin_rp, time_to_orbits
 from . import kernels as K
 from .convert import cons_to_prim
 from .diagnostics import Recorder, e_kin, prevalent_wavelength, psd
+from .fields import PhysicalFields
 from .gravity import SelfGravity
 from .initial import INITIAL_KINDS, amplitude_too_large, check_initial_arguments, make_initial
 from .state_io import StateIO
@@ -71,7 +73,7 @@ class HydroBlowUp(BlowUp):
         return self.where_m
 
 
-class Hydro1D(StateIO):
+class Hydro1D(StateIO, PhysicalFields):
     """Axisymmetric 1D hydrodynamics of a dense ring in a periodic box.
 
     Parameters
@@ -89,6 +91,10 @@ class Hydro1D(StateIO):
 
     Attributes
     ----------
+    x_m : numpy.ndarray
+        Node positions [m]; ``x_dimless`` the same in c0/Omega.  The fields in SI units are
+        ``sigma_kg_m2``, ``u_m_s``, ``v_m_s``, ``T_m2_s2`` and the time ``t_s`` [s] (``orbits`` [orbits]);
+        the kernels' dimensionless ones ``sigma_dimless`` ... (:mod:`ringcore.hydro.fields`).
     fast_step : bool
         True (the default where rocket-fft is installed): each step is one compiled call
         (:mod:`ringcore.hydro.stepper`).  False: the reference path (stages driven from Python,
@@ -126,7 +132,7 @@ class Hydro1D(StateIO):
         self.length_unit = params.scales.length  # [m] per dimensionless length
         self.h = opt.h / self.length_unit
         self.x_m = -0.5 * opt.L_x + opt.h * np.arange(n)  # [m]
-        self.x = self.x_m / self.length_unit
+        self.x_dimless = self.x_m / self.length_unit  # x Omega/c0 (kernel units)
         N = n + 2 * NG
         self._Ustack = np.zeros((6, self.nv, N))
         self._U = list(self._Ustack)  # u0 .. u4, result (views; step swaps u0 and the result)
@@ -181,7 +187,7 @@ class Hydro1D(StateIO):
             if initial not in INITIAL_KINDS:
                 raise ValueError(f"initial = {initial!r} is not valid: choose one of "
                                  f"{', '.join(INITIAL_KINDS + ('state',))} or an xarray.Dataset")
-            prim = make_initial(initial, self.params, self.x, self.options.L_x, **kw)
+            prim = make_initial(initial, self.params, self.x_dimless, self.options.L_x, **kw)
         elif hasattr(initial, "data_vars"):
             prim = cons_to_prim(initial["state"].values)  # a run file's exact conservative state
         else:
@@ -238,26 +244,6 @@ class Hydro1D(StateIO):
         return self._U[0][:, NG:NG + self.n]
 
     @property
-    def sigma(self):
-        """sigma/sigma0 at the nodes (copy)."""
-        return self.U[0].copy()
-
-    @property
-    def u(self):
-        """u/c0 at the nodes."""
-        return self.U[1] / self.U[0]
-
-    @property
-    def v(self):
-        """v/c0 at the nodes."""
-        return self.U[2] / self.U[0]
-
-    @property
-    def T(self):
-        """T/c0^2 at the nodes (T0 everywhere for the isothermal model)."""
-        return cons_to_prim(self.U, self._par[K.P_T0])[3]
-
-    @property
     def orbits(self) -> float:
         """Elapsed time [orbits]."""
         return time_to_orbits(self.t)
@@ -278,7 +264,7 @@ class Hydro1D(StateIO):
 
     def e_kin(self) -> float:
         """Current mean kinetic energy density [sigma0 c0^2], eq. (ekin)."""
-        return e_kin(self.U[0], self.u, self.v)
+        return e_kin(self.U[0], self.u_dimless, self.v_dimless)
 
     def psd(self):
         """(wavelength_m, normalised PSD of sigma) of the current state."""
@@ -441,14 +427,16 @@ class Hydro1D(StateIO):
 
     def run(self, orbits: float | None = None, *, until: float | None = None, progress: bool = False,
             max_steps: int | None = None, stop=None, max_wall_s: float | None = None) -> "Hydro1D":
-        """:meth:`advance`, returning the solver (for chaining; the older name)."""
+        """Deprecated: :meth:`advance` (the one way to run), returning the solver (for chaining; the older name)."""
+        warn_once("Hydro1D.run", "Hydro1D.advance (returns the orbits advanced)")
         self.advance(orbits, until=until, max_wall_s=max_wall_s, stop=stop, progress=progress, max_steps=max_steps)
         return self
 
     def on_sample(self, fn) -> int:
         """Call ``fn(sim, sample)`` after every recorded sample; returns a handle for
         :meth:`remove_callback`.  ``sample``: ``orbit``, ``t`` [1/Omega], ``steps``, ``dt_orbits``,
-        ``e_kin`` [sigma0 c0^2], ``lambda_p_m`` [m], ``strobe_row`` and ``spacetime_row`` (the
+        ``e_kin`` [sigma0 c0^2] and ``e_kin_rp`` [sigma0 (R_p Omega)^2, the public unit], ``lambda_p_m`` [m],
+        ``strobe_row`` and ``spacetime_row`` (the
         float32 sigma/sigma0 row just added, or None)."""
         return self._hub.add(fn)
 
@@ -473,17 +461,21 @@ class Hydro1D(StateIO):
         if self._hub:
             self._hub.emit(self, dict(orbit=self.orbits, t=self.t, steps=self._steps, dt_orbits=self.dt_orbits,
                                       e_kin=rec.e_kin[-1], lambda_p_m=rec.lambda_p[-1], strobe_row=strobe,
-                                      spacetime_row=st_row))
+                                      spacetime_row=st_row, e_kin_rp=e_kin_rp(rec.e_kin[-1], self.params.c0,
+                                                                              self.params.Omega)))
 
     # ------------------------------------------------------------------ output
     def diagnostics(self) -> dict:
-        """Current scalars: ``orbit``, ``steps``, ``dt_orbits``, ``e_kin`` [sigma0 c0^2], ``lambda_p_m`` [m],
+        """Current scalars: ``orbit``, ``steps``, ``dt_orbits``, ``e_kin`` [sigma0 c0^2] and ``e_kin_rp``
+        [sigma0 (R_p Omega)^2, the public unit], ``lambda_p_m`` [m] (instantaneous),
         ``sigma_min``/``sigma_max`` [sigma0], ``T_min``/``T_max`` [c0^2], ``floor_hits``."""
         sig, u, v, T = self.primitives()
-        return dict(orbit=self.orbits, steps=self._steps, dt_orbits=self.dt_orbits, e_kin=e_kin(sig, u, v),
-                    lambda_p_m=prevalent_wavelength(sig, self.options.L_x), sigma_min=float(sig.min()),
-                    sigma_max=float(sig.max()), T_min=float(T.min()), T_max=float(T.max()),
-                    floor_hits=self.floor_hits)
+        out = dict(orbit=self.orbits, steps=self._steps, dt_orbits=self.dt_orbits, e_kin=e_kin(sig, u, v),
+                   lambda_p_m=prevalent_wavelength(sig, self.options.L_x), sigma_min=float(sig.min()),
+                   sigma_max=float(sig.max()), T_min=float(T.min()), T_max=float(T.max()),
+                   floor_hits=self.floor_hits)
+        out["e_kin_rp"] = float(e_kin_rp(out["e_kin"], self.params.scales.velocity, self.params.Omega))
+        return out
 
     def series(self) -> dict:
         """Recorded diagnostics as numpy arrays (dimensionless; see :meth:`to_dataset` for units)."""

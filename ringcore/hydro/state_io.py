@@ -10,14 +10,16 @@ from __future__ import annotations
 import numpy as np
 
 from .. import engine as _engine
+from ..archive import ArchiveMixin, resume_archive
 from ..engine import State
 from . import kernels as K
 
 NG = K.NG
 
 
-class StateIO:
-    """``snapshot``, ``restore``, ``to_dataset``, ``from_dataset``, ``save``, ``load`` of :class:`Hydro1D`."""
+class StateIO(ArchiveMixin):
+    """``snapshot``, ``restore``, ``to_dataset``, ``from_dataset``, ``save``, ``load`` of :class:`Hydro1D`
+    (and the archive of states, :class:`ringcore.archive.ArchiveMixin`)."""
 
     def snapshot(self, records: bool = True) -> State:
         """The exact state as a :class:`ringcore.engine.State` (deep copy).
@@ -79,13 +81,18 @@ class StateIO:
     @classmethod
     def from_dataset(cls, ds) -> "Hydro1D":
         """Restore a solver (state, time, step count, buffer and records) from :meth:`to_dataset`
-        (a Dataset, or a path read with :func:`ringcore.io.read_run`)."""
-        return cls.restore(_engine.state_from_dataset(ds, cls.kind))
+        (a Dataset, or a path read with :func:`ringcore.io.read_run`); a file's archive of states
+        (:mod:`ringcore.archive`) is kept on and grows as the run continues."""
+        ds = _engine.read_dataset(ds, cls.kind) if not hasattr(ds, "data_vars") else ds
+        sim = cls.restore(_engine.state_from_dataset(ds, cls.kind))
+        resume_archive(sim, ds)
+        return sim
 
     def save(self, path, *, complete: bool = True, **attrs):
         """Write the run file ``path`` (:func:`ringcore.io.write_run`, kind "hydro") with everything
-        needed to continue bit-for-bit; ``complete`` and ``summary_json`` attributes, plus ``attrs``."""
-        return _engine.save_state(self.snapshot(), path, complete=complete, **attrs)
+        needed to continue bit-for-bit; ``complete`` and ``summary_json`` attributes, plus ``attrs``; with
+        :meth:`keep_archive`, the archived states too (:mod:`ringcore.archive`)."""
+        return _engine.save_state(self.snapshot(), path, complete=complete, archive_of=self, **attrs)
 
     @classmethod
     def load(cls, path) -> "Hydro1D":

@@ -79,6 +79,33 @@ class Dispersion:
         """(omega_I - Omega)/k [m/s]: apparent speed in a 1/orbit stroboscopic diagram."""
         return self.phase_velocity_strobe * self.c0
 
+    def to_dataset(self):
+        """The branch as an ``xarray.Dataset`` over ``wavelength`` [m], each variable with its ``units``.
+
+        Variables: ``growth_rate_per_s``, ``frequency_per_s`` [1/s]; ``group_velocity_m_s``,
+        ``phase_velocity_strobe_m_s`` [m/s]; the dimensionless ``growth_rate``, ``frequency`` [Omega] and
+        ``k`` [Omega/c0].  Attributes ``c0_m_s``, ``Omega_per_s``.
+        """
+        import xarray as xr
+
+        def var(values, units, long_name):
+            return ("wavelength", np.asarray(values, float), {"units": units, "long_name": long_name})
+
+        dv = dict(
+            growth_rate_per_s=var(self.growth_rate_per_s, "s-1", "growth rate omega_R"),
+            frequency_per_s=var(self.frequency_per_s, "s-1", "oscillation frequency omega_I"),
+            group_velocity_m_s=var(self.group_velocity_m_s, "m s-1", "group velocity d omega_I / dk"),
+            phase_velocity_strobe_m_s=var(self.phase_velocity_strobe_m_s, "m s-1",
+                                          "stroboscopic phase velocity (omega_I - Omega)/k"),
+            growth_rate=var(self.growth_rate, "Omega (dimensionless)", "growth rate omega_R / Omega"),
+            frequency=var(self.frequency, "Omega (dimensionless)", "frequency omega_I / Omega"),
+            k=var(self.k, "Omega/c0 (dimensionless)", "wavenumber k c0 / Omega"),
+        )
+        coords = {"wavelength": ("wavelength", np.asarray(self.wavelength_m, float),
+                                 {"units": "m", "long_name": "wavelength"})}
+        return xr.Dataset(dv, coords=coords, attrs={"c0_m_s": float(self.c0), "Omega_per_s": float(self.Omega),
+                                                    "title": "overstable branch of the linear theory"})
+
 
 def wavelengths_to_k(p: RingParams, wavelength_m) -> np.ndarray:
     """Dimensionless k of wavelengths in meters (each must be finite and > 0)."""

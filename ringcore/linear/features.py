@@ -237,6 +237,20 @@ class LinearSummary:
             return v
         return {k: clean(v) for k, v in asdict(self).items()}
 
+    def to_dataset(self):
+        """The numbers as an ``xarray.Dataset`` of scalars with ``units`` attributes (the overstable band as
+        ``overstable_band_m`` over ``band`` and ``edge``); ``set`` and ``model`` as attributes."""
+        import numpy as np
+        import xarray as xr
+
+        units = dict(sigma0="kg m-2", p_s="1", Q0="1", lambda_J_m="m", lambda_zero_m="m", lambda_max_growth_m="m",
+                     max_growth_rate="Omega (dimensionless)", beta_c="1", beta_c_approx="1", F2="1", F3="1",
+                     F2_table="1", F3_table="1")
+        dv = {k: ((), float(getattr(self, k)), {"units": u}) for k, u in units.items()}
+        band = np.asarray(self.overstable_band_m, float).reshape(-1, 2)
+        dv["overstable_band_m"] = (("band", "edge"), band, {"units": "m", "long_name": "overstable wavelength bands"})
+        return xr.Dataset(dv, coords={"edge": ["min", "max"]}, attrs={"set": self.set, "model": self.model})
+
 
 def summary(p: RingParams) -> LinearSummary:
     """All characteristic numbers of the linear theory for ``p``."""

@@ -86,9 +86,9 @@ def _app_speed(quick: bool) -> dict:
     out = {}
     for name, opts in (("default", NBodyOptions()), ("3k", NBodyOptions(L_x=100.0, L_y=63.0))):
         box = ShearingBox(params.get("tau15"), opts, seed=2)
-        box.run(0.5 if quick else 2.0)  # settle (and compile)
+        box.advance(0.5 if quick else 2.0)  # settle (and compile)
         t0 = time.perf_counter()
-        box.run(1.0 if quick else 3.0)
+        box.advance(1.0 if quick else 3.0)
         out[name] = dict(N=box.N, orbits_per_s=(1.0 if quick else 3.0) / (time.perf_counter() - t0))
     return out
 

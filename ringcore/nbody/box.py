@@ -22,6 +22,8 @@ from tqdm.auto import tqdm
 
 from .. import ranges
 from ..checks import check_int, check_real
+from ..deprecation import warn_once
+from ..archive import ArchiveMixin
 from ..engine import BlowUp, SampleHub, State
 from ..params import RingParams
 from ..units import G
@@ -30,6 +32,7 @@ from . import initial
 from . import integrator as I
 from . import kernels as K
 from . import sanity
+from .fields import PhysicalParticles
 from .options import NBodyOptions
 from .recorder import Recorder
 
@@ -44,7 +47,7 @@ class NBodyBlowUp(BlowUp):
     engine = "nbody"
 
 
-class ShearingBox:
+class ShearingBox(ArchiveMixin, PhysicalParticles):
     """N identical smooth spheres in a co-moving box with shear-periodic boundaries.
 
     Satisfies the engine contract :class:`ringcore.engine.Engine` (``kind = "nbody"``).
@@ -220,7 +223,7 @@ class ShearingBox:
     def on_sample(self, fn) -> int:
         """Call ``fn(box, sample)`` after every recorded box mean; returns a handle.
 
-        ``sample`` keys: ``orbit``, ``steps``, ``e_kin`` [sigma0 (R_p Omega)^2], ``lambda_p_m`` [m],
+        ``sample`` keys: ``orbit``, ``steps``, ``e_kin`` (also ``e_kin_rp``) [sigma0 (R_p Omega)^2], ``lambda_p_m`` [m],
         ``c_mean`` [m/s], ``T`` [m^2/s^2], ``collision_frequency`` [1/orbit], ``unresolved``,
         ``crossings``, and ``profile`` (dict ``sigma``, ``u``, ``v``, ``c`` [m/s] zone rows) when a
         profile was recorded too.
@@ -340,7 +343,9 @@ class ShearingBox:
 
     def run(self, orbits: float | None = None, progress: bool = False, *, until: float | None = None,
             stop=None) -> "ShearingBox":
-        """:meth:`advance` (without a wall budget), returning the box (the older name)."""
+        """Deprecated: :meth:`advance` (the one way to run; here without a wall budget), returning the box (the
+        older name)."""
+        warn_once("ShearingBox.run", "ShearingBox.advance (returns the orbits advanced)")
         self.advance(orbits, until=until, stop=stop, progress=progress)
         return self
 
@@ -359,7 +364,8 @@ class ShearingBox:
             prow["time"] = self.orbits
         self._rec.append(row, prow)
         if self._hub:
-            sample = dict(orbit=row["time"], steps=self._steps, e_kin=row["ekin"], lambda_p_m=row["lambda_p"],
+            sample = dict(orbit=row["time"], steps=self._steps, e_kin=row["ekin"], e_kin_rp=row["ekin"],
+                          lambda_p_m=row["lambda_p"],
                           **{k: row[k] for k in ("c_mean", "T", "collision_frequency", "unresolved", "crossings")})
             if prow is not None:
                 sample["profile"] = {k: prow[k] for k in ("sigma", "u", "v", "c")}
@@ -425,7 +431,7 @@ class ShearingBox:
         out = dict(orbit=self.orbits, N=self.N, tau=self.tau, ekin=D.e_kin(p),
                    c_mean=D.mean_dispersion(p) * self.v_unit, lambda_p=D.psd(p, self.L_x)[2] * self.R_p,
                    z_rms=float(np.sqrt(np.mean(self.pos[:, 2] ** 2))) * self.R_p, steps=self._steps)
-        out.update(e_kin=out["ekin"], lambda_p_m=out["lambda_p"])  # the contract's names (as the hydro engine)
+        out.update(e_kin=out["ekin"], e_kin_rp=out["ekin"], lambda_p_m=out["lambda_p"])  # the contract's names (as the hydro engine)
         if self.acc[K.A_TIME] > 0:
             out.update(self.transport())
         return out
@@ -454,10 +460,11 @@ class ShearingBox:
 
     def save(self, path, *, complete: bool = True, **attrs):
         """Write the run file ``path`` (:func:`ringcore.io.write_run`, kind "nbody") with everything
-        needed to continue bit-for-bit; ``complete`` and ``summary_json`` attributes, plus ``attrs``."""
+        needed to continue bit-for-bit; ``complete`` and ``summary_json`` attributes, plus ``attrs``; with
+        :meth:`keep_archive`, the archived states too (:mod:`ringcore.archive`)."""
         from .store import save
 
-        return save(self, path, complete=complete, **attrs)
+        return save(self, path, complete=complete, archive_of=self, **attrs)
 
     @classmethod
     def load(cls, path) -> "ShearingBox":

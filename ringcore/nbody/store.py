@@ -132,9 +132,14 @@ def from_dataset(cls, ds, *, sigma0=None, tile_x: bool = False, options=None):
     tile_x = check_bool("tile_x", tile_x)
     if options is not None and not isinstance(options, NBodyOptions):
         raise ValueError(f"options = {options!r} is not valid: pass a ringcore.nbody.NBodyOptions")
+    from ..archive import resume_archive
+
+    ds = read_run(ds, kind="nbody") if not isinstance(ds, xr.Dataset) else ds
     st = state_from_dataset(ds)
     if sigma0 is None and not tile_x and options is None:
-        return cls.restore(st)
+        box = cls.restore(st)
+        resume_archive(box, ds)  # the file's archive of states goes on growing
+        return box
     p, o, a = st.params, st.options, st.arrays
     if sigma0 is not None:
         p = p.with_sigma0(sigma0)
@@ -160,7 +165,7 @@ def summary(src, last_fraction: float = 0.25) -> dict:
     """Saturation summary of a ShearingBox or its State over the last ``last_fraction`` (by time) of the
     recorded box means.
 
-    Keys: ``lambda_p_m`` most frequent recorded prevalent wavelength [m]; ``lambda_p_mean_m``
+    Keys: ``lambda_p_m`` (also ``lambda_p_most_frequent_m``) most frequent recorded prevalent wavelength [m]; ``lambda_p_mean_m``
     [m]; ``e_kin`` mean [sigma0 (R_p Omega)^2] (also ``e_kin_rp``); ``c_mean`` mean velocity
     dispersion [m/s]; ``orbits``; ``N``.
     """
@@ -188,13 +193,17 @@ def summary(src, last_fraction: float = 0.25) -> dict:
         out.update(lambda_p_m=float(lam_p), lambda_p_mean_m=float(lam_p), e_kin=float(D.e_kin(prof)),
                    c_mean=float(D.mean_dispersion(prof) * (o.R_p * st.params.Omega)))
     out["e_kin_rp"] = out["e_kin"]
+    out["lambda_p_most_frequent_m"] = out["lambda_p_m"]  # the name of its method (ringcore.analysis.prevalent)
     return out
 
 
-def save(src, path, *, complete: bool = True, **attrs):
-    """Write a ShearingBox or its State to ``path`` with :func:`ringcore.io.write_run` (kind "nbody")."""
+def save(src, path, *, complete: bool = True, archive_of=None, **attrs):
+    """Write a ShearingBox or its State to ``path`` with :func:`ringcore.io.write_run` (kind "nbody");
+    ``archive_of``: the box whose archive of states (:mod:`ringcore.archive`) the file also holds."""
+    from ..archive import with_archive
+
     st = _state_of(src)
-    ds = to_dataset(st)
+    ds = with_archive(to_dataset(st), archive_of) if archive_of is not None else to_dataset(st)
     ds.attrs.update(status_attrs(summary(st), complete))
     ds.attrs.update(attrs)
     return write_run(ds, path, kind="nbody")

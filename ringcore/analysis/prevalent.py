@@ -1,0 +1,87 @@
+"""The prevalent wavelength lambda_p of a run, named by the method that measures it.
+
+The paper's lambda_p is the wavelength of the maximum of the power spectral density of sigma (Section 5.1.1,
+Figures 7 and 8).  A run offers three measurements of it, which differ on a run whose waves still coarsen or
+fluctuate (e.g. 62.5, 66.7 and 71.4 m in one 20-orbit hydro run):
+
+``"psd"`` (the default, :data:`DEFAULT_METHOD`)
+    Peak of the PSD averaged over the recorded sigma rows of the last ``last_fraction`` of the run (hydro:
+    the stroboscopic rows, one per orbit; N-body: the recorded radial profiles).  The steadiest value and the
+    paper's definition applied to the saturated state; nan without recorded rows.
+``"most_frequent"``
+    The most frequent of the sampled instantaneous values in the last ``last_fraction`` (the ``lambda_p_m`` of
+    the run summaries, :func:`ringcore.analysis.summary.series_summary`).
+``"instantaneous"``
+    The PSD peak of the current state only (the ``lambda_p_m`` of ``diagnostics()`` and of each sample).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..checks import check_choice, check_real
+from ..engine import State
+
+METHODS = ("psd", "most_frequent", "instantaneous")
+DEFAULT_METHOD = "psd"
+
+
+def lambda_p(run, method: str = DEFAULT_METHOD, last_fraction: float = 0.25) -> float:
+    """The prevalent wavelength of a run [m], measured by ``method`` (see the module docstring).
+
+    Parameters
+    ----------
+    run : Hydro1D, ShearingBox or State
+        An engine or its :class:`~ringcore.engine.State`.
+    method : {"psd", "most_frequent", "instantaneous"}
+        How lambda_p is measured; default ``"psd"``.
+    last_fraction : float
+        Fraction (by time) of the recorded run used by ``"psd"`` and ``"most_frequent"``, in (0, 1].
+
+    Returns
+    -------
+    float
+        lambda_p [m]; nan when the run has recorded nothing the method needs.
+    """
+    check_choice("method", method, METHODS)
+    last_fraction = check_real("last_fraction", last_fraction, 0.0, 1.0, lo_open=True)
+    st = run if isinstance(run, State) else run.snapshot()
+    if st.kind == "hydro":
+        return _hydro(st, method, last_fraction)
+    return _nbody(st, method, last_fraction)
+
+
+def all_methods(run, last_fraction: float = 0.25) -> dict:
+    """``{"lambda_p_<method>_m": value [m]}`` for every method (one snapshot of the run)."""
+    st = run if isinstance(run, State) else run.snapshot()
+    return {f"lambda_p_{m}_m": lambda_p(st, m, last_fraction) for m in METHODS}
+
+
+def _hydro(st: State, method: str, last_fraction: float) -> float:
+    from ..hydro.diagnostics import prevalent_wavelength
+    from .summary import series_summary, strobe_wavelength
+
+    a, L_x = st.arrays, st.options.L_x
+    if method == "instantaneous":
+        return float(prevalent_wavelength(np.asarray(a["U"])[0], L_x))
+    if method == "most_frequent":
+        return series_summary(a["rec_t"], a["rec_lambda_p"], a["rec_e_kin"], last_fraction)["lambda_p_m"]
+    return strobe_wavelength(a["rec_t_strobe"], a["rec_strobe"], L_x, last_fraction)
+
+
+def _nbody(st: State, method: str, last_fraction: float) -> float:
+    from ..nbody import diagnostics as D
+    from ..nbody.store import summary
+    from .summary import strobe_wavelength
+
+    a, o = st.arrays, st.options
+    if method == "instantaneous":
+        prof = D.tabulate(a["pos"], a["vel"], o.L_x / o.R_p, o.zones)
+        return float(D.psd(prof, o.L_x / o.R_p)[2] * o.R_p)
+    if method == "most_frequent":
+        if not np.asarray(a["history_time"]).size:
+            return math.nan
+        return summary(st, last_fraction)["lambda_p_m"]
+    rows = np.asarray(a["profile_sigma"], float).reshape(-1, o.zones)
+    return strobe_wavelength(a["profile_time"], rows, o.L_x, last_fraction)
