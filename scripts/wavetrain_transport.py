@@ -44,21 +44,21 @@ def main():
     T = w[3] if w.shape[0] == 4 else np.ones(opt.n)
     sim = Hydro1D(p, opt, initial="state", state=(w[0], w[1], w[2], T))
     m = a.waves
-    ph0 = np.angle(np.fft.rfft(sim.sigma)[m])
+    ph0 = np.angle(np.fft.rfft(sim.sigma_dimless)[m])
     phase, last = 0.0, ph0
     t0 = time.time()
     nsteps = int(round(a.orbits / 0.02))
     for i in range(1, nsteps + 1):
         sim.advance(orbits=0.02)
-        ph = np.angle(np.fft.rfft(sim.sigma)[m])
+        ph = np.angle(np.fft.rfft(sim.sigma_dimless)[m])
         phase += (ph - last + math.pi) % (2 * math.pi) - math.pi
         last = ph
         if i % int(round(10 / 0.02)) == 0 or i == nsteps:
             k_m = 2 * math.pi * m / L
             c_meas = -phase / (k_m * sim.t / p.Omega)  # exp(i k (x - c t)): phase = -k c t
             shift = tr.phase_speed_m_s * sim.t / p.Omega
-            err = np.abs(sim.sigma - tr.fields(x_m - shift)[0]).max() / tr.amplitude
-            a_now = 0.5 * (sim.sigma.max() - sim.sigma.min())
+            err = np.abs(sim.sigma_dimless - tr.fields(x_m - shift)[0]).max() / tr.amplitude
+            a_now = 0.5 * (sim.sigma_dimless.max() - sim.sigma_dimless.min())
             print(f"orbit {sim.orbits:6.1f}: measured c = {c_meas:.6e} m/s (rel. diff {c_meas / tr.phase_speed_m_s - 1:+.2e}), "
                   f"max |sigma - sigma_train(x - c t)| / amplitude = {err:.2e}, amplitude {a_now:.4f} "
                   f"({time.time() - t0:.0f} s)", flush=True)

@@ -116,11 +116,11 @@ def test_wave_train_travels_unchanged_in_hydro1d():
     sim.advance(orbits=orbits)
     shift_m = tr.phase_speed_m_s * sim.t / p.Omega
     expect = tr.fields(x_m - shift_m)
-    err = np.abs(sim.sigma - expect[0]).max()
+    err = np.abs(sim.sigma_dimless - expect[0]).max()
     assert err < 0.01 * tr.amplitude, err
     # a phase-speed error of 1 % would move the wave by |c| t / 100: far more than the error above
     wrong = tr.fields(x_m - 1.01 * shift_m)
-    assert np.abs(sim.sigma - wrong[0]).max() > 5 * err
+    assert np.abs(sim.sigma_dimless - wrong[0]).max() > 5 * err
 
 
 @pytest.mark.slow
@@ -143,7 +143,7 @@ def test_unstable_wave_train_breaks_up_at_floquet_rate():
     sim = Hydro1D(p, opt, initial="state", state=(w[0], w[1], w[2], np.ones(n)))
 
     def sub_amp():  # the odd Fourier modes of sigma in the 2-lambda box belong to the perturbation only
-        s = np.fft.rfft(sim.sigma)
+        s = np.fft.rfft(sim.sigma_dimless)
         return float(np.sqrt(np.sum(np.abs(s[1::2]) ** 2)))
 
     # the real seed holds the mode and its complex conjugate (also q = k/2): their sum beats, so the
