@@ -6,7 +6,7 @@
 Starts ``panel serve app/main.py`` (subprocess, loopback, free port) and opens K real Panel
 sessions without a browser (Bokeh client sessions on one event loop).  Each student opens
 the teacher's link ``/main?tab=hydro&autostart=1`` (the app opens the Hydrodynamics tab and
-presses Start, exactly as a click would; see ``app.main.apply_query``) and acknowledges every
+presses Start, exactly as a click would; see ``ringlab.main.apply_query``) and acknowledges every
 frame the way the page does (the page's ``CustomJS`` bumps the figure's ``tags`` after a
 source changed; the client does the same), without rendering.  Orbits are read from each
 session's own "Orbits elapsed" readout, i.e. what the page shows.  One more session stays on
@@ -120,7 +120,7 @@ class Student:
             src = self.doc.select_one({"name": src_name})
             if src is None:
                 continue
-            # the figure whose ``tags`` the page's CustomJS bumps (app.live_common.FrameGate)
+            # the figure whose ``tags`` the page's CustomJS bumps (ringlab.ui.frame_gate.FrameGate)
             figs = [cb.args.get("fig") for cb in src.js_property_callbacks.get("change:data", [])
                     if "fig" in getattr(cb, "args", {})]
             if figs:

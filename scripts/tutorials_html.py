@@ -98,7 +98,7 @@ def main(argv=None) -> int:
     ap.add_argument("--only", default="", help="comma-separated tutorial stems (default: all)")
     a = ap.parse_args(argv)
     sys.path.insert(0, str(ROOT))
-    from app.tutorials import TUTORIALS
+    from ringlab.lessons.tutorials import TUTORIALS
 
     stems = [s for s in a.only.split(",") if s] or list(TUTORIALS)
     a.out.mkdir(parents=True, exist_ok=True)

@@ -7,7 +7,7 @@ import re
 import pytest
 from bokeh.models import LegendItem, Plot, Title
 
-from app.paper_cite import publish
+from ringlab.ui.cite import publish
 
 LABEL = re.compile(r'\b(?:[Ee]qs?\.\s*\**\s*\((?!\d)[A-Za-z]\w*\)|Figures?\s+"[A-Za-z]\w*")')
 
@@ -46,7 +46,7 @@ def _texts(obj, seen):
 
 @pytest.mark.timeout(300)
 def test_no_tab_shows_a_latex_label():
-    from app.main import TABS, create_app
+    from ringlab.main import TABS, create_app
 
     app = create_app()
     bad, seen_texts = [], []

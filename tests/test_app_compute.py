@@ -1,4 +1,4 @@
-"""The live runners compute off the event loop (app.compute, app.live_loop), headless.
+"""The live runners compute off the event loop (ringlab.server.compute, ringlab.live.loop), headless.
 
 A fake server document stands in for Bokeh's: ``add_next_tick_callback`` puts callbacks in a
 queue that the test drains on its own thread (the "event loop"), as Tornado would.
@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 from panel.io.state import set_curdoc
 
-from app import compute
-from app.hydro_runner import HydroRunner
-from app.live_loop import WAITING
-from app.nbody_runner import NBodyRunner
+from ringlab.server import compute
+from ringlab.live.hydro import HydroRunner
+from ringlab.live.loop import WAITING
+from ringlab.live.nbody import NBodyRunner
 
 
 class FakeSession:

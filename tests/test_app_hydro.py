@@ -11,10 +11,10 @@ import numpy as np
 import panel as pn
 import pytest
 
-from app.hydro_runner import HydroRunner
-from app.hydro_settings import HydroSettings
-from app.hydro_view import HydroView
-from app.live_buffers import RollingImage, SeriesBuffer, SpaceTimeImage, bin_columns
+from ringlab.live.hydro import HydroRunner
+from ringlab.model.hydro_settings import HydroSettings
+from ringlab.tabs.hydro.view import HydroView
+from ringlab.live.buffers import RollingImage, SeriesBuffer, SpaceTimeImage, bin_columns
 from ringcore import linear, params
 from ringcore.hydro import Hydro1D, HydroOptions
 from ringcore.io import read_run
@@ -243,7 +243,7 @@ def test_frame_gate_paces_frames():
     from bokeh.models import ColumnDataSource
     from bokeh.plotting import figure
 
-    from app.live_common import FrameGate
+    from ringlab.ui.frame_gate import FrameGate
 
     fig, src = figure(), ColumnDataSource(dict(x=[]))
     gate = FrameGate(fig, src, min_period_s=0.25, max_in_flight=1)

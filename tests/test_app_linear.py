@@ -12,9 +12,9 @@ import numpy as np
 import param
 import pytest
 
-from app.controls import RingControls, build_params, parse_sigma0_list
-from app.linear_model import LinearTheory, wavelength_grid
-from app.linear_view import LinearView, format_numbers
+from ringlab.model.controls import RingControls, build_params, parse_sigma0_list
+from ringlab.model.linear import LinearTheory, wavelength_grid
+from ringlab.tabs.linear.view import LinearView, format_numbers
 from ringcore import linear, params
 
 
@@ -187,7 +187,7 @@ def test_sessions_are_independent():
 def test_app_assembles_tabs():
     import panel as pn
 
-    from app import main
+    from ringlab import main
 
     assert [t for t, _ in main.TABS][0] == "Linear theory"
     app = main.create_app()
@@ -211,7 +211,7 @@ def test_compare_field_applies_typed_list(view):
 
 def test_plot_titles_name_the_exact_relation(view):
     """Issue 14, item 9: the curves solve Det M = 0 exactly; eqs. (21), (22) are long-wave limits."""
-    from app.linear_view import PLOTS
+    from ringlab.tabs.linear.view import PLOTS
     titles = {key: view.figures[key].title.text for key, *_ in PLOTS}
     assert "eq. (16)" in titles["growth_rate"] and "eq. (21)" not in titles["growth_rate"]
     assert "eq. (16)" in titles["frequency"] and "eq. (22)" not in titles["frequency"]

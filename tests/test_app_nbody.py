@@ -11,8 +11,8 @@ import numpy as np
 import panel as pn
 import pytest
 
-from app.nbody_runner import MAX_PARTICLES, NBodyRunner, thin_history
-from app.nbody_view import NBodyView
+from ringlab.live.nbody import MAX_PARTICLES, NBodyRunner, thin_history
+from ringlab.tabs.nbody import NBodyView
 from ringcore import linear, params
 from ringcore.io import read_run
 from ringcore.nbody import ShearingBox

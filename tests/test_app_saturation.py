@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 import xarray as xr
 
-import app.saturation_view as sv
-from app.hydro_runner import HydroRunner
-from app.saturation_view import SaturationView, load_sweep, theory_curves
-from app.session import SessionRuns
+import ringlab.tabs.saturation as sv
+from ringlab.live.hydro import HydroRunner
+from ringlab.tabs.saturation import SaturationView, load_sweep, theory_curves
+from ringlab.live.session import SessionRuns
 from ringcore import linear, params
 
 
@@ -104,7 +104,7 @@ def test_add_my_run():
 
 def test_sessions_do_not_share_runs():
     """create_app gives each session its own SessionRuns, passed to the tabs that declare ``runs``."""
-    from app import main
+    from ringlab import main
 
     assert [t for t, _ in main.TABS][:4] == ["Linear theory", "Hydrodynamics", "N-body", "Saturation"]
     sessions = []

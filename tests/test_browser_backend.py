@@ -1,5 +1,5 @@
 """The app's own default backend in a real browser: a server on a multi-core machine computes the live
-runs in worker processes (``app.remote.mode``: ``RINGLAB_COMPUTE`` unset), the page shows the run
+runs in worker processes (``ringlab.server.remote.mode``: ``RINGLAB_COMPUTE`` unset), the page shows the run
 advancing, Pause shows the state the worker keeps, and a closed tab frees the worker's copy.
 
 The other browser tests keep the runs in the server process (``RINGLAB_COMPUTE=threads``, see
@@ -12,7 +12,7 @@ import time
 
 import pytest
 
-from app import remote
+from ringlab.server import remote
 
 from tests.test_browser import (ARTIFACTS, browser_page, free_port, pytestmark, start_server,  # noqa: F401
                            stop_server)

@@ -16,7 +16,7 @@ import time
 
 import pytest
 
-from app.compare_presets import PRESETS
+from ringlab.model.compare_presets import PRESETS
 
 from tests.test_browser import ARTIFACTS, CHROMIUM, FLAGS, free_port, start_server, stop_server, sync_playwright
 

@@ -6,7 +6,7 @@ linear-theory slope), opens the Saturation tab and fetches every tutorial link o
 the app server itself.  Screenshots at 1280x720 go to ``test-artifacts/shots/connect_*.png``.
 
 The server serves the executed tutorials (``make tutorials-html``) if they are built, else small
-stand-in pages in a temporary folder, at /tutorials/ (``app.tutorials.serve_args``).
+stand-in pages in a temporary folder, at /tutorials/ (``ringlab.lessons.tutorials.serve_args``).
 Run alone with ``.venv/bin/python -m pytest -p no:playwright tests/test_browser_connect.py``.
 """
 from __future__ import annotations
@@ -17,7 +17,7 @@ from urllib.parse import urljoin
 
 import pytest
 
-from app import tutorials
+from ringlab.lessons import tutorials
 from test_browser import ARTIFACTS, CHROMIUM, FLAGS, free_port, pytestmark, start_server, stop_server  # noqa: F401
 
 SHOTS = ARTIFACTS / "shots"

@@ -154,7 +154,7 @@ def test_layout_at_projector_and_phone_sizes(server, browser, width, height):
     url, _ = server
     page = open_page(browser, url, width, height)
     boxes = check_layout(page, f"linear-{width}x{height}", width)
-    from app.main import TABS
+    from ringlab.main import TABS
     for title, _ in TABS:  # every tab reachable without scrolling the tab bar (the headers wrap on a phone)
         box = page.locator(".bk-tab", has_text=title).first.bounding_box()
         assert box is not None and box["x"] >= 0 and box["x"] + box["width"] <= width + 1, (title, box)

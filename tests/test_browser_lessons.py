@@ -18,8 +18,8 @@ from pathlib import Path
 
 import pytest
 
-from app.lessons import LESSONS
-from app.lessons.worksheets import worksheet_path
+from ringlab.lessons import LESSONS
+from ringlab.lessons.worksheets import worksheet_path
 from tests.test_browser import (ARTIFACTS, CHROMIUM, FLAGS, free_port, start_server, stop_server,
                                 sync_playwright)
 

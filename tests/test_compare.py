@@ -12,10 +12,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.compare_runner import PRESETS, TOL, CompareRunner
-from app.compare_view import CompareView
-from app.hydro_runner import HydroRunner
-from app.nbody_runner import NBodyRunner
+from ringlab.live.compare import PRESETS, TOL, CompareRunner
+from ringlab.tabs.compare.view import CompareView
+from ringlab.live.hydro import HydroRunner
+from ringlab.live.nbody import NBodyRunner
 from ringcore.hydro import Hydro1D
 
 
@@ -262,7 +262,7 @@ def test_sessions_are_independent_and_close_frees_both():
 
 
 def test_teacher_link_opens_and_starts_the_compare_tab():
-    from app import main
+    from ringlab import main
 
     index = [t for t, _ in main.TABS].index("Compare")
     assert main.TAB_KEYS["compare"] == index

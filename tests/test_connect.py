@@ -16,10 +16,11 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from app import connect, tutorials
-from app.hydro_view import HydroView
-from app.main import TAB_KEYS, create_app
-from app.saturation_view import SWEEP_FILE, SaturationView, load_sweep, unsaturated_sigma0
+from ringlab.model import connect
+from ringlab.lessons import tutorials
+from ringlab.tabs.hydro.view import HydroView
+from ringlab.main import TAB_KEYS, create_app
+from ringlab.tabs.saturation import SWEEP_FILE, SaturationView, load_sweep, unsaturated_sigma0
 from ringcore import linear, params
 
 SMALL = dict(L_x=1000.0, h=5.0)
@@ -80,10 +81,10 @@ def test_run_this_in_nbody_carries_set_and_sigma0(app):
 
 
 def test_carry_refuses_unknown_kind_and_missing_tab():
-    from app.controls import RingControls
+    from ringlab.model.controls import RingControls
     with pytest.raises(ValueError, match="kind"):
         connect.carry_values(RingControls(), "saturation")
-    from app.linear_view import LinearView
+    from ringlab.tabs.linear.view import LinearView
     v = LinearView()  # outside the app: no session runs
     assert v.carry.carry("hydro") == [] and "Not carried over" in v.carry.message.object
 
@@ -196,8 +197,8 @@ def test_tutorial_links_point_at_files_of_the_served_folder(tmp_path, monkeypatc
         assert hrefs == [f"tutorials/{s}.html" for s in stems]
         for h in hrefs:  # the static route /tutorials/ maps onto the folder
             assert (tmp_path / h.split("/", 1)[1]).is_file()
-    from app.lessons.content import LESSONS
-    from app.lessons.view import LessonsPanel
+    from ringlab.lessons.content import LESSONS
+    from ringlab.lessons.view import LessonsPanel
     for les in LESSONS:
         html = " ".join(getattr(w, "object", "") or "" for w in LessonsPanel._link_widgets(les))
         assert f'href="tutorials/{les.tutorial[:-3]}.html"' in html

@@ -1,4 +1,4 @@
-"""The live hydro runner computing on Dask workers (app.remote), against a LocalCluster of 2 processes.
+"""The live hydro runner computing on Dask workers (ringlab.server.remote), against a LocalCluster of 2 processes.
 
 Independent answer: the same runner computing in this process (the engine contract says a
 restored engine continues bit for bit and the chunking never changes a run), compared with
@@ -12,8 +12,8 @@ import numpy as np
 import pytest
 from panel.io.state import set_curdoc
 
-from app import compute, remote
-from app.hydro_runner import HydroRunner
+from ringlab.server import compute, remote
+from ringlab.live.hydro import HydroRunner
 from ringcore.hydro import Hydro1D
 
 from test_app_compute import FakeDoc

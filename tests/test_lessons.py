@@ -13,22 +13,22 @@ import numpy as np
 import panel as pn
 import pytest
 
-from app.glossary import TERMS, glossary_html
-from app.lessons import LESSONS, PRESETS, cite, lesson
-from app.lessons.checks import is_saturated, parse_number, run_check
-from app.lessons.presets import Targets, apply_preset, stop_target
-from app.lessons.refs import render
-from app.lessons.view import LessonsPanel
-from app.lessons.worksheets import stale, worksheet_html
-from app.main import TABS, _make
-from app.session import SessionRuns
+from ringlab.lessons.glossary import TERMS, glossary_html
+from ringlab.lessons import LESSONS, PRESETS, cite, lesson
+from ringlab.lessons.checks import is_saturated, parse_number, run_check
+from ringlab.lessons.presets import Targets, apply_preset, stop_target
+from ringlab.lessons.refs import render
+from ringlab.lessons.view import LessonsPanel
+from ringlab.lessons.worksheets import stale, worksheet_html
+from ringlab.main import TABS, _make
+from ringlab.live.session import SessionRuns
 from ringcore import linear, params
 
 FAST = "fast"
 
 
 def session():
-    """A session like app.main.create_app builds it: views registered in SessionRuns, the main tabs,
+    """A session like ringlab.main.create_app builds it: views registered in SessionRuns, the main tabs,
     and the Lessons panel."""
     runs = SessionRuns()
     tabs = pn.Tabs(*[(title, _make(f, runs)) for title, f in TABS])
@@ -273,7 +273,7 @@ def test_panel_navigation_progress_restart():
 
 
 def test_worksheets_are_generated_from_the_definitions():
-    assert stale() == [], "run: python -m app.lessons.worksheets"
+    assert stale() == [], "run: python -m ringlab.lessons.worksheets"
     for les in LESSONS:
         page = worksheet_html(les)
         assert page.count('class="step"') == len(les.steps)

@@ -17,9 +17,9 @@ import param
 import pytest
 import xarray as xr
 
-from app import compute
-from app.paper_playback import DATA_DIR, SPEEDS, Playback, frame_at, list_runs, load_run
-from app.paper_view import PaperView
+from ringlab.server import compute
+from ringlab.tabs.paper.playback import DATA_DIR, SPEEDS, Playback, frame_at, list_runs, load_run
+from ringlab.tabs.paper.view import PaperView
 from ringcore.experiments import longrun_recipes as lr
 from ringcore.experiments.longruns import LONG_RUNS, check_compact, compact, hydro_command, run_settings, run_title
 from ringcore.experiments.registry import get_recipe
@@ -230,7 +230,7 @@ def test_tau15_other_seeds_differ_only_in_the_noise(seed):
 
 def test_explanation_quotes_the_shipped_tau15_seeds():
     """The tab's text says the three tau15 white-noise runs end at 625, 256 and 345 m: the shipped files agree."""
-    from app.paper_view import EXPLANATION
+    from ringlab.tabs.paper.view import EXPLANATION
 
     for name, lam in (("noniso_tau15_noise", 625), ("noniso_tau15_seed2", 256), ("noniso_tau15_seed3", 345)):
         a = load_run(SHIPPED[name])["attrs"]

@@ -1,4 +1,4 @@
-"""app.socket_guard, headless: a websocket that is reset in the middle of a message (issue 14, item 6).
+"""ringlab.server.socket_guard, headless: a websocket that is reset in the middle of a message (issue 14, item 6).
 
 A fake Tornado connection plays what a page that navigates away does to the server: the first
 frame written meets a connection reset, Tornado closes the stream at once (``is_closing()``) and
@@ -19,7 +19,7 @@ from bokeh.server.views.ws import WSHandler
 from tornado.websocket import WebSocketClosedError, WebSocketHandler
 
 import panel.io.document as pdoc
-from app import socket_guard
+from ringlab.server import socket_guard
 
 
 class ResetOnFirstWrite:

@@ -37,7 +37,7 @@ def via_runner(name, s0, iso, ps, sc):
 
 def via_app(name, s0, iso, ps, sc):
     pytest.importorskip("param")
-    from app.controls import build_params
+    from ringlab.model.controls import build_params
 
     return build_params(name, s0, iso, ps_scale=sc, iso_p_s=1.0 if ps is None else ps)
 
@@ -101,7 +101,7 @@ def test_spec_options_pass_through_as_a_copy():
 
 def test_no_string_tests_for_the_isothermal_only_set():
     root = pathlib.Path(__file__).resolve().parents[1]
-    for f in ("ringcore/cli/common.py", "ringcore/experiments/runners.py", "app/controls.py", "app/linear_view.py"):
+    for f in ("ringcore/cli/common.py", "ringcore/experiments/runners.py", "app/model/controls.py", "app/tabs/linear/view.py"):
         text = (root / f).read_text()
         assert not re.search(r"""==\s*["']st99["']""", text), f
 

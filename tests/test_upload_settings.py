@@ -19,9 +19,10 @@ import pytest
 from hypothesis import HealthCheck, event, given, settings
 from hypothesis import strategies as st
 
-from app.export import ExportPanel, check_settings_upload
-from app.hydro_runner import HydroRunner
-from app.nbody_runner import NBodyRunner
+from ringlab.tabs.shared import ExportPanel
+from ringlab.live.export import check_settings_upload
+from ringlab.live.hydro import HydroRunner
+from ringlab.live.nbody import NBodyRunner
 
 RUNNERS = {"hydro": lambda: HydroRunner(L_x=500.0, h=2.5), "nbody": lambda: NBodyRunner(L_x=40.0, L_y=20.0)}
 _CACHE = {}

@@ -14,14 +14,14 @@ from pathlib import Path
 import panel as pn
 import param
 
-from ..glossary import GLOSSARY_CSS, GlossaryPanel
-from ..live_common import CSS
-from .checks import run_check
-from .content import LESSONS, PRESETS
-from ..tutorials import links_html
-from .presets import Targets, apply_preset, default_scale
-from .refs import render
-from .worksheets import worksheet_html, worksheet_path
+from ringlab.lessons.checks import run_check
+from ringlab.lessons.content import LESSONS, PRESETS
+from ringlab.lessons.glossary import GLOSSARY_CSS, GlossaryPanel
+from ringlab.lessons.presets import Targets, apply_preset, default_scale
+from ringlab.lessons.refs import render
+from ringlab.lessons.tutorials import links_html
+from ringlab.lessons.worksheets import worksheet_html, worksheet_path
+from ringlab.ui.style import CSS
 
 TUTORIALS = Path(__file__).resolve().parents[2] / "tutorials"
 
@@ -47,7 +47,7 @@ class LessonsPanel(pn.viewable.Viewer):
 
     lesson = param.Integer(default=1, bounds=(1, len(LESSONS)), doc="Current lesson (1-based).")
     step = param.Integer(default=1, bounds=(1, max(len(les.steps) for les in LESSONS)), doc="Current step.")
-    runs = param.Parameter(default=None, doc="The session's app.session.SessionRuns (views registered there).")
+    runs = param.Parameter(default=None, doc="The session's ringlab.live.session.SessionRuns (views registered there).")
     tabs = param.Parameter(default=None, doc="The main pn.Tabs (the preset shows its tab).")
     scale = param.Selector(default="classroom", objects=["classroom", "fast"],
                            doc="Preset scale: the classroom boxes or smaller, faster ones.")
