@@ -2,14 +2,15 @@
 #   make app    install into .venv and start the main job
 #   make test   install into .venv (with the app and test extras) and run the whole test suite
 # Both install ".[app,test]": the core package, the web app's packages (panel, bokeh, param) and the
-# test tools (pytest, playwright, hypothesis ...); `pip install .` alone gives the core and the CLI.
+# test tools (pytest, pytest-xdist, import-linter, playwright, hypothesis ...); `pip install .` alone gives
+# the core and the CLI.  `make test-fast` runs the core and headless-app tiers only (a developer's check).
 PYTHON ?= python3
 VENV   ?= .venv
 BIN     = $(VENV)/bin
 STAMP   = $(VENV)/.installed
 CHROMIUM ?= /usr/bin/chromium
 
-.PHONY: app test install clean bench browser tutorials-html
+.PHONY: app test test-fast lint-imports install clean bench browser tutorials-html
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -41,8 +42,20 @@ app: $(STAMP)
 tutorials-html: $(STAMP)
 	$(BIN)/python scripts/tutorials_html.py --out $(TUTORIALS_HTML) --from test-artifacts/tutorials
 
-test: $(STAMP) browser
-	$(BIN)/python -m pytest
+# tests in tiers (tests/core, tests/app, tests/browser, tests/notebooks) on pytest-xdist workers; --dist loadgroup
+# keeps the browser tests in one worker (one app server and one Chromium at a time: tests/conftest.py)
+PYTEST_WORKERS ?= 2
+PYTEST_XDIST = -n $(PYTEST_WORKERS) --dist loadgroup
+
+# the app's layers and "ringcore imports no web stack" (contracts in pyproject.toml)
+lint-imports: $(STAMP)
+	$(BIN)/lint-imports --no-cache
+
+test: $(STAMP) browser lint-imports
+	$(BIN)/python -m pytest $(PYTEST_XDIST)
+
+test-fast: $(STAMP) lint-imports
+	$(BIN)/python -m pytest $(PYTEST_XDIST) -m "not slow" tests/core tests/app
 
 bench: $(STAMP)
 	$(BIN)/ringcore bench hydro

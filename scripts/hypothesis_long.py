@@ -2,7 +2,7 @@
 
     python scripts/hypothesis_long.py [--examples N] [-k EXPR]
 
-runs tests/test_cli_hypothesis.py with HYPOTHESIS_PROFILE=long (random, not derandomized;
+runs tests/core/test_cli_hypothesis.py with HYPOTHESIS_PROFILE=long (random, not derandomized;
 N examples per test before the per-command scaling, default 400) and prints how many generated
 command lines ran and their exit statuses.  Failing examples are printed by Hypothesis with a
 reproduction blob and stored in .hypothesis/ (replayed first on the next run).
@@ -25,7 +25,7 @@ def main() -> int:
     ap.add_argument("-k", default=None, help="pytest -k expression (e.g. 'hydro or nbody')")
     a = ap.parse_args()
     env = dict(os.environ, HYPOTHESIS_PROFILE="long", HYPOTHESIS_MAX_EXAMPLES=str(a.examples))
-    cmd = [sys.executable, "-m", "pytest", "tests/test_cli_hypothesis.py", "-p", "no:playwright", "-q", "-s",
+    cmd = [sys.executable, "-m", "pytest", "tests/core/test_cli_hypothesis.py", "-p", "no:playwright", "-q", "-s",
            "--timeout", "0"] + (["-k", f"({a.k}) or report_counts"] if a.k else [])
     t0 = time.perf_counter()
     rc = subprocess.call(cmd, cwd=ROOT, env=env)

@@ -1,7 +1,7 @@
 """Execute the tutorials and write self-contained HTML pages for the app to serve (``make tutorials-html``).
 
 Each ``tutorials/NN_*.py`` (jupytext percent format) is executed top to bottom in quick mode
-with nbclient, as ``tests/test_tutorials.py`` does, and exported with nbconvert.  The pages must
+with nbclient, as ``tests/notebooks/test_tutorials.py`` does, and exported with nbconvert.  The pages must
 work in a classroom without internet: formulas are converted to MathML in the markdown cells
 (``latex2mathml``; without it the TeX source stays as text) and the exporter's script tags that
 load require.js / MathJax from a CDN are removed; figures are inline PNGs already.  An index

@@ -2,7 +2,7 @@
 
 ``python -m ringlab.lessons.worksheets`` writes ``app/lessons/worksheets/lesson<N>.html`` (committed,
 and served to the page by the Lessons panel); ``--check`` exits with status 1 if the files on
-disk differ from what the definitions give now (tests/test_lessons.py runs the same comparison).
+disk differ from what the definitions give now (tests/app/test_lessons.py runs the same comparison).
 """
 from __future__ import annotations
 

@@ -24,7 +24,7 @@ How a session's run is split between the app server and a worker:
   a worker take turns; sessions are spread evenly over the workers.
 
 The numbers are those of an in-process run (the engine contract: ``restore`` continues bit
-for bit and the chunking never changes a run), checked in ``tests/test_dask_backend.py``.
+for bit and the chunking never changes a run), checked in ``tests/app/test_dask_backend.py``.
 """
 from __future__ import annotations
 

@@ -7,8 +7,8 @@
 * the server log of the whole module holds no "Traceback" and no "ERROR" line.
 
 One server for the module (start-up is slow on a shared machine).  Run alone with
-``.venv/bin/python -m pytest -p no:playwright tests/test_browser_defects.py``.
-Recipe: ``shared/guides/panel-live-app.md``; fixtures as in ``tests/test_browser.py``.
+``.venv/bin/python -m pytest -p no:playwright tests/browser/test_browser_defects.py``.
+Recipe: ``shared/guides/panel-live-app.md``; fixtures as in ``tests/browser/test_browser.py``.
 """
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ from urllib.parse import urlparse
 
 import pytest
 
-from test_browser import ARTIFACTS, CHROMIUM, FLAGS, free_port, pytestmark, start_server, stop_server  # noqa: F401
+from browser_support import ARTIFACTS, CHROMIUM, FLAGS, free_port, pytestmark, start_server, stop_server  # noqa: F401
 
 SHOTS = Path(os.environ.get("RINGLAB_SHOTS", ARTIFACTS / "shots"))
 SIZES = [(1024, 768), (1280, 720), (390, 844)]

@@ -100,14 +100,14 @@ def test_spec_options_pass_through_as_a_copy():
 
 
 def test_no_string_tests_for_the_isothermal_only_set():
-    root = pathlib.Path(__file__).resolve().parents[1]
+    root = pathlib.Path(__file__).resolve().parents[2]
     for f in ("ringcore/cli/common.py", "ringcore/experiments/runners.py", "app/model/controls.py", "app/tabs/linear/view.py"):
         text = (root / f).read_text()
         assert not re.search(r"""==\s*["']st99["']""", text), f
 
 
 def test_empirical_constant_not_retyped():
-    root = pathlib.Path(__file__).resolve().parents[1]
+    root = pathlib.Path(__file__).resolve().parents[2]
     for f in ("ringcore/figures/saturation.py", "ringcore/experiments/runners.py"):
         text = (root / f).read_text()
         assert not re.search(r"1\.4\s*\*|\*\s*1\.4\b", text), f

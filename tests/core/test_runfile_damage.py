@@ -5,14 +5,13 @@ Small real files of both engines are made once per module; deterministic cases f
 Hypothesis-generated damage (profile ``ci``: fixed example budget, derandomized; the long profile
 is ``scripts/hypothesis_runfiles.py``).
 """
-import os
 import shutil
 
 import h5py
 import numpy as np
 import pytest
 import xarray as xr
-from hypothesis import HealthCheck, event, given, settings
+from hypothesis import event, given, settings
 from hypothesis import strategies as st
 
 from ringcore import params
@@ -20,11 +19,8 @@ from ringcore.hydro import Hydro1D, HydroOptions
 from ringcore.io import RunFileError, read_run, validate_run, write_run
 from ringcore.nbody import NBodyOptions, ShearingBox
 
-settings.register_profile("ci", max_examples=12, derandomize=True, deadline=None, database=None,
-                          suppress_health_check=list(HealthCheck))
-settings.register_profile("long", max_examples=int(os.environ.get("RINGLAB_HYPOTHESIS_EXAMPLES", "300")),
-                          deadline=None, suppress_health_check=list(HealthCheck))
-settings.load_profile(os.environ.get("RINGLAB_HYPOTHESIS_PROFILE", "ci"))
+# profiles "ci" and "long": tests/conftest.py; these cheap cases take 12 examples under "ci" (its default is 10)
+BUDGET = settings(max_examples=12) if settings.default.derandomize else settings.default
 
 ENGINES = {"hydro": Hydro1D, "nbody": ShearingBox}
 
@@ -275,6 +271,7 @@ def apply(ds, m):
 
 
 @pytest.mark.parametrize("kind", ["hydro", "nbody"])
+@BUDGET
 @given(data=st.data())
 def test_generated_dataset_damage(files, tmp_path_factory, kind, data):
     """Dataset-level damage (dropped/renamed variables, cut/transposed dims, attributes, kind, schema,
@@ -297,6 +294,7 @@ def test_generated_dataset_damage(files, tmp_path_factory, kind, data):
 
 
 @pytest.mark.parametrize("kind", ["hydro", "nbody"])
+@BUDGET
 @given(data=st.data())
 def test_generated_byte_damage(files, tmp_path_factory, kind, data):
     """Byte-level damage: truncation at a random byte, or flipped bytes inside a variable's data."""

@@ -9,8 +9,8 @@
 
 One server for the module; its whole log is checked for tracebacks at the end.  The item-6 test runs
 first: the item-2 test leaves a paused session, freed only when Bokeh discards it (~15-30 s later).  Run alone with
-``.venv/bin/python -m pytest -p no:playwright tests/test_browser_defects2.py``.
-Recipe: ``shared/guides/panel-live-app.md``; fixtures as in ``tests/test_browser_defects.py``.
+``.venv/bin/python -m pytest -p no:playwright tests/browser/test_browser_defects2.py``.
+Recipe: ``shared/guides/panel-live-app.md``; fixtures as in ``tests/browser/test_browser_defects.py``.
 """
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ import time
 
 import pytest
 
-from test_browser import ARTIFACTS, CHROMIUM, FLAGS, free_port, pytestmark, start_server, stop_server  # noqa: F401
+from browser_support import ARTIFACTS, CHROMIUM, FLAGS, free_port, pytestmark, start_server, stop_server  # noqa: F401
 
 LOAD_TIMEOUT_MS = 150_000  # the page builds all tabs' models on a loaded 2-core machine
 BAD = ("Traceback", "Task exception", "Error", "error handling", "Failed sending", "Uncaught")

@@ -6,8 +6,8 @@ the space-time diagram grow, counts how often the line plots and the image chang
 page, switches a buffer zone on while the run goes, downloads the run file and reads it
 back, then runs the N-body box.  Screenshots and measured numbers go to ``test-artifacts/``.
 
-Run alone with ``.venv/bin/python -m pytest -p no:playwright -m browser tests/test_browser_live.py``.
-Recipe: ``shared/guides/panel-live-app.md``; fixtures as in ``tests/test_browser.py``.
+Run alone with ``.venv/bin/python -m pytest -p no:playwright -m browser tests/browser/test_browser_live.py``.
+Recipe: ``shared/guides/panel-live-app.md``; fixtures as in ``tests/browser/test_browser.py``.
 """
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ import time
 import pytest
 
 from ringcore.io import read_run
-from test_browser import ARTIFACTS, browser_page, free_port, pytestmark, start_server, stop_server  # noqa: F401
+from browser_support import ARTIFACTS, free_port, pytestmark, start_server, stop_server  # noqa: F401
 
 # counts changes of named Bokeh sources in the page (each server update replaces .data)
 COUNTER_JS = """

@@ -20,7 +20,7 @@ from ringcore.engine import BlowUp, Engine, State, engine_class
 from ringcore.hydro import Hydro1D, HydroBlowUp, HydroOptions
 from ringcore.nbody import NBodyOptions, ShearingBox
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 NBODY_READY = hasattr(ShearingBox, "snapshot")
 needs_nbody = pytest.mark.skipif(not NBODY_READY, reason="contract-nbody not merged")
 

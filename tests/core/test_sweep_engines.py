@@ -66,7 +66,7 @@ def test_shipped_sweep_dataset():
 
     import xarray as xr
 
-    path = Path(__file__).parent.parent / "app" / "data" / "saturation_sweep.nc"
+    path = Path(__file__).parents[2] / "app" / "data" / "saturation_sweep.nc"
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         assert ds.attrs["command"].startswith("ringcore sweep --engine hydro --set tau15")
         assert ds.attrs["command"] in (path.parent / "README.md").read_text()
@@ -86,7 +86,7 @@ def test_shipped_extra_sweep_datasets(stem, set_name, iso, caveat):
 
     import xarray as xr
 
-    path = Path(__file__).parent.parent / "app" / "data" / f"saturation_sweep_{stem}.nc"
+    path = Path(__file__).parents[2] / "app" / "data" / f"saturation_sweep_{stem}.nc"
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         assert ds.attrs["command"].startswith(f"ringcore sweep --engine hydro --set {set_name}")
         assert ("--isothermal" in ds.attrs["command"]) == iso

@@ -7,7 +7,7 @@ the app server itself.  Screenshots at 1280x720 go to ``test-artifacts/shots/con
 
 The server serves the executed tutorials (``make tutorials-html``) if they are built, else small
 stand-in pages in a temporary folder, at /tutorials/ (``ringlab.lessons.tutorials.serve_args``).
-Run alone with ``.venv/bin/python -m pytest -p no:playwright tests/test_browser_connect.py``.
+Run alone with ``.venv/bin/python -m pytest -p no:playwright tests/browser/test_browser_connect.py``.
 """
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ from urllib.parse import urljoin
 import pytest
 
 from ringlab.lessons import tutorials
-from test_browser import ARTIFACTS, CHROMIUM, FLAGS, free_port, pytestmark, start_server, stop_server  # noqa: F401
+from browser_support import ARTIFACTS, CHROMIUM, FLAGS, free_port, pytestmark, start_server, stop_server  # noqa: F401
 
 SHOTS = ARTIFACTS / "shots"
 LOAD_TIMEOUT_MS = 150_000

@@ -5,7 +5,7 @@ one and the recompute command, presses Play and sees the orbit shown advance (fr
 arrays), pauses and sees it stop, no horizontal scroll at 1024 and 390 px; takes a 1280x720 screenshot
 (``test-artifacts/shots/paper_tab.png``, also ``$RINGLAB_SHOTS``).  No JavaScript errors, no tracebacks in the server log.
 
-Run alone with ``.venv/bin/python -m pytest -p no:playwright tests/test_browser_paper.py``.
+Run alone with ``.venv/bin/python -m pytest -p no:playwright tests/browser/test_browser_paper.py``.
 """
 from __future__ import annotations
 
@@ -16,7 +16,7 @@ from pathlib import Path
 
 import pytest
 
-from test_browser import ARTIFACTS, CHROMIUM, FLAGS, free_port, pytestmark, start_server, stop_server  # noqa: F401
+from browser_support import ARTIFACTS, CHROMIUM, FLAGS, free_port, pytestmark, start_server, stop_server  # noqa: F401
 
 SHOTS = Path(os.environ.get("RINGLAB_SHOTS", ARTIFACTS / "shots"))  # screenshots of the tab
 LOAD_TIMEOUT_MS = 150_000

@@ -61,6 +61,7 @@ def test_existing_out_never_replaced_without_overwrite(tmp_path, capsys, hydro_f
     assert cli(capsys, ["resume", nbody_file, "--orbits", "0.01", "--no-progress", "--json"])[0] == 0
 
 
+@pytest.mark.perf  # asserts a wall-clock bound (its slack is documented at the assertion)
 def test_unwritable_or_invalid_outputs_refused_before_computing(tmp_path, capsys, hydro_file):
     afile = tmp_path / "plain.txt"
     afile.write_text("x")
@@ -177,6 +178,7 @@ def test_linear_names_the_physical_condition(capsys):
 
 
 # ------------------------------------------------------------------ tracebacks and --debug
+@pytest.mark.perf  # asserts a wall-clock bound (its slack is documented at the assertion)
 def test_unreachable_scheduler_one_line_fast(tmp_path, capsys):
     t0 = time.perf_counter()
     rc, _, err = cli(capsys, ["sweep", "--engine", "linear", "--sigma0", "0", "--scheduler", "tcp://127.0.0.1:9",

@@ -3,7 +3,7 @@ runs in worker processes (``ringlab.server.remote.mode``: ``RINGLAB_COMPUTE`` un
 advancing, Pause shows the state the worker keeps, and a closed tab frees the worker's copy.
 
 The other browser tests keep the runs in the server process (``RINGLAB_COMPUTE=threads``, see
-``tests/test_browser.py``); this one starts the server without that setting.
+``tests/browser/test_browser.py``); this one starts the server without that setting.
 """
 from __future__ import annotations
 
@@ -14,7 +14,7 @@ import pytest
 
 from ringlab.server import remote
 
-from tests.test_browser import (ARTIFACTS, browser_page, free_port, pytestmark, start_server,  # noqa: F401
+from browser_support import (ARTIFACTS, free_port, pytestmark, start_server,  # noqa: F401
                            stop_server)
 
 pytestmark = [*pytestmark, pytest.mark.skipif(remote._cores() < 2, reason="one core: the default is threads")]

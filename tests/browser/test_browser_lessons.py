@@ -8,7 +8,7 @@ is rejected and the right one accepted by the app's check.  A run the check need
 so the readout read is the state checked.  Screenshots (1280 x 720) of every step go to
 ``/tmp/shots/lessons/``.
 
-Run alone with ``python -m pytest -p no:playwright tests/test_browser_lessons.py -q``.
+Run alone with ``python -m pytest -p no:playwright tests/browser/test_browser_lessons.py -q``.
 """
 from __future__ import annotations
 
@@ -20,7 +20,7 @@ import pytest
 
 from ringlab.lessons import LESSONS
 from ringlab.lessons.worksheets import worksheet_path
-from tests.test_browser import (ARTIFACTS, CHROMIUM, FLAGS, free_port, start_server, stop_server,
+from browser_support import (ARTIFACTS, CHROMIUM, FLAGS, free_port, start_server, stop_server,
                                 sync_playwright)
 
 SHOTS = Path("/tmp/shots/lessons")

@@ -6,8 +6,8 @@ drawn (their Bokeh sources hold more than one row, both with the same colour map
 line says which control differs, and that no JavaScript error happened; then "Pause both".
 Screenshots (1280 x 720) go to ``test-artifacts/shots/compare-*.png``.
 
-Run alone with ``python -m pytest -p no:playwright tests/test_browser_compare.py -q``.
-Recipe: ``shared/guides/panel-live-app.md``; fixtures as in ``tests/test_browser.py``.
+Run alone with ``python -m pytest -p no:playwright tests/browser/test_browser_compare.py -q``.
+Recipe: ``shared/guides/panel-live-app.md``; fixtures as in ``tests/browser/test_browser.py``.
 """
 from __future__ import annotations
 
@@ -18,7 +18,7 @@ import pytest
 
 from ringlab.model.compare_presets import PRESETS
 
-from tests.test_browser import ARTIFACTS, CHROMIUM, FLAGS, free_port, start_server, stop_server, sync_playwright
+from browser_support import ARTIFACTS, CHROMIUM, FLAGS, free_port, start_server, stop_server, sync_playwright
 
 SHOTS = ARTIFACTS / "shots"
 

@@ -6,7 +6,7 @@ import pytest
 
 from ringcore import paperrefs
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 CANDIDATES = [Path(os.environ["RINGLAB_PAPER_TEX"])] if os.environ.get("RINGLAB_PAPER_TEX") else []
 CANDIDATES += [ROOT.parent / "shared/paper/lehmann_schmidt_salo_2017.tex",
                Path("/work/shared/paper/lehmann_schmidt_salo_2017.tex")]

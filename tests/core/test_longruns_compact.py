@@ -10,7 +10,7 @@ from ringcore import params
 from ringcore.experiments.longruns import every
 from ringcore.hydro import Hydro1D, HydroOptions
 
-ROOT = Path(__file__).resolve().parents[1]
+ROOT = Path(__file__).resolve().parents[2]
 spec = importlib.util.spec_from_file_location("compact", ROOT / "scripts/longruns/compact.py")
 compact = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(compact)

@@ -15,7 +15,6 @@ in all) and ``long`` (``scripts/hypothesis_long.py``).
 """
 import contextlib
 import io
-import os
 import shutil
 import tempfile
 from pathlib import Path
@@ -23,15 +22,12 @@ from pathlib import Path
 import pytest
 
 hypothesis = pytest.importorskip("hypothesis")
-from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 from ringcore.cli.main import main  # noqa: E402
 
-COMMON = dict(deadline=None, suppress_health_check=list(HealthCheck), print_blob=True)
-settings.register_profile("ci", max_examples=10, derandomize=True, **COMMON)
-settings.register_profile("long", max_examples=int(os.environ.get("HYPOTHESIS_MAX_EXAMPLES", "400")), **COMMON)
-settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
+# profiles "ci" (default) and "long" (HYPOTHESIS_PROFILE=long): tests/conftest.py
 # per-command share of the budget (the slow commands get fewer examples)
 SCALE = {"linear": 1.5, "hydro": 1.5, "nbody": 1.0, "resume": 1.0, "reproduce": 1.0, "sweep": 0.5}
 STATS = {"cases": 0, "by_status": {}, "by_command": {}}

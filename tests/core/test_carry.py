@@ -121,7 +121,7 @@ def _script():
     import importlib.util
     from pathlib import Path
 
-    spec = importlib.util.spec_from_file_location("carry_script", Path(__file__).resolve().parents[1]
+    spec = importlib.util.spec_from_file_location("carry_script", Path(__file__).resolve().parents[2]
                                                   / "scripts/longruns/carry.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
