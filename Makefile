@@ -16,7 +16,7 @@ $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
 
-$(STAMP): pyproject.toml | $(BIN)/python
+$(STAMP): pyproject.toml setup.py | $(BIN)/python
 	$(BIN)/python -m pip install -q -e ".[app,test]"
 	touch $(STAMP)
 
@@ -28,19 +28,24 @@ browser:
 	  (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null) || \
 	  echo "warning: could not install chromium; browser tests will be skipped"; }
 
+# `make app` installs only what the app needs (".[app]") and starts the lab with `ringlab serve`; the
+# documentation site in $(DOCS_SITE) (`make docs`, or just the tutorial pages: `make tutorials-html`) is served
+# at /docs and the app's tutorial links point to /docs/tutorials/<name>.html
 PORT ?= 5006
-TUTORIALS_HTML ?= build/tutorials-html
-app: $(STAMP)
-	@echo "ringlab app: open http://localhost:$(PORT)/main  (Ctrl-C stops the server)"
-	@test -f $(TUTORIALS_HTML)/index.html || echo "note: no executed tutorials in $(TUTORIALS_HTML) ('make tutorials-html' adds the app's links to them)"
-	@mkdir -p $(TUTORIALS_HTML)
-	RINGLAB_TUTORIALS_HTML=$(TUTORIALS_HTML) $(BIN)/python -m panel serve app/main.py --warm --port $(PORT) \
-	  --static-dirs tutorials=$(TUTORIALS_HTML)
+DOCS_SITE ?= app/docs_site
+APP_STAMP = $(VENV)/.installed-app
+$(APP_STAMP): pyproject.toml setup.py | $(BIN)/python
+	$(BIN)/python -m pip install -q -e ".[app]"
+	touch $(APP_STAMP)
 
-# the tutorials executed (quick mode) as offline HTML pages, served by `make app` at /tutorials/ and linked
-# from the tabs and lessons; reuses notebooks the test suite executed (test-artifacts/tutorials) if up to date
+app: $(APP_STAMP)
+	@test -f $(DOCS_SITE)/index.html || test -d $(DOCS_SITE)/tutorials || echo "note: no documentation site in $(DOCS_SITE) ('make docs' or 'make tutorials-html' adds it and the app's links to it)"
+	RINGLAB_DOCS_DIR=$(DOCS_SITE) $(BIN)/ringlab serve --port $(PORT)
+
+# the tutorials executed (quick mode) as offline HTML pages in $(DOCS_SITE)/tutorials, when the full
+# documentation site is not built; reuses notebooks the test suite executed (test-artifacts/tutorials) if up to date
 tutorials-html: $(STAMP)
-	$(BIN)/python scripts/tutorials_html.py --out $(TUTORIALS_HTML) --from test-artifacts/tutorials
+	$(BIN)/python scripts/tutorials_html.py --out $(DOCS_SITE)/tutorials --from test-artifacts/tutorials
 
 # tests in tiers (tests/core, tests/app, tests/browser, tests/notebooks) on pytest-xdist workers; --dist loadgroup
 # keeps the browser tests in one worker (one app server and one Chromium at a time: tests/conftest.py)

@@ -1,4 +1,4 @@
-"""Assemble and serve the ringlab web app: ``panel serve app/main.py``.
+"""Assemble and serve the ringlab web app: ``ringlab serve``, or ``panel serve app/main.py`` by path.
 
 Each tab is a (title, factory) pair in :data:`TABS`; a factory returns a fresh
 viewer for one browser session.  Factories that declare a ``runs`` parameter (the
@@ -100,6 +100,11 @@ def apply_query(app: pn.Column, args: dict) -> None:
             runner.start()
 
 
-if __name__.startswith("bokeh"):  # run by `panel serve`
+def configure() -> None:
+    """Panel's settings for the app's pages (before the first session: ``panel serve`` or ``ringlab serve``)."""
     pn.extension(sizing_mode="stretch_width", notifications=False, raw_css=[BODY_CSS])
+
+
+if __name__.startswith("bokeh"):  # run by `panel serve app/main.py`
+    configure()
     create_app().servable(title=TITLE)

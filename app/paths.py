@@ -14,3 +14,7 @@ DATA_DIR = PACKAGE_DIR / "data"
 LONGRUNS_DIR = DATA_DIR / "longruns"
 WORKSHEETS_DIR = PACKAGE_DIR / "lessons" / "worksheets"
 DOCS_DIR = PACKAGE_DIR / "docs_site"
+# the tutorials' notebook sources (jupytext .py): shipped as ringlab/tutorials in a wheel, tutorials/ of the
+# source tree in an editable install
+TUTORIALS_SRC_DIR = next((d for d in (PACKAGE_DIR / "tutorials", PACKAGE_DIR.parent / "tutorials") if d.is_dir()),
+                         PACKAGE_DIR / "tutorials")

@@ -9,7 +9,7 @@ page lists them.  With ``--from DIR`` executed notebooks already there (``DIR/NN
 ``test-artifacts/tutorials`` written by the test suite) newer than their source are exported
 without executing them again.
 
-Usage: ``python scripts/tutorials_html.py [--out build/tutorials-html] [--from test-artifacts/tutorials]``
+Usage: ``python scripts/tutorials_html.py [--out app/docs_site/tutorials] [--from test-artifacts/tutorials]``
 """
 from __future__ import annotations
 
@@ -92,7 +92,7 @@ def index_page(entries) -> str:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", type=Path, default=ROOT / "build" / "tutorials-html")
+    ap.add_argument("--out", type=Path, default=ROOT / "app" / "docs_site" / "tutorials")
     ap.add_argument("--from", dest="cache", type=Path, default=None,
                     help="folder of executed notebooks to reuse (e.g. test-artifacts/tutorials)")
     ap.add_argument("--only", default="", help="comma-separated tutorial stems (default: all)")

@@ -1,12 +1,14 @@
-"""Links from the app to the executed tutorial notebooks, served by the app server itself.
+"""Links from the app to the documentation site and its rendered tutorials, served by the app server.
 
-``make tutorials-html`` (``scripts/tutorials_html.py``) executes ``tutorials/NN_*.py`` and writes
-self-contained HTML (figures inline, formulas as MathML, no script or font from another host) into
-:func:`html_dir`; ``make app`` serves that folder at ``/tutorials/`` (``panel serve ...
---static-dirs tutorials=DIR``, :func:`serve_args`).  A link is shown only when its HTML file exists,
-so a server started without the pages shows none instead of broken links.
+The documentation site (``make docs``: Sphinx into ``build/docs/html``, copied to ``app/docs_site/``
+so that a wheel built afterwards carries it) is served at ``/docs`` by ``ringlab serve`` and
+``make app`` (``--static-dirs docs=DIR``, :func:`serve_args`, :func:`static_dirs`); the tutorials are its
+pages ``/docs/tutorials/<name>.html``.  ``make tutorials-html`` writes just the tutorial pages into
+the same place when the full site is not built.  A link is shown only when its page exists, so a
+server without the site shows none instead of broken links, and :func:`docs_note` says where the
+documentation is instead.
 
-The folder is ``build/tutorials-html`` of the source tree, or ``$RINGLAB_TUTORIALS_HTML``.
+The folder is ``<package>/docs_site`` (``app/docs_site`` of the source tree), or ``$RINGLAB_DOCS_DIR``.
 """
 from __future__ import annotations
 
@@ -14,9 +16,10 @@ import html
 import os
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parents[2]  # the source tree (app/lessons/ -> .)
-ENV = "RINGLAB_TUTORIALS_HTML"
-ROUTE = "tutorials"  # URL path the static folder is served at (relative to the page: /main -> /tutorials/...)
+from ringlab.paths import DOCS_DIR
+
+ENV = "RINGLAB_DOCS_DIR"
+ROUTE = "docs"  # URL path the site is served at (relative to the page: /main -> /docs/...)
 TUTORIALS = {  # stem -> title
     "01_linear_theory": "01 Linear theory",
     "02_hydro_without_self_gravity": "02 Hydrodynamics without self-gravity",
@@ -32,14 +35,37 @@ TAB_TUTORIALS = {  # the tutorials each tab's subject is taught in
 }
 
 
+def docs_dir() -> Path:
+    """Folder of the documentation site (``$RINGLAB_DOCS_DIR`` or the package's ``docs_site``)."""
+    return Path(os.environ.get(ENV) or DOCS_DIR)
+
+
 def html_dir() -> Path:
-    """Folder of the executed tutorials' HTML (``$RINGLAB_TUTORIALS_HTML`` or build/tutorials-html)."""
-    return Path(os.environ.get(ENV) or ROOT / "build" / "tutorials-html")
+    """Folder of the rendered tutorials: ``tutorials/`` of the documentation site."""
+    return docs_dir() / "tutorials"
 
 
 def serve_args(folder: Path | None = None) -> list[str]:
-    """``panel serve`` arguments that serve the folder at /tutorials/."""
-    return ["--static-dirs", f"{ROUTE}={folder or html_dir()}"]
+    """``panel serve`` arguments that serve the documentation site ``folder`` at /docs."""
+    return ["--static-dirs", f"{ROUTE}={folder or docs_dir()}"]
+
+
+def static_dirs(folder: Path | None = None) -> dict:
+    """``pn.serve(static_dirs=...)`` for the documentation site (empty if the folder does not exist)."""
+    folder = Path(folder or docs_dir())
+    return {ROUTE: str(folder)} if folder.is_dir() else {}
+
+
+def docs_note(element_id: str = "docs-note") -> str:
+    """One line: a link to the documentation site, or where to get it when this install has none."""
+    if (docs_dir() / "index.html").is_file():
+        body = (f'Documentation (tutorials, teacher\'s and researcher\'s guides): '
+                f'<a href="{ROUTE}/index.html" target="_blank" rel="noopener">open</a>')
+    else:
+        body = ("Documentation: not built into this install. In the source tree, <code>make docs</code> builds "
+                "it (then <code>ringlab serve</code> and <code>make app</code> serve it at /docs); the tutorials "
+                "are also the notebooks in <code>tutorials/</code>.")
+    return f'<div class="buttons-note" id="{element_id}">{body}</div>'
 
 
 def stem_of(name: str) -> str:
@@ -51,12 +77,12 @@ def stem_of(name: str) -> str:
 
 
 def url(stem: str) -> str:
-    """Address of a tutorial's page relative to the app's page (``tutorials/NN_name.html``)."""
-    return f"{ROUTE}/{stem_of(stem)}.html"
+    """Address of a tutorial's page relative to the app's page (``docs/tutorials/NN_name.html``)."""
+    return f"{ROUTE}/tutorials/{stem_of(stem)}.html"
 
 
 def available(stem: str) -> bool:
-    """True if the executed HTML of ``stem`` exists (then the server started by ``make app`` serves it)."""
+    """True if the rendered page of ``stem`` exists (then ``ringlab serve`` and ``make app`` serve it)."""
     return (html_dir() / f"{stem_of(stem)}.html").is_file()
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 import re
+from pathlib import Path
 
 import nbformat
 import numpy as np
@@ -22,6 +23,8 @@ from ringlab.tabs.hydro.view import HydroView
 from ringlab.main import TAB_KEYS, create_app
 from ringlab.tabs.saturation import SWEEP_FILE, SaturationView, load_sweep, unsaturated_sigma0
 from ringcore import linear, params
+
+ROOT = Path(__file__).resolve().parents[2]
 
 SMALL = dict(L_x=1000.0, h=5.0)
 
@@ -189,32 +192,42 @@ def test_a_saturated_variable_in_the_sweep_file_wins(tmp_path):
 def test_tutorial_links_point_at_files_of_the_served_folder(tmp_path, monkeypatch):
     monkeypatch.setenv(tutorials.ENV, str(tmp_path))
     assert tutorials.tab_links("hydro") == ""  # nothing built: no (broken) links
+    assert "make docs" in tutorials.docs_note() and 'href="docs/' not in tutorials.docs_note()
+    (tmp_path / "tutorials").mkdir()
     for stem in tutorials.TUTORIALS:
-        (tmp_path / f"{stem}.html").write_text("<html>ok</html>")
-    assert tutorials.serve_args() == ["--static-dirs", f"tutorials={tmp_path}"]
+        (tmp_path / "tutorials" / f"{stem}.html").write_text("<html>ok</html>")
+    (tmp_path / "index.html").write_text("<html>docs</html>")
+    assert tutorials.serve_args() == ["--static-dirs", f"docs={tmp_path}"]
+    assert tutorials.static_dirs() == {"docs": str(tmp_path)}
+    assert 'href="docs/index.html"' in tutorials.docs_note()
     for tab, stems in tutorials.TAB_TUTORIALS.items():
         hrefs = re.findall(r'href="([^"]+)"', tutorials.tab_links(tab))
-        assert hrefs == [f"tutorials/{s}.html" for s in stems]
-        for h in hrefs:  # the static route /tutorials/ maps onto the folder
+        assert hrefs == [f"docs/tutorials/{s}.html" for s in stems]
+        for h in hrefs:  # the static route /docs/ maps onto the folder
             assert (tmp_path / h.split("/", 1)[1]).is_file()
     from ringlab.lessons.content import LESSONS
     from ringlab.lessons.view import LessonsPanel
     for les in LESSONS:
         html = " ".join(getattr(w, "object", "") or "" for w in LessonsPanel._link_widgets(les))
-        assert f'href="tutorials/{les.tutorial[:-3]}.html"' in html
+        assert f'href="docs/tutorials/{les.tutorial[:-3]}.html"' in html
     with pytest.raises(ValueError, match="tutorial"):
         tutorials.url("99_nothing")
+    monkeypatch.setenv(tutorials.ENV, str(tmp_path / "missing"))
+    assert tutorials.static_dirs() == {}
 
 
 def test_makefile_serves_the_folder_the_app_links_to():
-    text = (tutorials.ROOT / "Makefile").read_text()
-    assert f"--static-dirs {tutorials.ROUTE}=$(TUTORIALS_HTML)" in text
-    assert "RINGLAB_TUTORIALS_HTML=$(TUTORIALS_HTML)" in text and "tutorials-html:" in text
+    text = (ROOT / "Makefile").read_text()
+    assert "RINGLAB_DOCS_DIR=$(DOCS_SITE) $(BIN)/ringlab serve" in text
+    assert "tutorials-html:" in text and "--out $(DOCS_SITE)/tutorials" in text
+    assert "DOCS_SITE ?= app/docs_site" in text  # = ringlab.paths.DOCS_DIR of the source tree
+    from ringlab.paths import DOCS_DIR
+    assert DOCS_DIR == ROOT / "app" / "docs_site"
 
 
 def test_exported_page_is_offline_with_mathml():
     import importlib.util
-    spec = importlib.util.spec_from_file_location("tutorials_html", tutorials.ROOT / "scripts" / "tutorials_html.py")
+    spec = importlib.util.spec_from_file_location("tutorials_html", ROOT / "scripts" / "tutorials_html.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_markdown_cell("Growth $\\omega_R > 0$ and $$k^2$$."),

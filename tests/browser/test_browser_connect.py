@@ -6,7 +6,7 @@ linear-theory slope), opens the Saturation tab and fetches every tutorial link o
 the app server itself.  Screenshots at 1280x720 go to ``test-artifacts/shots/connect_*.png``.
 
 The server serves the executed tutorials (``make tutorials-html``) if they are built, else small
-stand-in pages in a temporary folder, at /tutorials/ (``ringlab.lessons.tutorials.serve_args``).
+stand-in pages in a temporary folder, at /docs/tutorials/ (``ringlab.lessons.tutorials.serve_args``).
 Run alone with ``.venv/bin/python -m pytest -p no:playwright tests/browser/test_browser_connect.py``.
 """
 from __future__ import annotations
@@ -31,26 +31,26 @@ except ImportError:  # pragma: no cover
 
 @pytest.fixture
 def server(tmp_path):
-    folder = tutorials.html_dir()
-    if not all((folder / f"{s}.html").is_file() for s in tutorials.TUTORIALS):
-        folder = tmp_path / "tutorials-html"
-        folder.mkdir()
+    site = tutorials.docs_dir()
+    if not all((site / "tutorials" / f"{s}.html").is_file() for s in tutorials.TUTORIALS):
+        site = tmp_path / "docs_site"  # stand-in pages: the documentation site is not built here
+        (site / "tutorials").mkdir(parents=True)
         for stem, title in tutorials.TUTORIALS.items():
-            (folder / f"{stem}.html").write_text(f"<html><body><h1>{title}</h1></body></html>")
+            (site / "tutorials" / f"{stem}.html").write_text(f"<html><body><h1>{title}</h1></body></html>")
     old = os.environ.get(tutorials.ENV)
-    os.environ[tutorials.ENV] = str(folder)  # the server process inherits it
+    os.environ[tutorials.ENV] = str(site)  # the server process inherits it
     ARTIFACTS.mkdir(exist_ok=True)
     port = free_port()
     log = ARTIFACTS / "panel-serve-connect.log"
     try:
-        proc, _ = start_server(port, log, extra=tutorials.serve_args(folder))
+        proc, _ = start_server(port, log, extra=tutorials.serve_args(site))
     finally:
         if old is None:
             os.environ.pop(tutorials.ENV)
         else:
             os.environ[tutorials.ENV] = old
     try:
-        yield f"http://127.0.0.1:{port}/main", folder
+        yield f"http://127.0.0.1:{port}/main", site
     finally:
         stop_server(proc)
     bad = [ln for ln in log.read_text(errors="replace").splitlines() if "Traceback" in ln or "ERROR" in ln]
@@ -62,7 +62,7 @@ def value_of(page, css: str) -> float:
 
 
 def test_run_this_in_hydrodynamics(server, tmp_path):
-    url, folder = server
+    url, site = server
     t0 = time.perf_counter()
     SHOTS.mkdir(parents=True, exist_ok=True)
     with sync_playwright() as pw:
@@ -127,11 +127,11 @@ def test_run_this_in_hydrodynamics(server, tmp_path):
             page.screenshot(path=str(SHOTS / "connect_saturation.png"))
             for a in page.locator("a.tutorial-link").all():
                 hrefs.add(a.get_attribute("href"))
-            assert {"tutorials/02_hydro_without_self_gravity.html",
-                    "tutorials/03_self_gravity_sets_the_wavelength.html"} <= hrefs
+            assert {"docs/tutorials/02_hydro_without_self_gravity.html",
+                    "docs/tutorials/03_self_gravity_sets_the_wavelength.html"} <= hrefs
             for h in hrefs:  # served by the app server itself
                 r = page.request.get(urljoin(url, h))
-                assert r.status == 200 and r.body() == (folder / h.split("/", 1)[1]).read_bytes(), h
+                assert r.status == 200 and r.body() == (site / h.split("/", 1)[1]).read_bytes(), h
             assert not errors, errors
         finally:
             ctx.close()

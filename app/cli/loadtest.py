@@ -1,9 +1,8 @@
-"""Classroom load test: K simulated students on one ringlab server (issue 12; not a CI test).
+"""``ringlab loadtest``: K simulated students on one ringlab server (how many a machine carries; not a CI test).
 
-    python scripts/classroom_load.py --students K --seconds S [--compute auto|threads|processes] [--dask]
-                                     [--num-procs N] --json
+    ringlab loadtest --students K --seconds S [--compute auto|threads|processes] [--dask] [--num-procs N] --json
 
-Starts ``panel serve app/main.py`` (subprocess, loopback, free port) and opens K real Panel
+Starts ``panel serve <package>/main.py`` (subprocess, loopback, free port) and opens K real Panel
 sessions without a browser (Bokeh client sessions on one event loop).  Each student opens
 the teacher's link ``/main?tab=hydro&autostart=1`` (the app opens the Hydrodynamics tab and
 presses Start, exactly as a click would; see ``ringlab.main.apply_query``) and acknowledges every
@@ -20,7 +19,6 @@ server at it with ``RINGLAB_DASK_SCHEDULER``.  Prints one JSON object.
 """
 from __future__ import annotations
 
-import argparse
 import html
 import json
 import os
@@ -31,11 +29,16 @@ import subprocess
 import sys
 import time
 import urllib.request
-from pathlib import Path
 
+import panel  # noqa: F401  (registers Panel's models for the client documents)
 import psutil
+from bokeh.client import ClientSession
+from bokeh.document.events import MessageSentEvent
+from bokeh.events import DocumentReady
+from tornado.ioloop import IOLoop, PeriodicCallback
 
-ROOT = Path(__file__).resolve().parents[1]
+from ringlab.paths import PACKAGE_DIR
+
 ORBITS_RE = re.compile(r'id="hydro-orbits">.*?class="ro-value">([0-9.]+)<')
 
 
@@ -46,10 +49,10 @@ def free_port() -> int:
 
 
 def start_server(port: int, num_procs: int, env: dict) -> subprocess.Popen:
-    cmd = [sys.executable, "-m", "panel", "serve", "app/main.py", "--port", str(port), "--address", "127.0.0.1",
+    cmd = [sys.executable, "-m", "panel", "serve", str(PACKAGE_DIR / "main.py"), "--port", str(port), "--address", "127.0.0.1",
            "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness", "--warm", "--num-procs", str(num_procs)]
     log = open(os.environ.get("RINGLAB_LOAD_LOG", "/tmp/classroom_load_server.log"), "w")
-    proc = subprocess.Popen(cmd, cwd=ROOT, env=env, stdout=log, stderr=subprocess.STDOUT)
+    proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT)
     t_end = time.time() + 120
     while time.time() < t_end:
         try:
@@ -220,19 +223,11 @@ async def pump(session, reader) -> None:
 
 
 def run(args) -> dict:
-    import panel  # noqa: F401  (registers Panel's models for the client documents)
-    from bokeh.client import ClientSession
-    from bokeh.document.events import MessageSentEvent
-    from bokeh.events import DocumentReady
-    from tornado.ioloop import IOLoop, PeriodicCallback
-
-    os.environ["PYTHONPATH"] = str(ROOT) + os.pathsep + os.environ.get("PYTHONPATH", "")  # workers import app
-    sys.path.insert(0, str(ROOT))
     env = dict(os.environ)
     env["RINGLAB_COMPUTE"] = args.compute if not args.dask else "dask"
     cluster = None
     if args.dask:
-        from dask.distributed import LocalCluster
+        from dask.distributed import LocalCluster  # deferred on purpose: only --dask starts a cluster here
         cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
         env["RINGLAB_DASK_SCHEDULER"] = cluster.scheduler_address
     port = free_port()
@@ -343,23 +338,29 @@ def worker_procs(cluster) -> list:
     return [psutil.Process(p) for p in pids if p]
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--students", type=int, default=1)
-    ap.add_argument("--seconds", type=float, default=60.0)
+def add_parser(sub) -> None:
+    """Add the ``loadtest`` subcommand to the subparsers ``sub``."""
+    ap = sub.add_parser("loadtest", help="K simulated students on one lab server: frames, CPU, memory (JSON)",
+                        description=__doc__.splitlines()[0].replace("``", ""))
+    ap.add_argument("--students", type=int, default=1, help="simulated students (1-200)")
+    ap.add_argument("--seconds", type=float, default=60.0, help="measured seconds")
     ap.add_argument("--warmup", type=float, default=8.0, help="seconds before measuring (numba, first frames)")
-    ap.add_argument("--num-procs", type=int, default=1)
+    ap.add_argument("--num-procs", type=int, default=1, help="app server processes")
     ap.add_argument("--dask", action="store_true", help="run the simulations on a LocalCluster of 2 workers")
     ap.add_argument("--compute", choices=("auto", "threads", "processes"), default="auto",
                     help="RINGLAB_COMPUTE of the server (auto, the app's default: worker processes on >= 2 cores)")
     ap.add_argument("--json", action="store_true", help="print one JSON object (the default output)")
-    args = ap.parse_args(argv)
+    ap.set_defaults(run=run_command)
+
+
+def run_command(args) -> int:
+    """Check the options, run the load test, print one JSON object."""
     if not 1 <= args.students <= 200:
-        print(f"error: --students = {args.students} is not valid: allowed 1 to 200", file=sys.stderr)
-        return 2
+        raise ValueError(f"--students = {args.students} is not valid: allowed 1 to 200")
+    if not (args.seconds > 0 and args.warmup >= 0):
+        raise ValueError(f"--seconds = {args.seconds} / --warmup = {args.warmup} are not valid: allowed "
+                         "seconds > 0 and warmup >= 0")
+    if not 1 <= args.num_procs <= 64:
+        raise ValueError(f"--num-procs = {args.num_procs} is not valid: allowed 1 to 64")
     print(json.dumps(run(args)))
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())
