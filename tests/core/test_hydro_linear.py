@@ -5,7 +5,7 @@ Growth rate: least-squares slope of log |Fourier amplitude of sigma|; frequency:
 periodogram (scipy.signal.lombscargle) of u at x = 0 with the measured growth removed.  A box
 L_x = lambda holds one mode.  The fast time step ("cfl", f_t = 1.1) is used; one case is repeated
 with the paper's f_t = 0.1 to show the answers agree.  All modes 50 m .. 1 km:
-``scripts/validate_hydro_linear.py``.
+``ringcore validate hydro-linear``.
 """
 import numpy as np
 import pytest

@@ -4,16 +4,14 @@ wavelengths 50 m .. 1 km, non-isothermal and isothermal, fast time step (f_t = 1
 self-gravity by the mode method and by the wire kernel (5 replicas + bin correction, box of
 5 wavelengths up to 200 m).
 
-Usage: .venv/bin/python scripts/validate_hydro_linear.py [--quick]
+Usage: ``ringcore validate hydro-linear [--quick]``.
 Prints one line per mode and the largest relative errors; exit status 1 if any exceeds 1 %
 (growth-rate errors relative to max(|omega_R|, 2e-4 Omega), so modes near the stability
 boundary are not judged by a relative error of a number close to zero).
 """
-import sys
-
 import numpy as np
 
-from ringcore import linear, params
+from ringcore import linear, paperrefs, params
 from ringcore.hydro import Hydro1D, HydroOptions, growth_rate, lomb_frequency
 
 WAVELENGTHS = [50, 64, 80, 100, 128, 160, 200, 250, 400, 500, 800, 1000]
@@ -32,8 +30,18 @@ def measure(p, lam, gravity="mode", nwave=1, orbits=5.0):
     return gr, fr
 
 
-def main():
-    quick = "--quick" in sys.argv
+HELP = (f"hydro growth rates and frequencies of seeded modes against the exact linear theory "
+        f"({paperrefs.fig('grates')}; exit status 1 above 1 per cent)")
+
+
+def add_arguments(p) -> None:
+    """Options of ``ringcore validate hydro-linear``."""
+    p.add_argument("--quick", action="store_true", help="every third wavelength only")
+
+
+def run(args) -> int:
+    """Run the validation; 0 if every mode is within 1 % of linear theory, else 1."""
+    quick = args.quick
     lams = WAVELENGTHS[::3] if quick else WAVELENGTHS
     worst_g = worst_f = 0.0
     print(f"{'model':8s} {'sigma0':>6s} {'grav':>4s} {'lambda':>7s} {'omega_R hydro':>14s} {'linear':>12s} "
@@ -55,7 +63,3 @@ def main():
                           f"{fr:14.6f} {f0:10.6f} {ef:9.2e}", flush=True)
     print(f"largest relative error: growth rate {worst_g:.2e}, frequency {worst_f:.2e}")
     return 0 if max(worst_g, worst_f) < 0.01 else 1
-
-
-if __name__ == "__main__":
-    sys.exit(main())
