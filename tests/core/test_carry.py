@@ -122,7 +122,7 @@ def _script():
     from pathlib import Path
 
     spec = importlib.util.spec_from_file_location("carry_script", Path(__file__).resolve().parents[2]
-                                                  / "scripts/longruns/carry.py")
+                                                  / "campaigns/longruns/carry.py")
     mod = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(mod)
     return mod

@@ -1,4 +1,4 @@
-"""scripts/longruns/compact.py: thinned, browsable copies of the long hydro runs (issue 13 item 3)."""
+"""campaigns/longruns/compact.py: thinned, browsable copies of the long hydro runs (issue 13 item 3)."""
 import importlib.util
 from pathlib import Path
 
@@ -11,7 +11,7 @@ from ringcore.experiments.longruns import every
 from ringcore.hydro import Hydro1D, HydroOptions
 
 ROOT = Path(__file__).resolve().parents[2]
-spec = importlib.util.spec_from_file_location("compact", ROOT / "scripts/longruns/compact.py")
+spec = importlib.util.spec_from_file_location("compact", ROOT / "campaigns/longruns/compact.py")
 compact = importlib.util.module_from_spec(spec)
 spec.loader.exec_module(compact)
 
@@ -70,7 +70,7 @@ def test_readme_table_lists_every_shipped_file_not_only_the_new_one(run_file, tm
 
 
 def test_progress_reads_orbit_rate_and_target(run_file, tmp_path):
-    spec2 = importlib.util.spec_from_file_location("progress", ROOT / "scripts/longruns/progress.py")
+    spec2 = importlib.util.spec_from_file_location("progress", ROOT / "campaigns/longruns/progress.py")
     progress = importlib.util.module_from_spec(spec2)
     spec2.loader.exec_module(progress)
     import datetime as dt

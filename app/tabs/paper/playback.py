@@ -1,7 +1,7 @@
 """Data and playback clock of the "Paper results" tab (no browser needed; tested headless).
 
 The compact results of the paper's long runs (``app/data/longruns/NAME.nc``, written by
-``scripts/longruns/compact.py``, format: :mod:`ringcore.experiments.longruns`) are read once per server
+``campaigns/longruns/compact.py``, format: :mod:`ringcore.experiments.longruns`) are read once per server
 (cached by path and modification time) and shared read-only by every session.  :class:`Playback` is one
 session's clock: the orbit shown advances by ``speed`` orbits per second of wall time while playing.  A
 frame is only a look-up in the stored arrays (:func:`frame_at`): replaying costs no simulation, so a

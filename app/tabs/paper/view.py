@@ -99,7 +99,7 @@ class PaperView(pn.viewable.Viewer):
             self.run = names[0]
         else:
             self.show_error("No long-run results are shipped (app/data/longruns is empty): make them with "
-                            "<code>python scripts/longruns/compact.py</code>.")
+                            "<code>python campaigns/longruns/compact.py</code>.")
 
     # ------------------------------------------------------------------ building
     def _build_controls(self):

@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
 # Runs the long paper-scale hydro runs of one lane sequentially (niced), from a frozen copy of the code.
-# usage: lane.sh NAME:ORBITS:ARGS... ; each run writes /work/longruns/NAME.nc (checkpoint every 200 orbits).
-cd /work/longruns
-export PYTHONPATH=/work/longruns/code
-PY=/work/main/.venv/bin/python
+# usage: lane.sh NAME:ORBITS:ARGS... ; each run writes $LONGRUNS/NAME.nc (checkpoint every 200 orbits);
+# LONGRUNS defaults to runs/longruns of this checkout, PY to its .venv/bin/python, the code to $LONGRUNS/code.
+REPO=$(cd "$(dirname "$0")/../.." && pwd)
+DIR=${LONGRUNS:-$REPO/runs/longruns}
+cd "$DIR" || exit 1
+export PYTHONPATH=${RINGCORE_CODE:-$DIR/code}
+PY=${PY:-$REPO/.venv/bin/python}
 for spec in "$@"; do
   name=${spec%%|*}; rest=${spec#*|}
   if [ -f "$name.nc" ]; then

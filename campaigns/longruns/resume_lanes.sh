@@ -4,20 +4,22 @@
 # also checkpoints every 200 orbits (lane.sh resumes without --checkpoint-every, so a resumed run would only be
 # saved at its end or on SIGTERM).
 #
-#   scripts/longruns/resume_lanes.sh 1|2|3    # run one lane in the foreground (use nohup ... & for background)
-#   DRY=1 scripts/longruns/resume_lanes.sh 1  # print the commands only
-# A run with no file in /work/longruns but a carry file in scripts/longruns/carry/ (a new machine) starts from
-# that file: bit for bit the uninterrupted run (python scripts/longruns/carry.py writes them before a stop).
+#   campaigns/longruns/resume_lanes.sh 1|2|3    # run one lane in the foreground (use nohup ... & for background)
+#   DRY=1 campaigns/longruns/resume_lanes.sh 1  # print the commands only
+# A run with no file in $LONGRUNS but a carry file in campaigns/longruns/carry/ (a new machine) starts from
+# that file: bit for bit the uninterrupted run (python campaigns/longruns/carry.py writes them before a stop).
 #
-# Runs niced (nice -n 19) from the frozen code copy /work/longruns/code (PYTHONPATH), files in /work/longruns.
+# Runs niced (nice -n 19) from the frozen code copy $LONGRUNS/code (PYTHONPATH), files in $LONGRUNS
+# (default runs/longruns of this checkout; PY defaults to this checkout's .venv/bin/python).
 set -u
 # nice only orders processes inside one autogroup (Linux CONFIG_SCHED_AUTOGROUP, on here): a lane started with
 # setsid/nohup is its own group and would take a full share of the cores from the app and the tests. Lower the
 # group's weight too.
 echo 19 > /proc/self/autogroup 2>/dev/null || true
-DIR=${LONGRUNS:-/work/longruns}
-PY=${PY:-/work/main/.venv/bin/python}
-export PYTHONPATH=${RINGCORE_CODE:-/work/longruns/code}
+REPO=$(cd "$(dirname "$0")/../.." && pwd)
+DIR=${LONGRUNS:-$REPO/runs/longruns}
+PY=${PY:-$REPO/.venv/bin/python}
+export PYTHONPATH=${RINGCORE_CODE:-$DIR/code}
 COMMON="--sigma0 0 --lx 10000 --h 2.5 --timestep cfl --samples 10"
 LANE1=("iso_tau15_mode100|20000|--set tau15 --isothermal $COMMON --init mode --wavelength 100 --amplitude 1e-3"
        "iso_st99_mode100|20000|--set st99 --isothermal $COMMON --init mode --wavelength 100 --amplitude 1e-3")
@@ -30,7 +32,7 @@ LANE2=("iso_tau20_mode100|20000|--set tau20 --isothermal $COMMON --init mode --w
 LANE3=("noniso_tau20_h125|14000|--set tau20 --sigma0 0 --lx 10000 --h 1.25 --timestep cfl --samples 10 --init noise --seed 1 --T-floor 0.01")
 case "${1:-}" in 1) RUNS=("${LANE1[@]}") ;; 2) RUNS=("${LANE2[@]}") ;; 3) RUNS=("${LANE3[@]}") ;;
   *) echo "usage: $0 1|2|3" >&2; exit 2 ;; esac
-# carry files (scripts/longruns/carry.py): runs carried over from an earlier session's machine, continued bit for bit
+# carry files (campaigns/longruns/carry.py): runs carried over from an earlier session's machine, continued bit for bit
 CARRY=${CARRY:-$(cd "$(dirname "$0")" && pwd)/carry}
 cd "$DIR" || exit 1
 for spec in "${RUNS[@]}"; do

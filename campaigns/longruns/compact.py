@@ -2,10 +2,10 @@
 
 Usage (from the repository root, with the project's venv)::
 
-    python scripts/longruns/compact.py [RUN.nc ...] [--out app/data/longruns] [--rows 800] [--cols 1000] [--readme]
-    python scripts/longruns/compact.py --refresh-text [--out app/data/longruns] [--readme]
+    python campaigns/longruns/compact.py [RUN.nc ...] [--out app/data/longruns] [--rows 800] [--cols 1000] [--readme]
+    python campaigns/longruns/compact.py --refresh-text [--out app/data/longruns] [--readme]
 
-Without run files: every ``/work/longruns/NAME.nc`` whose NAME is a long run of
+Without run files: every ``$LONGRUNS/NAME.nc`` (default ``runs/longruns``) whose NAME is a long run of
 :data:`ringcore.experiments.longruns.LONG_RUNS`.  Reads the run files (a checkpoint of a run still computing
 is fine: it is read, never written) and writes ``OUT/NAME.nc`` with
 :func:`ringcore.experiments.longruns.compact` (thinned stroboscopic diagram as uint8, e_kin(t), lambda_p(t),
@@ -25,6 +25,8 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+# the campaign's run files: $LONGRUNS, else runs/longruns of this checkout (git-ignored)
+RUNS_DIR = Path(os.environ.get("LONGRUNS") or ROOT / "runs" / "longruns")
 sys.path.insert(0, str(ROOT))
 
 from ringcore.experiments.longruns import LONG_RUNS, check_compact, compact, text_attrs  # noqa: E402
@@ -42,7 +44,7 @@ def main(argv=None) -> int:
 
 def _main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("runs", nargs="*", help="run files (default: /work/longruns/NAME.nc of the known runs)")
+    ap.add_argument("runs", nargs="*", help="run files (default: $LONGRUNS/NAME.nc of the known runs; LONGRUNS defaults to runs/longruns)")
     ap.add_argument("--out", default=str(DEFAULT_OUT), help=f"output folder (default {DEFAULT_OUT})")
     ap.add_argument("--rows", type=int, default=800, help="at most this many stroboscopic rows (default 800)")
     ap.add_argument("--cols", type=int, default=1000, help="at most this many columns (default 1000)")
@@ -58,7 +60,7 @@ def _main(argv=None) -> int:
         ap.error("--refresh-text reads no run files: allowed without RUN.nc arguments")
     if args.refresh_text:
         return _refresh_text(Path(args.out), args, ap)
-    runs = [Path(r) for r in args.runs] or [p for n in LONG_RUNS if (p := Path("/work/longruns") / f"{n}.nc").exists()]
+    runs = [Path(r) for r in args.runs] or [p for n in LONG_RUNS if (p := RUNS_DIR / f"{n}.nc").exists()]
     unknown = [r.stem for r in runs if r.stem not in LONG_RUNS]
     if unknown:
         ap.error(f"run name(s) {', '.join(unknown)} not valid: allowed {', '.join(LONG_RUNS)}")

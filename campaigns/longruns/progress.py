@@ -2,7 +2,7 @@
 
 Usage (from any checkout, with the project's venv)::
 
-    python scripts/longruns/progress.py [/work/longruns] [--record] [--target NAME=ORBITS ...]
+    python campaigns/longruns/progress.py [RUNS_FOLDER (default $LONGRUNS or runs/longruns)] [--record] [--target NAME=ORBITS ...]
 
 For each ``NAME.nc`` in the directory prints the orbit reached (last checkpoint), time steps,
 steps per orbit, the checkpoint's wall-clock time, the run's start time (first "start" line of
@@ -17,6 +17,7 @@ import csv
 import datetime as dt
 import json
 import re
+import os
 import sys
 from pathlib import Path
 
@@ -65,7 +66,7 @@ def main(argv=None):
         name, orbits = argv[i + 1].split("=")
         targets[name] = float(orbits)
         del argv[i:i + 2]
-    d = Path(argv[0] if argv else "/work/longruns")
+    d = Path(argv[0] if argv else os.environ.get("LONGRUNS") or Path(__file__).resolve().parents[2] / "runs" / "longruns")
     rows = [run_progress(f, targets.get(f.stem)) for f in sorted(d.glob("*.nc"))]
     print(f"{'run':22s} {'orbit':>8s} {'target':>7s} {'steps/orb':>9s} {'orb/s':>6s} {'h left':>6s} "
           f"{'lambda_p':>8s} {'e_kin':>9s}  checkpoint")

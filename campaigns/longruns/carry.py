@@ -1,14 +1,14 @@
 """Carry the paper's long runs still computing into the next work session (issue 13 item 3).
 
-The machine a session runs on is not kept, and the runs in /work/longruns go with it.  This writes, for each
-run still computing, a carry file into the repository (``scripts/longruns/carry/NAME.nc``: the exact state and
-counters, the history thinned; :mod:`ringcore.experiments.carry`), so that ``scripts/longruns/resume_lanes.sh``
+The machine a session runs on is not kept, and the runs in $LONGRUNS (default runs/longruns) go with it.  This writes, for each
+run still computing, a carry file into the repository (``campaigns/longruns/carry/NAME.nc``: the exact state and
+counters, the history thinned; :mod:`ringcore.experiments.carry`), so that ``campaigns/longruns/resume_lanes.sh``
 in the next session continues the run from its exact state instead of starting it again (bit for bit on the same
 CPU and software; another CPU may differ in the last bits, README "Run files, checkpoints and restart").
 
 Usage (from the repository root, with the project's venv)::
 
-    python scripts/longruns/carry.py [NAME ...] [--from /work/longruns] [--out scripts/longruns/carry] [--force]
+    python campaigns/longruns/carry.py [NAME ...] [--from $LONGRUNS] [--out campaigns/longruns/carry] [--force]
 
 Without NAME: every run of :data:`ringcore.experiments.longruns.LONG_RUNS` with a file in --from that is not
 complete and did not blow up.  A carry file is replaced only by a later state of the same run (``--force``
@@ -19,16 +19,19 @@ that cannot be written.
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
+# the campaign's run files: $LONGRUNS, else runs/longruns of this checkout (git-ignored)
+RUNS_DIR = Path(os.environ.get("LONGRUNS") or ROOT / "runs" / "longruns")
 sys.path.insert(0, str(ROOT))
 
 from ringcore.experiments.carry import write_carry  # noqa: E402
 from ringcore.experiments.longruns import LONG_RUNS  # noqa: E402
 
-DEFAULT_OUT = ROOT / "scripts" / "longruns" / "carry"
+DEFAULT_OUT = ROOT / "campaigns" / "longruns" / "carry"
 
 
 def _attrs(path: Path) -> dict:
@@ -41,7 +44,7 @@ def _attrs(path: Path) -> dict:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("names", nargs="*", help="long-run names (default: every run still computing in --from)")
-    ap.add_argument("--from", dest="src", default="/work/longruns", help="folder of the run files")
+    ap.add_argument("--from", dest="src", default=str(RUNS_DIR), help="folder of the run files ($LONGRUNS or runs/longruns)")
     ap.add_argument("--out", default=str(DEFAULT_OUT), help=f"folder of the carry files (default {DEFAULT_OUT})")
     ap.add_argument("--force", action="store_true", help="replace a carry file even by an earlier state")
     args = ap.parse_args(argv)
