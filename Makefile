@@ -2,20 +2,21 @@
 #   make app    install into .venv and start the main job
 #   make test   install into .venv (with the app and test extras) and run the whole test suite
 # Both install ".[app,test]": the core package, the web app's packages (panel, bokeh, param) and the
-# test tools (pytest, playwright, hypothesis ...); `pip install .` alone gives the core and the CLI.
+# test tools (pytest, pytest-xdist, import-linter, playwright, hypothesis ...); `pip install .` alone gives
+# the core and the CLI.  `make test-fast` runs the core and headless-app tiers only (a developer's check).
 PYTHON ?= python3
 VENV   ?= .venv
 BIN     = $(VENV)/bin
 STAMP   = $(VENV)/.installed
 CHROMIUM ?= /usr/bin/chromium
 
-.PHONY: app test install clean bench browser tutorials-html docs bench-record
+.PHONY: app test test-fast lint-imports install clean bench browser tutorials-html docs bench-record
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install -q --upgrade pip
 
-$(STAMP): pyproject.toml | $(BIN)/python
+$(STAMP): pyproject.toml setup.py | $(BIN)/python
 	$(BIN)/python -m pip install -q -e ".[app,test,docs]"
 	touch $(STAMP)
 
@@ -27,23 +28,41 @@ browser:
 	  (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null) || \
 	  echo "warning: could not install chromium; browser tests will be skipped"; }
 
+# `make app` installs only what the app needs (".[app]") and starts the lab with `ringlab serve`; the
+# documentation site in $(DOCS_SITE) (`make docs`, or just the tutorial pages: `make tutorials-html`) is served
+# at /docs and the app's tutorial links point to /docs/tutorials/<name>.html
 PORT ?= 5006
-TUTORIALS_HTML ?= build/tutorials-html
-app: $(STAMP)
-	@echo "ringlab app: open http://localhost:$(PORT)/main  (Ctrl-C stops the server)"
-	@test -f $(TUTORIALS_HTML)/index.html || echo "note: no executed tutorials in $(TUTORIALS_HTML) ('make tutorials-html' adds the app's links to them)"
-	@mkdir -p $(TUTORIALS_HTML)
-	RINGLAB_TUTORIALS_HTML=$(TUTORIALS_HTML) $(BIN)/python -m panel serve app/main.py --warm --port $(PORT) \
-	  --static-dirs tutorials=$(TUTORIALS_HTML)
+DOCS_SITE ?= app/docs_site
+APP_STAMP = $(VENV)/.installed-app
+$(APP_STAMP): pyproject.toml setup.py | $(BIN)/python
+	$(BIN)/python -m pip install -q -e ".[app]"
+	touch $(APP_STAMP)
 
-# the tutorials executed (quick mode) as offline HTML pages, served by `make app` at /tutorials/ and linked
-# from the tabs and lessons; reuses notebooks the test suite executed (test-artifacts/tutorials) if up to date
+app: $(APP_STAMP)
+	@test -f $(DOCS_SITE)/index.html || test -d $(DOCS_SITE)/tutorials || echo "note: no documentation site in $(DOCS_SITE) ('make docs' or 'make tutorials-html' adds it and the app's links to it)"
+	RINGLAB_DOCS_DIR=$(DOCS_SITE) $(BIN)/ringlab serve --port $(PORT)
+
+# the tutorials executed (quick mode) as offline HTML pages in $(DOCS_SITE)/tutorials, when the full
+# documentation site is not built; reuses notebooks the test suite executed (test-artifacts/tutorials) if up to date
 tutorials-html: $(STAMP)
-	$(BIN)/python scripts/tutorials_html.py --out $(TUTORIALS_HTML) --from test-artifacts/tutorials
+	$(BIN)/python scripts/tutorials_html.py --out $(DOCS_SITE)/tutorials --from test-artifacts/tutorials
 
-test: $(STAMP) browser
-	$(BIN)/python -m pytest
+# tests in tiers (tests/core, tests/app, tests/browser, tests/notebooks) on pytest-xdist workers; --dist loadgroup
+# keeps the browser tests in one worker (one app server and one Chromium at a time: tests/conftest.py)
+PYTEST_WORKERS ?= 2
+PYTEST_XDIST = -n $(PYTEST_WORKERS) --dist loadgroup
+
+# the app's layers and "ringcore imports no web stack" (contracts in pyproject.toml)
+lint-imports: $(STAMP)
+	$(BIN)/lint-imports --no-cache
+
+test: $(STAMP) browser lint-imports
+	$(BIN)/python -m pytest $(PYTEST_XDIST)
 	$(MAKE) docs
+
+test-fast: $(STAMP) lint-imports
+	$(BIN)/python -m pytest $(PYTEST_XDIST) -m "not slow" tests/core tests/app
+
 
 # the documentation site: Sphinx with warnings as errors (-W; broken cross-references fail, nitpicky), into
 # build/docs/html, then copied to app/docs_site/ so that a wheel built afterwards carries it (served at /docs).

@@ -1,11 +1,15 @@
 """ringlab web app (Panel): interactive views of the ring model of Lehmann, Schmidt & Salo (2017).
 
-Modules:
+The source folder is ``app/``; it installs and imports as ``ringlab``.  Layers, each importing only
+the layers after it (``lint-imports`` checks this, see ``pyproject.toml``):
 
-- :mod:`app.controls`      settings shared by the views (``param.Parameterized``, no widgets)
-- :mod:`app.linear_model`  linear-theory curves and numbers for the current settings (no widgets)
-- :mod:`app.linear_view`   the "Linear theory" tab (a ``pn.viewable.Viewer``)
-- :mod:`app.main`          assembles the tabs into a template and serves it (``panel serve app/main.py``)
+- :mod:`ringlab.main`     the shell: the tabs of one session, the page address's query (``panel serve app/main.py``)
+- :mod:`ringlab.tabs`     one module or folder per tab, with its plots
+- :mod:`ringlab.lessons`  lessons, presets, answer checks, worksheets, glossary (never imports a tab)
+- :mod:`ringlab.live`     live runs, their loop, buffers, keeper, export, the session registry (no widgets)
+- :mod:`ringlab.model`    settings and linear-theory helpers (no widgets)
+- :mod:`ringlab.ui`       palette, CSS, layout helpers, readouts (a leaf)
+- :mod:`ringlab.server`   compute backends, Dask actors, socket guard
 
-The app imports :mod:`ringcore`; ringcore never imports the app, panel, param or holoviews.
+The app imports :mod:`ringcore`; ringcore never imports the app, panel, param, bokeh or holoviews.
 """

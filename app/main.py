@@ -1,8 +1,8 @@
-"""Assemble and serve the ringlab web app: ``panel serve app/main.py``.
+"""Assemble and serve the ringlab web app: ``ringlab serve``, or ``panel serve app/main.py`` by path.
 
 Each tab is a (title, factory) pair in :data:`TABS`; a factory returns a fresh
 viewer for one browser session.  Factories that declare a ``runs`` parameter (the
-live tabs) get the session's :class:`app.session.SessionRuns`, through which the
+live tabs) get the session's :class:`ringlab.live.session.SessionRuns`, through which the
 Saturation tab reaches the session's hydro run; the others are called without
 arguments.
 """
@@ -10,14 +10,14 @@ from __future__ import annotations
 
 import panel as pn
 
-from app.compare_view import CompareView
-from app.hydro_view import HydroView
-from app.lessons.view import LessonsPanel
-from app.linear_view import LinearView
-from app.nbody_view import NBodyView
-from app.paper_view import PaperView
-from app.saturation_view import SaturationView
-from app.session import SessionRuns
+from ringlab.lessons.view import LessonsPanel
+from ringlab.live.session import SessionRuns
+from ringlab.tabs.compare.view import CompareView
+from ringlab.tabs.hydro.view import HydroView
+from ringlab.tabs.linear.view import LinearView
+from ringlab.tabs.nbody import NBodyView
+from ringlab.tabs.paper.view import PaperView
+from ringlab.tabs.saturation import SaturationView
 
 TABS = [
     ("Linear theory", LinearView),
@@ -49,7 +49,6 @@ BODY_CSS = "html {overflow-y: scroll;} body {margin: 0;}"
 def _make(factory, runs):
     params = getattr(factory, "param", None)
     view = factory(runs=runs) if params is not None and "runs" in params else factory()
-    runs.views = [*runs.views, view]  # lessons hook: presets reach every tab (app.session.SessionRuns.views)
     return view
 
 
@@ -101,6 +100,11 @@ def apply_query(app: pn.Column, args: dict) -> None:
             runner.start()
 
 
-if __name__.startswith("bokeh"):  # run by `panel serve`
+def configure() -> None:
+    """Panel's settings for the app's pages (before the first session: ``panel serve`` or ``ringlab serve``)."""
     pn.extension(sizing_mode="stretch_width", notifications=False, raw_css=[BODY_CSS])
+
+
+if __name__.startswith("bokeh"):  # run by `panel serve app/main.py`
+    configure()
     create_app().servable(title=TITLE)

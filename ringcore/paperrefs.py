@@ -4,7 +4,7 @@ The code, docstrings and app cite the paper by its LaTeX labels (``eq. (matni)``
 a student holding the published article needs the printed numbers.  :data:`NUMBERS` maps every label of
 the paper to its number, derived by :func:`derive` from the order of the numbered environments in the
 paper's ``.tex`` (the ``.tex`` is not shipped with the package, so the derived table is kept here as data;
-``tests/test_paperrefs.py`` re-derives it from the ``.tex`` when that file exists and compares).
+``tests/core/test_paperrefs.py`` re-derives it from the ``.tex`` when that file exists and compares).
 
 Numbering rules (LaTeX + amsmath + the AASTeX 6.2 class the paper uses, ``aastex62.cls``):
 

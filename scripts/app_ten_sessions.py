@@ -13,10 +13,10 @@ import time
 from pathlib import Path
 
 REPO = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(REPO / "tests"))
+sys.path[:0] = [str(REPO / "tests"), str(REPO / "tests" / "browser")]
 
 from playwright.sync_api import sync_playwright  # noqa: E402
-from test_browser import ARTIFACTS, CHROMIUM, FLAGS, free_port, start_server, stop_server  # noqa: E402
+from browser_support import ARTIFACTS, CHROMIUM, FLAGS, free_port, start_server, stop_server  # noqa: E402
 from test_browser_live import rss_mb  # noqa: E402
 
 N = 10

@@ -4,14 +4,14 @@
 
 One HydroRunner (default box), 1 orbit of warm-up, then ORBITS orbits in 60 ms chunks; prints
 one JSON object with the CPU milliseconds per orbit of this process and of the worker process
-(psutil), and the wall-clock orbits/s, for the threads backend and for app.remote on a
+(psutil), and the wall-clock orbits/s, for the threads backend and for ringlab.server.remote on a
 LocalCluster of one single-threaded worker (with and without a chunk computed ahead).
 """
 import logging, os, sys, time, json
 logging.disable(logging.WARNING)
 import psutil, distributed
-from app import remote
-from app.hydro_runner import HydroRunner
+from ringlab.server import remote
+from ringlab.live.hydro import HydroRunner
 
 def cpu(procs):
     return sum(p.cpu_times().user + p.cpu_times().system for p in procs)

@@ -18,7 +18,7 @@ the compact 6th-order second-derivative stencil for the viscous and heat-flux te
 The limit is sharp (SSPRK(5,4) stability of the diffusive terms).  Largest factor safe in every
 case: 1.4 -> FAST_DT_FACTOR = 0.8 * 1.4 = 1.1 (11x fewer steps than the paper's f_t = 0.1).
 Growth rates and frequencies of linear modes obtained with it agree with those at f_t = 0.1
-(tests/test_hydro_linear.py).
+(tests/core/test_hydro_linear.py).
 """
 import sys
 

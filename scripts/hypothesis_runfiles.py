@@ -1,4 +1,4 @@
-"""Long Hypothesis run of the damaged-run-file tests (``tests/test_runfile_damage.py``, profile "long").
+"""Long Hypothesis run of the damaged-run-file tests (``tests/core/test_runfile_damage.py``, profile "long").
 
 Generates many more damaged hydro and N-body run files (truncation, flipped data bytes, dropped /
 renamed variables, cut / transposed dimensions, deleted attributes, wrong kind, future schema,
@@ -28,7 +28,7 @@ def main(argv=None) -> int:
     os.environ["RINGLAB_HYPOTHESIS_EXAMPLES"] = str(args.examples)
     root = Path(__file__).resolve().parents[1]
     sys.path.insert(0, str(root))  # this checkout's ringcore, not an installed one
-    test = root / "tests" / "test_runfile_damage.py"
+    test = root / "tests" / "core" / "test_runfile_damage.py"
     return pytest.main([str(test), "-k", "generated", "-q", "-p", "no:playwright", "-p", "no:cacheprovider",
                         "--hypothesis-show-statistics", "-o", "addopts="])
 

@@ -5,7 +5,7 @@
 usage: .venv/bin/python scripts/live_run_cost.py   (prints one JSON object; run on an idle machine)
 """
 import json, time
-from app.hydro_settings import HydroSettings
+from ringlab.model.hydro_settings import HydroSettings
 from ringcore import params
 from ringcore.hydro import Hydro1D
 s = HydroSettings()

@@ -1,7 +1,7 @@
 """Execute the tutorials and write self-contained HTML pages for the app to serve (``make tutorials-html``).
 
 Each ``tutorials/NN_*.py`` (jupytext percent format) is executed top to bottom in quick mode
-with nbclient, as ``tests/test_tutorials.py`` does, and exported with nbconvert.  The pages must
+with nbclient, as ``tests/notebooks/test_tutorials.py`` does, and exported with nbconvert.  The pages must
 work in a classroom without internet: formulas are converted to MathML in the markdown cells
 (``latex2mathml``; without it the TeX source stays as text) and the exporter's script tags that
 load require.js / MathJax from a CDN are removed; figures are inline PNGs already.  An index
@@ -9,7 +9,7 @@ page lists them.  With ``--from DIR`` executed notebooks already there (``DIR/NN
 ``test-artifacts/tutorials`` written by the test suite) newer than their source are exported
 without executing them again.
 
-Usage: ``python scripts/tutorials_html.py [--out build/tutorials-html] [--from test-artifacts/tutorials]``
+Usage: ``python scripts/tutorials_html.py [--out app/docs_site/tutorials] [--from test-artifacts/tutorials]``
 """
 from __future__ import annotations
 
@@ -92,13 +92,13 @@ def index_page(entries) -> str:
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", type=Path, default=ROOT / "build" / "tutorials-html")
+    ap.add_argument("--out", type=Path, default=ROOT / "app" / "docs_site" / "tutorials")
     ap.add_argument("--from", dest="cache", type=Path, default=None,
                     help="folder of executed notebooks to reuse (e.g. test-artifacts/tutorials)")
     ap.add_argument("--only", default="", help="comma-separated tutorial stems (default: all)")
     a = ap.parse_args(argv)
     sys.path.insert(0, str(ROOT))
-    from app.tutorials import TUTORIALS
+    from ringlab.lessons.tutorials import TUTORIALS
 
     stems = [s for s in a.only.split(",") if s] or list(TUTORIALS)
     a.out.mkdir(parents=True, exist_ok=True)

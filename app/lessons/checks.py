@@ -4,7 +4,7 @@ hydro run or N-body box, through their public attributes) and judges an answer.
 A check returns a :class:`Result`: ``correct``, ``wrong`` (with a hint), ``wait`` (the run
 is not far enough yet, or there is none: the message says what is missing) or ``error``
 (the answer is not a number / not one of the choices).  :data:`CHECKS` maps the names used
-in :mod:`app.lessons.content` to the functions.
+in :mod:`ringlab.lessons.content` to the functions.
 
 References: eqs. (osgrate), (vg), (ekin), (fourier), (lambdasigma), (ptot);
 Table "Hydrodynamic Parameters".
@@ -21,7 +21,7 @@ from scipy.signal import hilbert
 
 from ringcore.analysis.saturation import C_EMPIRICAL
 
-from ..linear_model import characteristic_numbers
+from ringlab.model.linear import characteristic_numbers
 
 SETTLE_WINDOW = 10.0  # [orbits] e_kin is "flat" if it changed by less than FLAT_FACTOR over this window
 FLAT_FACTOR = 2.0
@@ -332,7 +332,7 @@ CHECKS = dict(linear_number=linear_number, hydro_growth_rate=hydro_growth_rate, 
 
 
 def run_check(question, targets, answer) -> Result:
-    """Check ``answer`` to :class:`app.lessons.content.Question` ``question`` against ``targets``."""
+    """Check ``answer`` to :class:`ringlab.lessons.content.Question` ``question`` against ``targets``."""
     fn = CHECKS[question.check]
     kw = dict(question.args)
     kw.setdefault("hint", question.hint)

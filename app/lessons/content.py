@@ -1,10 +1,10 @@
 """The lessons as data: presets (settings of the session's tabs), steps, questions.
 
-Nothing here touches a widget or a simulation: :mod:`app.lessons.presets` applies a
-:class:`Preset`, :mod:`app.lessons.checks` checks an answer, :mod:`app.lessons.view`
-shows a :class:`Lesson`, :mod:`app.lessons.worksheets` prints it.  Texts may cite the
+Nothing here touches a widget or a simulation: :mod:`ringlab.lessons.presets` applies a
+:class:`Preset`, :mod:`ringlab.lessons.checks` checks an answer, :mod:`ringlab.lessons.view`
+shows a :class:`Lesson`, :mod:`ringlab.lessons.worksheets` prints it.  Texts may cite the
 paper as ``[[label]]`` (an equation) or ``[[fig:label]]`` / ``[[tab:label]]``;
-:func:`app.lessons.refs.cite` writes the citation.  The arc follows tutorials 01-05.
+:func:`ringlab.lessons.refs.cite` writes the citation.  The arc follows tutorials 01-05.
 """
 from __future__ import annotations
 
@@ -109,7 +109,7 @@ PRESETS = {p.name: p for p in (
 # ---------------------------------------------------------------- lessons
 @dataclass(frozen=True)
 class Question:
-    """What the student answers; ``check`` names a function of :data:`app.lessons.checks.CHECKS`
+    """What the student answers; ``check`` names a function of :data:`ringlab.lessons.checks.CHECKS`
     called with ``args``.  ``kind``: "number" (with ``unit``) or "choice" (one of ``choices``)."""
 
     text: str

@@ -2,8 +2,8 @@
 runners, which tab is shown, and starting the run — all in one click.
 
 :class:`Targets` collects what a preset may change, found through the session's
-:class:`app.session.SessionRuns` (its registered views: ``LinearView.controls``,
-``HydroView.runner``, ``NBodyView.runner``) and the main ``pn.Tabs``.
+:class:`ringlab.live.session.SessionRuns` (the controllers the tabs registered by kind: the Linear
+tab's settings, the hydro and N-body runners) and the main ``pn.Tabs``.
 """
 from __future__ import annotations
 
@@ -13,7 +13,9 @@ from dataclasses import dataclass
 
 import param
 
-from .content import PRESETS, Preset
+from ringlab.lessons.content import PRESETS, Preset
+from ringlab.live.nbody import SETUP_PARAMS as NBODY_SETUP
+from ringlab.model.hydro_settings import SETUP_PARAMS as HYDRO_SETUP
 
 SCALE_ENV = "RINGLAB_LESSONS_SCALE"  # "classroom" (default) or "fast" (smaller boxes, for tests)
 SCALES = ("classroom", "fast")
@@ -31,34 +33,21 @@ def default_scale() -> str:
 class Targets:
     """What presets set and checks read in one session (None where a tab is missing)."""
 
-    linear: object = None  # app.controls.RingControls of the Linear tab
-    hydro: object = None  # app.hydro_runner.HydroRunner
-    nbody: object = None  # app.nbody_runner.NBodyRunner
+    linear: object = None  # ringlab.model.controls.RingControls of the Linear tab
+    hydro: object = None  # ringlab.live.hydro.HydroRunner
+    nbody: object = None  # ringlab.live.nbody.NBodyRunner
     tabs: object = None  # the main pn.Tabs
     tab_index: dict = None  # "linear"/"hydro"/"nbody"/"saturation" -> index in tabs
 
     @classmethod
     def from_session(cls, runs, tabs=None) -> "Targets":
-        """Find the tabs' controllers among ``runs.views`` (registered by app.main)."""
-        from ..hydro_view import HydroView
-        from ..linear_view import LinearView
-        from ..nbody_view import NBodyView
-        from ..saturation_view import SaturationView
-
-        views = list(getattr(runs, "views", []) or [])
+        """Find the tabs' controllers in ``runs.tabs_by_kind`` (each tab registers itself by kind)."""
+        registered = dict(getattr(runs, "tabs_by_kind", None) or {})
         t = cls(hydro=getattr(runs, "hydro", None), tab_index={})
-        for i, v in enumerate(views):
-            kind = None
-            if isinstance(v, LinearView):
-                t.linear, kind = v.controls, "linear"
-            elif isinstance(v, HydroView):
-                t.hydro, kind = v.runner, "hydro"
-            elif isinstance(v, NBodyView):
-                t.nbody, kind = v.runner, "nbody"
-            elif isinstance(v, SaturationView):
-                kind = "saturation"
-            if kind is not None:
-                t.tab_index[kind] = _tab_position(tabs, v, i)
+        for i, (kind, (view, controller)) in enumerate(registered.items()):
+            if kind in ("linear", "hydro", "nbody"):
+                setattr(t, kind, controller)
+            t.tab_index[kind] = _tab_position(tabs, view, i)
         t.tabs = tabs
         return t
 
@@ -138,11 +127,8 @@ def apply_preset(preset: Preset | str, targets: Targets, scale: str | None = Non
 
 def _needs_restart(runner, values: dict, kind: str) -> bool:
     """True if a setup setting (one that rebuilds the run at t = 0) differs from ``values``."""
-    if kind == "hydro":
-        from ..hydro_settings import SETUP_PARAMS
-    else:
-        from ..nbody_runner import SETUP_PARAMS
-    return any(getattr(runner, k) != v for k, v in values.items() if k in SETUP_PARAMS)
+    setup = HYDRO_SETUP if kind == "hydro" else NBODY_SETUP
+    return any(getattr(runner, k) != v for k, v in values.items() if k in setup)
 
 
 # ---------------------------------------------------------------- classroom length

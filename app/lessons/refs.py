@@ -2,13 +2,13 @@
 
 Everything the teaching layer prints about the paper goes through :func:`cite`, which
 prints the published equation and figure numbers of Lehmann, Schmidt & Salo (2017)
-(:mod:`ringcore.paperrefs`, through :mod:`app.paper_cite`) with the LaTeX label in a tooltip.
+(:mod:`ringcore.paperrefs`, through :mod:`ringlab.ui.cite`) with the LaTeX label in a tooltip.
 """
 from __future__ import annotations
 
 import html
 
-from ..paper_cite import _published, publish  # noqa: F401  (publish re-exported)
+from ringlab.ui.cite import _published, publish  # noqa: F401  (publish re-exported)
 
 _FIG = ("fig", "figure")
 _TAB = ("tab", "table")

@@ -9,21 +9,21 @@ while the student works in the other tabs.
 from __future__ import annotations
 
 import html
-from pathlib import Path
 
 import panel as pn
 import param
 
-from ..glossary import GLOSSARY_CSS, GlossaryPanel
-from ..live_common import CSS
-from .checks import run_check
-from .content import LESSONS, PRESETS
-from ..tutorials import links_html
-from .presets import Targets, apply_preset, default_scale
-from .refs import render
-from .worksheets import worksheet_html, worksheet_path
+from ringlab.lessons.checks import run_check
+from ringlab.lessons.content import LESSONS, PRESETS
+from ringlab.lessons.glossary import GLOSSARY_CSS, GlossaryPanel
+from ringlab.lessons.presets import Targets, apply_preset, default_scale
+from ringlab.lessons.refs import render
+from ringlab.lessons.tutorials import docs_note, links_html
+from ringlab.lessons.worksheets import worksheet_html, worksheet_path
+from ringlab.paths import TUTORIALS_SRC_DIR
+from ringlab.ui.style import CSS
 
-TUTORIALS = Path(__file__).resolve().parents[2] / "tutorials"
+TUTORIALS = TUTORIALS_SRC_DIR
 
 LESSON_CSS = CSS + GLOSSARY_CSS + """
 .lesson-step-title {font-size: 16px; font-weight: 600; color: #1f4e79; margin: 2px 0;}
@@ -47,7 +47,7 @@ class LessonsPanel(pn.viewable.Viewer):
 
     lesson = param.Integer(default=1, bounds=(1, len(LESSONS)), doc="Current lesson (1-based).")
     step = param.Integer(default=1, bounds=(1, max(len(les.steps) for les in LESSONS)), doc="Current step.")
-    runs = param.Parameter(default=None, doc="The session's app.session.SessionRuns (views registered there).")
+    runs = param.Parameter(default=None, doc="The session's ringlab.live.session.SessionRuns (views registered there).")
     tabs = param.Parameter(default=None, doc="The main pn.Tabs (the preset shows its tab).")
     scale = param.Selector(default="classroom", objects=["classroom", "fast"],
                            doc="Preset scale: the classroom boxes or smaller, faster ones.")
@@ -82,11 +82,14 @@ class LessonsPanel(pn.viewable.Viewer):
         self.setup_msg, self.feedback, self.links = pane("lesson-setup-msg"), pane("lesson-feedback"), \
             pane("lesson-links-pane")
         self.downloads = pn.Column(sizing_mode="stretch_width")
+        # where the documentation is: its link when this install serves it at /docs, else how to get it
+        self.docs = pn.pane.HTML(docs_note("lessons-docs-note"), stylesheets=[CSS], sizing_mode="stretch_width",
+                                 margin=(4, 5))
         self.glossary = GlossaryPanel()
         lessons = pn.Column(self.select, self.head, pn.Row(self.prev_btn, self.next_btn, self.restart_btn),
                             self.setup_btn, self.setup_msg, self.text, self.question, self.answer_text,
                             self.answer_choice, self.check_btn, self.feedback, self.downloads,
-                            self.links, sizing_mode="stretch_width")
+                            self.links, self.docs, sizing_mode="stretch_width")
         self._layout = pn.Tabs(("Lessons", lessons), ("Glossary", self.glossary), sizing_mode="stretch_width",
                                css_classes=["lessons-panel"])
         doc = pn.state.curdoc
@@ -161,7 +164,7 @@ class LessonsPanel(pn.viewable.Viewer):
                                         label="Download the worksheet (HTML)", sizing_mode="stretch_width",
                                         css_classes=["lesson-worksheet-download"]))
         link = links_html([les.tutorial], "lesson-tutorial-link", "Executed tutorial (opens in a new tab):")
-        if link:  # [connect] the executed notebook, served by the app server (make tutorials-html)
+        if link:  # the rendered tutorial of the documentation site, served at /docs
             items.append(pn.pane.HTML(link, sizing_mode="stretch_width", margin=(2, 5)))
         tut = TUTORIALS / les.tutorial
         if tut.exists():

@@ -1,8 +1,8 @@
 """Printable one-page worksheets, generated from the lesson definitions (issue 13, item 7).
 
-``python -m app.lessons.worksheets`` writes ``app/lessons/worksheets/lesson<N>.html`` (committed,
+``python -m ringlab.lessons.worksheets`` writes ``app/lessons/worksheets/lesson<N>.html`` (committed,
 and served to the page by the Lessons panel); ``--check`` exits with status 1 if the files on
-disk differ from what the definitions give now (tests/test_lessons.py runs the same comparison).
+disk differ from what the definitions give now (tests/app/test_lessons.py runs the same comparison).
 """
 from __future__ import annotations
 
@@ -11,10 +11,11 @@ import html
 import sys
 from pathlib import Path
 
-from .content import LESSONS, PRESETS, Lesson
-from .refs import render
+from ringlab.lessons.content import LESSONS, Lesson, PRESETS
+from ringlab.lessons.refs import render
+from ringlab.paths import WORKSHEETS_DIR
 
-OUT_DIR = Path(__file__).parent / "worksheets"
+OUT_DIR = WORKSHEETS_DIR
 
 CSS = """
 @page {size: A4; margin: 10mm 12mm;}
@@ -40,7 +41,8 @@ p {margin: 1mm 0;}
 
 def worksheet_html(les: Lesson) -> str:
     """The worksheet of lesson ``les`` as a complete HTML page (deterministic: no dates)."""
-    from ..glossary import TERMS
+    # deferred on purpose: the glossary module imports panel, which the worksheets command line does not need
+    from ringlab.lessons.glossary import TERMS
 
     steps = []
     for i, st in enumerate(les.steps, 1):
@@ -102,7 +104,7 @@ def main(argv=None) -> int:
     if args.check:
         bad = stale()
         if bad:
-            print(f"worksheets out of date: {', '.join(bad)} (run python -m app.lessons.worksheets)")
+            print(f"worksheets out of date: {', '.join(bad)} (run python -m ringlab.lessons.worksheets)")
             return 1
         print("worksheets up to date")
         return 0

@@ -2,7 +2,7 @@
 
 - **Tutorials.** ``tutorials/NN_*.py`` (jupytext percent format) become executed notebooks
   ``docs/tutorials/nb/NN_*.ipynb`` that MyST-NB renders (it never executes them itself).  A notebook the test
-  suite executed (``test-artifacts/tutorials/NN_*.ipynb``, written by ``tests/test_tutorials.py``) and newer
+  suite executed (``test-artifacts/tutorials/NN_*.ipynb``, written by ``tests/notebooks/test_tutorials.py``) and newer
   than its source is copied; else the tutorial is executed here in its quick mode, as the tests do.  An
   up-to-date notebook already in ``nb/`` is kept.
 - **Benchmarks.** ``docs/benchmarks/data/<engine>.json`` (the JSON of ``ringcore bench <engine> --json``,

@@ -3,7 +3,7 @@
 One recipe per run of :data:`ringcore.experiments.longruns.LONG_RUNS` (the isothermal 100 m-seed runs
 tau15, tau20, st99 of Figure "ekinisonosg", the non-isothermal white-noise runs of Section "nonisonosg" and
 the buffer-zone run of Figure "tau15bufnosg").  ``--full``: the paper's scale (L_x = 10 km, h = 2.5 m, fast
-"cfl" step, 20,000 or 14,000 orbits), exactly the settings of the background runs of ``scripts/longruns/``;
+"cfl" step, 20,000 or 14,000 orbits), exactly the settings of the background runs of ``campaigns/longruns/``;
 ``--quick``: L_x = 2 km, 1,500 orbits, same physics (the buffer scaled with the box).
 
 Each writes ``OUT/NAME.run.nc`` (the full run file, a checkpoint every 200 orbits in full mode; an

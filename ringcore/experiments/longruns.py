@@ -2,7 +2,7 @@
 
 :data:`LONG_RUNS` describes each run of Section "Hydrodynamical Integrations Without Self-Gravity" that
 ``ringcore reproduce NAME --full`` recomputes at the paper's scale (L_x = 10 km, h = 2.5 m, fast "cfl"
-step, 20,000 or 14,000 orbits; the settings of the background runs in ``scripts/longruns/``), with the
+step, 20,000 or 14,000 orbits; the settings of the background runs in ``campaigns/longruns/``), with the
 paper's number to compare with.  :func:`compact` turns a run file (complete, or a checkpoint of a run still
 computing: read, never written) into a small dataset to browse and replay (the app's "Paper results" tab):
 
@@ -91,9 +91,9 @@ LONG_RUNS = {
 }
 L_X_FULL, H_FULL, BUFFER_FULL = 10000.0, H_PAPER, (-1250.0, 1250.0, -0.5)  # [m], [m], (x_min [m], x_max [m], beta)
 # wall time of --full, from the background runs' own rates (niced, shared 2-core machine, 2026-11-23;
-# scripts/longruns/progress.py) and, for the runs not yet started, the science helper's estimate
+# campaigns/longruns/progress.py) and, for the runs not yet started, the science helper's estimate
 # noniso_tau20_noise: 0.98 orbits/s measured, blew up at orbit 2,436; noniso_tau20_h125: 0.75 orbits/s on one core
-# over orbits 0-7,000 (2026-11-24 19:34-22:23, 640 steps/orbit; scripts/longruns/STATUS.md), so 5.2 h;
+# over orbits 0-7,000 (2026-11-24 19:34-22:23, 640 steps/orbit; campaigns/longruns/STATUS.md), so 5.2 h;
 # noniso_tau15_seed2: 46.5 min measured (2026-11-24, 111 steps/orbit, beside two other runs on 2 cores)
 # noniso_tau15_seed3: 38.1 min measured (2026-11-24 19:34-20:12, 140 steps/orbit, beside noniso_tau20_h125)
 FULL_COST = {"iso_tau15_mode100": "3.8 h", "iso_tau20_mode100": "6.7 h", "iso_st99_mode100": "9.2 h",
@@ -117,7 +117,7 @@ REQUIRED_ATTRS = ("name", "orbit", "orbit_target", "complete", "status", "lambda
 def run_settings(name: str, L_x: float = L_X_FULL, h: float | None = None) -> dict:
     """Keyword settings of long run ``name``: ``spec`` (:class:`ringcore.spec.RunSpec` fields), ``options``
     (:class:`ringcore.hydro.HydroOptions` fields) and ``initial`` (``Hydro1D`` keywords), as the background
-    runs' command lines (``scripts/longruns/resume_lanes.sh``) give them; the buffer scales with L_x; node
+    runs' command lines (``campaigns/longruns/resume_lanes.sh``) give them; the buffer scales with L_x; node
     spacing ``h`` [m] defaults to the run's own (``H_FULL`` = 2.5 m unless its entry says otherwise)."""
     r = LONG_RUNS[check_choice("name", name, sorted(LONG_RUNS))]
     h = float(r.get("h", H_FULL)) if h is None else h
@@ -278,7 +278,7 @@ def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) ->
 
 def text_attrs(name: str) -> dict:
     """The attributes of a compact file that come from :data:`LONG_RUNS` and this module, not from the run:
-    title, figure, known issue, the paper's number and reference, the commands.  ``scripts/longruns/compact.py
+    title, figure, known issue, the paper's number and reference, the commands.  ``campaigns/longruns/compact.py
     --refresh-text`` re-stamps them on shipped files whose run files are gone."""
     info = LONG_RUNS[check_choice("name", name, sorted(LONG_RUNS))]
     return dict(title=run_title(name), figure=info["figure"], known_issue=info.get("known_issue", ""),
@@ -301,7 +301,7 @@ def check_compact(ds: xr.Dataset, where: str = "compact file") -> xr.Dataset:
     missing = [v for v in REQUIRED_VARS if v not in ds] + [a for a in REQUIRED_ATTRS if a not in ds.attrs]
     if missing:
         raise ValueError(f"{where}: missing {', '.join(missing)}: allowed only files written by "
-                         "scripts/longruns/compact.py (ringcore.experiments.longruns.compact)")
+                         "campaigns/longruns/compact.py (ringcore.experiments.longruns.compact)")
     check_choice(f"{where}: name", ds.attrs["name"], sorted(LONG_RUNS))
     s = ds["strobe"]
     if s.ndim != 2 or s.shape[0] < 1 or s.shape[1] < 2 or ds.sizes["t"] < 1:

@@ -10,7 +10,7 @@ IEEE: log(x <= 0 or NaN) = NaN, log(inf) = inf, exp(NaN) = NaN, exp overflow = i
 exp underflow = 0 (results below 2^-1022 are flushed to 0).
 
 Accuracy against :func:`math.exp` / :func:`math.log` is checked in
-``tests/test_hydro_kernels.py``.
+``tests/core/test_hydro_kernels.py``.
 """
 from __future__ import annotations
 

@@ -9,7 +9,7 @@ node and half-node instead of three and two times per interface.  Every value is
 with the same operations in the same order as in :func:`mp5` (the curvature of the mirrored
 F- stencil keeps its own summation order), and minmod4 of those four arguments does not
 depend on their order, so the result equals node by node the per-interface evaluation
-(checked bit for bit in ``tests/test_hydro_fastpath.py``) at about 40 % less arithmetic.
+(checked bit for bit in ``tests/core/test_hydro_fastpath.py``) at about 40 % less arithmetic.
 
 References: eqs. (halfnodes), (defnumflux).
 """

@@ -10,7 +10,7 @@ final check are the same compiled functions (the same arithmetic, bit for bit), 
 self-gravity convolution uses ``numpy.fft`` inside numba (package ``rocket-fft``, PocketFFT's
 successor DUCC0, the library of ``scipy.fft``) instead of FFTW.  The two FFT libraries round
 differently in the last bit, so the fast path agrees with the reference path to ~1e-15
-relative per step and ~1e-13 after 5 orbits (checked in ``tests/test_hydro_fastpath.py``),
+relative per step and ~1e-13 after 5 orbits (checked in ``tests/core/test_hydro_fastpath.py``),
 not bit for bit; each path on its own is deterministic (no timing-based FFT plans), so
 restarts and repeated runs stay bit-identical.
 

@@ -13,7 +13,7 @@ Comp. 75, 183); also listed in Gottlieb, Ketcheson & Shu (2009, J. Sci. Comput. 
          + 0.386708617503269 u4 + 0.226007483236906 dt L(u4)
 
 Fourth-order accuracy is checked on linear and nonlinear ODEs in
-``tests/test_hydro_timestep.py``.
+``tests/core/test_hydro_timestep.py``.
 
 Time-step criteria (dimensionless, evaluated every step from the current state):
 

@@ -1,0 +1,137 @@
+"""``ringlab serve``: the full lab for a class, with ``pn.serve`` on the per-session factory
+:func:`ringlab.main.create_app`.
+
+The server listens on the loopback address unless asked otherwise: ``--class`` (or an explicit
+``--address``) binds the network so that students' machines reach it, and then accepts pages from
+this machine's names and addresses (or the ``--allow-websocket-origin`` ones).  The compute options
+set the environment the app reads (``RINGLAB_COMPUTE``, ``RINGLAB_WORKERS``, ``RINGLAB_MAX_COMPUTE``,
+``RINGLAB_DASK_SCHEDULER``) before anything starts, so forked server processes (``--num-procs``)
+and their worker processes see the same.  The documentation site, when this install has one
+(:mod:`ringlab.lessons.tutorials`), is served at ``/docs``.
+"""
+from __future__ import annotations
+
+import os
+import socket
+
+import panel as pn
+
+from ringcore.checks import check_int
+
+from ringlab.lessons.tutorials import docs_dir, static_dirs
+from ringlab.main import TITLE, configure, create_app
+from ringlab.server.compute import ENV_MAX
+from ringlab.server.remote import ENV_MODE, ENV_SCHEDULER, ENV_WORKERS, MODES
+
+LOOPBACK = "127.0.0.1"
+NETWORK = "0.0.0.0"
+
+
+def add_parser(sub) -> None:
+    """Add the ``serve`` subcommand to the subparsers ``sub``."""
+    p = sub.add_parser("serve", help="start the lab (all tabs, lessons, docs at /docs) for a class",
+                       description=__doc__.splitlines()[0].replace("``", ""))
+    p.add_argument("--port", type=int, default=5006, help="TCP port (1-65535; default 5006)")
+    p.add_argument("--address", default=None,
+                   help=f"address to listen on (default {LOOPBACK}: this machine only; with --class {NETWORK})")
+    p.add_argument("--class", dest="class_mode", action="store_true",
+                   help=f"class mode: listen on the network ({NETWORK}) so that students' machines reach the lab")
+    p.add_argument("--allow-websocket-origin", action="append", default=[], metavar="HOST[:PORT]",
+                   help="host names the students' pages use (repeatable; default: this machine's names and "
+                        "addresses)")
+    p.add_argument("--compute", choices=MODES, default=None,
+                   help="where the live runs compute: auto (default: worker processes on 2+ cores), threads "
+                        "(in the server process), processes (local worker processes), dask (--scheduler)")
+    p.add_argument("--workers", type=int, default=None, help="worker processes of the local cluster (1-1024)")
+    p.add_argument("--threads", type=int, default=None,
+                   help="runs computing at the same time in the server process (1-1024; --compute threads)")
+    p.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
+                   help="the scheduler of an existing Dask cluster whose workers compute the runs")
+    p.add_argument("--num-procs", type=int, default=1, help="app server processes (1-64; sessions stay in the "
+                                                            "process that made them)")
+    p.add_argument("--show", action="store_true", help="open the lab in this machine's browser")
+    p.set_defaults(run=run)
+
+
+def compute_env(args) -> dict:
+    """The environment variables the compute options set (ValueError for an out-of-range option)."""
+    env = {}
+    if args.compute is not None:
+        env[ENV_MODE] = args.compute
+    if args.workers is not None:
+        env[ENV_WORKERS] = str(check_int("--workers", args.workers, 1, 1024))
+    if args.threads is not None:
+        env[ENV_MAX] = str(check_int("--threads", args.threads, 1, 1024))
+    if args.scheduler:
+        if not args.scheduler.startswith(("tcp://", "tls://", "inproc://", "ucx://")):
+            raise ValueError(f"--scheduler = {args.scheduler!r} is not a scheduler address: allowed tcp://HOST:PORT")
+        if args.compute not in (None, "dask"):
+            raise ValueError(f"--compute = {args.compute!r} cannot be used with --scheduler: allowed dask or unset")
+        env[ENV_SCHEDULER] = args.scheduler
+    elif args.compute == "dask":
+        raise ValueError("--compute = 'dask' needs --scheduler tcp://HOST:PORT (or use --compute processes)")
+    return env
+
+
+def host_names() -> list[str]:
+    """This machine's names and IPv4 addresses (loopback last)."""
+    names = []
+    for name in (socket.gethostname(), socket.getfqdn()):
+        if name and name not in names:
+            names.append(name)
+    try:
+        for ip in socket.gethostbyname_ex(socket.gethostname())[2]:
+            if ip not in names:
+                names.append(ip)
+    except OSError:
+        pass
+    with socket.socket(socket.AF_INET, socket.SOCK_DGRAM) as s:  # the address of the default route, no packet sent
+        try:
+            s.connect(("192.0.2.1", 9))
+            ip = s.getsockname()[0]
+            if ip not in names:
+                names.insert(0, ip)
+        except OSError:
+            pass
+    return [n for n in names if not n.startswith("127.")] + ["localhost", LOOPBACK]
+
+
+def plan(args) -> dict:
+    """Everything ``serve`` will do, checked (ValueError for bad input): address, origins, links, env."""
+    port = check_int("--port", args.port, 1, 65535)
+    num_procs = check_int("--num-procs", args.num_procs, 1, 64)
+    address = args.address or (NETWORK if args.class_mode else LOOPBACK)
+    network = address not in (LOOPBACK, "localhost", "::1")
+    hosts = host_names() if network else ["localhost", LOOPBACK]
+    origins = list(args.allow_websocket_origin) or [f"{h}:{port}" for h in hosts]
+    if not network:
+        shown = "localhost"
+    elif address in (NETWORK, "::"):
+        shown = hosts[0]  # the address of the default route, else the host name
+    else:
+        shown = address
+    base = f"http://{shown}:{port}/main"
+    return dict(port=port, num_procs=num_procs, address=address, origins=origins, env=compute_env(args),
+                student=base, teacher=f"{base}?tab=hydro&autostart=1", docs=static_dirs())
+
+
+def run(args) -> int:
+    """Start the server (blocks until Ctrl-C)."""
+    p = plan(args)
+    os.environ.update(p["env"])  # read by the app when a session starts (ringlab.server.remote.mode)
+    configure()
+    print(TITLE)
+    print(f"  student link: {p['student']}")
+    print(f"  teacher link: {p['teacher']}   (opens Hydrodynamics and starts its run)")
+    if p["docs"]:
+        print(f"  documentation: {p['student'][:-len('main')]}docs/index.html")
+    else:
+        print(f"  documentation: not in this install ({docs_dir()} is missing; `make docs` in the source tree)")
+    if p["address"] == NETWORK:
+        print("  listening on every network interface (class mode); Ctrl-C stops the server")
+    else:
+        print(f"  listening on {p['address']} only; Ctrl-C stops the server")
+    pn.serve({"main": create_app}, port=p["port"], address=p["address"], websocket_origin=p["origins"],
+             num_procs=p["num_procs"], show=args.show, static_dirs=p["docs"], title=TITLE, liveness=True,
+             start=True, threaded=False, verbose=False)
+    return 0

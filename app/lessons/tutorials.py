@@ -1,0 +1,100 @@
+"""Links from the app to the documentation site and its rendered tutorials, served by the app server.
+
+The documentation site (``make docs``: Sphinx into ``build/docs/html``, copied to ``app/docs_site/``
+so that a wheel built afterwards carries it) is served at ``/docs`` by ``ringlab serve`` and
+``make app`` (``--static-dirs docs=DIR``, :func:`serve_args`, :func:`static_dirs`); the tutorials are its
+pages ``/docs/tutorials/<name>.html``.  ``make tutorials-html`` writes just the tutorial pages into
+the same place when the full site is not built.  A link is shown only when its page exists, so a
+server without the site shows none instead of broken links, and :func:`docs_note` says where the
+documentation is instead.
+
+The folder is ``<package>/docs_site`` (``app/docs_site`` of the source tree), or ``$RINGLAB_DOCS_DIR``.
+"""
+from __future__ import annotations
+
+import html
+import os
+from pathlib import Path
+
+from ringlab.paths import DOCS_DIR
+
+ENV = "RINGLAB_DOCS_DIR"
+ROUTE = "docs"  # URL path the site is served at (relative to the page: /main -> /docs/...)
+TUTORIALS = {  # stem -> title
+    "01_linear_theory": "01 Linear theory",
+    "02_hydro_without_self_gravity": "02 Hydrodynamics without self-gravity",
+    "03_self_gravity_sets_the_wavelength": "03 Self-gravity sets the wavelength",
+    "04_particles_instead_of_fluid": "04 Particles instead of a fluid",
+    "05_exercises": "05 Exercises",
+}
+TAB_TUTORIALS = {  # the tutorials each tab's subject is taught in
+    "linear": ("01_linear_theory", "05_exercises"),
+    "hydro": ("02_hydro_without_self_gravity", "03_self_gravity_sets_the_wavelength"),
+    "nbody": ("04_particles_instead_of_fluid",),
+    "saturation": ("03_self_gravity_sets_the_wavelength",),
+}
+
+
+def docs_dir() -> Path:
+    """Folder of the documentation site (``$RINGLAB_DOCS_DIR`` or the package's ``docs_site``)."""
+    return Path(os.environ.get(ENV) or DOCS_DIR)
+
+
+def html_dir() -> Path:
+    """Folder of the rendered tutorials: ``tutorials/`` of the documentation site."""
+    return docs_dir() / "tutorials"
+
+
+def serve_args(folder: Path | None = None) -> list[str]:
+    """``panel serve`` arguments that serve the documentation site ``folder`` at /docs."""
+    return ["--static-dirs", f"{ROUTE}={folder or docs_dir()}"]
+
+
+def static_dirs(folder: Path | None = None) -> dict:
+    """``pn.serve(static_dirs=...)`` for the documentation site (empty if the folder does not exist)."""
+    folder = Path(folder or docs_dir())
+    return {ROUTE: str(folder)} if folder.is_dir() else {}
+
+
+def docs_note(element_id: str = "docs-note") -> str:
+    """One line: a link to the documentation site, or where to get it when this install has none."""
+    if (docs_dir() / "index.html").is_file():
+        body = (f'Documentation (tutorials, teacher\'s and researcher\'s guides): '
+                f'<a href="{ROUTE}/index.html" target="_blank" rel="noopener">open</a>')
+    else:
+        body = ("Documentation: not built into this install. In the source tree, <code>make docs</code> builds "
+                "it (then <code>ringlab serve</code> and <code>make app</code> serve it at /docs); the tutorials "
+                "are also the notebooks in <code>tutorials/</code>.")
+    return f'<div class="buttons-note" id="{element_id}">{body}</div>'
+
+
+def stem_of(name: str) -> str:
+    """Tutorial stem of a file name such as ``01_linear_theory.py`` (unknown names: ValueError)."""
+    stem = Path(name).stem
+    if stem not in TUTORIALS:
+        raise ValueError(f"tutorial = {name!r} is unknown: allowed {', '.join(TUTORIALS)}")
+    return stem
+
+
+def url(stem: str) -> str:
+    """Address of a tutorial's page relative to the app's page (``docs/tutorials/NN_name.html``)."""
+    return f"{ROUTE}/tutorials/{stem_of(stem)}.html"
+
+
+def available(stem: str) -> bool:
+    """True if the rendered page of ``stem`` exists (then ``ringlab serve`` and ``make app`` serve it)."""
+    return (html_dir() / f"{stem_of(stem)}.html").is_file()
+
+
+def links_html(stems, element_id: str, lead: str = "Executed tutorial:") -> str:
+    """One line of links (opening in a new browser tab) to the available tutorials ``stems``; '' if none."""
+    items = [f'<a class="tutorial-link" href="{url(s)}" target="_blank" rel="noopener">'
+             f'{html.escape(TUTORIALS[stem_of(s)])}</a>' for s in stems if available(s)]
+    if not items:
+        return ""
+    return f'<div class="buttons-note" id="{element_id}">{lead} {" · ".join(items)}</div>'
+
+
+def tab_links(tab: str) -> str:
+    """:func:`links_html` for the tutorials of a tab ("linear", "hydro", "nbody", "saturation")."""
+    return links_html(TAB_TUTORIALS[tab], f"{tab}-tutorials", "Worked through in the tutorials:")

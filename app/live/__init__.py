@@ -1,0 +1,1 @@
+"""Live runs without widgets: runners, their loop, plot buffers, run keeper, export checks, the session."""

@@ -1,0 +1,277 @@
+"""The controller of one session's live hydrodynamic run: :class:`HydroRunner`.
+
+It owns a :class:`ringcore.hydro.Hydro1D`.  In a server session the run advances in chunks
+of a fixed wall-time budget (``budget_s``, 60 ms) computed in the server's shared worker
+pool, off the event loop (:mod:`ringlab.live.loop`, :mod:`ringlab.server.compute`; the kernels release the
+GIL); after each chunk the new state is handed to the view on the event loop.  Each chunk
+calls ``Hydro1D.advance(max_wall_s=budget_s)`` (the engine contract, :mod:`ringcore.engine`):
+the solver's own recorder samples e_kin, lambda_p and the stroboscopic rows at exact sample
+times and pushes every sample to :meth:`HydroRunner._on_sample` (``on_sample``), which copies
+what the plots need into bounded buffers (:mod:`ringlab.live.buffers`).  The solver's recorder is
+bounded by the core (``max_samples``, ``max_rows``: thinned by 2 when full), so a session that
+runs for hours keeps flat memory.
+
+Setup changes (parameters, grid, initial seed) rebuild the run at t = 0 (still running
+if it was); buffer-zone changes apply to the running state; invalid combinations leave
+the run untouched and set ``problems``.  A :class:`ringcore.hydro.HydroBlowUp` pauses the
+run and keeps the last good state.
+
+References: Section "Numerical Methods / Hydrodynamic Scheme"; eqs. (ekin), (fourier).
+"""
+from __future__ import annotations
+
+import collections
+import io
+import math
+import time
+
+import numpy as np
+import panel as pn
+import param
+
+from ringcore.engine import state_to_dataset
+from ringcore.hydro import Hydro1D, HydroBlowUp
+
+from ringlab.live.buffers import RollingImage, SeriesBuffer, SpaceTimeImage
+from ringlab.live.export import run_file_bytes
+from ringlab.live.loop import LiveLoop
+from ringlab.model.hydro_settings import BUFFER_PARAMS, HydroSettings, SETUP_PARAMS
+from ringlab.model.linear import characteristic_numbers
+from ringlab.server import remote
+
+BUDGET_S = 0.06  # compute time per tick
+MAX_RECORD_SAMPLES = 5000  # solver recorder samples kept (older ones thinned by 2; ~1 KB each)
+MAX_STROBE_BYTES = 2e6  # stroboscopic rows kept by the solver's recorder (625 at n = 800; then thinned by 2)
+STEP_ORBITS = 1.0  # the "Step" button advances this many orbits (or STEP_MAX_S of wall time)
+STEP_MAX_S = 1.0
+
+
+class HydroRunner(LiveLoop, HydroSettings):
+    """Settings, simulation, live buffers and controls (start/pause/step/reset) of one session."""
+
+    budget_s = BUDGET_S  # one chunk of work (ringlab.live.loop)
+
+    running = param.Boolean(default=False, doc="True while the periodic callback advances the run.")
+    status = param.String(default="", doc="One-line state of the run for the page.")
+    problems = param.Dict(default={}, doc="Messages for invalid settings, keyed by control group.")
+    blowup = param.String(default="", doc="What went wrong if the run blew up ('' otherwise).")
+    frame = param.Integer(default=0, doc="Incremented whenever the shown state changes.")
+    run_label = param.String(default="", doc="The settings of the simulation that is running.")
+
+    def __init__(self, **params):
+        super().__init__(**params)
+        self.sim = None
+        self._callback = None
+        self._rates = collections.deque(maxlen=40)  # (wall, orbits, steps) at ticks
+        self.buffer_events = []  # (orbit, beta or None)
+        self._rebuild()
+
+    # ------------------------------------------------------------------ building
+    @param.depends(*SETUP_PARAMS, watch=True)
+    def _on_setup(self):
+        with self.compute_lock:  # [classroom] never while a chunk computes
+            self._rebuild()
+
+    def _rebuild(self) -> bool:
+        """Start a new simulation at t = 0 from the current settings (if they are valid)."""
+        probs = self.find_problems()
+        self.problems = probs
+        if any(k in probs for k in ("model", "grid", "initial")):
+            self.status = "Settings not applied: see the message beside the controls."
+            return False
+        p, opt = self.ring_params(), self.options()
+        kw = dict(seed=self.seed, amplitude=self.amplitude)
+        if self.initial == "mode":
+            kw["wavelength"] = self.wavelength
+        max_rows = max(100, int(MAX_STROBE_BYTES / (4 * opt.n)))
+        old = self.sim
+        if isinstance(old, remote.RemoteSim):
+            old.detach()  # [cluster] the previous run may be kept (RunKeeper): bring it back, free the worker
+        sim = Hydro1D(p, opt, initial=self.initial, max_samples=MAX_RECORD_SAMPLES, max_rows=max_rows, **kw)
+        self.numbers = characteristic_numbers(self.settings())
+        self.strobe_image = SpaceTimeImage(sim.n, 1.0)
+        self.orbit_image = RollingImage(sim.n, 1.0 / opt.samples_per_orbit)  # last 25 orbits
+        self.series = SeriesBuffer(("e_kin", "lambda_p"))
+        d = sim.diagnostics()  # the sample at t = 0 was recorded before the callback existed
+        self._on_sample(sim, dict(orbit=d["orbit"], e_kin=d["e_kin"], lambda_p_m=d["lambda_p_m"], dt_orbits=0.0,
+                                  strobe_row=sim.sigma.astype(np.float32) if opt.strobe else None))
+        self.sim = sim = remote.wrap(sim)  # [cluster] chunks on Dask workers (RINGLAB_COMPUTE / _DASK_SCHEDULER)
+        sim.on_sample(self._on_sample)
+        self.blowup = ""
+        self.buffer_events = []
+        self._rates.clear()
+        self._apply_buffer()
+        model = "isothermal" if p.isothermal else "non-isothermal"
+        self.run_label = (f"{p.name}, {model}, σ₀ = {p.sigma0:g} kg/m², p_s = {p.p_s:.3g}, L_x = {opt.L_x:g} m, "
+                          f"h = {opt.h:g} m ({sim.n} cells), {self._initial_name()}")
+        self.status = "Running." if self.running else "Ready: press Start."
+        self.frame += 1
+        return True
+
+    def _initial_name(self) -> str:
+        if self.initial == "noise":
+            return f"white noise (seed {self.seed})"
+        return f"mode λ = {self.wavelength:g} m"
+
+    def reset(self, *_):
+        """Restart from t = 0 with the current settings (the last valid ones if they are invalid)."""
+        with self.compute_lock:  # [classroom]
+            ok = self._rebuild()
+        if not ok and self.sim is not None:
+            self.status = "Settings invalid: nothing reset (see the message beside the controls)."
+
+    # ------------------------------------------------------------------ buffer
+    @param.depends(*BUFFER_PARAMS, watch=True)
+    def _on_buffer(self):
+        with self.compute_lock:  # [classroom]
+            self.problems = self.problems_with_buffer()
+            self._apply_buffer()
+            self.frame += 1
+
+    def problems_with_buffer(self) -> dict:
+        probs = {k: v for k, v in self.problems.items() if k != "buffer"}
+        msg = self.buffer_problem()
+        if msg:
+            probs["buffer"] = msg
+        return probs
+
+    def _apply_buffer(self) -> None:
+        sim = self.sim
+        if sim is None:
+            return
+        want = self.buffer_on and not self.buffer_problem()
+        if want:
+            lo, hi = self.buffer_bounds()
+            sim.set_buffer(lo, hi, self.buffer_beta)
+            self.buffer_events.append((sim.orbits, self.buffer_beta))
+        elif sim.buffer_active:
+            sim.clear_buffer()
+            self.buffer_events.append((sim.orbits, None))
+        del self.buffer_events[:-50]
+
+    # ------------------------------------------------------------------ running
+    def start(self, *_):
+        """Run continuously (periodic callback in a server session; call :meth:`tick` otherwise)."""
+        if self.sim is None:
+            self.status = "Nothing to run: fix the settings first."
+            return
+        if self.blowup:
+            self.status = "The run blew up: press Reset (maybe with a smaller h or σ₀) to start again."
+            return
+        self._begin()
+
+    def step_once(self, *_):
+        """Advance by STEP_ORBITS orbits (at most STEP_MAX_S seconds of computing) while paused."""
+        if self.running or self.sim is None or self.blowup:
+            return
+        target = self.sim.orbits + STEP_ORBITS
+        if self.offload(lambda: self.advance(STEP_MAX_S, until=target), self._stepped):  # [classroom] in the pool
+            return
+        self.advance(STEP_MAX_S, until=target)
+        self._stepped()
+        self.frame += 1
+
+    def _stepped(self):
+        if not self.blowup and self.sim is not None:
+            self.status = f"Paused after a step to orbit {self.sim.orbits:.2f}."
+
+    def tick(self):
+        """One callback period: compute for BUDGET_S seconds, then signal the view."""
+        if not self.running or self.sim is None:
+            return
+        self.advance(BUDGET_S, until=self.pause_at)
+        self.frame += 1
+
+    def advance(self, budget_s: float, until: float | None = None) -> int:
+        """Take time steps for ``budget_s`` seconds of wall time (or up to orbit ``until``).
+
+        Returns the number of steps taken.  A HydroBlowUp pauses the run and sets ``blowup``.
+        """
+        sim = self.sim
+        steps0 = sim.steps
+        try:
+            if until is None:
+                sim.advance(orbits=1e9, max_wall_s=budget_s)
+            elif sim.orbits < until - 1e-12:
+                sim.advance(until=until, max_wall_s=budget_s)
+        except HydroBlowUp as exc:
+            self.blowup = (f"{exc}. The run is paused at the last good state (orbit {sim.orbits:.2f}). "
+                           f"Smaller h, a smaller σ₀, or the 'paper' time step may help; press Reset to start again.")
+            self.pause()
+            self.status = "Blown up: paused at the last good state."
+        self._rates.append((time.perf_counter(), sim.orbits, sim.steps))
+        return sim.steps - steps0
+
+    def _on_sample(self, sim, sample: dict) -> None:
+        """Copy a new sample (pushed by the solver right after recording it) into the live buffers."""
+        t = sample["orbit"]
+        self.series.add(t, e_kin=sample["e_kin"], lambda_p=sample["lambda_p_m"])
+        row = sample.get("sigma_row")  # [cluster] a worker's chunk: the profile at the sample time
+        self.orbit_image.add(t, sim.U[0] if row is None else row)
+        if sample.get("strobe_row") is not None:
+            self.strobe_image.add(t, sample["strobe_row"])
+
+    @property
+    def thinned(self) -> bool:
+        """True once the solver's bounded recorder dropped older samples or strobe rows."""
+        return self.sim is not None and self.sim.recorder.thinned
+
+    # ------------------------------------------------------------------ readouts
+    def typical_dt_orbits(self) -> float:
+        """Time step [orbits] the criterion sets for the current state (recorded steps are mostly the
+        ones shortened to land on a sample time); nan before the first step or without a run."""
+        sim = self.sim
+        return sim.stable_dt() / (2.0 * math.pi) if sim is not None and sim.steps > 0 else math.nan
+
+    def saturated_lambda_p(self, last_fraction: float = 0.25) -> float:
+        """Median lambda_p [m] over the last ``last_fraction`` of the run (nan before 1 orbit)."""
+        s = self.series
+        t, lam = s.get("t"), s.get("lambda_p")
+        if t.size == 0 or t[-1] < 1.0:
+            return math.nan
+        return float(np.median(lam[t >= t[-1] * (1.0 - last_fraction)]))
+
+    # ------------------------------------------------------------------ export
+    def to_dataset(self):
+        """The current run as the project's xarray.Dataset, with the app's settings as attributes."""
+        st = self.sim.snapshot()
+        ds = state_to_dataset(st)
+        thinned = st.meta["thinned"]
+        ds.attrs["app_settings_json"] = self.settings_json()
+        ds.attrs["app_recorder_thinned"] = int(thinned)
+        if thinned:
+            ds.attrs["app_note"] = ("older samples and stroboscopic rows were thinned to keep memory "
+                                    "bounded: sample times are not equally spaced")
+        if self.blowup:
+            ds.attrs["app_blowup"] = self.blowup
+        return ds
+
+    def netcdf_bytes(self) -> io.BytesIO:
+        """The run file (``ringcore.io.write_run``, kind "hydro") as bytes for a download."""
+        with self.compute_lock:  # [classroom] a consistent state, between chunks
+            ds = self.to_dataset()
+        return run_file_bytes(ds, "hydro")
+
+    def export_filename(self) -> str:
+        return f"hydro_{self.param_set}_s{self.sigma0:g}_t{self.sim.orbits:.0f}orb.nc"
+
+    def load_settings(self, text) -> str:
+        """Apply a settings file (JSON text or bytes); returns '' or the error message."""
+        try:
+            d = self.parse_settings(text.decode() if isinstance(text, bytes) else text)
+            with param.parameterized.batch_call_watchers(self):
+                self.param.update(**d)
+        except ValueError as exc:
+            return str(exc)
+        return ""
+
+    def close(self, *_):
+        """Stop and free the simulation (the browser tab was closed)."""
+        self._mark_closed()  # [classroom] no more chunks or frames
+        self.pause()
+        if self.sim is not None and self.sim.orbits > 0:  # one line per run freed; none if it never ran
+            pn.state.log(f"hydro run of a closed session freed at orbit {self.sim.orbits:.2f}")
+            if isinstance(self.sim, remote.RemoteSim):
+                self.sim.release()  # [cluster] the worker drops its copy
+        self.sim = None
+        self.status = "Closed."

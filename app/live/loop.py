@@ -1,0 +1,178 @@
+"""Start / pause / chunk scheduling shared by the live runners (hydro and N-body).
+
+Mixed into a ``param.Parameterized`` runner that has the parameters ``running``, ``status``,
+``blowup``, ``frame``, the attributes ``_callback`` (None) and ``_rates`` (a deque of
+``(wall time, orbits, steps)`` appended after every chunk of work), and the methods
+``advance(budget_s)`` (one chunk of work: compute for ``budget_s`` seconds of wall time) and
+``tick()`` (a chunk plus a frame, used directly by headless tests).
+
+In a server session the chunks do not run on the Bokeh/Tornado event loop: each one is
+computed in the server's shared pool (:mod:`ringlab.server.compute`: a bounded number of worker
+threads, first in first out, so sessions take turns) while the runner holds
+``compute_lock``; the result reaches the document through ``doc.add_next_tick_callback``,
+where the runner bumps ``frame`` (the views draw it, gated by the page's acknowledgements)
+and submits its next chunk.  Everything that reads or changes the simulation from the
+event loop either runs between chunks (frames) or takes ``compute_lock`` (setup changes,
+exports).  A session whose page has gone (websocket closed) is freed at its next chunk
+boundary, with one log line, instead of computing until Bokeh destroys the session.
+With the chunks on Dask workers (:mod:`ringlab.server.remote`) the runner's ``sim`` may have a chunk
+computed ahead; Pause takes it into the shown state (``settle``) before the final frame.
+"""
+from __future__ import annotations
+
+import functools
+import math
+import threading
+
+import panel as pn
+from panel.io.state import set_curdoc
+
+from ringlab.server import compute, socket_guard
+
+PERIOD_MS = 100  # kept for callers; chunks are scheduled back to back now
+WAITING = "Running; waiting for a free core (the server's compute slots are all busy)."
+
+
+class LiveLoop:
+    """Mixin: compute chunks in the shared pool; pause; measure steps/orbits per second."""
+
+    budget_s = 0.06  # wall time of one chunk [s]
+
+    def __init__(self, **params):
+        super().__init__(**params)
+        self.compute_lock = threading.RLock()  # held while a chunk computes
+        self._inflight = False  # a chunk is queued or computing
+        self._closed = False
+        self._doc = None
+        self._had_connection = False
+        self.chunk_waits = []  # recent queue waits [s] (for the status and tests)
+        self.pause_at = None  # orbit a running run stops at by itself (a lesson's classroom length)
+
+    # ------------------------------------------------------------------ public
+    def _begin(self) -> None:
+        """Mark the run as running and schedule its first chunk (only inside a server session)."""
+        self.running = True
+        self.status = "Running."
+        self._rates.clear()
+        self.offload(None)
+
+    def pause(self, *_):
+        """Stop advancing (the state is kept).  The state kept is the state shown: a final frame is
+        pushed now, or when the chunk in flight has finished."""
+        self.running = False
+        if self._callback is not None:
+            self._callback.stop()
+            self._callback = None
+        if not self.blowup:
+            self.status = "Paused."
+        if not self._inflight and not self._closed:
+            if self._ahead() and self.offload(self._settle):  # [cluster] a worker's chunk computed ahead
+                return
+            self.frame += 1
+
+    def offload(self, work, then=None) -> bool:
+        """Compute ``work()`` (default: one chunk of ``budget_s``) in the shared pool, then call
+        ``then()`` and bump ``frame`` on the event loop.  Returns False outside a server session
+        (the caller then computes inline)."""
+        doc = pn.state.curdoc
+        if doc is None or doc.session_context is None:
+            return False
+        self._doc = doc
+        self._page_gone(doc)  # notes that the page is connected
+        self._submit(work, then)
+        return True
+
+    def rates(self) -> tuple[float, float]:
+        """(steps per second, orbits per second) of wall time over the last ~2 s of running."""
+        r = self._rates
+        if len(r) < 2:
+            return (math.nan, math.nan)
+        j = 0
+        while j < len(r) - 2 and r[-1][0] - r[j][0] > 2.0:
+            j += 1
+        dt = r[-1][0] - r[j][0]
+        return ((r[-1][2] - r[j][2]) / dt, (r[-1][1] - r[j][1]) / dt) if dt > 0 else (math.nan, math.nan)
+
+    # ------------------------------------------------------------------ worker side
+    def compute_chunk(self):
+        """One chunk of work (runs in a worker thread, never touches the document)."""
+        with self.compute_lock:
+            if self.running and not self._closed:
+                self.advance(self.budget_s, until=self.pause_at)
+            if not self.running and not self._closed:
+                self._settle()  # paused meanwhile: the frame that follows shows the kept state
+
+    def _ahead(self) -> bool:
+        return bool(getattr(getattr(self, "sim", None), "computing_ahead", False))
+
+    def _settle(self) -> None:
+        """Take a chunk a Dask worker computed ahead (ringlab.server.remote) into the shown state."""
+        settle = getattr(getattr(self, "sim", None), "settle", None)
+        if settle is not None:
+            settle()
+
+    def _run_locked(self, work):
+        with self.compute_lock:
+            if not self._closed:
+                work()
+
+    # ------------------------------------------------------------------ event-loop side
+    def _submit(self, work, then) -> None:
+        if self._inflight or self._closed or self._doc is None:
+            return
+        pool = compute.pool()
+        self._inflight = True
+        busy = pool.busy()
+        fn = self.compute_chunk if work is None else functools.partial(self._run_locked, work)
+        doc = self._doc
+
+        def done(result, error, wait_s, compute_s):  # worker thread: only schedule
+            try:
+                doc.add_next_tick_callback(functools.partial(self._delivered, doc, then, error, wait_s))
+            except Exception:  # the document is gone
+                self._inflight = False
+                self._closed = True
+
+        pool.submit(fn, done)
+        if busy and self.running and not self.blowup and self.status in ("Running.", WAITING):
+            self.status = WAITING
+
+    def _delivered(self, doc, then, error, wait_s) -> None:
+        self._inflight = False
+        if self._closed:
+            return
+        with set_curdoc(doc):
+            if self._page_gone(doc):
+                self.close()
+                return
+            self.chunk_waits = (self.chunk_waits + [wait_s])[-20:]
+            if error is not None:
+                self.running = False
+                self.status = f"Stopped: the computation failed ({type(error).__name__}: {error})."
+                pn.state.log(f"live run stopped by an error in a chunk: {error!r}")
+            if then is not None:
+                then()
+            self.frame += 1  # the views draw the new state (the final one after Pause)
+            if self.running:
+                self._submit(None, None)
+                if not self._inflight and self.status == WAITING:
+                    self.status = "Running."
+                elif self.status == WAITING and not compute.pool().busy():
+                    self.status = "Running."
+
+    def _page_gone(self, doc) -> bool:
+        """True once the session had a websocket connection and has no open one any more (a socket
+        that is closing counts as gone: the page has left even if Bokeh has not noticed yet)."""
+        n = socket_guard.live_connections(doc)
+        if n is None:
+            return False
+        if n > 0:
+            self._had_connection = True
+            return False
+        return self._had_connection
+
+    def _mark_closed(self) -> bool:
+        """Mark closed (no more chunks, no more frames); True the first time."""
+        first = not self._closed
+        self._closed = True
+        return first

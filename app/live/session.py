@@ -1,0 +1,88 @@
+"""State shared by the tabs of one browser session (never by two sessions).
+
+:class:`SessionRuns` links the Saturation tab to the session's hydro run: the hydro
+view registers its runner here, and the Saturation tab's "add my run" button stores the
+run's (sigma0, lambda_p) as a point.  ``ringlab.main.create_app`` makes one per session and
+passes it to every tab factory that declares a ``runs`` parameter.  Creating one also
+installs :mod:`ringlab.server.socket_guard` (a page that goes away mid-stream leaves no traceback) and
+:func:`show_app_log` (the app's own ``pn.state.log`` lines reach the server log).
+"""
+from __future__ import annotations
+
+import logging
+import math
+import sys
+
+import param
+from panel.io.logging import panel_log_handler
+
+from ringlab.server import remote, socket_guard
+
+MAX_POINTS = 200
+
+
+class _BelowPanelLevel(logging.Filter):
+    """Pass only records Panel's own handler drops (so no line is printed twice)."""
+
+    def filter(self, record):
+        return record.levelno < panel_log_handler.level
+
+
+def show_app_log() -> None:
+    """Print the app's ``pn.state.log`` lines (INFO) in the server log, nothing else of Panel's.
+
+    ``pn.state.log`` writes to the ``panel.state`` logger, whose handler shows only warnings unless
+    ``panel serve --log-level info``, which would add four Panel lines per session.  The app logs
+    one line per event a server operator should see (e.g. "hydro run of a closed session freed at
+    orbit 12.34", issue 14 item 6); this handler shows exactly those.  Idempotent.
+    """
+    logger = logging.getLogger("panel.state")
+    if any(isinstance(f, _BelowPanelLevel) for h in logger.handlers for f in h.filters):
+        return
+    handler = logging.StreamHandler(sys.stderr)  # unbuffered, like Bokeh's own lines
+    handler.setLevel(logging.INFO)
+    handler.setFormatter(logging.Formatter("%(asctime)s %(message)s"))
+    handler.addFilter(_BelowPanelLevel())
+    logger.addHandler(handler)
+
+
+class SessionRuns(param.Parameterized):
+    """The session's hydro runner and the runs a student added to the saturation plot."""
+
+    hydro = param.Parameter(default=None, doc="The session's ringlab.live.hydro.HydroRunner (set by the hydro tab).")
+    points = param.List(default=[], doc="Added runs: dicts with sigma0, lambda_p_m, orbits, label, isothermal.")
+    tabs_by_kind = param.Dict(default={}, doc="Kind ('linear', 'hydro', 'nbody', 'saturation') -> (view, controller): "
+                                                "each tab registers itself (register), so the lessons reach the Linear "
+                                                "tab's settings and the runners without importing tab classes.")
+
+    def __init__(self, **params):
+        super().__init__(**params)
+        socket_guard.install()  # once per server process (both idempotent)
+        show_app_log()
+        remote.warm()  # the worker processes start with the first page, not at the first Start
+
+    def register(self, kind: str, view, controller=None) -> None:
+        """Register this session's tab ``view`` of ``kind`` and its controller (settings or runner)."""
+        self.tabs_by_kind = {**self.tabs_by_kind, kind: (view, controller)}
+
+    def add_hydro_run(self, min_orbits: float = 20.0) -> str:
+        """Add the hydro run's saturated lambda_p (median over its last quarter); returns a message.
+
+        Runs shorter than ``min_orbits`` orbits are refused (lambda_p has not settled).
+        """
+        r = self.hydro
+        if r is None or r.sim is None:
+            return "error: there is no hydro run in this session yet (open the Hydrodynamics tab and press Start)"
+        sim = r.sim
+        if sim.orbits < min_orbits:
+            return (f"error: the hydro run has only {sim.orbits:.1f} orbits: allowed from {min_orbits:g} orbits on "
+                    "(let it run until e_kin has saturated)")
+        lam = r.saturated_lambda_p()
+        if not math.isfinite(lam):
+            return "error: the hydro run has no prevalent wavelength yet"
+        p = sim.params
+        point = dict(sigma0=p.sigma0, lambda_p_m=lam, orbits=sim.orbits, isothermal=p.isothermal, set=p.name,
+                     label=f"{p.name} {'iso' if p.isothermal else 'non-iso'}, σ₀ = {p.sigma0:g}, "
+                           f"{sim.orbits:.0f} orbits{' (blown up)' if r.blowup else ''}")
+        self.points = (self.points + [point])[-MAX_POINTS:]
+        return f"ok: added λ_p = {lam:.4g} m at σ₀ = {p.sigma0:g} kg/m² ({sim.orbits:.0f} orbits)"

@@ -1,0 +1,1 @@
+"""Settings and linear-theory helpers of the app (param, no widgets)."""

@@ -1,0 +1,120 @@
+"""Where the live simulations compute: a bounded, fair pool of worker threads shared by all sessions.
+
+The numba kernels of ``ringcore`` release the GIL (``@njit(nogil=True, cache=True)``), so
+chunks of simulation computed in worker threads leave the Bokeh/Tornado event loop free for
+clicks, slider moves and page loads of every session.  Several runs in threads share one GIL,
+though: a hydro step is many ~70 us kernel calls with Python between them, and the threads
+convoy on the GIL (8 sessions: 4.3 orbits/s in all on 1.07 cores).  That is why a server
+session on a multi-core machine computes in worker processes by default (:mod:`ringlab.server.remote`);
+this pool then only waits for their results.
+
+Rules (issue 12):
+
+* at most :func:`max_compute` chunks compute at once (``RINGLAB_MAX_COMPUTE``, default the
+  number of cores);
+* each session has at most one chunk queued or computing, every chunk has the same wall
+  budget, and the queue is first in, first out: sessions take turns (round robin) and none
+  starves;
+* a chunk never touches the Bokeh document: its result is handed to the session's document
+  with ``doc.add_next_tick_callback`` (Bokeh's rule for other threads).
+
+With ``RINGLAB_COMPUTE=processes`` (a LocalCluster of one worker process per core, started by
+the app) or ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` (an existing Dask cluster) the chunks
+compute on Dask workers (:mod:`ringlab.server.remote`): the threads of this pool then only wait for the
+workers' results (``REMOTE_THREADS`` of them, so every session can have its chunk in flight)
+and the workers share their cores between the sessions.
+"""
+from __future__ import annotations
+
+import os
+import threading
+import time
+from concurrent.futures import ThreadPoolExecutor
+
+from ringlab.server import remote
+
+ENV_MAX = "RINGLAB_MAX_COMPUTE"
+REMOTE_THREADS = 256  # waiting threads when the chunks compute on Dask workers
+
+
+def max_compute() -> int:
+    """Simultaneously computing simulations allowed: ``RINGLAB_MAX_COMPUTE`` or the core count."""
+    raw = os.environ.get(ENV_MAX, "")
+    if raw.strip():
+        try:
+            n = int(raw)
+        except ValueError:
+            n = 0
+        if n < 1 or n > 1024:
+            raise ValueError(f"{ENV_MAX} = {raw!r} is not valid: allowed an integer from 1 to 1024")
+        return n
+    return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1))
+
+
+class ComputePool:
+    """FIFO pool of ``workers`` threads; counts queued and computing chunks.
+
+    Parameters
+    ----------
+    workers : int
+        Chunks computing at once (the threads, unless ``threads`` is given).
+    threads : int, optional
+        Threads when the chunks compute elsewhere (:mod:`ringlab.server.remote`); ``busy`` still counts
+        ``workers`` slots.
+    """
+
+    def __init__(self, workers: int, threads: int | None = None):
+        self.workers = int(workers)
+        self._executor = ThreadPoolExecutor(threads or self.workers, thread_name_prefix="ringlab-compute")
+        self._lock = threading.Lock()
+        self.queued = 0  # submitted, not yet started
+        self.active = 0  # computing now
+        self.chunks = 0  # finished chunks (for tests and the load test)
+
+    def submit(self, fn, done):
+        """Run ``fn()`` in a worker; then call ``done(result, error, wait_s, compute_s)`` in that worker.
+
+        ``done`` must only schedule work on the event loop (``doc.add_next_tick_callback``).
+        """
+        t_submit = time.perf_counter()
+        with self._lock:
+            self.queued += 1
+
+        def job():
+            t0 = time.perf_counter()
+            with self._lock:
+                self.queued -= 1
+                self.active += 1
+            result = error = None
+            try:
+                result = fn()
+            except BaseException as exc:  # handed to the event loop, which reports it
+                error = exc
+            t1 = time.perf_counter()
+            with self._lock:
+                self.active -= 1
+                self.chunks += 1
+            done(result, error, t0 - t_submit, t1 - t0)
+
+        return self._executor.submit(job)
+
+    def busy(self) -> bool:
+        """True if a newly submitted chunk would have to wait for a free core."""
+        with self._lock:
+            return self.active + self.queued >= self.workers
+
+    def shutdown(self) -> None:
+        self._executor.shutdown(wait=True, cancel_futures=True)
+
+
+_POOL: ComputePool | None = None
+_POOL_LOCK = threading.Lock()
+
+
+def pool() -> ComputePool:
+    """The server's shared pool (created on first use)."""
+    global _POOL
+    with _POOL_LOCK:
+        if _POOL is None:
+            _POOL = ComputePool(max_compute(), REMOTE_THREADS if remote.active() else None)
+        return _POOL

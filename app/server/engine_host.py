@@ -1,0 +1,89 @@
+"""The worker side of :mod:`ringlab.server.remote`: the Dask actor that holds one session's engine.
+
+:class:`EngineHost` is created on a Dask worker (``client.submit(EngineHost, state, actor=True)``)
+and advances its engine in chunks for the app server; :func:`light_snapshot` is the state a chunk
+returns (without the recorder series); :func:`lower_worker_priority` lets the app server's event
+loop take a core before the simulations do.
+"""
+from __future__ import annotations
+
+import os
+
+from ringcore.engine import BlowUp, engine_class
+
+
+def light(state):
+    """``state`` without its recorder series (zero-length arrays of the same names)."""
+    arrays = {k: (v[:0] if k.startswith("rec_") else v) for k, v in state.arrays.items()}
+    return type(state)(state.kind, state.params, state.options, arrays, state.meta)
+
+
+def light_snapshot(engine):
+    """The light state of ``engine`` (a hydro run's recorder series are not even copied)."""
+    if engine.kind == "hydro":
+        return engine.snapshot(records=False)
+    return light(engine.snapshot())
+
+
+WORKER_NICE = 5  # niceness of worker processes that hold live runs (RINGLAB_WORKER_NICE; 0 leaves them)
+_RENICED = False
+
+
+def lower_worker_priority() -> int:
+    """Lower the CPU priority of this worker process (every thread; later threads inherit it) by
+    ``RINGLAB_WORKER_NICE`` (default 5), once per process; returns the niceness added.
+
+    The app server's event loop (clicks, slider readouts, frames) then gets a core before the
+    simulations do: on a machine whose cores the workers fill, a student's click is not queued
+    behind the class's chunks.  Throughput is unchanged while the server is idle.
+    """
+    global _RENICED
+    if _RENICED:
+        return 0
+    _RENICED = True
+    raw = os.environ.get("RINGLAB_WORKER_NICE", "").strip()
+    inc = int(raw) if raw.lstrip("-").isdigit() else WORKER_NICE
+    if inc <= 0 or not os.path.isdir("/proc/self/task"):
+        return 0
+    for tid in os.listdir("/proc/self/task"):  # Linux: niceness is per thread
+        try:
+            os.setpriority(os.PRIO_PROCESS, int(tid), min(19, os.getpriority(os.PRIO_PROCESS, int(tid)) + inc))
+        except OSError:
+            pass
+    return inc
+
+
+class EngineHost:
+    """One session's engine on a Dask worker (an actor: ``client.submit(EngineHost, state, actor=True)``)."""
+
+    def __init__(self, state):
+        lower_worker_priority()
+        self.sim = engine_class(state.kind).restore(state)
+        self.samples = []
+        self.sim.on_sample(self._on_sample)
+
+    def _on_sample(self, sim, sample):
+        s = dict(sample)
+        if self.sim.kind == "hydro":
+            s["sigma_row"] = sim.U[0].copy()  # the profile at the sample time (orbit-resolved image)
+        self.samples.append(s)
+
+    def advance(self, orbits=None, until=None, max_wall_s=None) -> dict:
+        """One chunk: ``dict(advanced, light, samples, blowup)``; a blow-up keeps the last good state."""
+        self.samples = []
+        advanced, blowup = 0.0, None
+        try:
+            advanced = self.sim.advance(orbits, until=until, max_wall_s=max_wall_s)
+        except BlowUp as exc:
+            blowup = (exc.fields(), str(exc))
+        return dict(advanced=advanced, light=light_snapshot(self.sim), samples=self.samples, blowup=blowup)
+
+    def call(self, name: str, *args):
+        """Apply a state change (``set_buffer``, ``clear_buffer``); returns the new light state."""
+        if name not in ("set_buffer", "clear_buffer"):
+            raise ValueError(f"name = {name!r} is not valid: allowed 'set_buffer', 'clear_buffer'")
+        getattr(self.sim, name)(*args)
+        return light_snapshot(self.sim)
+
+    def snapshot(self):
+        return self.sim.snapshot()

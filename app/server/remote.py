@@ -1,0 +1,380 @@
+"""Live simulations computed in other processes: Dask actors that hold each session's engine.
+
+With ``RINGLAB_COMPUTE=processes`` the app starts a ``distributed.LocalCluster`` of one
+single-threaded worker process per core; with ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` it
+uses an existing Dask cluster (its workers need this project installed:
+``pip install -e .`` of the same version).  ``RINGLAB_COMPUTE=threads`` (or unset without a
+scheduler) keeps the in-process thread pool of :mod:`ringlab.server.compute`.
+
+How a session's run is split between the app server and a worker:
+
+* :class:`EngineHost` (a Dask actor, :mod:`ringlab.server.engine_host`, placed on the worker with the fewest engines) holds the
+  authoritative engine while the run lives on the cluster.  A chunk
+  (:meth:`EngineHost.advance`) returns the engine's state *without* its recorder series
+  (the "light" state: ~30 KB), the samples recorded during the chunk (with the sigma row at
+  each sample time, for the orbit-resolved image) and a blow-up, if any.
+* :class:`RemoteSim` (in the app) stands where the runner's ``Hydro1D`` stood.  Reads
+  (``orbits``, ``sigma``, ``psd()``, ``buffer`` ...) go to a local engine restored from the
+  last light state, i.e. exactly the state the worker keeps (Pause shows the kept state);
+  ``snapshot()`` (export) fetches the complete state from the worker; ``set_buffer`` /
+  ``clear_buffer`` run on the worker.  Until the first chunk, and after :meth:`RemoteSim.detach`,
+  a complete local engine is authoritative instead and no worker holds anything.
+* Per-worker fair share: a Dask worker runs actor methods in one thread, first in, first out,
+  and every session has at most one chunk in flight (:mod:`ringlab.live.loop`), so the sessions on
+  a worker take turns; sessions are spread evenly over the workers.
+
+The numbers are those of an in-process run (the engine contract: ``restore`` continues bit
+for bit and the chunking never changes a run), checked in ``tests/app/test_dask_backend.py``.
+"""
+from __future__ import annotations
+
+import math
+import os
+import threading
+import weakref
+
+from ringcore.engine import BlowUp, engine_class
+from ringcore.hydro import HydroBlowUp
+from ringcore.nbody import NBodyBlowUp
+
+from ringlab.server.engine_host import EngineHost, light, light_snapshot  # noqa: F401  (the worker side; re-exported)
+
+ENV_MODE = "RINGLAB_COMPUTE"
+ENV_SCHEDULER = "RINGLAB_DASK_SCHEDULER"
+ENV_WORKERS = "RINGLAB_WORKERS"
+MODES = ("auto", "threads", "processes", "dask")
+MIN_CHUNK_S = 0.1  # wall budget of a chunk on a worker at least [s]: amortises the ~10 ms round trip
+
+
+def _blowup(fields: dict, message: str) -> BlowUp:
+    """The worker's blow-up as the engine's own exception class (same message and fields)."""
+    cls = next((c for c in (HydroBlowUp, NBodyBlowUp) if c.engine == fields.get("engine")), BlowUp)
+    exc = cls(fields["what"], fields["where_m"], fields["orbit"], fields["step"], fields["value"])
+    exc.args = (message,)
+    return exc
+
+
+class RemoteSim:
+    """Stands for a runner's engine whose chunks compute on a Dask worker (see the module docstring).
+
+    ``prefetch`` (class attribute, default True): the worker computes the next chunk while the
+    app relays the last one (see :meth:`advance`).
+
+    Parameters
+    ----------
+    engine : Hydro1D or ShearingBox
+        The run at its start (complete, authoritative until the first chunk is computed).
+    backend : callable
+        Returns the :class:`DaskBackend` (called when the run first goes to a worker, so the
+        cluster is started or connected only when a run starts).
+    """
+
+    prefetch = True
+
+    def __init__(self, engine, backend):
+        self._local = engine  # complete engine, authoritative while no worker holds the run
+        self._view_engine = engine
+        self._light = None  # newest light state, restored into _view_engine on the next read
+        self._meta = None
+        self._actor = None
+        self._worker = self._key = None
+        self._fin = None
+        self._pending = None  # ((orbits, until, max_wall_s), future) of a chunk computed ahead
+        self._blowup_stash = None
+        self._backend = backend
+        self._callbacks = {}
+        self._lock = threading.Lock()
+        self.kind = engine.kind
+
+    # ---------------------------------------------------------------- reads
+    @property
+    def on_worker(self) -> bool:
+        """True while a worker holds the authoritative engine."""
+        return self._actor is not None
+
+    @property
+    def view(self):
+        """A local engine in exactly the kept state (its recorder series are not kept here)."""
+        with self._lock:
+            if self._light is not None:
+                self._view_engine = engine_class(self.kind).restore(self._light)
+                self._light = None
+            return self._view_engine
+
+    def __getattr__(self, name):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        return getattr(self.view, name)
+
+    @property
+    def orbits(self) -> float:
+        m = self._meta
+        return self.view.orbits if m is None else m["t"] / (2.0 * math.pi)
+
+    @property
+    def steps(self) -> int:
+        m = self._meta
+        return self.view.steps if m is None else int(m["steps"])
+
+    @property
+    def U(self):
+        return self.view.U
+
+    # ---------------------------------------------------------------- the contract
+    def on_sample(self, fn) -> int:
+        h = len(self._callbacks) + 1
+        self._callbacks[h] = fn
+        if self._local is not None:
+            self._local.on_sample(fn)
+        return h
+
+    def advance(self, orbits=None, *, until=None, max_wall_s=None) -> float:
+        """One chunk on the worker (pushes the run there first); samples go to the callbacks.
+
+        With ``prefetch`` the worker is asked for the next chunk with the same arguments as soon
+        as this one has arrived, so it computes while the app draws and relays this one; that
+        chunk is the result of the next call with the same arguments, and any other call
+        (:meth:`settle`, ``snapshot``, a state change) first takes it into the shown state.
+        """
+        if self._blowup_stash is not None:
+            exc, self._blowup_stash = self._blowup_stash, None
+            raise exc
+        if self._actor is None:
+            self._push()
+        if max_wall_s is not None:
+            max_wall_s = max(max_wall_s, MIN_CHUNK_S)
+        args = (orbits, until, max_wall_s)
+        pending, self._pending = self._pending, None
+        if pending is not None and pending[0] != args:
+            self._take(pending[1].result())
+            pending = None
+        fut = pending[1] if pending is not None else self._actor.advance(*args)
+        res = fut.result()
+        if self.prefetch and res["blowup"] is None and not self._reached(res["light"], until):
+            self._pending = (args, self._actor.advance(*args))
+        exc = self._take(res, stash=False)
+        if exc is not None:
+            raise exc
+        return res["advanced"]
+
+    def settle(self) -> None:
+        """Take a chunk computed ahead (prefetch) into the shown state: after this, the state shown
+        is the state the worker keeps (Pause, export)."""
+        pending, self._pending = self._pending, None
+        if pending is not None:
+            self._take(pending[1].result())
+
+    @property
+    def computing_ahead(self) -> bool:
+        """True while a chunk computed ahead has not been taken into the shown state."""
+        return self._pending is not None
+
+    def _reached(self, state, until) -> bool:
+        return until is not None and state.meta["t"] / (2.0 * math.pi) >= until - 1e-12
+
+    def _take(self, res, stash=True):
+        """Show a chunk's result: light state, samples to the callbacks; its blow-up (returned, or
+        kept for the next :meth:`advance` with ``stash``)."""
+        self._set_light(res["light"])
+        for s in res["samples"]:
+            for fn in list(self._callbacks.values()):
+                fn(self, s)
+        exc = _blowup(*res["blowup"]) if res["blowup"] is not None else None
+        if stash and exc is not None:
+            self._blowup_stash = exc
+        return exc
+
+    def set_buffer(self, *args) -> None:
+        self._change("set_buffer", *args)
+
+    def clear_buffer(self) -> None:
+        self._change("clear_buffer")
+
+    def snapshot(self):
+        """The complete state (fetched from the worker while it holds the run)."""
+        if self._actor is None:
+            return self._local.snapshot()
+        self.settle()
+        return self._actor.snapshot().result()
+
+    def diagnostics(self) -> dict:
+        return self.view.diagnostics()
+
+    # ---------------------------------------------------------------- where the run lives
+    def detach(self) -> None:
+        """Bring the complete run back into this process and free the worker's copy."""
+        if self._actor is None:
+            return
+        self.settle()
+        self._local = engine_class(self.kind).restore(self._actor.snapshot().result())
+        for fn in self._callbacks.values():
+            self._local.on_sample(fn)
+        with self._lock:
+            self._view_engine, self._light, self._meta = self._local, None, None
+        self.release()
+
+    def release(self) -> None:
+        """Free the worker's copy (the run is closed, or was brought back by :meth:`detach`)."""
+        self._pending = None
+        if self._actor is not None:
+            self._backend().free(self._key)
+        self._actor = self._worker = self._key = None
+        if self._fin is not None:
+            self._fin()  # the backend's count of engines on that worker
+            self._fin = None
+
+    def _push(self) -> None:
+        b = self._backend()
+        self._actor, self._worker, self._key = b.host(self._local.snapshot())
+        self._fin = weakref.finalize(self, b.forget, self._worker)
+        self._local = None
+
+    def _set_light(self, state) -> None:
+        with self._lock:
+            self._light, self._meta = state, state.meta
+
+    def _change(self, name, *args) -> None:
+        if self._actor is None:
+            getattr(self._local, name)(*args)
+        else:
+            self.settle()
+            self._set_light(self._actor.call(name, *args).result())
+
+
+class DaskBackend:
+    """A Dask client (own LocalCluster or an existing scheduler) placing :class:`EngineHost` actors."""
+
+    def __init__(self, address: str | None = None, n_workers: int | None = None):
+        from dask.distributed import Client, LocalCluster
+        self.cluster = None
+        if address:
+            self.client = Client(address, timeout=30)
+        else:
+            n = n_workers or _cores()
+            self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0")
+            self.client = Client(self.cluster)
+        self._lock = threading.Lock()
+        self._count = {}  # worker address -> engines placed there
+        self._freed = set()
+
+    def workers(self) -> list:
+        return sorted(self.client.scheduler_info(n_workers=-1)["workers"])
+
+    def slots(self) -> int:
+        info = self.client.scheduler_info(n_workers=-1)["workers"]
+        return max(1, sum(int(w.get("nthreads", 1)) for w in info.values()))
+
+    def host(self, state):
+        """An :class:`EngineHost` actor holding ``state`` on the least-loaded worker: (actor, address, future)."""
+        with self._lock:
+            ws = self.workers()
+            addr = min(ws, key=lambda w: (self._count.get(w, 0), w))
+            self._count[addr] = self._count.get(addr, 0) + 1
+        fut = self.client.submit(EngineHost, state, actor=True, workers=[addr], allow_other_workers=False,
+                                 pure=False)
+        return fut.result(), addr, fut
+
+    def free(self, fut) -> None:
+        """Drop the actor of ``fut`` from its worker now (whoever else still refers to it)."""
+        try:
+            self.client.cancel([fut], force=True, asynchronous=False)
+        except Exception:  # the cluster is gone: nothing left to free
+            pass
+
+    def forget(self, addr) -> None:
+        with self._lock:
+            if addr in self._count:
+                self._count[addr] = max(0, self._count[addr] - 1)
+
+    def engines_on_workers(self) -> dict:
+        """Engines the workers hold now (for tests and the load test)."""
+        return self.client.run(lambda dask_worker: len(dask_worker.state.actors))
+
+    def close(self) -> None:
+        self.client.close()
+        if self.cluster is not None:
+            self.cluster.close()
+
+
+def _cores() -> int:
+    return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1))
+
+
+def _in_server() -> bool:
+    import panel as pn
+    doc = pn.state.curdoc
+    return doc is not None and doc.session_context is not None
+
+
+def mode(in_server: bool | None = None) -> str:
+    """``threads``, ``processes`` or ``dask`` from ``RINGLAB_COMPUTE`` / ``RINGLAB_DASK_SCHEDULER``.
+
+    Unset (or ``auto``): ``processes`` for the runs of a server session on a machine with two or
+    more cores, ``threads`` otherwise (one core; headless use: tests, notebooks, scripts).
+    ``in_server`` overrides the check for a server session (default: ``pn.state.curdoc``).
+    """
+    raw = os.environ.get(ENV_MODE, "").strip().lower()
+    if os.environ.get(ENV_SCHEDULER, "").strip():
+        if raw not in ("", "dask"):
+            raise ValueError(f"{ENV_MODE} = {raw!r} is not valid with {ENV_SCHEDULER} set: allowed 'dask' or unset")
+        return "dask"
+    if raw in ("", "auto"):
+        in_server = _in_server() if in_server is None else in_server
+        return "processes" if in_server and _cores() >= 2 else "threads"
+    if raw not in MODES:
+        raise ValueError(f"{ENV_MODE} = {raw!r} is not valid: allowed {', '.join(MODES)}")
+    if raw == "dask":
+        raise ValueError(f"{ENV_MODE} = 'dask' needs {ENV_SCHEDULER}=tcp://host:port (or use 'processes')")
+    return raw
+
+
+_BACKEND = None
+_BACKEND_LOCK = threading.Lock()
+
+
+def backend() -> DaskBackend | None:
+    """The server's backend for remote chunks, or None for the in-process thread pool."""
+    global _BACKEND
+    if _BACKEND is not None:
+        return _BACKEND
+    m = mode()
+    if m == "threads":
+        return None
+    with _BACKEND_LOCK:
+        if _BACKEND is None:
+            if m == "dask":
+                _BACKEND = DaskBackend(os.environ[ENV_SCHEDULER].strip())
+            else:
+                raw = os.environ.get(ENV_WORKERS, "").strip()
+                _BACKEND = DaskBackend(None, int(raw) if raw else None)
+            import logging
+            where = "an existing Dask cluster" if m == "dask" else "a LocalCluster"
+            logging.getLogger("panel.state").info(
+                f"live hydro runs compute on {where}: {len(_BACKEND.workers())} worker processes, "
+                f"{_BACKEND.slots()} threads ({ENV_MODE}={os.environ.get(ENV_MODE, '') or 'unset'})")
+        return _BACKEND
+
+
+def active() -> bool:
+    """True if new runs compute on Dask workers."""
+    return _BACKEND is not None or mode() != "threads"
+
+
+def warm() -> None:
+    """Start (or connect to) the backend in the background if the runs of this server will use one, so
+    that the first Start of a class does not wait for the worker processes (called per session)."""
+    if _BACKEND is not None or mode() == "threads":
+        return
+    threading.Thread(target=backend, name="ringlab-backend-start", daemon=True).start()
+
+
+def wrap(engine):
+    """``engine`` itself (thread pool) or a :class:`RemoteSim` of it (processes / Dask)."""
+    return RemoteSim(engine, backend) if active() else engine
+
+
+def set_backend(b: DaskBackend | None) -> None:
+    """Use ``b`` for new runs (tests); None goes back to the environment's choice."""
+    global _BACKEND
+    with _BACKEND_LOCK:
+        _BACKEND = b

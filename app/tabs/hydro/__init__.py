@@ -1,0 +1,1 @@
+"""The "Hydrodynamics" tab: its view and its Bokeh figures."""

@@ -1,0 +1,202 @@
+"""Bokeh figures of the live hydro run and how they are filled from a :class:`ringlab.live.hydro.HydroRunner`.
+
+Profiles of sigma, u, v, T (every frame), the space-time diagram of sigma (a float32
+image of at most 500 x 500 pixels, at most every IMAGE_PERIOD_S), e_kin(t), lambda_p(t)
+and the PSD of sigma with lambda_zero and the fastest-growing wavelength marked.
+
+References: eqs. (ekin), (fourier); Figures "tau15nga", "ekinisonosg", "lambdap".
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from bokeh.core.properties import value
+from bokeh.models import (BoxAnnotation, ColorBar, ColumnDataSource, HoverTool, Legend, LegendItem, LinearColorMapper,
+                          Range1d)
+from bokeh.palettes import Viridis256
+
+from ringcore.analysis.saturation import C_EMPIRICAL
+
+from ringlab.model.connect import allowed_wavelengths, slope_line, theory_mode
+from ringlab.model.units import ekin_unit
+from ringlab.ui.cite import publish
+from ringlab.ui.figures import log_ticks, new_figure, wavelength_markers
+from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
+
+SLOPE_COLOR = "#d84315"  # linear-theory growth of e_kin
+ALLOWED_COLOR = "#9e9e9e"  # wavelengths L_x/n the box can hold
+PROFILES = (  # key, y label, title
+    ("sigma", "σ/σ₀", "Surface density σ/σ₀"),
+    ("u", "u [mm/s]", "Radial velocity u"),
+    ("v", "v [mm/s]", "Azimuthal velocity v"),
+    ("T", "T [mm²/s²]", "Granular temperature T"),
+)
+
+
+class HydroPlots:
+    """The figures and their sources for one session."""
+
+    def __init__(self):
+        self.x_range = Range1d(-1000, 1000)
+        self.profile_source = ColumnDataSource(dict(x=[], sigma=[], u=[], v=[], T=[]), name="hydro-profile-source")
+        self.profile_figs = {}
+        for key, ylab, title in PROFILES:
+            fig = new_figure(title, "x [m]", ylab, height=205, x_range=self.x_range, min_width=150)
+            fig.line("x", key, source=self.profile_source, line_width=2, color=LINE_COLOR)
+            fig.title.text_font_size = "13px"
+            self.profile_figs[key] = fig
+        self.buffer_boxes = []
+        for fig in self.profile_figs.values():
+            box = BoxAnnotation(left=0, right=0, fill_color=BUFFER_COLOR, fill_alpha=0.12, visible=False)
+            fig.add_layout(box)
+            self.buffer_boxes.append(box)
+        self._spacetime_figure()
+        self._series_figures()
+        self._psd_figure()
+        for fig in self.figures():  # toolbar beside the plot: above, a long title pushes it off a phone screen
+            fig.toolbar_location = "right"
+
+    def figures(self) -> list:
+        """All figures of the tab."""
+        return [*self.profile_figs.values(), self.spacetime_fig, self.ekin_fig, self.lp_fig, self.psd_fig]
+
+    # ------------------------------------------------------------------ building
+    def _spacetime_figure(self):
+        self.image_source = ColumnDataSource(dict(image=[np.zeros((1, 1), np.float32)], x=[-1000.0], y=[0.0],
+                                                  dw=[2000.0], dh=[1.0]), name="hydro-spacetime-source")
+        self.color_mapper = LinearColorMapper(palette=Viridis256, low=0.5, high=1.5)
+        fig = new_figure("Space-time diagram of σ/σ₀", "x [m]", "time [orbits]", height=420, x_range=self.x_range,
+                         y_range=Range1d(0, 1))
+        fig.image(image="image", x="x", y="y", dw="dw", dh="dh", source=self.image_source,
+                  color_mapper=self.color_mapper)
+        fig.add_layout(ColorBar(color_mapper=self.color_mapper, title="σ/σ₀", width=12, title_text_font_size="12px",
+                                major_label_text_font_size="12px"), "right")
+        self.spacetime_buffer = BoxAnnotation(left=0, right=0, fill_alpha=0, line_color=BUFFER_COLOR, line_width=2,
+                                              line_dash="dashed", visible=False)
+        fig.add_layout(self.spacetime_buffer)
+        self.spacetime_fig = fig
+
+    def _series_figures(self):
+        self.series_source = ColumnDataSource(dict(t=[], e_kin=[], lambda_p=[]), name="hydro-series-source")
+        self.event_source = ColumnDataSource(dict(x=[], color=[], label=[]))
+        fig = new_figure(publish("Wave kinetic energy e_kin, eq. (ekin)", html_out=False), "time [orbits]",
+                         "e_kin [σ₀ (R_p Ω)²]", height=260, y_axis_type="log")
+        r = fig.line("t", "e_kin", source=self.series_source, line_width=2, color=LINE_COLOR)
+        fig.vspan(x="x", line_color="color", line_dash="dashed", line_width=2, source=self.event_source)
+        # linear theory: e_kin ~ amplitude^2 grows as exp(2 omega_R t) (eqs. ekin, osgrate)
+        self.slope_source = ColumnDataSource(dict(t=[], e_kin=[]), name="hydro-slope-source")
+        slope = fig.line("t", "e_kin", source=self.slope_source, line_width=3, line_dash="dashed", color=SLOPE_COLOR)
+        # the legend under the plot: inside, its long label would cover the curve at one end or the other
+        fig.add_layout(Legend(items=[LegendItem(label=value("linear theory"), renderers=[slope])], location="left",
+                              orientation="horizontal", label_text_font_size="12px", padding=2, margin=2,
+                              border_line_alpha=0), "below")
+        fig.add_tools(HoverTool(renderers=[r], tooltips=[("t", "@t{0.0} orbits"), ("e_kin", "@e_kin{0.000e}")],
+                                mode="vline"))
+        self.ekin_fig = fig
+        self.mode = None  # the linear-theory mode of the run shown (ringlab.model.connect.theory_mode)
+        self.lp_marker_source = ColumnDataSource(dict(y=[], color=[], dash=[], label=[]))
+        fig = new_figure("Prevalent wavelength λ_p", "time [orbits]", "λ_p [m]",
+                         height=260, y_axis_type="log")
+        self.allowed_source = ColumnDataSource(dict(y=[], n=[]), name="hydro-allowed-source")
+        fig.hspan(y="y", line_color=ALLOWED_COLOR, line_dash="dotted", line_width=1, source=self.allowed_source)
+        r = fig.scatter("t", "lambda_p", source=self.series_source, size=3, color=LP_COLOR)
+        fig.hspan(y="y", line_color="color", line_dash="dash", line_width=2, source=self.lp_marker_source)
+        fig.add_tools(HoverTool(renderers=[r], tooltips=[("t", "@t{0.0} orbits"), ("λ_p", "@lambda_p{0.0} m")]))
+        log_ticks(fig, [10, 20, 30, 50, 70, 100, 150, 200, 300, 500, 700, 1000, 2000, 5000, 10000])
+        self.lp_fig = fig
+
+    def _psd_figure(self):
+        self.psd_source = ColumnDataSource(dict(wavelength=[], power=[]), name="hydro-psd-source")
+        self.allowed_lp = None  # lambda_p the allowed-wavelength marks were drawn for
+        self.psd_markers = ColumnDataSource(dict(x=[], color=[], dash=[], label=[]))
+        fig = new_figure(publish("Power spectrum of σ, eq. (fourier)", html_out=False), "wavelength λ [m]", "PSD",
+                         height=260, x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
+        r = fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR)
+        fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.psd_markers)
+        fig.add_tools(HoverTool(renderers=[r], tooltips=[("λ", "@wavelength{0.0} m"), ("PSD", "@power{0.0e}")],
+                                mode="vline"))
+        self.psd_fig = fig
+
+    # ------------------------------------------------------------------ updating
+    def set_run(self, runner) -> None:
+        """New simulation: ranges, buffer marks and wavelength markers."""
+        sim = runner.sim
+        L = sim.options.L_x
+        self.x_range.update(start=-L / 2, end=L / 2, reset_start=-L / 2, reset_end=L / 2)
+        n = runner.numbers
+        lam = wavelength_markers(n)
+        self.psd_markers.data = {**lam}
+        emp = C_EMPIRICAL * n.get("lambda_zero_m", math.nan)
+        rows = [(n.get("lambda_max_growth_m", math.nan), MAXG_COLOR, "dotted", "fastest growth"),
+                (n.get("lambda_zero_m", math.nan), ZERO_COLOR, "dashed", "λ_zero"),
+                (emp, EMP_COLOR, "dashdot", publish(f"{C_EMPIRICAL:g} λ_zero, eq. (lambdasigma)", html_out=False))]
+        rows = [r for r in rows if math.isfinite(r[0])]
+        self.lp_marker_source.data = dict(y=[r[0] for r in rows], color=[r[1] for r in rows],
+                                          dash=[r[2] for r in rows], label=[r[3] for r in rows])
+        self.mode = m = theory_mode(sim.params, L, sim.n, runner.initial, runner.wavelength)
+        self.ekin_fig.legend.items[0].label = value(
+            f"linear theory: 2 ω_R = {2 * m['growth_rate']:.3g} Ω, λ = {m['wavelength_m']:.4g} m (L_x/{m['n']})"
+            + (" seeded" if runner.initial == "mode" else ""))
+        self.allowed_lp = None
+        self.update_buffer(runner)
+
+    def update_buffer(self, runner) -> None:
+        sim = runner.sim
+        on = bool(sim is not None and sim.buffer_active)
+        lo, hi = (sim.buffer[0], sim.buffer[1]) if on else (0.0, 0.0)
+        for box in self.buffer_boxes + [self.spacetime_buffer]:
+            box.update(left=lo, right=hi, visible=on)
+        ev = runner.buffer_events
+        self.event_source.data = dict(x=[e[0] for e in ev], color=[BUFFER_COLOR if e[1] is not None else "#777"
+                                                                    for e in ev],
+                                      label=[f"buffer β = {e[1]:g}" if e[1] is not None else "buffer off"
+                                             for e in ev])
+
+    def update_lines(self, runner) -> None:
+        """Profiles, series and PSD (cheap; every frame)."""
+        sim = runner.sim
+        sc = sim.params.scales
+        vel = sc.velocity * 1e3  # [mm/s]
+        f32 = np.float32
+        self.profile_source.data = dict(x=sim.x_m.astype(f32), sigma=sim.sigma.astype(f32),
+                                        u=(sim.u * vel).astype(f32), v=(sim.v * vel).astype(f32),
+                                        T=(sim.T * vel ** 2).astype(f32))
+        s = runner.series
+        e = s.get("e_kin") * ekin_unit(sim.params)  # sigma0 c0^2 -> sigma0 (R_p Omega)^2
+        e[e <= 0] = np.nan
+        t = s.get("t")
+        self.series_source.data = dict(t=t.astype(f32), e_kin=e.astype(f32), lambda_p=s.get("lambda_p").astype(f32))
+        if self.mode is not None:
+            line = slope_line(t, e, self.mode["slope_per_orbit"])
+            self.slope_source.data = dict(t=line["t"], e_kin=line["e_kin"])
+        wl, P = sim.psd()
+        P = np.maximum(P, 1e-12)
+        self.psd_source.data = dict(wavelength=wl.astype(f32), power=P.astype(f32))
+        lp = sim.prevalent_wavelength()
+        if lp != self.allowed_lp:
+            self.allowed_lp = lp
+            lam = s.get("lambda_p")
+            marks = allowed_wavelengths(sim.options.L_x, lp, span=lam[t >= min(1.0, t[-1])] if t.size else ())
+            self.allowed_source.data = dict(y=[w for _, w in marks], n=[k for k, _ in marks])
+        self.psd_markers.data = wavelength_markers(runner.numbers, [(lp, LP_COLOR, "solid", "λ_p now")])
+
+    def update_image(self, runner) -> None:
+        """The space-time diagram (stroboscopic or orbit-resolved, as set)."""
+        strobe = runner.spacetime == "stroboscopic"
+        img = runner.strobe_image if strobe else runner.orbit_image
+        title = ("Space-time diagram of σ/σ₀, stroboscopic (one row per orbit)" if strobe else
+                 f"Space-time diagram of σ/σ₀, orbit-resolved (last {img.max_rows * img.interval:g} orbits)")
+        if self.spacetime_fig.title.text != title:
+            self.spacetime_fig.title.text = title
+        data = img.image()
+        if data.shape[0] == 0:
+            return
+        t0, t1 = img.extent()
+        L = runner.sim.options.L_x
+        self.image_source.data = dict(image=[data], x=[-L / 2], y=[t0], dw=[L], dh=[t1 - t0])
+        lo, hi = np.percentile(data, [1, 99])
+        if not (hi > lo):
+            lo, hi = lo - 0.01, hi + 0.01
+        self.color_mapper.update(low=float(lo), high=float(hi))
+        self.spacetime_fig.y_range.update(start=t0, end=max(t1, t0 + 1e-3), reset_start=t0, reset_end=t1)

@@ -1,0 +1,315 @@
+"""The "Hydrodynamics" tab: a live 1D hydrodynamic integration of an overstable ring.
+
+Controls (settings, buffer zone, Start / Pause / Step / Reset, export) on the left; the
+space-time diagram, the profiles, e_kin(t), lambda_p(t) and the PSD on the right.  The
+:class:`ringlab.live.hydro.HydroRunner` advances the run in its periodic callback and bumps
+``frame``; this view then writes the line plots (up to every frame, ~10/s) and the
+space-time image (at most every IMAGE_PERIOD_S) into Bokeh sources, each only once the
+page has drawn the previous frame (:class:`ringlab.ui.FrameGate`).
+
+References: eqs. (nleq), (ekin), (fourier), (lambdasigma); Figures "tau15nga", "tau15bufnosg".
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import panel as pn
+import param
+
+from ringlab.lessons.tutorials import tab_links
+from ringlab.live.hydro import HydroRunner
+from ringlab.live.keeper import RunKeeper
+from ringlab.model.connect import allowed_wavelengths
+from ringlab.model.controls import set_labels
+from ringlab.model.hydro_settings import SETTINGS_PARAMS, SETUP_PARAMS
+from ringlab.server.session_end import on_session_end
+from ringlab.tabs.hydro.plots import HydroPlots
+from ringlab.tabs.shared import ExportPanel, restore_widgets
+from ringlab.ui.checked_input import CheckedInputs
+from ringlab.ui.cite import publish
+from ringlab.ui.frame_gate import FrameGate
+from ringlab.ui.layout import page_row, responsive_grid, wrap_row
+from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
+from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
+from ringlab.ui.style import CSS
+
+IMAGE_PERIOD_S = 0.25  # the space-time image is sent at most 4 times per second
+
+EXPLANATION = publish("""
+### What am I looking at?
+The app integrates the paper's hydrodynamic equations, **eq. (nleq)** (mass, radial and azimuthal momentum and
+— in the non-isothermal model — granular temperature, with the pressure and viscosity laws of **eqs. (pres)-(coolfunc)**
+and radial self-gravity), in a periodic box of radial size L<sub>x</sub>, with the scheme of Section
+"Numerical Methods": conservative finite differences, **eq. (hcl)**, time step **eq. (timestep)**.
+
+* **Space-time diagram**: σ/σ₀ against radius x (across) and time (up). *Stroboscopic* shows one row per orbit at the same
+  orbital phase, like the paper's Figure "tau15nga" (Appendix "Stroboscopic Space-Time Diagram": the apparent motion is
+  the *effective* phase velocity, not the true one); *orbit-resolved* shows 20 rows per orbit, where the fast
+  oscillation at about the orbital frequency Ω is visible.
+* **Profiles**: the current σ, u, v, T across the box.
+* **e<sub>kin</sub>(t)**, **eq. (ekin)**: the energy in the wave motion. Small waves grow exponentially (a straight line
+  on this log axis, slope = 2 × growth rate of the Linear-theory tab) until nonlinear effects saturate them.
+* **λ<sub>p</sub>(t)** and the **PSD** (Fourier power of σ, **eq. (fourier)**): the prevalent wavelength starts near the
+  fastest-growing one (orange, dotted) and in the saturated state moves towards **1.4 λ<sub>zero</sub>**,
+  **eq. (lambdasigma)**, the paper's Figure "lambdap".
+* **Buffer zone**: a region with viscosity exponent β below β<sub>c</sub> (purple) where waves are damped, as in
+  Figure "tau15bufnosg" and Section "Hydrodynamical Integrations with a Buffer-Zone"; it creates a source/sink structure.
+
+The run goes on while you look at other tabs (press Pause to stop it); closing the browser tab stops it.
+If the scheme fails (a "blow-up": a density or temperature turns negative), the run pauses at the last good state.
+""")
+
+
+class HydroView(pn.viewable.Viewer):
+    """The "Hydrodynamics" tab of one session."""
+
+    runner = param.ClassSelector(class_=HydroRunner)
+    runs = param.Parameter(default=None, doc="The session's shared run log (ringlab.live.session.SessionRuns).")
+
+    def __init__(self, **params):
+        super().__init__(**params)
+        if self.runner is None:
+            self.runner = HydroRunner()
+        r = self.runner
+        if self.runs is not None:
+            self.runs.hydro = r
+            self.runs.register("hydro", self, r)
+        self.plots = HydroPlots()
+        self.line_gate = FrameGate(self.plots.profile_figs["sigma"], self.plots.profile_source)
+        self.image_gate = FrameGate(self.plots.spacetime_fig, self.plots.image_source, min_period_s=IMAGE_PERIOD_S,
+                                    max_in_flight=1)
+        self._shown_sim = None
+        self._buffer_shown = None
+        self.header = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
+        self.status = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
+        self.readouts = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
+        self.lp_note = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
+        self._lp_noted = None
+        self.blowup = message_pane("hydro-blowup")
+        self.messages = {g: message_pane(f"hydro-msg-{g}") for g in ("model", "grid", "initial", "buffer")}
+        self.model_note = message_pane("hydro-model-note")
+        self.checked = {}
+        self.keeper = RunKeeper(r, SETUP_PARAMS, SETTINGS_PARAMS)
+        self.kept, self.restore_button = restore_widgets(self.keeper, "hydro", CSS)
+        r.param.watch(lambda e: show_message(self.model_note, e.new, "ok"), "model_note")
+        self._last_rate = (math.nan, math.nan)
+        self.buttons = self._buttons()
+        self.export = ExportPanel(r, "hydro")
+        self.key = self._key_pane()
+        self._layout = self._build_layout()
+        r.param.watch(self._on_frame, "frame")
+        r.param.watch(self._on_problems, ["problems", "blowup"])
+        r.param.watch(self._on_running, ["running", "status", "blowup"])
+        r.param.watch(self._on_mode, "spacetime")
+        self._on_frame()
+        self._on_problems()
+        self._on_running()
+        on_session_end(r.close)
+        self._sync_location()
+
+    # ---------------------------------------------------------------- building
+    def _buttons(self) -> dict:
+        r = self.runner
+        b = dict(start=pn.widgets.Button(label="Start", color="success", css_classes=["hydro-start"]),
+                 pause=pn.widgets.Button(label="Pause", color="warning", css_classes=["hydro-pause"]),
+                 step=pn.widgets.Button(label="Step 1 orbit", css_classes=["hydro-step"]),
+                 reset=pn.widgets.Button(label="Reset", css_classes=["hydro-reset"]))
+        b["start"].on_click(r.start)
+        b["pause"].on_click(r.pause)
+        b["step"].on_click(r.step_once)
+        b["reset"].on_click(r.reset)
+        for w in b.values():
+            w.param.update(width=120, sizing_mode="fixed")
+        return b
+
+    def _widgets(self) -> pn.Column:
+        r = self.runner
+        p = r.param
+        iso = p.isothermal
+        W = pn.widgets
+
+        def title(text, live=False):
+            how = ("acts on the running state" if live else "a change restarts the run at orbit 0 "
+                   "(the old run stays restorable)")
+            return pn.pane.HTML(f'<div class="group-title">{text}</div><div class="buttons-note">{how}</div>',
+                                stylesheets=[CSS], margin=(0, 10))
+
+        grid = self.checked["grid"] = CheckedInputs(r, "hydro-input-grid")
+        init = self.checked["initial"] = CheckedInputs(r, "hydro-input-initial")
+        buf = self.checked["buffer"] = CheckedInputs(r, "hydro-input-buffer")
+
+        return pn.Column(
+            title("Ring model"),
+            W.Select.from_param(p.param_set, options=set_labels()),
+            W.FloatSlider.from_param(p.sigma0, throttled=True, format="0"),
+            W.Checkbox.from_param(iso, css_classes=["hydro-isothermal"]),
+            W.FloatSlider.from_param(p.ps_scale, visible=iso.rx.not_(), format="0.00", throttled=True),
+            W.FloatSlider.from_param(p.iso_p_s, visible=iso, format="0.00", throttled=True),
+            self.model_note, self.messages["model"],
+            title("Box and grid"),
+            pn.Row(grid.number("L_x", width=145), grid.number("h", width=145)), grid.pane,
+            W.Select.from_param(p.timestep),
+            W.Select.from_param(p.T_floor),
+            self.messages["grid"],
+            title("Initial state"),
+            W.Select.from_param(p.initial),
+            init.number("wavelength", visible=p.initial.rx() == "mode"),
+            pn.Row(init.number("amplitude", width=145, format="0.0[00000]"), init.number("seed", width=145)),
+            init.pane, self.messages["initial"],
+            title("Buffer zone", live=True),
+            W.Checkbox.from_param(p.buffer_on, css_classes=["hydro-buffer-on"]),
+            pn.Row(buf.number("buffer_x", width=145), buf.number("buffer_width", width=145)), buf.pane,
+            W.FloatSlider.from_param(p.buffer_beta, format="0.00"),
+            self.messages["buffer"],
+            title("Display", live=True),
+            W.RadioButtonGroup.from_param(p.spacetime, color="primary", variant="outline",
+                                          css_classes=["hydro-spacetime-mode"]),
+            width=320,
+        )
+
+    def _build_layout(self):
+        P = self.plots
+        pane = lambda f: pn.pane.Bokeh(f, sizing_mode="stretch_width")  # noqa: E731
+        # responsive grids (issue 14, item 7): the space-time diagram beside the profiles only on wide
+        # screens; profiles at least 280 px wide each (two per row at 1024 px, one on a phone)
+        f = [pane(fig) for fig in P.profile_figs.values()]
+        profiles = responsive_grid(responsive_grid(f[0], f[1], min_px=290), responsive_grid(f[2], f[3], min_px=290),
+                                   min_px=640)  # 2 x 2, 4 x 1 on wide screens, 1 per row on a phone
+        top = responsive_grid(pane(P.spacetime_fig), profiles, min_px=580)
+        bottom = responsive_grid(pane(P.ekin_fig), pane(P.lp_fig), pane(P.psd_fig), min_px=300)
+        bottom = pn.Column(bottom, self.lp_note, sizing_mode="stretch_width")
+        explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
+        explanation = pn.Column(explanation, pn.pane.HTML(tab_links("hydro"), stylesheets=[CSS], margin=(0, 10),
+                                                          sizing_mode="stretch_width"), sizing_mode="stretch_width")
+        controls = wrap_row(*self.buttons.values())
+        kept = wrap_row(self.kept, self.restore_button)
+        return page_row(pn.Column(self._widgets(), self.export, width=340),
+                        pn.Column(self.header, controls, self.status, kept, self.blowup, self.readouts, self.key,
+                                  top, bottom, explanation, sizing_mode="stretch_width"))
+
+    @staticmethod
+    def _key_pane() -> pn.pane.HTML:
+        items = [("fastest-growing λ (linear)", MAXG_COLOR, "dotted"), ("λ_zero (v_g = 0)", ZERO_COLOR, "dashed"),
+                 (publish("1.4 λ_zero, eq. (lambdasigma)"), EMP_COLOR, "dashed"), ("λ_p now", LP_COLOR, "solid"),
+                 ("buffer zone", BUFFER_COLOR, "solid")]
+        html = "".join(f'<span class="key-item"><span class="key-line" style="border-top: 3px {s} {c}"></span>'
+                       f'<span>{lab}</span></span>' for lab, c, s in items)
+        return pn.pane.HTML(f'<div class="key" id="hydro-key">Markers: {html}</div>', stylesheets=[CSS],
+                            sizing_mode="stretch_width", margin=(0, 10))
+
+    def _sync_location(self):
+        doc = pn.state.curdoc
+        if pn.state.location is not None and doc is not None and doc.session_context is not None:
+            pn.state.location.sync(self.runner, {k: f"hydro_{k}" for k in SETTINGS_PARAMS}, on_error=self._bad_query)
+
+    def _bad_query(self, values: dict) -> None:
+        self.runner.status = (f"Settings in the page address were not applied (invalid): "
+                              f"{', '.join(sorted(values))}.")
+
+    # ---------------------------------------------------------------- updating
+    def _on_frame(self, *_):
+        r = self.runner
+        if r.sim is None:
+            return
+        now = time.perf_counter()
+        force = r.sim is not self._shown_sim or not r.running
+        lines = force or self.line_gate.ready(now)
+        image = force or self.image_gate.ready(now)
+        if not (lines or image):
+            return  # the page is still drawing the previous frame: skip this one
+        with pn.io.hold():
+            if r.sim is not self._shown_sim:
+                self.plots.set_run(r)
+                self._shown_sim = r.sim
+                self.header.object = f'<div class="model-label" id="hydro-run-label">{r.run_label}</div>'
+            buf = (r.sim.buffer_active, r.sim.buffer if r.sim.buffer_active else None, len(r.buffer_events))
+            if buf != self._buffer_shown:
+                self.plots.update_buffer(r)
+                self._buffer_shown = buf
+            if lines:
+                self.plots.update_lines(r)
+                self.readouts.object = readout_cards(self._readout_rows(), "hydro-readouts")
+                self._note_allowed()
+                self.line_gate.mark_sent(now)
+            if image:
+                self.plots.update_image(r)
+                self.image_gate.mark_sent(now)
+
+    def _note_allowed(self) -> None:
+        """One line under the λ_p plot: why λ_p jumps between the grey marks (only when λ_p changed)."""
+        sim = self.runner.sim
+        lp = sim.prevalent_wavelength()
+        if lp == self._lp_noted:
+            return
+        self._lp_noted = lp
+        near = [f"{w:.4g}" for k, w in allowed_wavelengths(sim.options.L_x, lp, each_side=1)]
+        self.lp_note.object = (
+            f'<div class="buttons-note" id="hydro-lp-note">Grey dotted lines in the λ<sub>p</sub> plot: the only '
+            f'wavelengths a periodic box of L<sub>x</sub> = {sim.options.L_x:g} m can hold, L<sub>x</sub>/n for a '
+            f'whole number n of waves (near λ<sub>p</sub>: {", ".join(near)} m). So λ<sub>p</sub> jumps from one '
+            'to the next when waves merge or split; it cannot change smoothly. Dashed red in e<sub>kin</sub>: '
+            'linear theory for the fastest-growing of these wavelengths (slope 2 ω<sub>R</sub>, e<sub>kin</sub> '
+            '∝ amplitude²).</div>')
+
+    def _on_mode(self, *_):
+        if self.runner.sim is not None:
+            self.plots.update_image(self.runner)
+            self.image_gate.mark_sent(time.perf_counter())
+
+    def _readout_rows(self):
+        r = self.runner
+        sim = r.sim
+        if r.running:
+            self._last_rate = r.rates()
+        steps_s, orb_s = self._last_rate
+        # the speed measured now (last ~2 s), not a fixed figure: it falls from ~11 to ~5 orbits/s as the
+        # waves become nonlinear and the time step shrinks (issue 14, item 9)
+        when = "now, of wall-clock time" if r.running else "when last running"
+        n = r.numbers
+        return [
+            ("hydro-orbits", "Orbits elapsed", f"{sim.orbits:.2f}", f"{sim.steps} steps"),
+            ("hydro-orbits-per-s", "Orbits per second", fmt(orb_s, ".1f"), when),
+            ("hydro-steps-per-s", "Steps per second", fmt(steps_s, ".0f"), f"{sim.n} cells"),
+            ("hydro-dt", "Time step", fmt(r.typical_dt_orbits() * 1e3, ".3g", "mOrb"),
+             publish("eq. (timestep)") if r.timestep == "paper" else "CFL criterion"),
+            ("hydro-lambda-p", "λ<sub>p</sub> now", fmt(sim.prevalent_wavelength(), ".4g", "m"),
+             f"fastest growth {fmt(n.get('lambda_max_growth_m', math.nan), '.4g', 'm')}"),
+            ("hydro-lambda-zero", "λ<sub>zero</sub>", fmt(n.get("lambda_zero_m", math.nan), ".4g", "m"),
+             f"1.4 λ<sub>zero</sub> = {fmt(1.4 * n.get('lambda_zero_m', math.nan), '.4g', 'm')}"),
+            ("hydro-buffer", "Buffer zone", f"β = {sim.buffer[2]:g}" if sim.buffer_active else "off",
+             f"{sim.buffer[0]:g} .. {sim.buffer[1]:g} m" if sim.buffer_active else "β = β of the set everywhere"),
+        ]
+
+    def _on_problems(self, *_):
+        r = self.runner
+        for g, pane in self.messages.items():
+            text = r.problems.get(g, "")
+            if text and g != "buffer":
+                text += ". The run shown keeps its last valid settings."
+            elif text:
+                text += ". The buffer stays off until this is fixed."
+            show_message(pane, text)
+        show_message(self.blowup, self.blowup_advice())
+
+    def blowup_advice(self) -> str:
+        """The runner's blow-up message, plus the temperature floor when the run had it off."""
+        r = self.runner
+        text = r.blowup
+        sim = r.sim
+        if text and sim is not None and not sim.params.isothermal and sim.options.T_floor == 0:
+            text += (" This run had the temperature floor off (the paper's scheme): strongly nonlinear runs stop "
+                     "when T reaches 0; set 'Temperature floor' to 0.01 T0 and press Reset to let it go on.")
+        return text
+
+    def _on_running(self, *_):
+        r = self.runner
+        b = self.buttons
+        # after a blow-up only Reset can go on: Start and Step are disabled (issue 14, item 5)
+        b["start"].disabled = r.running or bool(r.blowup)
+        b["pause"].disabled = not r.running
+        b["step"].disabled = r.running or bool(r.blowup)
+        self.status.object = f'<div class="status" id="hydro-status">{r.status}</div>'
+
+    def __panel__(self):
+        return self._layout

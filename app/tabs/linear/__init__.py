@@ -1,0 +1,1 @@
+"""The "Linear theory" tab: the dispersion relation and its "Run this in ..." buttons."""

@@ -1,0 +1,64 @@
+"""Bokeh figures of the tabs: styled for a projector, wavelength markers and their key, log ticks.
+
+Figures are plain Bokeh figures whose ``ColumnDataSource`` objects are written in place
+(``shared/guides/panel-live-app.md``: 1-2 ms per update instead of 50 ms through
+HoloViews); every figure has Bokeh's "save" tool for a PNG.
+"""
+from __future__ import annotations
+
+import math
+
+from bokeh.models import ColumnDataSource, CustomJSTickFormatter, FixedTicker
+from bokeh.plotting import figure
+
+from ringlab.ui.palette import MAXG_COLOR, ZERO_COLOR
+
+
+def style_figure(fig, title_size: str = "14px") -> None:
+    """Readable fonts for a classroom projector."""
+    fig.title.text_font_size = title_size
+    for ax in fig.axis:
+        ax.axis_label_text_font_size = "14px"
+        ax.major_label_text_font_size = "12px"
+        ax.axis_label_text_font_style = "normal"
+    fig.toolbar.logo = None
+
+
+def new_figure(title: str, xlabel: str, ylabel: str, height: int = 260, **kw):
+    """A styled figure with pan/zoom/reset/save tools."""
+    kw.setdefault("min_width", 260)
+    fig = figure(title=title, x_axis_label=xlabel, y_axis_label=ylabel, height=height, sizing_mode="stretch_width",
+                 tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="above", **kw)
+    style_figure(fig)
+    return fig
+
+
+def marker_source(name: str | None = None) -> ColumnDataSource:
+    """Source for labelled vertical/horizontal marker lines (columns x, color, dash, label)."""
+    return ColumnDataSource(dict(x=[], color=[], dash=[], label=[]), name=name)
+
+
+def wavelength_markers(numbers: dict, extra=()) -> dict:
+    """Marker columns for lambda_zero and the fastest-growing wavelength of ``numbers``
+    (:func:`ringlab.model.linear.characteristic_numbers`) plus ``extra`` (x, color, dash, label) rows."""
+    rows = [(numbers.get("lambda_zero_m", math.nan), ZERO_COLOR, "dashed", "λ_zero"),
+            (numbers.get("lambda_max_growth_m", math.nan), MAXG_COLOR, "dotted", "fastest growth")]
+    rows += list(extra)
+    rows = [r for r in rows if r[0] is not None and math.isfinite(r[0])]
+    return dict(x=[r[0] for r in rows], color=[r[1] for r in rows], dash=[r[2] for r in rows],
+                label=[f"{r[3]} = {r[0]:.4g} m" for r in rows])
+
+
+def key_html(markers: dict, element_id: str, extra_items=()) -> str:
+    """A legend line for marker rows (and extra (label, color, style) line items)."""
+    items = [f'<span class="key-item"><span class="key-line" style="border-top: 3px {s} {c}"></span>'
+             f'<span>{lab}</span></span>' for lab, c, s in extra_items]
+    items += [f'<span class="key-item"><span class="key-vline" style="border-left: 2px {d} {c}"></span>'
+              f'<span>{lab}</span></span>' for lab, c, d in zip(markers["label"], markers["color"], markers["dash"])]
+    return f'<div class="key" id="{element_id}">{"".join(items)}</div>'
+
+
+def log_ticks(fig, ticks) -> None:
+    """Readable fixed ticks (plain numbers) on a log y axis."""
+    fig.yaxis.ticker = FixedTicker(ticks=list(ticks))
+    fig.yaxis.formatter = CustomJSTickFormatter(code="return tick.toString()")

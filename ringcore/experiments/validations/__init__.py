@@ -1,0 +1,8 @@
+"""Long validations of the engines against independent answers (``ringcore validate NAME``).
+
+Each module provides ``HELP`` (one line), ``add_arguments(parser)`` and ``run(args) -> int`` (exit
+status 0 if every check passes, 1 otherwise; the printed table is the record).  They take minutes
+to hours and are not part of the test suite; quick versions of the same checks are.
+"""
+VALIDATIONS = {"hydro-linear": "hydro_linear", "nbody-groundstate": "nbody_groundstate",
+               "nbody-linear": "nbody_linear"}

@@ -1,0 +1,149 @@
+"""The live hydro runner computing on Dask workers (ringlab.server.remote), against a LocalCluster of 2 processes.
+
+Independent answer: the same runner computing in this process (the engine contract says a
+restored engine continues bit for bit and the chunking never changes a run), compared with
+the SHA-256 of the complete state (kernel state and every recorded sample).
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+import pytest
+from panel.io.state import set_curdoc
+
+from ringlab.server import compute, remote
+from ringlab.live.hydro import HydroRunner
+from ringcore.hydro import Hydro1D
+
+from test_app_compute import FakeDoc
+
+distributed = pytest.importorskip("distributed")
+
+SMALL = dict(L_x=500.0, h=2.5)  # 200 cells
+
+
+@pytest.fixture(scope="module")
+def backend():
+    cluster = distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
+    b = remote.DaskBackend(cluster.scheduler_address)
+    remote.set_backend(b)
+    yield b
+    remote.set_backend(None)
+    b.close()
+    cluster.close()
+
+
+@pytest.fixture
+def pool():
+    old = compute._POOL
+    compute._POOL = compute.ComputePool(2, threads=8)
+    yield compute._POOL
+    compute._POOL.shutdown()
+    compute._POOL = old
+
+
+def engines(backend) -> int:
+    return sum(backend.engines_on_workers().values())
+
+
+def wait_engines(backend, n, seconds=10.0) -> int:
+    t_end = time.time() + seconds
+    while engines(backend) != n and time.time() < t_end:
+        time.sleep(0.1)
+    return engines(backend)
+
+
+def in_process(orbits, **settings) -> HydroRunner:
+    """The reference: the same runner, computing in this process."""
+    b, remote._BACKEND = remote._BACKEND, None
+    try:
+        r = HydroRunner(**settings)
+    finally:
+        remote._BACKEND = b
+    assert isinstance(r.sim, Hydro1D)
+    r.running, r.pause_at = True, orbits
+    while r.sim.orbits < orbits - 1e-9:
+        r.tick()
+    return r
+
+
+def test_worker_run_is_bit_identical_to_in_process(backend):
+    r = HydroRunner(**SMALL)
+    assert isinstance(r.sim, remote.RemoteSim) and not r.sim.on_worker
+    r.running, r.pause_at = True, 2.0
+    ticks = 0
+    while r.sim.orbits < 2.0 - 1e-9:
+        r.tick()
+        ticks += 1
+    assert r.sim.on_worker and wait_engines(backend, 1) == 1
+    ref = in_process(2.0, **SMALL)
+    assert r.sim.orbits == ref.sim.orbits == 2.0 and r.sim.steps == ref.sim.steps > 0
+    assert r.sim.snapshot().checksum() == ref.sim.snapshot().checksum()  # kernel state and every sample
+    np.testing.assert_array_equal(r.sim.sigma, ref.sim.sigma)  # what the page draws
+    for name in ("t", "e_kin", "lambda_p"):
+        np.testing.assert_array_equal(r.series.get(name), ref.series.get(name))
+    np.testing.assert_array_equal(r.orbit_image.image(), ref.orbit_image.image())
+    np.testing.assert_array_equal(r.strobe_image.image(), ref.strobe_image.image())
+    # a setup change brings the run back (it may be kept for "restore") and frees the worker
+    old = r.sim
+    r.sigma0 = 300.0
+    assert not old.on_worker and old.orbits == 2.0 and wait_engines(backend, 0) == 0
+    assert old.snapshot().checksum() == ref.sim.snapshot().checksum()
+    r.close()
+
+
+def test_served_session_pause_keeps_the_shown_state_and_close_frees_the_worker(backend, pool):
+    doc = FakeDoc()
+    with set_curdoc(doc):
+        r = HydroRunner(**SMALL)
+        r.start()
+    frames = []
+    r.param.watch(lambda e: frames.append(r.sim.orbits), "frame")
+    doc.drain(10.0, stop=lambda: len(frames) >= 3)
+    assert r.sim.on_worker and r.sim.orbits > 0 and len(frames) >= 2
+    assert frames == sorted(frames)
+    with set_curdoc(doc):
+        r.pause()
+    doc.drain(2.0, stop=lambda: not r._inflight)
+    doc.drain(0.3)
+    shown = (r.sim.orbits, r.sim.steps, r.sim.sigma.copy())
+    time.sleep(0.3)
+    doc.drain(0.3)
+    assert (r.sim.orbits, r.sim.steps) == shown[:2] and frames[-1] == shown[0]  # nothing advanced after Pause
+    kept = Hydro1D.restore(r.sim.snapshot())  # what an export writes
+    assert (kept.orbits, kept.steps) == shown[:2]
+    np.testing.assert_array_equal(kept.sigma, shown[2])
+    ds = r.to_dataset()
+    assert float(ds.attrs.get("steps", kept.steps)) == kept.steps
+    assert wait_engines(backend, 1) == 1
+    with set_curdoc(doc):
+        r.close()
+    assert wait_engines(backend, 0) == 0  # the closed session's engine is gone from the worker
+
+
+def test_a_blow_up_on_a_worker_reaches_the_runner_as_the_engines_exception():
+    import pickle
+    from ringcore.hydro import HydroBlowUp
+    exc = HydroBlowUp("T", 12.5, 3.25, 812, float("nan"), detail="at the left edge")
+    back = remote._blowup(*pickle.loads(pickle.dumps((exc.fields(), str(exc)))))
+    assert type(back) is HydroBlowUp and str(back) == str(exc)
+    assert (back.what, back.where_m, back.orbit, back.step) == ("T", 12.5, 3.25, 812)
+
+
+def test_backend_choice_from_the_environment(monkeypatch):
+    monkeypatch.delenv(remote.ENV_SCHEDULER, raising=False)
+    monkeypatch.delenv(remote.ENV_MODE, raising=False)
+    assert remote.mode() == "threads"  # headless (no server session): in this process
+    cores = remote._cores()
+    assert remote.mode(in_server=True) == ("processes" if cores >= 2 else "threads")  # a class: every core
+    monkeypatch.setenv(remote.ENV_MODE, "threads")
+    assert remote.mode(in_server=True) == "threads"
+    monkeypatch.setenv(remote.ENV_MODE, "Processes")
+    assert remote.mode() == "processes"
+    monkeypatch.setenv(remote.ENV_MODE, "gpu")
+    with pytest.raises(ValueError, match="RINGLAB_COMPUTE = 'gpu' is not valid: allowed auto, threads, processes, dask"):
+        remote.mode()
+    monkeypatch.setenv(remote.ENV_MODE, "")
+    monkeypatch.setenv(remote.ENV_SCHEDULER, "tcp://10.0.0.1:8786")
+    assert remote.mode() == "dask"

@@ -1,0 +1,97 @@
+"""Helpers of the browser tier (tests/browser): Debian Chromium through Playwright, and app servers
+started with ``panel serve app/main.py`` on free loopback ports.  The fixtures ``app_server`` and
+``browser_page`` are in tests/conftest.py."""
+from __future__ import annotations
+
+import os
+import re
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+import pytest
+
+CHROMIUM = Path(os.environ.get("RINGLAB_CHROMIUM", "/usr/bin/chromium"))
+REPO = Path(__file__).resolve().parents[1]
+ARTIFACTS = REPO / "test-artifacts"
+FLAGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+         "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+
+try:
+    from playwright.sync_api import expect, sync_playwright
+except ImportError:  # pragma: no cover - depends on the environment
+    sync_playwright = expect = None
+
+pytestmark = [
+    pytest.mark.browser,
+    pytest.mark.skipif(sync_playwright is None, reason="playwright Python package not installed (pip install playwright)"),
+    pytest.mark.skipif(not CHROMIUM.exists(), reason=f"{CHROMIUM} not found (make browser installs Debian's chromium)"),
+]
+
+
+def free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def start_server(port: int, log_path: Path, extra=(), compute: str | None = None) -> tuple[subprocess.Popen, float]:
+    """Start ``panel serve app/main.py`` and wait for /liveness; returns (process, seconds to liveness).
+
+    ``compute``: the server's ``RINGLAB_COMPUTE`` (default: the environment's, else ``threads``: the
+    browser tests keep their runs in the server process; ``tests/browser/test_browser_backend.py`` runs the
+    app's own default, worker processes).
+    """
+    cmd = [sys.executable, "-m", "panel", "serve", "app/main.py", "--port", str(port), "--address", "127.0.0.1",
+           "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness", *extra]
+    env = dict(os.environ)
+    env["RINGLAB_COMPUTE"] = compute if compute is not None else os.environ.get("RINGLAB_COMPUTE", "threads")
+    log = open(log_path, "w")
+    t0 = time.perf_counter()
+    proc = subprocess.Popen(cmd, cwd=REPO, env=env, stdout=log, stderr=subprocess.STDOUT)
+    deadline = t0 + 120.0  # a loaded shared 2-core machine
+    while time.perf_counter() < deadline:
+        if proc.poll() is not None:
+            log.close()
+            raise RuntimeError(f"panel serve exited with {proc.returncode}:\n{log_path.read_text()}")
+        try:
+            with urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=1) as r:
+                if r.status == 200:
+                    return proc, time.perf_counter() - t0
+        except OSError:
+            pass
+        time.sleep(0.1)
+    stop_server(proc)
+    raise RuntimeError(f"panel serve did not answer /liveness within 120 s:\n{log_path.read_text()}")
+
+
+def stop_server(proc: subprocess.Popen) -> None:
+    proc.terminate()
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait(timeout=5)
+
+
+def readout_m(page, rid: str) -> float:
+    """Number in the readout card ``#rid`` (nan for '—')."""
+    text = page.locator(f"#{rid} .ro-value").inner_text().strip()
+    m = re.match(r"([-\d.eE+]+)\s*(k?m)", text)
+    if not m:
+        return float("nan")
+    return float(m.group(1)) * (1e3 if m.group(2) == "km" else 1.0)
+
+
+def wait_readout_change(page, rid: str, old: str, timeout_s: float = 15.0) -> float:
+    """Seconds until the text of readout ``#rid`` differs from ``old``."""
+    t0 = time.perf_counter()
+    loc = page.locator(f"#{rid} .ro-value")
+    while time.perf_counter() - t0 < timeout_s:
+        if loc.inner_text().strip() != old:
+            return time.perf_counter() - t0
+        page.wait_for_timeout(10)
+    raise AssertionError(f"#{rid} stayed at {old!r} for {timeout_s} s")
