@@ -5,7 +5,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..checks import check_real
+from ..checks import check_int, check_real
 from ..io import check_name, reserve_output
 from ..io.errors import output_error
 from .common import refuse_with
@@ -35,10 +35,16 @@ def register(sub) -> None:
     p.add_argument("--h", type=float, default=None, help="hydro node spacing [m] (default 2.5)")
     p.add_argument("--orbits", type=float, default=None, help="orbits per run (default: hydro 300, nbody 100)")
     p.add_argument("--seed", type=int, default=1)
-    p.add_argument("--workers", type=int, default=2, help="LocalCluster worker processes (default 2)")
+    p.add_argument("--workers", type=int, default=None,
+                   help="LocalCluster worker processes, one thread each (default: one per CPU of this machine)")
+    p.add_argument("--retries", type=int, default=2,
+                   help="run a task lost with its worker (worker died, connection closed) again up to this many "
+                        "times (default 2); a task failing in the physics is reported once")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="use a running dask scheduler (given up after 5 s if unreachable)")
     p.add_argument("--out", default="sweep-out", help="output folder")
+    p.add_argument("--json", action="store_true",
+                   help="print the result as one JSON object (runs, failures, files, wall time)")
     p.set_defaults(func=run)
 
 
@@ -116,10 +122,9 @@ def run(args) -> int:
     refuse_with(args, UNUSED[args.engine], f"with --engine {args.engine}")
     if args.scheduler is not None:
         refuse_with(args, ("workers",), "with --scheduler (the scheduler's workers run the tasks)")
-    else:
-        from ..checks import check_int
-
+    elif args.workers is not None:
         check_int("--workers", args.workers, 1, 512)
+    check_int("--retries", args.retries, 0, 20)
     tasks = tasks_of(args)
     check_output_dir(args.out)
     check_name(Path(args.out) / "sweep.nc", label="--out", utf8=True)  # task file names go into sweep.nc
@@ -131,12 +136,20 @@ def run(args) -> int:
     with reserve_output(Path(args.out) / "sweep.nc", overwrite=True, label="--out", utf8=True):
         try:
             res = run_sweep(tasks, args.out, scheduler=args.scheduler, n_workers=args.workers,
-                            attrs=provenance(args))
+                            retries=args.retries, attrs=provenance(args), progress=not args.json)
         except SchedulerUnreachable as exc:
             raise EnvironmentProblem(str(exc)) from None
         png = figure_lambdap(res.dataset, f"{args.out}/lambdap.png", set_name=args.set,
                              isothermal=args.isothermal)
     n_ok = len(res.rows) - len(res.failed)
+    if args.json:
+        import json
+
+        print(json.dumps({"runs": len(res.rows), "finished": n_ok, "wall_s": res.wall_s,
+                          "sweep": f"{args.out}/sweep.nc", "figure": str(png),
+                          "dims": {d: int(n) for d, n in res.dataset.sizes.items()},
+                          "failed": [{"task": json.loads(r["task"]), "error": r["error"]} for r in res.failed]}))
+        return 1 if res.failed else 0
     print(f"sweep: {n_ok} of {len(res.rows)} runs finished in {res.wall_s:.1f} s -> {args.out}/sweep.nc, {png}")
     for r in res.failed:
         print(f"  failed: {r['task']}: {r['error']}")
