@@ -59,6 +59,8 @@ def register(sub) -> None:
                         "last good state to this existing folder instead (ideally on another disk); failed "
                         "checkpoints only warn and are tried again at the next one")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--json", action="store_true",
+                   help="print the result (orbits, steps, e_kin, lambda_p, file) as one JSON object")
     p.set_defaults(func=run)
 
 
@@ -158,6 +160,14 @@ def run(args) -> int:
             raise
         sys.stderr.write(f"ringcore hydro: error: {exc} (saved to {args.out}, complete = 0)\n")
         return 1
+    if args.json:
+        import json
+
+        e_kin, lam = float(sim.e_kin()), float(sim.prevalent_wavelength())
+        print(json.dumps({"kind": "hydro", "file": str(args.out), "orbits": float(sim.orbits), "steps": int(sim.steps),
+                          "e_kin": e_kin if math.isfinite(e_kin) else None, "e_kin_units": "sigma0 c0^2",
+                          "lambda_p_m": lam if math.isfinite(lam) else None}))
+        return 0
     print(f"{sim.orbits:.2f} orbits, {sim.steps} steps, e_kin = {sim.e_kin():.4e} sigma0 c0^2, "
           f"lambda_p = {sim.prevalent_wavelength():.1f} m -> {args.out}")
     return 0

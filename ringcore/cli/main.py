@@ -29,7 +29,7 @@ SLOW_EXIT_COMMANDS = ("sweep",)  # interrupted, these still exit normally (dask/
 _STATE: dict = {}  # the command being run (for main's exit)
 
 # modules providing subcommands, in --help order
-SUBCOMMAND_MODULES = ("linear", "hydro", "nbody", "reproduce", "sweep", "resume", "bench")
+SUBCOMMAND_MODULES = ("linear", "hydro", "nbody", "reproduce", "sweep", "resume", "info", "bench")
 
 
 class _Parser(argparse.ArgumentParser):

@@ -21,6 +21,7 @@ import math
 import os
 import time
 from dataclasses import dataclass, field
+from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
@@ -29,6 +30,8 @@ import xarray as xr
 from ..checks import check_choice, check_int
 from ..io import RunFileError, netcdf_bytes, read_run, write_bytes
 from ..io.errors import output_error
+from ..io.runfile import written_on
+from ..provenance import software_attrs
 from .sweep_grid import as_runs, grid_dataset
 
 # engine -> "module:function" taking (task: dict, path: Path) and returning a summary dict
@@ -311,6 +314,8 @@ def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int | None
             if cluster is not None:
                 cluster.close()
         ds = aggregate(rows)
+        ds.attrs.update(**software_attrs(), created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
+                        written_on=written_on())
         ds.attrs.update(attrs or {})
         write_bytes(target, netcdf_bytes(ds))  # atomic: a failed write never leaves a half sweep.nc
     finally:
