@@ -160,3 +160,30 @@ def test_sweep_finishes_after_a_worker_is_killed(tmp_path, capsys):
     from ringcore.figures.saturation import figure_lambdap
 
     assert Path(figure_lambdap(ds, tmp_path / "l.png")).stat().st_size > 1000
+
+
+def test_local_cluster_is_sized_to_the_machine(tmp_path, monkeypatch):
+    """No client given or running: a LocalCluster of one process per CPU this process may use (not a fixed 2);
+    the folder's reservation is given back even when the cluster cannot start."""
+    seen = {}
+
+    class Stop(Exception):
+        pass
+
+    def fake_cluster(**kw):
+        seen.update(kw)
+        raise Stop
+
+    monkeypatch.setattr("dask.distributed.LocalCluster", fake_cluster)
+    monkeypatch.setattr(sw, "running_client", lambda: None)
+    with pytest.raises(Stop):
+        run_sweep(grid_tasks()[:1], tmp_path, progress=False)
+    assert seen["n_workers"] == sw.default_workers() == len(os.sched_getaffinity(0))
+    assert seen["threads_per_worker"] == 1 and seen["processes"] is True
+    from ringcore.io import reserve_output
+
+    reserve_output(tmp_path / "sweep.nc", overwrite=True).release()  # not left reserved
+    from ringcore.cli.main import build_parser
+
+    args = build_parser().parse_args(["sweep"])
+    assert args.workers is None and args.retries == 2  # the command line leaves the size to run_sweep
