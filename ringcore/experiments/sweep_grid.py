@@ -48,12 +48,16 @@ def _coordinate(values: list) -> np.ndarray:
     return np.array(sorted(set("" if isinstance(v, float) and math.isnan(v) else str(v) for v in values)), dtype=object)
 
 
-def _index(coord: np.ndarray, v) -> int:
+def _key(coord: np.ndarray, v):
+    """The lookup key of value ``v`` in a coordinate made by :func:`_coordinate`."""
     if coord.dtype == object:
-        v = "" if isinstance(v, float) and math.isnan(v) else str(v)
-        return int(np.flatnonzero(coord == v)[0])
+        return "" if isinstance(v, float) and math.isnan(v) else str(v)
     v = float(v)
-    return int(np.flatnonzero(np.isnan(coord))[0]) if math.isnan(v) else int(np.flatnonzero(coord == v)[0])
+    return "nan" if math.isnan(v) else v
+
+
+def _positions(coord: np.ndarray) -> dict:
+    return {("nan" if coord.dtype != object and math.isnan(x) else x): i for i, x in enumerate(coord)}
 
 
 def _e_kin(row: dict) -> float:
@@ -89,10 +93,11 @@ def grid_dataset(rows, numeric_keys) -> xr.Dataset:
         coords[rename[k]] = (rename[k], c, {"units": TASK_UNITS[k]} if k in TASK_UNITS else {})
     dims = tuple(rename[k] for k in dims_src)
     shape = tuple(len(coords[d][1]) for d in dims)
+    where = {k: (coords[rename[k]][1], _positions(coords[rename[k]][1])) for k in dims_src}
     num = {k: np.full(shape, np.nan) for k in numeric_keys}
     text = {k: np.full(shape, "", dtype=object) for k in STRING_VARS}
     for r, t in zip(rows, tasks):
-        at = tuple(_index(coords[rename[k]][1], _cell_value(t.get(k))) for k in dims_src)
+        at = tuple(where[k][1][_key(where[k][0], _cell_value(t.get(k)))] for k in dims_src)
         ok = r["status"] in ("done", "skipped")
         for k in numeric_keys:
             v = _e_kin({**r, "engine": t.get("engine")}) if k == "e_kin" else r.get(k)
@@ -102,6 +107,7 @@ def grid_dataset(rows, numeric_keys) -> xr.Dataset:
     for k in keys:
         if k not in dims_src:  # one value for every task: a scalar coordinate
             v = values[k][0]
+            v = v if isinstance(v, (int, float, str)) else json.dumps(v, default=str)  # lists, dicts: as JSON
             coords[rename[k]] = ((), np.array(v, dtype=object) if isinstance(v, str) else v,
                                  {"units": TASK_UNITS[k]} if k in TASK_UNITS else {})
     data = {k: (dims, num[k], {"units": SUMMARY_UNITS[k]} if k in SUMMARY_UNITS else {}) for k in numeric_keys}
