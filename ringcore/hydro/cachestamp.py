@@ -2,7 +2,7 @@
 
 numba stamps a cached function with the hash of its own source file only.  A compiled function
 carries the code of the compiled functions it calls (and of those inlined into it), so after an
-edit of :mod:`.kernels` the cached :func:`ringcore.hydro.stepper.ssprk_step` would go on running
+edit of :mod:`ringcore.hydro.kernels` the cached :func:`ringcore.hydro.stepper.ssprk_step` would go on running
 the old kernels while freshly compiled callers run the new ones (the fast and reference paths
 would then silently differ).  This module adds the SHA-256 of every module of this package that
 defines compiled code to the stamp of each function defined in the package, through two cache

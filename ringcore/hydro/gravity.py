@@ -22,7 +22,7 @@ rounding, is the same in every process, which a bit-for-bit restart in a new pro
 FFTW_MEASURE picks plans by timing and can differ between processes; measured no slower
 for n = 1200 and 2000); numpy.fft is the fallback.  This class serves the reference path of
 :meth:`ringcore.hydro.Hydro1D.step`; the default one-call step does the same convolution inside
-numba (:func:`ringcore.hydro.stepper.gravity_force`, rocket-fft) with the response :attr:`SelfGravity.G`.
+numba (:func:`ringcore.hydro.stepper.gravity_force`, rocket-fft) with the response ``SelfGravity.G``.
 """
 from __future__ import annotations
 

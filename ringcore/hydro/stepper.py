@@ -43,7 +43,7 @@ def gravity_force(sigma, G, s, sk, g):
     sigma : (n,) float64
         Dimensionless surface density at the interior nodes.
     G : (n//2+1,) complex128
-        Response divided by n (:attr:`SelfGravity.G`).
+        Response divided by n (``SelfGravity.G``).
     s : (n,) float64
         Scratch.
     sk : (n//2+1,) complex128
