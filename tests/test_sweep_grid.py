@@ -187,3 +187,26 @@ def test_local_cluster_is_sized_to_the_machine(tmp_path, monkeypatch):
 
     args = build_parser().parse_args(["sweep"])
     assert args.workers is None and args.retries == 2  # the command line leaves the size to run_sweep
+
+
+def test_command_line_seed_ensemble_gives_a_seed_dimension():
+    """--seed 1,2 with --sigma0 and --ps-scale lists: the product of tasks, and a (ps_scale, seed, sigma0) grid
+    whose cells hold the row of exactly their task (rows made up here: no engine runs)."""
+    from ringcore.cli.main import build_parser
+    from ringcore.cli.sweep_cmd import tasks_of
+    from ringcore.experiments.sweep_grid import grid_dataset
+
+    args = build_parser().parse_args(["sweep", "--engine", "hydro", "--sigma0", "300,600", "--ps-scale", "1,1.4",
+                                      "--seed", "1,2"])
+    tasks = tasks_of(args)
+    assert len(tasks) == 8 and {t["seed"] for t in tasks} == {1, 2}
+    one = tasks_of(build_parser().parse_args(["sweep", "--sigma0", "300"]))
+    assert one == [{"engine": "hydro", "set": "tau15", "sigma0": 300.0, "ps_scale": 1.0, "isothermal": False,
+                    "seed": 1}]  # as before: a folder of an older sweep is still recognised (same task names)
+    rows = [{"task": json.dumps(t, sort_keys=True), "file": task_name(t), "status": "done",
+             "lambda_p_m": t["sigma0"] * t["ps_scale"] + t["seed"]} for t in tasks]
+    ds = grid_dataset(rows, ["lambda_p_m"])
+    assert dict(ds.sizes) == {"ps_scale": 2, "seed": 2, "sigma0": 2}
+    assert ds.lambda_p_m.sel(ps_scale=1.4, seed=2, sigma0=600.0).item() == pytest.approx(600 * 1.4 + 2)
+    assert ds.lambda_p_m.mean("seed").sel(ps_scale=1.0).values.tolist() == [301.5, 601.5]
+    assert ds.file.sel(ps_scale=1.0, seed=1, sigma0=300.0).item() == task_name(one[0])

@@ -1,6 +1,7 @@
 """``ringcore sweep``: a grid of runs on dask.distributed (LocalCluster or --scheduler ADDRESS)."""
 from __future__ import annotations
 
+import itertools
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +24,9 @@ def register(sub) -> None:
                        description="Each finished run is written to its own file at once; re-running into "
                                    "the same folder skips finished runs (their summaries are read back) and "
                                    "rewrites the aggregate OUT/sweep.nc and OUT/lambdap.png; failures are "
-                                   "reported.")
+                                   "reported.  OUT/sweep.nc is a labelled grid: one dimension per swept setting "
+                                   "(sigma0, ps_scale, ...) with coordinates (ringcore info OUT/sweep.nc).  A "
+                                   "second sweep into the same folder is refused while this one runs.")
     p.add_argument("--engine", default="hydro", choices=sorted(RUNNERS), help="which model to run")
     p.add_argument("--set", default="tau15", help="parameter set")
     p.add_argument("--sigma0", default="0:900:50", metavar="LIST|START:STOP:STEP",
@@ -34,7 +37,9 @@ def register(sub) -> None:
                    help="box size L_x [m] (default: hydro 3000, nbody 400; see ringcore.experiments.runners)")
     p.add_argument("--h", type=float, default=None, help="hydro node spacing [m] (default 2.5)")
     p.add_argument("--orbits", type=float, default=None, help="orbits per run (default: hydro 300, nbody 100)")
-    p.add_argument("--seed", type=int, default=1)
+    p.add_argument("--seed", default="1", metavar="LIST",
+                   help="random seeds of the initial noise, e.g. '1' or '1,2,3' (one run per seed: an ensemble; "
+                        "default 1)")
     p.add_argument("--workers", type=int, default=None,
                    help="LocalCluster worker processes, one thread each (default: one per CPU of this machine)")
     p.add_argument("--retries", type=int, default=2,
@@ -74,6 +79,18 @@ def parse_values(name: str, text: str) -> list:
         raise ValueError(f"{name} = {text!r} is not a list 'a,b,c' or a range 'start:stop:step'") from None
 
 
+def parse_seeds(text) -> list:
+    """'1' or '1,2,3' -> list of int seeds (0 <= seed < 2**32)."""
+    out = []
+    for x in str(text).split(","):
+        try:
+            v = int(x.strip())
+        except ValueError:
+            raise ValueError(f"--seed = {text!r} is not an integer or a list of integers '1,2,3'") from None
+        out.append(check_int("--seed", v, 0, 2**32 - 1))
+    return out
+
+
 def provenance(args) -> dict:
     """Attributes of OUT/sweep.nc: the command line, the runner defaults and the software version."""
     import json
@@ -102,16 +119,17 @@ def tasks_of(args) -> list:
         if args.h > 0 and 2 * args.h > lam:
             raise UsageError(f"--h = {args.h:g} m: the sweep's noise reaches down to {lam:g} m, below 2 grid cells "
                              f"(2 h = {2 * args.h:g} m); allowed --h <= {lam / 2:g} m")
+    seeds = parse_seeds(args.seed)
     tasks = []
-    for ps in parse_values("ps-scale", args.ps_scale):
-        for s in parse_values("sigma0", args.sigma0):
-            t = {"engine": args.engine, "set": args.set, "sigma0": s, "ps_scale": ps,
-                 "isothermal": bool(args.isothermal), "seed": args.seed}
-            for k in ("lx", "h", "orbits"):
-                if getattr(args, k) is not None:
-                    t[k] = check_real(f"--{k}", getattr(args, k), 0.0, np.inf, lo_open=True)
-            ring_params(t)  # bad settings are refused here, not in the workers
-            tasks.append(t)
+    for ps, s, seed in itertools.product(parse_values("ps-scale", args.ps_scale), parse_values("sigma0", args.sigma0),
+                                         seeds):
+        t = {"engine": args.engine, "set": args.set, "sigma0": s, "ps_scale": ps,
+             "isothermal": bool(args.isothermal), "seed": seed}
+        for k in ("lx", "h", "orbits"):
+            if getattr(args, k) is not None:
+                t[k] = check_real(f"--{k}", getattr(args, k), 0.0, np.inf, lo_open=True)
+        ring_params(t)  # bad settings are refused here, not in the workers
+        tasks.append(t)
     return tasks
 
 

@@ -155,7 +155,7 @@ def format_info(info: dict) -> str:
     if p:
         keys = [k for k in ("name", "set", "engine", "model", "sigma0", "tau", "Omega", "p_s", "beta", "isothermal")
                 if k in p] or list(p)[:8]
-        lines.append("  parameters  " + ", ".join(f"{k}={_short(p[k], 16)}" for k in keys))
+        lines.append("  parameters  (SI) " + ", ".join(f"{k}={_short(p[k], 16)}" for k in keys))
     if info.get("options"):
         lines.append("  options     " + _short(", ".join(f"{k}={v}" for k, v in info["options"].items()), 100))
     grid = info.get("grid") or {}
