@@ -33,7 +33,7 @@ def physics_error(task, path):
 
 @pytest.fixture(scope="module")
 def threads_client():
-    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster, \
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=":0") as cluster, \
             Client(cluster) as client:
         yield client
 
@@ -126,7 +126,7 @@ def test_sweep_finishes_after_a_worker_is_killed(tmp_path, capsys):
     runs it again: every task finishes, none is reported failed."""
     tasks = [{**HYDRO, "sigma0": s} for s in (300.0, 500.0, 700.0)]
     with dask.config.set({"distributed.scheduler.allowed-failures": 0}), \
-            LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, \
             Client(cluster) as client:
         box = {}
         th = threading.Thread(target=lambda: box.update(res=run_sweep(tasks, tmp_path, client=client,
