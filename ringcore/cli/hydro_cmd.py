@@ -63,6 +63,8 @@ def register(sub) -> None:
                         "checkpoints only warn and are tried again at the next one")
     add_archive_arguments(p)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--json", action="store_true",
+                   help="print the result (orbits, steps, e_kin, lambda_p, file) as one JSON object")
     p.set_defaults(func=run)
 
 
@@ -196,6 +198,14 @@ def run(args) -> int:
             raise
         sys.stderr.write(f"ringcore hydro: error: {exc} (saved to {args.out}, complete = 0)\n")
         return 1
+    if args.json:
+        import json
+
+        e_kin, lam = float(sim.e_kin_rp()), float(sim.prevalent_wavelength())
+        print(json.dumps({"kind": "hydro", "file": str(args.out), "orbits": float(sim.orbits), "steps": int(sim.steps),
+                          "e_kin": e_kin if math.isfinite(e_kin) else None, "e_kin_units": E_KIN_UNIT,
+                          "lambda_p_m": lam if math.isfinite(lam) else None}))
+        return 0
     print(f"{sim.orbits:.2f} orbits, {sim.steps} steps, e_kin = {sim.e_kin_rp():.4e} {E_KIN_UNIT}, "
           f"lambda_p = {sim.prevalent_wavelength():.1f} m -> {args.out}")
     return 0

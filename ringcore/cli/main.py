@@ -29,8 +29,8 @@ SLOW_EXIT_COMMANDS = ("sweep",)  # interrupted, these still exit normally (dask/
 _STATE: dict = {}  # the command being run (for main's exit)
 
 # modules providing subcommands, in --help order
-SUBCOMMAND_MODULES = ("linear", "hydro", "nbody", "reproduce", "sweep", "resume", "bench", "validate", "plot",
-                      "wavetrain")
+SUBCOMMAND_MODULES = ("linear", "hydro", "nbody", "reproduce", "sweep", "resume", "info", "bench", "validate",
+                      "plot", "wavetrain")
 
 
 class _Parser(argparse.ArgumentParser):

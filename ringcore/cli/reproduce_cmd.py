@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import contextlib
+import json
 
 from ..experiments.registry import get_recipe, load_all, outputs
 from ..io import reserve_output
@@ -21,6 +22,8 @@ def register(sub) -> None:
     g.add_argument("--full", dest="mode", action="store_const", const="full", help="the paper's settings (hours)")
     p.add_argument("--out", default="reproduce-out", help="output folder (default reproduce-out)")
     p.add_argument("--overwrite", action="store_true", help="replace OUT/NAME.png and OUT/NAME.nc if they exist")
+    p.add_argument("--json", action="store_true",
+                   help="print the result (or with --list the recipes) as one JSON object")
     p.set_defaults(func=run, mode="quick")
 
 
@@ -29,6 +32,10 @@ def run(args) -> int:
     if args.list or args.name is None:
         if args.list:
             refuse_with(args, ("name", "mode", "out", "overwrite"), "with --list (it only lists the recipes)")
+        if args.json:
+            print(json.dumps({n: {"figure": recipes[n].figure, "title": recipes[n].title, "quick_cost":
+                                  recipes[n].quick_cost, "full_cost": recipes[n].full_cost} for n in sorted(recipes)}))
+            return 0
         w = max(len(n) for n in recipes)
         print(f"{'name':<{w}}  {'figure':<22} {'quick':>8} {'full':>10}  title")
         for n in sorted(recipes):
@@ -44,5 +51,9 @@ def run(args) -> int:
             f.parent.mkdir(parents=True, exist_ok=True)
             held.enter_context(reserve_output(f, overwrite=bool(args.overwrite), label="--out"))
         res = recipe.run(args.mode, args.out, overwrite=bool(args.overwrite))  # atomic; no-clobber unless --overwrite
+    if args.json:
+        print(json.dumps({"name": args.name, "mode": args.mode, "seconds": res.seconds, "figure": str(res.png),
+                          "data": str(res.data), "caption": res.caption}))
+        return 0
     print(f"{args.name} ({args.mode}): {res.seconds:.1f} s\n  figure: {res.png}\n  data:   {res.data}\n  {res.caption}")
     return 0

@@ -1,12 +1,13 @@
 """``ringcore sweep``: a grid of runs on dask.distributed (LocalCluster or --scheduler ADDRESS)."""
 from __future__ import annotations
 
+import itertools
 import math
 from pathlib import Path
 
 import numpy as np
 
-from ..checks import check_real
+from ..checks import check_int, check_real
 from ..io import check_name, reserve_output
 from ..io.errors import output_error
 from .common import refuse_with
@@ -24,7 +25,9 @@ def register(sub) -> None:
                        description="Each finished run is written to its own file at once; re-running into "
                                    "the same folder skips finished runs (their summaries are read back) and "
                                    "rewrites the aggregate OUT/sweep.nc and OUT/lambdap.png; failures are "
-                                   "reported.")
+                                   "reported.  OUT/sweep.nc is a labelled grid: one dimension per swept setting "
+                                   "(sigma0, ps_scale, ...) with coordinates (ringcore info OUT/sweep.nc).  A "
+                                   "second sweep into the same folder is refused while this one runs.")
     p.add_argument("--engine", default="hydro", choices=sorted(RUNNERS), help="which model to run")
     p.add_argument("--set", default="tau15", help="parameter set")
     p.add_argument("--sigma0", default="0:900:50", metavar="LIST|START:STOP:STEP",
@@ -35,11 +38,19 @@ def register(sub) -> None:
                    help="box size L_x [m] (default: hydro 3000, nbody 400; see ringcore.experiments.runners)")
     p.add_argument("--h", type=float, default=None, help="hydro node spacing [m] (default 2.5)")
     p.add_argument("--orbits", type=float, default=None, help="orbits per run (default: hydro 300, nbody 100)")
-    p.add_argument("--seed", type=int, default=1)
-    p.add_argument("--workers", type=int, default=2, help="LocalCluster worker processes (default 2)")
+    p.add_argument("--seed", default="1", metavar="LIST",
+                   help="random seeds of the initial noise, e.g. '1' or '1,2,3' (one run per seed: an ensemble; "
+                        "default 1)")
+    p.add_argument("--workers", type=int, default=None,
+                   help="LocalCluster worker processes, one thread each (default: one per CPU of this machine)")
+    p.add_argument("--retries", type=int, default=2,
+                   help="run a task lost with its worker (worker died, connection closed) again up to this many "
+                        "times (default 2); a task failing in the physics is reported once")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="use a running dask scheduler (given up after 5 s if unreachable)")
     p.add_argument("--out", default="sweep-out", help="output folder")
+    p.add_argument("--json", action="store_true",
+                   help="print the result as one JSON object (runs, failures, files, wall time)")
     p.set_defaults(func=run)
 
 
@@ -69,6 +80,18 @@ def parse_values(name: str, text: str) -> list:
         raise ValueError(f"{name} = {text!r} is not a list 'a,b,c' or a range 'start:stop:step'") from None
 
 
+def parse_seeds(text) -> list:
+    """'1' or '1,2,3' -> list of int seeds (0 <= seed < 2**32)."""
+    out = []
+    for x in str(text).split(","):
+        try:
+            v = int(x.strip())
+        except ValueError:
+            raise ValueError(f"--seed = {text!r} is not an integer or a list of integers '1,2,3'") from None
+        out.append(check_int("--seed", v, 0, 2**32 - 1))
+    return out
+
+
 def provenance(args) -> dict:
     """Attributes of OUT/sweep.nc: the command line, the runner defaults and the software version."""
     import json
@@ -93,7 +116,7 @@ def tasks_of(args) -> list:
     from .. import ranges
     from .common import check_flag
 
-    check_flag(args, "seed")
+    parse_seeds(args.seed)  # each seed in range, before anything else
     check_flag(args, "orbits")
     lx = check_flag(args, "lx", "L_x")
     if args.engine == "nbody" and lx is not None:
@@ -117,17 +140,17 @@ def tasks_of(args) -> list:
     p0 = _params.get(args.set)
     ps_values = [ranges.check("ps_scale", v, "--ps-scale") for v in parse_values("ps-scale", args.ps_scale)]
     s_values = [ranges.check_sigma0(v, p0.Omega, p0.c0, "--sigma0", args.set) for v in parse_values("sigma0", args.sigma0)]
+    seeds = parse_seeds(args.seed)
     tasks = []
-    for ps in ps_values:
-        for s in s_values:
-            t = {"engine": args.engine, "set": args.set, "sigma0": s, "ps_scale": ps,
-                 "isothermal": bool(args.isothermal), "seed": args.seed}
-            for k in ("lx", "h", "orbits"):
-                if getattr(args, k) is not None:
-                    t[k] = check_real(f"--{k}", getattr(args, k), 0.0, np.inf, lo_open=True)
-            p = ring_params(t)  # bad settings are refused here, not in the workers
-            check_task(t, p)
-            tasks.append(t)
+    for ps, s, seed in itertools.product(ps_values, s_values, seeds):
+        t = {"engine": args.engine, "set": args.set, "sigma0": s, "ps_scale": ps,
+             "isothermal": bool(args.isothermal), "seed": seed}
+        for k in ("lx", "h", "orbits"):
+            if getattr(args, k) is not None:
+                t[k] = check_real(f"--{k}", getattr(args, k), 0.0, np.inf, lo_open=True)
+        p = ring_params(t)  # bad settings are refused here, not in the workers
+        check_task(t, p)
+        tasks.append(t)
     return tasks
 
 
@@ -162,10 +185,9 @@ def run(args) -> int:
     refuse_with(args, UNUSED[args.engine], f"with --engine {args.engine}")
     if args.scheduler is not None:
         refuse_with(args, ("workers",), "with --scheduler (the scheduler's workers run the tasks)")
-    else:
-        from ..checks import check_int
-
+    elif args.workers is not None:
         check_int("--workers", args.workers, 1, 512)
+    check_int("--retries", args.retries, 0, 20)
     tasks = tasks_of(args)
     check_output_dir(args.out)
     check_name(Path(args.out) / "sweep.nc", label="--out", utf8=True)  # task file names go into sweep.nc
@@ -177,12 +199,20 @@ def run(args) -> int:
     with reserve_output(Path(args.out) / "sweep.nc", overwrite=True, label="--out", utf8=True):
         try:
             res = run_sweep(tasks, args.out, scheduler=args.scheduler, n_workers=args.workers,
-                            attrs=provenance(args))
+                            retries=args.retries, attrs=provenance(args), progress=not args.json)
         except SchedulerUnreachable as exc:
             raise EnvironmentProblem(str(exc)) from None
         png = figure_lambdap(res.dataset, f"{args.out}/lambdap.png", set_name=args.set,
                              isothermal=args.isothermal)
     n_ok = len(res.rows) - len(res.failed)
+    if args.json:
+        import json
+
+        print(json.dumps({"runs": len(res.rows), "finished": n_ok, "wall_s": res.wall_s,
+                          "sweep": f"{args.out}/sweep.nc", "figure": str(png),
+                          "dims": {d: int(n) for d, n in res.dataset.sizes.items()},
+                          "failed": [{"task": json.loads(r["task"]), "error": r["error"]} for r in res.failed]}))
+        return 1 if res.failed else 0
     print(f"sweep: {n_ok} of {len(res.rows)} runs finished in {res.wall_s:.1f} s -> {args.out}/sweep.nc, {png}")
     for r in res.failed:
         print(f"  failed: {r['task']}: {r['error']}")

@@ -6,9 +6,11 @@ one run file at once and returns a small summary dict.  A task whose run file al
 and is complete is skipped (its summary is read back), so a stopped sweep can simply be
 started again.  Failures are collected with their error message, never dropped.
 
-Runs on a ``LocalCluster`` (one single-threaded worker process per core) by default, or on
-any running scheduler (``dask scheduler`` / ``dask worker ADDRESS``, or dask-jobqueue on HPC)
-given its address.
+Runs on a client given (``client=``, e.g. of a dask-jobqueue cluster), a scheduler given by address
+(``dask scheduler`` / ``dask worker ADDRESS``), a client already running in the process, or else a
+``LocalCluster`` of one single-threaded worker process per CPU.  A task lost with its worker is run
+again (``retries``); a task failing in the physics is reported once.  ``sweep.nc`` is a labelled grid
+(:mod:`ringcore.experiments.sweep_grid`).
 """
 from __future__ import annotations
 
@@ -16,8 +18,10 @@ import hashlib
 import importlib
 import json
 import math
+import os
 import time
 from dataclasses import dataclass, field
+from datetime import datetime, timezone
 from pathlib import Path
 
 import numpy as np
@@ -26,6 +30,9 @@ import xarray as xr
 from ..checks import check_choice, check_int
 from ..io import RunFileError, netcdf_bytes, read_run, write_bytes
 from ..io.errors import output_error
+from ..io.runfile import written_on
+from ..provenance import software_attrs
+from .sweep_grid import as_runs, grid_dataset
 
 # engine -> "module:function" taking (task: dict, path: Path) and returning a summary dict
 RUNNERS = {
@@ -101,40 +108,29 @@ def _num(v) -> float:
 
 
 def aggregate(rows) -> xr.Dataset:
-    """One dataset with one entry per successful task (dimension ``run``)."""
+    """The labelled grid of the task summaries ``rows`` (:func:`ringcore.experiments.sweep_grid.grid_dataset`):
+    one dimension per swept setting (``sigma0`` [kg m-2], ``ps_scale``, ``seed``, ...) with coordinates; every
+    summary number a variable (nan where a task failed), ``e_kin`` in one unit whatever the engine."""
     ok = [r for r in rows if r["status"] in ("done", "skipped")]
     keys = list(SUMMARY_KEYS) + sorted({k for r in ok for k, v in r.items()
-                                        if isinstance(v, (int, float)) and k not in SUMMARY_KEYS})
-    data = {k: ("run", np.array([_num(r.get(k)) for r in ok])) for k in keys}
-    tasks = [json.loads(r["task"]) for r in ok]
-    coords = {"sigma0": ("run", np.array([float(t.get("sigma0", math.nan)) for t in tasks]), {"units": "kg m-2"}),
-              "task": ("run", np.array([r["task"] for r in ok], dtype=object)),
-              "file": ("run", np.array([r["file"] for r in ok], dtype=object))}
-    ds = xr.Dataset(data, coords=coords)
-    units = {"lambda_p_m": "m", "e_kin": "sigma0 c0^2 (dimensionless)", "c_mean": "m s-1", "orbits": "orbits",
-             "wall_s": "s"}
-    units.update(lambda_zero_m="m", lambda_max_growth_m="m", lambda_p_mean_m="m", lambda_p_psd_m="m",
-                 lambda_p_empirical_m="m", e_kin_rp="sigma0 (R_p Omega)^2 with R_p = 1 m")
-    if {t.get("engine") for t in tasks} == {"nbody"}:
-        units["e_kin"] = "sigma0 (R_p Omega)^2 with R_p = 1 m"
-    for k, u in units.items():
-        if k in ds:
-            ds[k].attrs["units"] = u
-    return ds.sortby("sigma0") if ds.sizes.get("run", 0) else ds
+                                        if isinstance(v, (int, float)) and k not in SUMMARY_KEYS and k != "e_kin_rp"})
+    return grid_dataset(rows, keys)
 
 
 CONNECT_TIMEOUT_S = 5.0  # seconds to reach a --scheduler before giving up
 
 
 def sweep_points(ds: xr.Dataset) -> list:
-    """The runs of a sweep Dataset (:func:`aggregate`'s ``sweep.nc``) as dicts: ``sigma0`` [kg/m^2],
+    """The finished runs of a sweep Dataset (``sweep.nc``, the grid of :func:`aggregate` or an older file's
+    ``run`` layout: :func:`~ringcore.experiments.sweep_grid.as_runs`) as dicts: ``sigma0`` [kg/m^2],
     ``lambda_p_m`` [m], ``set``, ``isothermal``, ``engine`` (from the ``task`` coordinate; "?" if absent) and
     ``saturated`` (the per-run variable: True/False, None where it is missing or nan).  Runs without a
     finite sigma0 and lambda_p are left out."""
+    ds = as_runs(ds)
     if "lambda_p_m" not in ds or "sigma0" not in ds.coords:
         return []
     n = ds.sizes.get("run", 0)
-    tasks = ds["task"].values if "task" in ds.coords else [None] * n
+    tasks = ds["task"].values if "task" in ds.variables else [None] * n
     sat = ds["saturated"].values.astype(float) if "saturated" in ds else np.full(n, np.nan)
     pts = []
     for s, lam, t, ok in zip(ds["sigma0"].values, ds["lambda_p_m"].values, tasks, sat):
@@ -177,62 +173,153 @@ def connect(address: str, timeout: float = CONNECT_TIMEOUT_S):
                                    f"({why}); start it (dask scheduler) or drop --scheduler") from None
 
 
-def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int = 2, progress: bool = True,
-              dashboard: bool = True, attrs: dict | None = None) -> SweepResult:
+def default_workers() -> int:
+    """Worker processes of a local cluster sized to this machine: the CPUs this process may run on."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # not on Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def running_client():
+    """The ``dask.distributed.Client`` already running in this process (the default client), or None."""
+    try:
+        from distributed import default_client
+    except ImportError:  # pragma: no cover - dask.distributed is a dependency
+        return None
+    try:
+        c = default_client()
+    except ValueError:  # no client
+        return None
+    return c if c.status == "running" else None
+
+
+def _infrastructure(exc: BaseException) -> bool:
+    """True for a failure of the cluster, not of the task: a worker died (KilledWorker), a connection closed,
+    the task was cancelled with its worker.  Physics errors never get here (:func:`execute_task` reports them)."""
+    from distributed import KilledWorker
+    from distributed.comm.core import CommClosedError
+
+    import asyncio
+    import concurrent.futures
+
+    return isinstance(exc, (KilledWorker, CommClosedError, OSError, asyncio.CancelledError,
+                            concurrent.futures.CancelledError))
+
+
+def _collect(client, tasks, outdir: str, retries: int, progress: bool) -> list:
+    """Submit every task and gather the summaries; a task lost to the cluster is submitted again up to
+    ``retries`` times (dask's own ``retries=`` covers an exception raised on the worker outside the task)."""
+    from dask.distributed import as_completed
+    from tqdm.auto import tqdm
+
+    futures = client.map(execute_task, tasks, outdir=outdir, pure=False, retries=retries)
+    which = {f.key: (i, 0) for i, f in enumerate(futures)}
+    rows, bar = [], tqdm(total=len(futures), desc="sweep", unit="run", disable=not progress)
+    ac = as_completed(futures)
+    for fut in ac:
+        i, tries = which.pop(fut.key)
+        try:
+            r = fut.result()
+        except Exception as exc:
+            if not _infrastructure(exc) or client.status != "running":
+                raise
+            if tries < retries:
+                bar.write(f"retrying {task_name(tasks[i])} ({type(exc).__name__}: {exc})")
+                new = client.submit(execute_task, tasks[i], outdir=outdir, pure=False, retries=retries)
+                which[new.key] = (i, tries + 1)
+                ac.add(new)
+                continue
+            path = Path(outdir) / f"{task_name(tasks[i])}.nc"
+            r = {"task": json.dumps(tasks[i], sort_keys=True), "file": str(path), "status": "failed",
+                 "error": f"{type(exc).__name__} after {tries + 1} attempts: {exc}"}
+        rows.append(r)
+        if r["status"] == "failed":
+            bar.write(f"FAILED {r['file']}: {r['error']}")
+        bar.update(1)
+    bar.close()
+    return rows
+
+
+def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int | None = None, progress: bool = True,
+              dashboard: bool = True, attrs: dict | None = None, client=None, retries: int = 2) -> SweepResult:
     """Run ``tasks`` on dask.distributed and write each result file as soon as it is done.
+
+    The cluster, in this order: ``client``; the scheduler at ``scheduler``; a client already running in this
+    process (``distributed.default_client()``, e.g. one made for a dask-jobqueue cluster); else a new
+    ``LocalCluster`` of ``n_workers`` single-threaded processes, closed at the end.  A client given or found is
+    left open.  The folder is reserved (``OUTDIR/.sweep.nc.lock``) while the sweep runs: a second sweep into
+    the same folder is refused at once (:class:`~ringcore.io.atomic.OutputBusy`).
 
     Parameters
     ----------
     tasks : list of dict
         Each with an ``engine`` key (one of RUNNERS) and the engine's settings.
     outdir : path
-        Folder for the run files and ``sweep.nc`` (aggregate).
+        Folder for the run files and ``sweep.nc`` (:func:`aggregate`, a labelled grid).
     scheduler : str, optional
-        Address of a running dask scheduler (``tcp://host:8786``); default: a LocalCluster.
-    n_workers : int
-        Worker processes of the LocalCluster (1 thread each).
+        Address of a running dask scheduler (``tcp://host:8786``).
+    n_workers : int, optional
+        Worker processes of the LocalCluster (1 thread each); default :func:`default_workers`.
     attrs : dict, optional
         Global attributes of ``sweep.nc`` (provenance), written atomically with it.
+    client : distributed.Client, optional
+        A client of a running cluster (dask-jobqueue, a LocalCluster of the caller).
+    retries : int
+        How often a task lost to the cluster (a worker died: ``KilledWorker``, ``CommClosedError``) is run
+        again, 0 to 20.  A task that fails in the physics (bad parameters, blow-up) is reported once, never
+        retried.
+
+    Returns
+    -------
+    SweepResult
+        Per-task rows, the aggregate dataset (also written to ``OUTDIR/sweep.nc``), failures, wall time [s].
     """
-    from dask.distributed import Client, LocalCluster, as_completed
-    from tqdm.auto import tqdm
+    from dask.distributed import Client, LocalCluster
+
+    from ..io import reserve_output
+    from ..io.lock import HELD, key
 
     tasks = list(tasks)
     for t in tasks:
         _resolve(t.get("engine"))
-    n_workers = check_int("n_workers", n_workers, 1, 512)
+    n_workers = default_workers() if n_workers is None else check_int("n_workers", n_workers, 1, 512)
+    retries = check_int("retries", retries, 0, 20)
     out = Path(outdir)
     try:
         out.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise output_error(exc, out) from None
+    target = out / "sweep.nc"
+    # one sweep per folder at a time (the command line reserves the folder itself, for its figure too)
+    held = None if key(target) in HELD else reserve_output(target, overwrite=True, label="outdir", utf8=True)
     t0 = time.perf_counter()
-    cluster = None
-    if scheduler is not None:
-        client = connect(scheduler)
-    else:
-        cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                               dashboard_address=":0" if dashboard else None)
-        client = Client(cluster)
-    rows = []
+    cluster = own = None
     try:
-        if progress and client.dashboard_link:
-            print(f"dask dashboard: {client.dashboard_link}", flush=True)
-        futures = client.map(execute_task, tasks, outdir=str(out), pure=False)
-        bar = tqdm(total=len(futures), desc="sweep", unit="run", disable=not progress)
-        for fut in as_completed(futures):
-            r = fut.result()
-            rows.append(r)
-            if r["status"] == "failed":
-                bar.write(f"FAILED {r['file']}: {r['error']}")
-            bar.update(1)
-        bar.close()
+        if client is None and scheduler is not None:
+            client = own = connect(scheduler)
+        elif client is None:
+            client = running_client()
+        if client is None:
+            cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
+                                   dashboard_address=":0" if dashboard else None)
+            client = own = Client(cluster)
+        try:
+            if progress and client.dashboard_link:
+                print(f"dask dashboard: {client.dashboard_link}", flush=True)
+            rows = _collect(client, tasks, str(out), retries, progress)
+        finally:
+            if own is not None:
+                own.close()
+            if cluster is not None:
+                cluster.close()
+        ds = aggregate(rows)
+        ds.attrs.update(**software_attrs(), created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
+                        written_on=written_on())
+        ds.attrs.update(attrs or {})
+        write_bytes(target, netcdf_bytes(ds))  # atomic: a failed write never leaves a half sweep.nc
     finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
-    ds = aggregate(rows)
-    ds.attrs.update(attrs or {})
-    write_bytes(out / "sweep.nc", netcdf_bytes(ds))  # atomic: a failed write never leaves a half sweep.nc
+        if held is not None:
+            held.release()
     failed = [r for r in rows if r["status"] == "failed"]
     return SweepResult(rows=rows, dataset=ds, failed=failed, wall_s=time.perf_counter() - t0)

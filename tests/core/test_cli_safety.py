@@ -308,10 +308,11 @@ def test_sweep_rerun_keeps_summary_complete(tmp_path, capsys):
     assert sorted(again.data_vars) == sorted(first.data_vars)
     for k in first.data_vars:
         a, b = first[k].values, again[k].values
-        assert ((a == b) | (a != a) & (b != b)).all() or k == "wall_s", k
-        if k != "wall_s":
+        assert ((a == b) | (a != a) & (b != b)).all() or k in ("wall_s", "status"), k
+        if k not in ("wall_s", "status"):
             assert (a == a).sum() == (b == b).sum(), k
     assert (again["wall_s"].values == again["wall_s"].values).all()
+    assert (first["status"].values == "done").all() and (again["status"].values == "skipped").all()
 
 
 def test_json_output_still_parses(capsys):

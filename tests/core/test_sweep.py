@@ -1,4 +1,5 @@
 """Sweeps on a real dask.distributed LocalCluster: files at once, skip on re-run, failures reported."""
+import numpy as np
 import pytest
 
 from ringcore import linear, params
@@ -12,14 +13,15 @@ def test_sweep_runs_skips_and_reports(tmp_path):
     assert len(res.rows) == 4 and len(res.failed) == 1
     assert "sigma0 = -5" in res.failed[0]["error"]
     ds = res.dataset
-    assert list(ds.sigma0.values) == [100.0, 400.0, 800.0]
-    assert ds.lambda_zero_m.sel(run=1).item() == pytest.approx(linear.lambda_zero(params.get("tau15", sigma0=400)))
+    assert list(ds.sigma0.values) == [-5.0, 100.0, 400.0, 800.0]  # the grid as asked; the failed cell is nan
+    assert ds.status.sel(sigma0=-5.0).item() == "failed" and np.isnan(ds.lambda_zero_m.sel(sigma0=-5.0).item())
+    assert ds.lambda_zero_m.sel(sigma0=400.0).item() == pytest.approx(linear.lambda_zero(params.get("tau15", sigma0=400)))
     assert (tmp_path / "sweep.nc").exists()
     for t in tasks[:3]:
         assert (tmp_path / f"{task_name(t)}.nc").exists()
     # re-run in-process: finished tasks are skipped, not recomputed
     r = execute_task(tasks[0], str(tmp_path))
-    assert r["status"] == "skipped" and r["lambda_zero_m"] == pytest.approx(ds.lambda_zero_m.values[0])
+    assert r["status"] == "skipped" and r["lambda_zero_m"] == pytest.approx(ds.lambda_zero_m.values[1])
 
 
 def test_unknown_engine():

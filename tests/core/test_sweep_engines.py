@@ -32,7 +32,7 @@ def test_hydro_sweep_on_local_cluster(tmp_path):
         f = read_run(tmp_path / f"{task_name(t)}.nc", kind="hydro")
         assert f.attrs["complete"] == 1 and json.loads(f.attrs["task_json"]) == t
         assert json.loads(f.attrs["summary_json"])["lambda_p_m"] == pytest.approx(
-            ds.lambda_p_m.sel(run=ds.sigma0 == t["sigma0"]).item())
+            ds.lambda_p_m.sel(sigma0=t["sigma0"]).item())
     again = execute_task(tasks[0], str(tmp_path))
     assert again["status"] == "skipped"
 
