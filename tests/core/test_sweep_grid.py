@@ -108,7 +108,7 @@ def test_second_sweep_into_the_same_folder_is_refused(tmp_path, threads_client):
 
 def test_old_flat_sweep_files_read_alike():
     """The shipped files (flat layout, dimension run) go through as_runs unchanged; sweep_points reads them."""
-    path = Path(__file__).parent.parent / "app" / "data" / "saturation_sweep.nc"
+    path = Path(__file__).resolve().parents[2] / "app" / "data" / "saturation_sweep.nc"
     with xr.open_dataset(path, engine="h5netcdf") as ds:
         assert "run" in ds.dims and as_runs(ds) is ds
         pts = sweep_points(ds)

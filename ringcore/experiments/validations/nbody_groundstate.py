@@ -26,9 +26,9 @@ def add_arguments(p) -> None:
 def ground_state(a, set_name, restitution="bridges", dt=1e-3, seed=1):
     p = params.get(set_name)
     box = ShearingBox(p, NBodyOptions(L_x=50, L_y=25, restitution=restitution, dt_orbit=dt), seed=seed)
-    box.run(a.equilibrate)
+    box.advance(a.equilibrate)
     box.reset_accumulators()
-    box.run(a.orbits)
+    box.advance(a.orbits)
     return box.transport()
 
 

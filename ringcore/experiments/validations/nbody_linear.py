@@ -46,7 +46,7 @@ def run(a) -> int:
         for seed in a.seeds:
             t0 = time.time()
             box = ShearingBox(p, NBodyOptions(L_x=lam, L_y=a.L_y, restitution="bridges"), seed=seed)
-            box.run(a.eq)
+            box.advance(a.eq)
             box.seed_mode(1, a.amp)
             g = growth.measure(box, 1, a.orbits)
             r = dict(wavelength_m=lam, seed=seed, N=box.N, growth_rate=g.growth_rate, frequency=g.frequency,
