@@ -42,10 +42,10 @@ app: $(APP_STAMP)
 	@test -f $(DOCS_SITE)/index.html || test -d $(DOCS_SITE)/tutorials || echo "note: no documentation site in $(DOCS_SITE) ('make docs' or 'make tutorials-html' adds it and the app's links to it)"
 	RINGLAB_DOCS_DIR=$(DOCS_SITE) $(BIN)/ringlab serve --port $(PORT)
 
-# the tutorials executed (quick mode) as offline HTML pages in $(DOCS_SITE)/tutorials, when the full
+# the tutorials executed (quick mode) as offline HTML pages in $(DOCS_SITE)/tutorials/nb, when the full
 # documentation site is not built; reuses notebooks the test suite executed (test-artifacts/tutorials) if up to date
 tutorials-html: $(STAMP)
-	$(BIN)/python scripts/tutorials_html.py --out $(DOCS_SITE)/tutorials --from test-artifacts/tutorials
+	$(BIN)/python scripts/tutorials_html.py --out $(DOCS_SITE)/tutorials/nb --from test-artifacts/tutorials
 
 # tests in tiers (tests/core, tests/app, tests/browser, tests/notebooks) on pytest-xdist workers; --dist loadgroup
 # keeps the browser tests in one worker (one app server and one Chromium at a time: tests/conftest.py)
@@ -57,8 +57,9 @@ lint-imports: $(STAMP)
 	$(BIN)/lint-imports --no-cache
 
 test: $(STAMP) browser lint-imports
-	$(BIN)/python -m pytest $(PYTEST_XDIST)
+	$(BIN)/python -m pytest $(PYTEST_XDIST) --ignore=tests/install
 	$(MAKE) docs
+	$(BIN)/python -m pytest tests/install
 
 test-fast: $(STAMP) lint-imports
 	$(BIN)/python -m pytest $(PYTEST_XDIST) -m "not slow" tests/core tests/app

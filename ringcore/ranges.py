@@ -104,9 +104,10 @@ _RANGES = (
           "for every set but st99"),
     Range("ps_scale", 0.0, 10.0, "", "the paper scales p_s by 1.4 and 2; beyond 10x the pressure law "
           "has no basis in the tables", lo_open=True),
-    Range("p_s", 0.0, 100.0, "", "pressure exponent of eq. (pres); the tables have 1 .. 2.7", lo_open=True),
-    Range("beta", -1.0, 20.0, "", "viscosity exponent of eq. (visc): the tables have 1.06 .. 1.55, buffer "
-          "zones use -0.5, and the search for beta_c spans up to 20", lo_open=True),
+    Range("p_s", 0.0, 100.0, "", "pressure exponent of Eq. (8); the tables have 1 .. 2.7", lo_open=True),
+    Range("beta", -1.0, 20.0, "", "viscosity exponent beta of the transport coefficients (nu, kappa proportional "
+          "to T^beta): the tables have 1.06 .. 1.55, buffer zones use -0.5, and the search for beta_c spans up to 20",
+          lo_open=True),
     # durations and intervals
     Range("orbits", 0.0, ORBITS_MAX, "orbits", _DUR, lo_open=True),
     Range("until", 0.0, ORBITS_MAX, "orbits", _DUR),
@@ -121,7 +122,7 @@ _RANGES = (
           "radius (~1e8 m)", lo_open=True),
     Range("h", 1.0e-3, 1.0e4, "m", "node spacing: the paper uses 2.5 m; below 1 mm the fluid description "
           "of metre-sized particles has no meaning"),
-    Range("dt_factor", 1.0e-3, 10.0, "", "time-step factor f_t of eq. (timestep): the paper uses 0.1; "
+    Range("dt_factor", 1.0e-3, 10.0, "", "time-step factor f_t of Eq. (32): the paper uses 0.1; "
           "below 1e-3 a run needs > 6e4 steps per orbit and could not finish"),
     Range("replicas", 0, 1000, "", "wire-kernel images per side (the paper uses 5)", integer=True),
     Range("samples_per_orbit", 1, 10000, "", "diagnostic samples per orbit", integer=True),

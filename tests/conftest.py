@@ -24,7 +24,7 @@ import pytest
 # processes explicitly.
 os.environ.setdefault("RINGLAB_COMPUTE", "threads")
 
-TIERS = ("core", "app", "browser", "notebooks")
+TIERS = ("core", "app", "browser", "notebooks", "install")
 HERE = Path(__file__).resolve().parent
 
 # ---------------------------------------------------------------- Hypothesis: one profile registry

@@ -216,7 +216,7 @@ def buffer_amplitudes(r) -> tuple[float, float]:
     """(rms of sigma inside the buffer, rms outside) of the run's current state."""
     sim = r.sim
     lo, hi = sim.buffer[0], sim.buffer[1]
-    x, s = sim.x_m, sim.sigma
+    x, s = sim.x_m, sim.sigma_dimless
     inside = (x >= lo) & (x <= hi)
     return float(np.std(s[inside])), float(np.std(s[~inside]))
 

@@ -3,7 +3,7 @@
 The documentation site (``make docs``: Sphinx into ``build/docs/html``, copied to ``app/docs_site/``
 so that a wheel built afterwards carries it) is served at ``/docs`` by ``ringlab serve`` and
 ``make app`` (``--static-dirs docs=DIR``, :func:`serve_args`, :func:`static_dirs`); the tutorials are its
-pages ``/docs/tutorials/<name>.html``.  ``make tutorials-html`` writes just the tutorial pages into
+pages ``/docs/tutorials/nb/<name>.html``.  ``make tutorials-html`` writes just the tutorial pages into
 the same place when the full site is not built.  A link is shown only when its page exists, so a
 server without the site shows none instead of broken links, and :func:`docs_note` says where the
 documentation is instead.
@@ -41,8 +41,8 @@ def docs_dir() -> Path:
 
 
 def html_dir() -> Path:
-    """Folder of the rendered tutorials: ``tutorials/`` of the documentation site."""
-    return docs_dir() / "tutorials"
+    """Folder of the rendered tutorials: ``tutorials/nb/`` of the documentation site (where MyST-NB puts them)."""
+    return docs_dir() / "tutorials" / "nb"
 
 
 def serve_args(folder: Path | None = None) -> list[str]:
@@ -77,8 +77,8 @@ def stem_of(name: str) -> str:
 
 
 def url(stem: str) -> str:
-    """Address of a tutorial's page relative to the app's page (``docs/tutorials/NN_name.html``)."""
-    return f"{ROUTE}/tutorials/{stem_of(stem)}.html"
+    """Address of a tutorial's page relative to the app's page (``docs/tutorials/nb/NN_name.html``)."""
+    return f"{ROUTE}/tutorials/nb/{stem_of(stem)}.html"
 
 
 def available(stem: str) -> bool:

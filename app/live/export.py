@@ -1,8 +1,7 @@
 """Export of live runs: the project's NetCDF run file and a JSON settings file, as page widgets.
 
-``run_file_bytes`` writes a dataset with :func:`ringcore.io.write_run` (schema attributes,
-atomic write) to a temporary file and returns its bytes, so a download leaves nothing on
-the server's disk.  :class:`ExportPanel` holds the download buttons and the settings
+``run_file_bytes`` builds a dataset's run file (schema attributes, checksum) in memory with
+:func:`ringcore.io.run_bytes`, so a download never touches the server's disk.  :class:`ExportPanel` holds the download buttons and the settings
 upload of one runner; each plot can be saved as PNG with its own Bokeh "save" tool.
 
 An uploaded settings file is checked completely by :func:`check_settings_upload` BEFORE anything
@@ -16,12 +15,10 @@ from __future__ import annotations
 import io
 import json
 import math
-import os
-import tempfile
 
 import param
 
-from ringcore.io import write_run
+from ringcore.io import run_bytes
 from ringcore.spec import RunSpec, resolve
 
 MAX_UPLOAD_BYTES = 64 * 1024  # a settings file is < 2 KiB; anything much larger is not one
@@ -174,13 +171,6 @@ def check_settings_upload(data, kind: str, runner) -> dict:
 
 
 def run_file_bytes(ds, kind: str) -> io.BytesIO:
-    """``ds`` written by ``ringcore.io.write_run(ds, path, kind)``, returned as an in-memory file."""
-    fd, path = tempfile.mkstemp(suffix=".nc", prefix=f"ringlab-{kind}-")
-    os.close(fd)
-    try:
-        write_run(ds, path, kind)
-        with open(path, "rb") as f:
-            return io.BytesIO(f.read())
-    finally:
-        if os.path.exists(path):
-            os.unlink(path)
+    """The run file of ``ds`` (what ``ringcore.io.write_run(ds, path, kind)`` writes) as an in-memory file;
+    built in memory by ``ringcore.io.run_bytes``, so a full or read-only disk of the server cannot break it."""
+    return io.BytesIO(bytes(run_bytes(ds, kind)))

@@ -80,9 +80,9 @@ class HydroRunner(LiveLoop, HydroSettings):
             self.status = "Settings not applied: see the message beside the controls."
             return False
         p, opt = self.ring_params(), self.options()
-        kw = dict(seed=self.seed, amplitude=self.amplitude)
-        if self.initial == "mode":
-            kw["wavelength"] = self.wavelength
+        # only the arguments of the chosen initial state (the engine warns about ones that do not apply)
+        kw = (dict(seed=self.seed, amplitude=self.amplitude) if self.initial == "noise" else
+              dict(amplitude=self.amplitude, wavelength=self.wavelength) if self.initial == "mode" else {})
         max_rows = max(100, int(MAX_STROBE_BYTES / (4 * opt.n)))
         old = self.sim
         if isinstance(old, remote.RemoteSim):
@@ -94,7 +94,7 @@ class HydroRunner(LiveLoop, HydroSettings):
         self.series = SeriesBuffer(("e_kin", "lambda_p"))
         d = sim.diagnostics()  # the sample at t = 0 was recorded before the callback existed
         self._on_sample(sim, dict(orbit=d["orbit"], e_kin=d["e_kin"], lambda_p_m=d["lambda_p_m"], dt_orbits=0.0,
-                                  strobe_row=sim.sigma.astype(np.float32) if opt.strobe else None))
+                                  strobe_row=sim.sigma_dimless.astype(np.float32) if opt.strobe else None))
         self.sim = sim = remote.wrap(sim)  # [cluster] chunks on Dask workers (RINGLAB_COMPUTE / _DASK_SCHEDULER)
         sim.on_sample(self._on_sample)
         self.blowup = ""

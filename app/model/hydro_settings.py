@@ -16,6 +16,7 @@ import math
 
 import param
 
+from ringcore import ranges
 from ringcore.hydro import HydroOptions
 
 from ringlab.model.controls import RingControls
@@ -120,8 +121,10 @@ class HydroSettings(RingControls):
 
     def _initial_problem(self) -> str:
         if self.initial == "noise":
-            if self.amplitude > 0.1:
-                return f"amplitude = {self.amplitude:g} is out of range for white noise: allowed 1e-06 .. 0.1"
+            try:  # the engine's own range (ringcore.ranges), so the page and Hydro1D agree
+                ranges.check("amplitude_noise", self.amplitude, "amplitude (white noise)")
+            except ValueError as exc:
+                return str(exc)
             return ""
         if self.wavelength > self.L_x:
             return f"wavelength = {self.wavelength:g} m is longer than the box (L_x = {self.L_x:g} m)"

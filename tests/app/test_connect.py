@@ -193,16 +193,16 @@ def test_tutorial_links_point_at_files_of_the_served_folder(tmp_path, monkeypatc
     monkeypatch.setenv(tutorials.ENV, str(tmp_path))
     assert tutorials.tab_links("hydro") == ""  # nothing built: no (broken) links
     assert "make docs" in tutorials.docs_note() and 'href="docs/' not in tutorials.docs_note()
-    (tmp_path / "tutorials").mkdir()
+    (tmp_path / "tutorials" / "nb").mkdir(parents=True)
     for stem in tutorials.TUTORIALS:
-        (tmp_path / "tutorials" / f"{stem}.html").write_text("<html>ok</html>")
+        (tmp_path / "tutorials" / "nb" / f"{stem}.html").write_text("<html>ok</html>")
     (tmp_path / "index.html").write_text("<html>docs</html>")
     assert tutorials.serve_args() == ["--static-dirs", f"docs={tmp_path}"]
     assert tutorials.static_dirs() == {"docs": str(tmp_path)}
     assert 'href="docs/index.html"' in tutorials.docs_note()
     for tab, stems in tutorials.TAB_TUTORIALS.items():
         hrefs = re.findall(r'href="([^"]+)"', tutorials.tab_links(tab))
-        assert hrefs == [f"docs/tutorials/{s}.html" for s in stems]
+        assert hrefs == [f"docs/tutorials/nb/{s}.html" for s in stems]
         for h in hrefs:  # the static route /docs/ maps onto the folder
             assert (tmp_path / h.split("/", 1)[1]).is_file()
     from ringlab.lessons.content import LESSONS

@@ -6,7 +6,7 @@ linear-theory slope), opens the Saturation tab and fetches every tutorial link o
 the app server itself.  Screenshots at 1280x720 go to ``test-artifacts/shots/connect_*.png``.
 
 The server serves the executed tutorials (``make tutorials-html``) if they are built, else small
-stand-in pages in a temporary folder, at /docs/tutorials/ (``ringlab.lessons.tutorials.serve_args``).
+stand-in pages in a temporary folder, at /docs/tutorials/nb/ (``ringlab.lessons.tutorials.serve_args``).
 Run alone with ``.venv/bin/python -m pytest -p no:playwright tests/browser/test_browser_connect.py``.
 """
 from __future__ import annotations
@@ -32,11 +32,11 @@ except ImportError:  # pragma: no cover
 @pytest.fixture
 def server(tmp_path):
     site = tutorials.docs_dir()
-    if not all((site / "tutorials" / f"{s}.html").is_file() for s in tutorials.TUTORIALS):
+    if not all((tutorials.html_dir() / f"{s}.html").is_file() for s in tutorials.TUTORIALS):
         site = tmp_path / "docs_site"  # stand-in pages: the documentation site is not built here
-        (site / "tutorials").mkdir(parents=True)
+        (site / "tutorials" / "nb").mkdir(parents=True)
         for stem, title in tutorials.TUTORIALS.items():
-            (site / "tutorials" / f"{stem}.html").write_text(f"<html><body><h1>{title}</h1></body></html>")
+            (site / "tutorials" / "nb" / f"{stem}.html").write_text(f"<html><body><h1>{title}</h1></body></html>")
     old = os.environ.get(tutorials.ENV)
     os.environ[tutorials.ENV] = str(site)  # the server process inherits it
     ARTIFACTS.mkdir(exist_ok=True)
@@ -127,8 +127,8 @@ def test_run_this_in_hydrodynamics(server, tmp_path):
             page.screenshot(path=str(SHOTS / "connect_saturation.png"))
             for a in page.locator("a.tutorial-link").all():
                 hrefs.add(a.get_attribute("href"))
-            assert {"docs/tutorials/02_hydro_without_self_gravity.html",
-                    "docs/tutorials/03_self_gravity_sets_the_wavelength.html"} <= hrefs
+            assert {"docs/tutorials/nb/02_hydro_without_self_gravity.html",
+                    "docs/tutorials/nb/03_self_gravity_sets_the_wavelength.html"} <= hrefs
             for h in hrefs:  # served by the app server itself
                 r = page.request.get(urljoin(url, h))
                 assert r.status == 200 and r.body() == (site / h.split("/", 1)[1]).read_bytes(), h

@@ -159,9 +159,9 @@ class HydroPlots:
         sc = sim.params.scales
         vel = sc.velocity * 1e3  # [mm/s]
         f32 = np.float32
-        self.profile_source.data = dict(x=sim.x_m.astype(f32), sigma=sim.sigma.astype(f32),
-                                        u=(sim.u * vel).astype(f32), v=(sim.v * vel).astype(f32),
-                                        T=(sim.T * vel ** 2).astype(f32))
+        self.profile_source.data = dict(x=sim.x_m.astype(f32), sigma=sim.sigma_dimless.astype(f32),
+                                        u=(sim.u_dimless * vel).astype(f32), v=(sim.v_dimless * vel).astype(f32),
+                                        T=(sim.T_dimless * vel ** 2).astype(f32))
         s = runner.series
         e = s.get("e_kin") * ekin_unit(sim.params)  # sigma0 c0^2 -> sigma0 (R_p Omega)^2
         e[e <= 0] = np.nan
