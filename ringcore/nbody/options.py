@@ -16,9 +16,10 @@ V_C_BRIDGES = 0.077e-3  # [m/s] scale of the Bridges et al. (1984) law, eq. (bri
 
 @dataclass(frozen=True)
 class NBodyOptions:
-    """Box geometry, collision law, time step and self-gravity resolution.
+    """Box geometry, collision law, time step and self-gravity resolution (the ranges of the numbers:
+    :mod:`ringcore.ranges`).
 
-    Attributes (ranges of the numbers: :mod:`ringcore.ranges`)
+    Attributes
     ----------
     L_x, L_y : float
         Radial and azimuthal box size [m]; each at least 6 R_p (three neighbour cells).
