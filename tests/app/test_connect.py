@@ -209,7 +209,7 @@ def test_tutorial_links_point_at_files_of_the_served_folder(tmp_path, monkeypatc
     from ringlab.lessons.view import LessonsPanel
     for les in LESSONS:
         html = " ".join(getattr(w, "object", "") or "" for w in LessonsPanel._link_widgets(les))
-        assert f'href="docs/tutorials/{les.tutorial[:-3]}.html"' in html
+        assert f'href="docs/tutorials/nb/{les.tutorial[:-3]}.html"' in html
     with pytest.raises(ValueError, match="tutorial"):
         tutorials.url("99_nothing")
     monkeypatch.setenv(tutorials.ENV, str(tmp_path / "missing"))
