@@ -301,8 +301,12 @@ def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int | None
         elif client is None:
             client = running_client()
         if client is None:
+            # without a dashboard the scheduler still starts its HTTP server (health routes), on port 8787
+            # unless told otherwise: a free port on localhost keeps a second sweep or the app from colliding
+            extra = {} if dashboard else {"scheduler_kwargs": {"dashboard": False,
+                                                                "dashboard_address": "127.0.0.1:0"}}
             cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=":0" if dashboard else None)
+                                   dashboard_address=":0" if dashboard else None, **extra)
             client = own = Client(cluster)
         try:
             if progress and client.dashboard_link:

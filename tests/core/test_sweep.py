@@ -6,11 +6,20 @@ from ringcore import linear, params
 from ringcore.experiments.sweep import execute_task, run_sweep, task_name
 
 
-def test_sweep_runs_skips_and_reports(tmp_path):
+def test_sweep_runs_skips_and_reports(tmp_path, monkeypatch):
+    import dask.distributed
+    real, ports = dask.distributed.LocalCluster, []
+
+    def spy(**kwargs):  # the real cluster; records where its scheduler's HTTP server listens
+        cluster = real(**kwargs)
+        ports.append(cluster.scheduler.http_server.port)
+        return cluster
+    monkeypatch.setattr(dask.distributed, "LocalCluster", spy)  # run_sweep imports it when called
     tasks = [{"engine": "linear", "set": "tau15", "sigma0": s} for s in (100.0, 400.0, 800.0)]
     tasks.append({"engine": "linear", "set": "tau15", "sigma0": -5.0})  # invalid: must be reported
     res = run_sweep(tasks, tmp_path, n_workers=2, progress=False, dashboard=False)
     assert len(res.rows) == 4 and len(res.failed) == 1
+    assert len(ports) == 1 and ports[0] != 8787  # dashboard=False takes no fixed, well-known port
     assert "sigma0 = -5" in res.failed[0]["error"]
     ds = res.dataset
     assert list(ds.sigma0.values) == [-5.0, 100.0, 400.0, 800.0]  # the grid as asked; the failed cell is nan
