@@ -6,6 +6,8 @@ import json
 
 from ..experiments.registry import get_recipe, load_all, outputs
 from ..io import reserve_output
+from ..paperlabels import to_published
+from ..paperrefs import ref
 from .common import refuse_with
 from .safety import check_new_files, check_output_dir
 
@@ -15,7 +17,7 @@ def register(sub) -> None:
                        description="Each recipe writes OUT/NAME.png (with a caption of what was run) and "
                                    "OUT/NAME.nc; existing ones are kept unless --overwrite.")
     p.add_argument("name", nargs="?", help="recipe name (see --list)")
-    p.add_argument("--list", action="store_true", help="list recipes with figure labels and costs")
+    p.add_argument("--list", action="store_true", help="list recipes with the paper's figure (or section) numbers and costs")
     g = p.add_mutually_exclusive_group()
     g.add_argument("--quick", dest="mode", action="store_const", const="quick",
                    help="reduced box / fewer orbits, same physics (default)")
@@ -32,15 +34,16 @@ def run(args) -> int:
     if args.list or args.name is None:
         if args.list:
             refuse_with(args, ("name", "mode", "out", "overwrite"), "with --list (it only lists the recipes)")
-        if args.json:
-            print(json.dumps({n: {"figure": recipes[n].figure, "title": recipes[n].title, "quick_cost":
-                                  recipes[n].quick_cost, "full_cost": recipes[n].full_cost} for n in sorted(recipes)}))
+        if args.json:  # the published number for readers; the LaTeX label for scripts that matched it
+            print(json.dumps({n: {"figure": ref(recipes[n].figure), "label": recipes[n].figure,
+                                  "title": to_published(recipes[n].title), "quick_cost": recipes[n].quick_cost,
+                                  "full_cost": recipes[n].full_cost} for n in sorted(recipes)}))
             return 0
         w = max(len(n) for n in recipes)
-        print(f"{'name':<{w}}  {'figure':<22} {'quick':>8} {'full':>10}  title")
+        print(f"{'name':<{w}}  {'paper':<13} {'quick':>8} {'full':>10}  title")
         for n in sorted(recipes):
             r = recipes[n]
-            print(f"{n:<{w}}  {r.figure:<22} {r.quick_cost:>8} {r.full_cost:>10}  {r.title}")
+            print(f"{n:<{w}}  {ref(r.figure):<13} {r.quick_cost:>8} {r.full_cost:>10}  {to_published(r.title)}")
         return 0
     recipe = get_recipe(args.name)
     check_output_dir(args.out)

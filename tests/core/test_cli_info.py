@@ -83,6 +83,7 @@ def test_reproduce_list_json(capsys):
     rc, out, _ = cli(capsys, ["reproduce", "--list", "--json"])
     got = json.loads(out)
     assert rc == 0 and "lambdap" in got and got["lambdap"]["quick_cost"]
+    assert got["lambdap"]["figure"] == "Figure 20" and got["lambdap"]["label"] == "fig:lambdap"
 
 
 def test_every_command_printing_results_has_json():

@@ -5,13 +5,17 @@ from ringcore.cli.main import main
 from ringcore.experiments import get_recipe, run_recipe
 from ringcore.experiments.registry import load_all
 from ringcore.io import read_run
+from ringcore.paperlabels import raw_labels
+from ringcore.paperrefs import ref
 
 
 def test_list_shows_every_recipe_with_figure_and_costs(capsys):
     assert main(["reproduce", "--list"]) == 0
     out = capsys.readouterr().out
     for name, r in load_all().items():
-        assert name in out and r.figure in out
+        line = next(l for l in out.splitlines() if l.startswith(name + " "))
+        assert ref(r.figure) in line  # the published number a reader can look up ...
+    assert not raw_labels(out) and "fig:" not in out and "sec:" not in out  # ... and no LaTeX label
 
 
 @pytest.mark.parametrize("name", ["omega", "vgph"])
