@@ -10,7 +10,13 @@ Modules: :mod:`.kernels` (drift, boundaries, cell list, collisions), :mod:`.grav
 :mod:`.growth` (linear mode measurement), :mod:`.bench`.
 Kernel units: lengths R_p, times 1/Omega, velocities R_p Omega.
 """
-from .box import NBodyBlowUp, ShearingBox
-from .options import RESTITUTION_LAWS, NBodyOptions
+from .. import cachestamp as _cachestamp
+
+# first, before any kernel is compiled or loaded: the integrator's cached step must not keep running old
+# kernels after an edit of kernels.py or gravity.py (numba alone stamps a function with its own file)
+_cachestamp.register(__file__)
+
+from .box import NBodyBlowUp, ShearingBox  # noqa: E402
+from .options import RESTITUTION_LAWS, NBodyOptions  # noqa: E402
 
 __all__ = ["ShearingBox", "NBodyOptions", "NBodyBlowUp", "RESTITUTION_LAWS"]
