@@ -70,10 +70,32 @@ def lambda_slow(scan):
     return float(lam[i] + (lam[i + 1] - lam[i]) * math.log(g[i] / G_SLOW) / math.log(g[i] / g2))
 
 
+def _base_records(path):
+    """Records (as :func:`run` writes them, without the scan) of an assembled table's computed rows."""
+    import xarray as xr
+
+    ds = xr.open_dataset(path, engine="h5netcdf")
+    recs = []
+    for c in ds.case.values:
+        for s0 in ds.sigma0.values:
+            d = ds.sel(case=c, sigma0=s0)
+            if not np.isfinite(float(d.cpu_s)):
+                continue
+            st = float(d.lambda_st_m)
+            recs.append(dict(case=str(c), sigma0=float(s0), lambda_st_m=st if np.isfinite(st) else None,
+                             lambda_c_m=float(d.lambda_c_m), lambda_zero_m=float(d.lambda_zero_m),
+                             lambda_slow_m=float(d.lambda_slow_m), cpu_s=float(d.cpu_s),
+                             reason=str(d.reason.values)))
+    return recs
+
+
 def assemble(args):
     import xarray as xr
 
     recs = [json.loads(line) for f in args.files for line in open(f) if line.strip()]
+    if args.base:  # rows of an earlier table that the new records do not replace
+        new = {(r["case"], r["sigma0"]) for r in recs}
+        recs = [r for r in _base_records(args.base) if (r["case"], r["sigma0"]) not in new] + recs
     cases = sorted({r["case"] for r in recs})
     s0 = sorted({r["sigma0"] for r in recs})
     shape = (len(cases), len(s0))
@@ -85,7 +107,7 @@ def assemble(args):
         lc[i, j] = r.get("lambda_c_m", np.nan) or np.nan
         lz[i, j] = r.get("lambda_zero_m", np.nan) if r.get("lambda_zero_m") is not None else np.nan
         cpu[i, j] = r["cpu_s"]
-        ls[i, j] = lambda_slow(r["scan"]) if r.get("scan") else np.nan
+        ls[i, j] = lambda_slow(r["scan"]) if r.get("scan") else r.get("lambda_slow_m", np.nan)
         reason[i, j] = r.get("reason") or ""
     ds = xr.Dataset(
         dict(lambda_st_m=(("case", "sigma0"), st, {"units": "m", "long_name": "shortest stable wave-train wavelength"}),
@@ -98,6 +120,11 @@ def assemble(args):
         coords=dict(case=("case", cases, {"long_name": "parameter set:model"}),
                     sigma0=("sigma0", np.array(s0), {"units": "kg m-2"})))
     ds.attrs["command"] = " ".join(["python scripts/wavetrain_lambda_st.py"] + sys.argv[1:])
+    history = []
+    if args.base:
+        base = xr.open_dataset(args.base, engine="h5netcdf")
+        history = [base.attrs.get("history", base.attrs.get("command", ""))]
+    ds.attrs["history"] = "\n".join(history + [f"{time.strftime('%Y-%m-%d', time.gmtime())}: {ds.attrs['command']}"])
     ds.attrs["recipe"] = __doc__
     ds.to_netcdf(args.out, engine="h5netcdf")
     print(ds.lambda_st_m.to_pandas().round(1))
@@ -146,6 +173,7 @@ def main():
     b = sub.add_parser("assemble")
     b.add_argument("files", nargs="+")
     b.add_argument("--out", required=True)
+    b.add_argument("--base", help="an earlier assembled table whose rows are kept unless recomputed")
     b.set_defaults(func=assemble)
     c = sub.add_parser("table")
     c.add_argument("file")

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..params import RingParams
 from .branch import compute_branch, neutral_wavelength, solve_at
-from .floquet import DEFAULT_Q, floquet
+from .floquet import COARSE_Q, DEFAULT_Q, FloquetSpectrum, floquet
 
 STABLE_TOL = 1e-7  # [Omega] growth rates below this count as stable: an e-folding time of 1.6 million orbits.
 # Wave trains resolved to a spectral tail of 1e-6 can show spurious long-wave growth up to ~5e-9 Omega
@@ -101,8 +101,7 @@ def stability_boundary(p: RingParams, lam_max_m: float | None = None, N: int = 6
         ell = tr.wavelength_m / lam_c
         if ell < state["next_ell"]:
             return None
-        state["next_ell"] = ell + scan_step
-        fs = floquet(tr, q_over_k)
+        fs = _scan_floquet(tr, q_over_k, qs[-1] if qs else None)
         lams.append(tr.wavelength_m), grs.append(fs.growth_rate), qs.append(fs.q_max_over_k)
         amps.append(tr.amplitude), ns.append(tr.N)
         spectra.append((tr, fs))
@@ -110,6 +109,11 @@ def stability_boundary(p: RingParams, lam_max_m: float | None = None, N: int = 6
             state["first_stable"] = None
         elif state["first_stable"] is None:
             state["first_stable"] = tr.wavelength_m
+        if state["first_stable"] is not None:  # confirming: three checks up to confirm * first stable
+            step = max(scan_step, (confirm - 1.0) * state["first_stable"] / (3.0 * lam_c))
+        else:  # far from the boundary (fast growth) longer steps: 1x at 1e-5 Omega, 2x at 1e-3, at most 3x
+            step = scan_step * min(3.0, max(1.0, 0.5 * math.log10(fs.growth_rate / STABLE_TOL)))
+        state["next_ell"] = ell + step
         if state["first_stable"] is not None and tr.wavelength_m >= confirm * state["first_stable"]:
             return (f"stopped at {tr.wavelength_m:.1f} m: stable from {state['first_stable']:.1f} m to "
                     f"{confirm:g} times that")
@@ -136,9 +140,30 @@ def stability_boundary(p: RingParams, lam_max_m: float | None = None, N: int = 6
             res.reason = (f"stable at {lams[i]:.1f} m but unstable again at {again.min():.1f} m: no single "
                           "stability boundary")
         else:
-            res.lambda_st_m = _refine(br, spectra[i - 1], spectra[i], q_over_k, bisections)
+            # bisect down to the bracket a plain scan with ``bisections`` steps would end with
+            width = (lams[i] - lams[i - 1]) / lam_c
+            n_bis = bisections + max(0, round(math.log2(width / scan_step)))
+            res.lambda_st_m = _refine(br, spectra[i - 1], spectra[i], q_over_k, n_bis)
     res.seconds = time.perf_counter() - t0
     return res
+
+
+def _scan_floquet(tr, q_over_k, q_prev):
+    """Floquet spectrum on a scan point: first the coarse q (and the previous point's fastest q); only if
+    all of them are stable the remaining q of ``q_over_k``.  Stable/unstable is decided exactly as with
+    the full set; an unstable point's growth rate is the largest over the q evaluated (a lower bound)."""
+    q_all = [float(q) for q in q_over_k]
+    first = [q for q in q_all if q in COARSE_Q or q == q_prev]
+    fs = floquet(tr, first) if first else None
+    rest = [q for q in q_all if q not in first]
+    if fs is not None and (fs.growth_rate > STABLE_TOL or not rest):
+        return fs
+    fs2 = floquet(tr, rest)
+    if fs is None:
+        return fs2
+    order = np.argsort(first + rest)
+    return FloquetSpectrum(np.asarray(first + rest)[order], np.concatenate([fs.mu, fs2.mu])[order],
+                           np.concatenate([fs.growth_per_q, fs2.growth_per_q])[order])
 
 
 def _refine(br, lo, hi, q_over_k, bisections):
@@ -147,7 +172,7 @@ def _refine(br, lo, hi, q_over_k, bisections):
     for _ in range(bisections):
         lam = 0.5 * (tr_a.wavelength_m + tr_b.wavelength_m)
         tr = solve_at(br, lam)
-        fs = floquet(tr, q_over_k)
+        fs = _scan_floquet(tr, q_over_k, fs_a.q_max_over_k)
         if fs.growth_rate > STABLE_TOL:
             tr_a, fs_a = tr, fs
         else:

@@ -24,6 +24,7 @@ from .result import WaveTrain
 
 NEUTRAL_TOL = 1e-6  # [Omega] distance of a q = 0 eigenvalue from 0 or +-i to count as a symmetry mode
 DEFAULT_Q = (0.0, 0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5)  # q / k
+COARSE_Q = (0.0, 0.01, 0.1, 0.3, 0.5)  # q / k tried first on a stability scan (boundary.py)
 
 
 @dataclass(frozen=True)

@@ -132,18 +132,17 @@ class Grid:
     def matrices(self, q: float = 0.0):
         """Dense D_q, D_q^2 and G_q (N, N) acting on the periodic factor of exp(i q x) phi(x).
 
-        Real for q = 0, complex otherwise.
+        Real for q = 0, complex otherwise.  Each is diagonal in Fourier space, hence circulant on
+        the nodes: M[j, l] = ifft(symbol)[(j - l) mod N], built in O(N^2) without matrix products.
         """
         N = self.N
-        F = np.fft.fft(np.eye(N), axis=0)
-        Fi = np.fft.ifft(np.eye(N), axis=0)
         kq = self.k + q
-        D = Fi @ (1j * kq[:, None] * F)
-        D2 = Fi @ (-(kq**2)[:, None] * F)
-        G = Fi @ ((2j * self.inv_Q0 * np.sign(kq))[:, None] * F)
-        if q == 0.0:
-            return D.real.copy(), D2.real.copy(), G.real.copy()
-        return D, D2, G
+        idx = (np.arange(N)[:, None] - np.arange(N)[None, :]) % N
+        mats = []
+        for symbol in (1j * kq, -(kq**2) + 0j, 2j * self.inv_Q0 * np.sign(kq)):
+            col = np.fft.ifft(symbol)
+            mats.append(col.real[idx] if q == 0.0 else col[idx])
+        return tuple(mats)
 
 
 def residual(model: Model, grid: Grid, w, c):

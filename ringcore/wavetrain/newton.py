@@ -13,6 +13,7 @@ All quantities dimensionless (units of :mod:`ringcore.wavetrain.model`).
 from __future__ import annotations
 
 import numpy as np
+import scipy.linalg
 
 from .model import Grid, Model, linear_operator, residual
 
@@ -80,12 +81,20 @@ def equations(model: Model, N: int, z, lam_ref: float, ell_fixed=None, extra=Non
 
 
 def newton(model, N, z0, lam_ref, ell_fixed=None, extra=None, tol=1e-11, maxit=25):
-    """Solve :func:`equations` = 0 from z0; returns (z, max |F|, iterations) or raises NewtonFailure."""
+    """Solve :func:`equations` = 0 from z0; returns (z, max |F|, iterations) or raises NewtonFailure.
+
+    The LU factors of the Jacobian are reused (chord iterations) as long as each step reduces the
+    residual at least fourfold; otherwise the Jacobian is recomputed at the current point.  From a
+    continuation predictor (residual ~1e-4) the chord iterations converge about as fast as full
+    Newton (the contraction factor is of the size of the correction) at a fraction of the cost: the
+    dense Jacobian's assembly and factorisation dominate an iteration.
+    """
     z = np.array(z0, float)
     nv = model.nv
     res = np.inf
+    lu, res_prev = None, np.inf
     for it in range(maxit + 1):
-        F, J = equations(model, N, z, lam_ref, ell_fixed, extra, jac=True)
+        F, J = equations(model, N, z, lam_ref, ell_fixed, extra, jac=lu is None)
         res = float(np.max(np.abs(F)))
         if not np.isfinite(res):
             raise NewtonFailure("the residual is not finite (fields left the physical range)", res)
@@ -93,10 +102,15 @@ def newton(model, N, z0, lam_ref, ell_fixed=None, extra=None, tol=1e-11, maxit=2
             return z, res, it
         if it == maxit:
             break
-        try:
-            dz = np.linalg.solve(J, -F)
-        except np.linalg.LinAlgError:
-            raise NewtonFailure("singular Jacobian", res) from None
+        if lu is not None and res > 0.25 * res_prev:  # chord step too slow: fresh Jacobian here
+            F, J = equations(model, N, z, lam_ref, ell_fixed, extra, jac=True)
+            lu = None
+        if lu is None:
+            lu = scipy.linalg.lu_factor(J, overwrite_a=True, check_finite=False)
+            if np.any(lu[0].diagonal() == 0.0):
+                raise NewtonFailure("singular Jacobian", res)
+        res_prev = res
+        dz = scipy.linalg.lu_solve(lu, -F, check_finite=False)
         # damp steps that would make sigma (or T) non-positive
         a = 1.0
         w, dw = z[:nv * N].reshape(nv, N), dz[:nv * N].reshape(nv, N)
