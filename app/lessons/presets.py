@@ -102,7 +102,8 @@ def apply_preset(preset: Preset | str, targets: Targets, scale: str | None = Non
         if targets.saturation is None:
             raise ValueError("preset needs the Saturation tab, which this session does not have")
         _update(targets.saturation, sat)
-        done.append("Saturation tab set to " + ", ".join(f"{k} = {v}" for k, v in sat.items()))
+        shown = targets.saturation
+        done.append(f"Saturation tab shows {shown.param_set}, {'isothermal' if shown.isothermal else 'non-isothermal'}")
     for kind in ("hydro", "nbody"):
         values = preset.values(kind, scale)
         runner = getattr(targets, kind)

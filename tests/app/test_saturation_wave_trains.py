@@ -122,7 +122,8 @@ def test_wave_train_card_stable_at_300_m_unstable_at_70_m():
     html = card.readouts.object
     assert 'id="wt-verdict"' in html and ">stable<" in html and "m/s" in html
     assert len(card.profile_source.data["x"]) == r.train.N + 1 and not card.t_line.visible
-    assert list(card.spectrum_source.data["q"]) == list(wt.DEFAULT_Q)
+    assert list(card.spectrum_source.data["q"]) == list(wt.DEFAULT_Q[1:])  # q > 0 (q = 0: neutral symmetries)
+    assert max(card.spectrum_source.data["growth"]) == pytest.approx(r.growth_rate)
     # the same wave train's frequency tends to omega_I of linear theory only at lambda_c: here just c k
     assert r.train.frequency == pytest.approx(abs(r.train.c) * 2 * math.pi / r.train.lam)
 

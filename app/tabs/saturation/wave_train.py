@@ -36,6 +36,11 @@ INTRO = (f"A *wave train* is a periodic, nonlinear wave that travels without cha
          f"whether small disturbances of any wavelength grow on it (Floquet analysis, as in the paper's "
          f"{paperrefs.sec('isonosg')}). This takes a few seconds.")
 
+SPECTRUM_NOTE = ("Floquet spectrum: each dot is the largest growth rate Re μ of small disturbances of wavenumber q "
+                 "(k = 2π/λ is the wave train's own): above the dashed zero line they grow and the wave train is "
+                 "unstable. q = 0 is left out: there the only undamped disturbances are the wave's own shift, a "
+                 "change of its mass and an epicyclic sway of the whole ring, and these neither grow nor decay.")
+
 
 class WaveTrainCard(pn.viewable.Viewer):
     """Inputs, progress, readouts and plots of one wave-train computation."""
@@ -54,7 +59,9 @@ class WaveTrainCard(pn.viewable.Viewer):
         self.button.on_click(self.compute)
         self.message = message_pane("wt-message")
         self.bar = pn.indicators.Progress(value=0, max=100, visible=False, sizing_mode="stretch_width", height=18)
-        self.status = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
+        self.status = pn.pane.HTML('<div class="status" id="wt-status">Not computed yet: choose σ₀ and λ, then press '
+                                   '"Compute wave train".</div>', stylesheets=[CSS], sizing_mode="stretch_width",
+                                   margin=(0, 10))
         self.readouts = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.profile_source = ColumnDataSource(dict(x=[], sigma=[], u=[], T=[]), name="wt-profile-source")
         self.spectrum_source = ColumnDataSource(dict(q=[], growth=[]), name="wt-spectrum-source")
@@ -69,9 +76,11 @@ class WaveTrainCard(pn.viewable.Viewer):
         self.t_line = prof.line("x", "T", source=self.profile_source, line_width=2, color=T_COLOR,
                                 line_dash="dashed", legend_label="T/T₀")
         prof.legend.location = "top_right"
+        self.legend_items = list(prof.legend[0].items)  # (sigma, T): T only for the non-isothermal model
+        self.prof_fig = prof
         vel = new_figure("Radial velocity over one wavelength", "x / λ", "u [mm/s]", height=280)
         vel.line("x", "u", source=self.profile_source, line_width=3, color=MAXG_COLOR)
-        spec = new_figure("Floquet spectrum: growth of disturbances", "Bloch wavenumber q / k",
+        spec = new_figure("Floquet spectrum: growth of disturbances", "wavenumber of the disturbance q / k",
                           "largest growth rate Re μ [Ω]", height=280)
         spec.add_layout(Span(location=0.0, dimension="width", line_color="#555", line_dash="dashed"))
         spec.line("q", "growth", source=self.spectrum_source, line_width=2, color=LINE_COLOR)
@@ -121,9 +130,12 @@ class WaveTrainCard(pn.viewable.Viewer):
         prof = r.profiles()
         self.profile_source.data = {k: np.asarray(v, float) for k, v in prof.items()}
         self.t_line.visible = not p.isothermal
-        self.spectrum_source.data = dict(q=s.q_over_k, growth=s.growth_per_q)
+        self.prof_fig.legend[0].items = self.legend_items[:1] if p.isothermal else self.legend_items
+        pos = s.q_over_k > 0  # q = 0: see SPECTRUM_NOTE
+        self.spectrum_source.data = dict(q=s.q_over_k[pos], growth=s.growth_per_q[pos])
         if r.stable:
-            verdict, note = "stable", f"largest growth rate {r.growth_rate:.2g} Ω ≤ {STABLE_TOL:g} Ω: disturbances die"
+            verdict = "stable"
+            note = f"no disturbance grows (largest growth rate {r.growth_rate:.2g} Ω, below the tolerance {STABLE_TOL:g} Ω)"
         else:
             verdict = "unstable"
             note = (f"the fastest disturbance (q/k = {s.q_max_over_k:g}) grows by a factor e in "
@@ -145,4 +157,6 @@ class WaveTrainCard(pn.viewable.Viewer):
             pn.pane.Markdown("### A wave train and its stability", margin=(10, 10, 0, 10)),
             pn.pane.Markdown(INTRO, sizing_mode="stretch_width", styles={"font-size": "14px"}),
             inputs, self.message, self.bar, self.status, self.readouts, responsive_grid(*self.figs, min_px=320),
+            pn.pane.HTML(f'<div class="buttons-note" id="wt-spectrum-note">{SPECTRUM_NOTE}</div>', stylesheets=[CSS],
+                         sizing_mode="stretch_width", margin=(0, 10)),
             sizing_mode="stretch_width", css_classes=["wt-card"])
