@@ -73,7 +73,9 @@ def test_lesson_step_opens_saturation_tab_with_lambda_st(app_server, browser_pag
     page.screenshot(path=str(SHOTS / "saturation_lambda_st_wave_train.png"))
 
     # the non-isothermal model: a line through sigma0 = 0 and 200 and crosses where there is no single boundary
-    page.get_by_label("Isothermal model (p_s = 1)").uncheck()
+    iso_box = page.locator("input[type=checkbox]").first  # the Saturation tab's "Isothermal model" (dynamic tabs)
+    assert iso_box.is_checked()  # set by the lesson's preset
+    iso_box.uncheck()
     page.wait_for_timeout(1500)
     page.locator(".bk-Canvas").first.scroll_into_view_if_needed()
     page.mouse.wheel(0, 250)
