@@ -19,9 +19,11 @@ import numpy as np
 from scipy.ndimage import uniform_filter1d
 from scipy.signal import hilbert
 
+from ringcore import paperrefs
 from ringcore.analysis.saturation import C_EMPIRICAL
 
 from ringlab.model.linear import characteristic_numbers
+from ringlab.model.wave_trains import lambda_st_at, load_lambda_st
 
 SETTLE_WINDOW = 10.0  # [orbits] e_kin is "flat" if it changed by less than FLAT_FACTOR over this window
 FLAT_FACTOR = 2.0
@@ -211,6 +213,36 @@ def strobe_concept(targets, answer, right: str, choices=(), min_orbits: float = 
                    "sink; sinks drift and annihilate with sources until one wave train is left.", hint)
 
 
+# ---------------------------------------------------------------- stability boundary
+LO2009_M = dict(tau15=233.0, tau20=455.0, st99=659.0)  # [m] Section "Isothermal Model", Figure "ekinisonosg"
+
+
+def lambda_st_number(targets, answer, set: str, isothermal: bool, sigma0: float, rel_tol: float = 0.05,
+                     unit: str = "", hint: str = "") -> Result:
+    """lambda_st of one model from the shipped table (the Saturation tab's teal line), compared afterwards
+    with the paper's value (isothermal, no self-gravity) and the session's hydro run of that model."""
+    row = lambda_st_at(load_lambda_st()[0], set, isothermal, sigma0)
+    if row is None or not math.isfinite(row["lambda_st_m"]):
+        why = row["reason"] if row else "not in the shipped table"
+        return Result("wait", f"The app has no λ_st for {set} at σ₀ = {sigma0:g} kg/m² ({why or 'not computed'}).")
+    ref = row["lambda_st_m"]
+    extra = ""
+    if isothermal and sigma0 == 0.0 and set in LO2009_M:
+        extra = (f"Latter & Ogilvie (2009) found {LO2009_M[set]:.0f} m, and the paper's long run settled there "
+                 f"({paperrefs.sec('isonosg')}, {paperrefs.fig('ekinisonosg')}).")
+    r = targets.hydro
+    sim = getattr(r, "sim", None)
+    if sim is not None and sim.params.name == set and sim.params.isothermal == isothermal and sim.params.sigma0 == sigma0:
+        lam = sim.prevalent_wavelength()
+        if math.isfinite(lam):
+            extra += (f" Your run has λ_p = {lam:.4g} m at orbit {sim.orbits:.0f} ({lam / ref:.2f} λ_st): "
+                      + ("still climbing (in a small box λ_p can only take the values L_x/n)." if lam < 0.9 * ref
+                         else "it has reached the stability boundary (or passed it: longer wave trains are stable too)."))
+    model = "isothermal" if isothermal else "non-isothermal"
+    return _judge(answer, ref, rel_tol, None, unit, f"λ_st of {set} {model} at σ₀ = {sigma0:g} kg/m² (the app's "
+                  "table)", hint, extra)
+
+
 # ---------------------------------------------------------------- buffer zone
 def buffer_amplitudes(r) -> tuple[float, float]:
     """(rms of sigma inside the buffer, rms outside) of the run's current state."""
@@ -328,7 +360,7 @@ def nbody_nonlocal(targets, answer, choices=(), hint: str = "", **kw) -> Result:
 
 CHECKS = dict(linear_number=linear_number, hydro_growth_rate=hydro_growth_rate, hydro_lambda_p=hydro_lambda_p,
               strobe_concept=strobe_concept, buffer_amplitude=buffer_amplitude, buffer_role=buffer_role,
-              nbody_transport=nbody_transport, nbody_nonlocal=nbody_nonlocal)
+              nbody_transport=nbody_transport, nbody_nonlocal=nbody_nonlocal, lambda_st_number=lambda_st_number)
 
 
 def run_check(question, targets, answer) -> Result:

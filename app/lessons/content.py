@@ -38,6 +38,7 @@ class Preset:
     linear: dict = field(default_factory=dict)
     hydro: dict = field(default_factory=dict)
     nbody: dict = field(default_factory=dict)
+    saturation: dict = field(default_factory=dict)  # the Saturation tab's param_set and isothermal
     start: bool = False
     fresh: bool = False
     fast: dict = field(default_factory=dict)
@@ -48,7 +49,7 @@ class Preset:
         return float(self.fast.get("run_for", self.run_for)) if scale == "fast" else float(self.run_for)
 
     def values(self, part: str, scale: str = "classroom") -> dict:
-        """Settings of ``part`` ("linear", "hydro", "nbody") at ``scale`` ("classroom" or "fast")."""
+        """Settings of ``part`` ("linear", "hydro", "nbody", "saturation") at ``scale`` ("classroom" or "fast")."""
         base = dict(getattr(self, part))
         if scale == "fast":
             base.update(self.fast.get(part, {}))
@@ -87,6 +88,8 @@ PRESETS = {p.name: p for p in (
            fast=dict(hydro=_FAST_BOX)),
     Preset("hydro-nosg-strobe", "The same run, stroboscopic diagram, 30 orbits more", "hydro",
            linear=_linear_of(_NOSG), hydro=_NOSG, start=True, run_for=30.0, fast=dict(hydro=_FAST_BOX)),
+    Preset("saturation-nosg", "Saturation tab: tau15 isothermal (p_s = 1), with the stability boundary λ_st",
+           "saturation", saturation=dict(param_set="tau15", isothermal=True)),
     Preset("hydro-sg0", "Hydro: tau15 non-isothermal, σ₀ = 0 (no self-gravity), white noise — started", "hydro",
            linear=_linear_of(_SG0), hydro=_SG0, start=True, fresh=True, run_for=400.0,
            fast=dict(hydro=_FAST_BOX, run_for=220.0)),
@@ -191,7 +194,7 @@ LESSONS = (
              "The waves cannot grow for ever: nonlinear effects stop them. Predict: is the saturated wave the "
              "fastest-growing one (about 60 m)?",
              "When e_kin is flat, read λ_p (the PSD peak, [[fourier]]). Without self-gravity it keeps climbing in "
-             "steps (the 'staircase') towards Latter & Ogilvie's λ_st = 233 m.",
+             "steps (the 'staircase'); step 4 predicts where the climb ends.",
              Question("Enter the prevalent wavelength λ_p now (metres).", "hydro_lambda_p", unit="m",
                       args=dict(rel_tol=0.1, min_orbits=60.0),
                       hint="Read the card 'λ_p now' or the green line in the PSD.")),
@@ -203,6 +206,17 @@ LESSONS = (
              Question("The V-shaped places where stripes move away on both sides are …", "strobe_concept",
                       kind="choice", choices=("sources", "sinks"), args=dict(right="sources", min_orbits=60.0),
                       hint="Energy leaves a source on both sides and flows into a sink.")),
+        Step("Where will the climb stop?", "saturation-nosg",
+             "Waves merge into longer waves only while the longer wave train is unstable itself. Predict: will "
+             "this run's λ_p climb for ever, or stop at a definite wavelength?",
+             "The teal line in the Saturation tab is λ_st, the shortest wavelength whose nonlinear wave train is "
+             "stable ([[sec:isonosg]], [[fig:ekinisonosg]]). Without self-gravity σ₀ = 0: hover over the teal dot "
+             "at the left edge. Below the plot you can test a wave train shorter and one longer than it.",
+             Question("Predict the wavelength at which this lesson's run (tau15, isothermal, no self-gravity) stops "
+                      "climbing: enter λ_st (metres).", "lambda_st_number", unit="m",
+                      args=dict(set="tau15", isothermal=True, sigma0=0.0, rel_tol=0.05),
+                      hint="Hover over the teal dot at σ₀ = 0 in the Saturation tab (set tau15, isothermal); "
+                           "answers within 5 % count.")),
     )),
     Lesson(3, "Self-gravity picks the wavelength", "Run the same white noise without and with self-gravity and "
            "compare λ_p with 1.4 λ_zero, [[lambdasigma]].",

@@ -36,6 +36,7 @@ class Targets:
     linear: object = None  # ringlab.model.controls.RingControls of the Linear tab
     hydro: object = None  # ringlab.live.hydro.HydroRunner
     nbody: object = None  # ringlab.live.nbody.NBodyRunner
+    saturation: object = None  # the Saturation tab's view (its parameter set and model)
     tabs: object = None  # the main pn.Tabs
     tab_index: dict = None  # "linear"/"hydro"/"nbody"/"saturation" -> index in tabs
 
@@ -45,7 +46,7 @@ class Targets:
         registered = dict(getattr(runs, "tabs_by_kind", None) or {})
         t = cls(hydro=getattr(runs, "hydro", None), tab_index={})
         for i, (kind, (view, controller)) in enumerate(registered.items()):
-            if kind in ("linear", "hydro", "nbody"):
+            if kind in ("linear", "hydro", "nbody", "saturation"):
                 setattr(t, kind, controller)
             t.tab_index[kind] = _tab_position(tabs, view, i)
         t.tabs = tabs
@@ -73,7 +74,7 @@ def _update(obj, values: dict) -> bool:
 def apply_preset(preset: Preset | str, targets: Targets, scale: str | None = None) -> list[str]:
     """Apply ``preset`` (or its name) to ``targets``; returns one line per thing done.
 
-    Order: the Linear tab's settings; the run of the preset's tab (settings, restarted at t = 0 if
+    Order: the Linear tab's settings; the Saturation tab's curves; the run of the preset's tab (settings, restarted at t = 0 if
     ``fresh`` or if a setup setting changed, then started); the other live run is paused so the
     lesson's run gets the CPU; finally the preset's tab is shown.
 
@@ -96,6 +97,13 @@ def apply_preset(preset: Preset | str, targets: Targets, scale: str | None = Non
             raise ValueError("preset needs the Linear theory tab, which this session does not have")
         _update(targets.linear, lin)
         done.append("Linear theory settings set")
+    sat = preset.values("saturation", scale)
+    if sat:
+        if targets.saturation is None:
+            raise ValueError("preset needs the Saturation tab, which this session does not have")
+        _update(targets.saturation, sat)
+        shown = targets.saturation
+        done.append(f"Saturation tab shows {shown.param_set}, {'isothermal' if shown.isothermal else 'non-isothermal'}")
     for kind in ("hydro", "nbody"):
         values = preset.values(kind, scale)
         runner = getattr(targets, kind)

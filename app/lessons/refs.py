@@ -8,6 +8,8 @@ from __future__ import annotations
 
 import html
 
+from ringcore import paperrefs
+
 from ringlab.ui.cite import _published, publish  # noqa: F401  (publish re-exported)
 
 _FIG = ("fig", "figure")
@@ -38,7 +40,10 @@ def cite(label: str, html_out: bool = True) -> str:
     elif kind == "tab":
         text = 'Table "Hydrodynamic Parameters"' if name == "hydropar" else f'Table "{name}"'
     elif kind == "sec":
-        text = f'Section "{name}"'
+        try:  # the published number ("Section 5.1.1", "Appendix A")
+            text = paperrefs.sec(name)
+        except ValueError:
+            text = f'Section "{name}"'
     else:
         text = number if number else f"eq. ({name})"  # paperrefs gives "Eq. (39)"
     if not html_out:

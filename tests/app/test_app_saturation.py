@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
-import ringlab.tabs.saturation as sv
+import ringlab.tabs.saturation.view as sv
 from ringlab.live.hydro import HydroRunner
 from ringlab.tabs.saturation import SaturationView, load_sweep, theory_curves
 from ringlab.live.session import SessionRuns

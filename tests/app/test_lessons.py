@@ -71,7 +71,7 @@ def test_each_preset_sets_its_controls(panel_, name):
     p = PRESETS[name]
     t = panel_.targets()
     done = apply_preset(name, t, FAST)
-    for part in ("linear", "hydro", "nbody"):
+    for part in ("linear", "hydro", "nbody", "saturation"):
         target = getattr(t, part)
         for k, v in p.values(part, FAST).items():
             assert getattr(target, k) == v, (name, part, k)

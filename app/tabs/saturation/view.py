@@ -1,8 +1,9 @@
 """The "Saturation" tab: prevalent wavelength lambda_p against sigma0, like Figure "lambdap".
 
 Theory curves for the chosen parameter set and model: the empirical relation
-lambda_p = 1.4 lambda_zero(sigma0), eq. (lambdasigma), and the fastest-growing linear
-wavelength.  Points: the sweep shipped with the package (``app/data/saturation_sweep.nc``,
+lambda_p = 1.4 lambda_zero(sigma0), eq. (lambdasigma), the fastest-growing linear
+wavelength and the stability boundary lambda_st of the shipped table (:mod:`.stability`);
+below the plot, one wave train and its stability on request (:mod:`.wave_train`).  Points: the sweep shipped with the package (``app/data/saturation_sweep.nc``,
 the ``sweep.nc`` written by ``ringcore sweep``) and the student's own hydro runs of this
 session ("Add my run").
 
@@ -25,6 +26,9 @@ from ringcore.experiments.sweep import shipped_sweep_files, sweep_points
 from ringlab.lessons.tutorials import tab_links
 from ringlab.live.session import SessionRuns
 from ringlab.model.controls import ISOTHERMAL_ONLY, build_params, isothermal_only_note, set_labels
+from ringlab.model.wave_trains import load_lambda_st
+from ringlab.tabs.saturation import stability
+from ringlab.tabs.saturation.wave_train import WaveTrainCard
 from ringlab.paths import DATA_DIR
 from ringlab.ui.cite import publish
 from ringlab.ui.figures import log_ticks, new_figure
@@ -150,8 +154,12 @@ class SaturationView(pn.viewable.Viewer):
         super().__init__(**params)
         if self.runs is None:
             self.runs = SessionRuns()
-        self.runs.register("saturation", self)
+        self.runs.register("saturation", self, self)  # the view is its own controller (lesson presets)
         self.sweep_points, note = load_sweeps(sweep_files())
+        self.st_table, st_note = load_lambda_st()
+        note = " ".join(n for n in (note, st_note) if n)
+        self.st_source, self.no_st_source = stability.empty_sources()
+        self.wave_card = WaveTrainCard(param_set=self.param_set, isothermal=self.isothermal)
         self.curve_source = ColumnDataSource(dict(sigma0=[], empirical=[], fastest=[]), name="sat-curve-source")
         self.sweep_source = ColumnDataSource(dict(sigma0=[], lambda_p=[], label=[], alpha=[]), name="sat-sweep-source")
         self.lower_source = ColumnDataSource(dict(sigma0=[], lambda_p=[], label=[], alpha=[]), name="sat-lower-source")
@@ -174,7 +182,7 @@ class SaturationView(pn.viewable.Viewer):
     def _figure(self):
         fig = new_figure("Saturated prevalent wavelength λ_p against surface density (Figure 'lambdap')",
                          "surface density σ₀ [kg/m²]", "λ_p [m]", height=520, y_axis_type="log",
-                         x_range=Range1d(0, 1020), y_range=Range1d(30, 3000))
+                         x_range=Range1d(-25, 1020), y_range=Range1d(30, 3000))
         fig.line("sigma0", "empirical", source=self.curve_source, line_dash="dashed", line_width=3, color=EMP_COLOR)
         fig.line("sigma0", "fastest", source=self.curve_source, line_dash="dotted", line_width=3, color=MAXG_COLOR)
         r1 = fig.scatter("sigma0", "lambda_p", source=self.sweep_source, marker="square", size=10, color=SWEEP_COLOR,
@@ -183,6 +191,7 @@ class SaturationView(pn.viewable.Viewer):
                          color=SWEEP_COLOR, fill_color="white", line_width=2, fill_alpha="alpha", line_alpha="alpha")
         r2 = fig.scatter("sigma0", "lambda_p", source=self.user_source, size=13, color=LP_COLOR, line_color="black",
                          fill_alpha="alpha", line_alpha="alpha")
+        stability.add_glyphs(fig, self.st_source, self.no_st_source)
         fig.add_tools(HoverTool(renderers=[r1, r3, r2], tooltips=[("", "@label"), ("σ₀", "@sigma0{0} kg/m²"),
                                                               ("λ_p", "@lambda_p{0.0} m")]))
         log_ticks(fig, [30, 50, 100, 200, 500, 1000, 2000, 3000])
@@ -195,7 +204,7 @@ class SaturationView(pn.viewable.Viewer):
                  ("fastest-growing λ (linear)", MAXG_COLOR, "dotted")]
         dots = [("shipped sweep", SWEEP_COLOR, "2px"), ("my runs", LP_COLOR, "50%")]
         html = "".join(f'<span class="key-item"><span class="key-line" style="border-top: 3px {s} {c}"></span>'
-                       f'<span>{lab}</span></span>' for lab, c, s in lines)
+                       f'<span>{lab}</span></span>' for lab, c, s in lines) + stability.key_item()
         html += (f'<span class="key-item"><span style="color:{SWEEP_COLOR};font-size:17px">△</span>'
                  '<span>sweep run not saturated (lower bound)</span></span>')
         html += "".join(f'<span class="key-item"><span style="display:inline-block;width:12px;height:12px;'
@@ -229,6 +238,9 @@ class SaturationView(pn.viewable.Viewer):
             return
         self.model_error.visible = False
         self.curve_source.data = dict(c)
+        self.st_source.data, self.no_st_source.data = stability.source_data(self.st_table, self.param_set,
+                                                                            self.isothermal)
+        self.wave_card.param.update(param_set=self.param_set, isothermal=self.isothermal)
         caveats = sorted({p["caveat"] for p in self.sweep_points if p.get("caveat") and self._matches(p)})
         self.caveat.object = message_html(" ".join(caveats), "sat-caveat", "warn") if caveats else ""
         self.caveat.visible = bool(caveats)
@@ -261,14 +273,18 @@ class SaturationView(pn.viewable.Viewer):
             W.Select.from_param(self.param.param_set, options=set_labels()),
             W.Checkbox.from_param(self.param.isothermal), self.model_note, self.model_error,
             pn.pane.Markdown("### Your runs", margin=(0, 10)), self.add_button, self.message, width=340)
-        explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
+        explanation = pn.pane.Markdown(EXPLANATION + stability.EXPLANATION, sizing_mode="stretch_width",
+                                       styles={"font-size": "15px"})
+        one_line = pn.pane.HTML(f'<div class="buttons-note" id="sat-st-line">{stability.ONE_LINE}</div>',
+                                stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         explanation = pn.Column(explanation, pn.pane.HTML(tab_links("saturation"), stylesheets=[CSS], margin=(0, 10),
                                                           sizing_mode="stretch_width"), sizing_mode="stretch_width")
         lower = [p for p in self.sweep_points if not p.get("saturated", True)]
         lb_note = pn.pane.HTML(f'<div class="buttons-note" id="sat-lower-note">{LOWER_BOUND_NOTE}</div>',
                                stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10), visible=bool(lower))
         return page_row(controls, pn.Column(self.note, self.caveat, self._key(), pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
-                                            lb_note, explanation, sizing_mode="stretch_width"))
+                                            one_line, lb_note, self.wave_card, explanation,
+                                            sizing_mode="stretch_width"))
 
     def __panel__(self):
         return self._layout
