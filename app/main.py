@@ -18,6 +18,7 @@ from ringlab.tabs.linear.view import LinearView
 from ringlab.tabs.nbody import NBodyView
 from ringlab.tabs.paper.view import PaperView
 from ringlab.tabs.saturation import SaturationView
+from ringlab.ui.present import page_styles, plain_figure, present_figure
 
 TABS = [
     ("Linear theory", LinearView),
@@ -41,6 +42,17 @@ PAGE_CSS = """
 .app-header {background: #1f4e79; color: #fff; padding: 8px 16px; margin: 0 0 4px 0;}
 .app-header h1 {font-size: clamp(17px, 2.2vw, 24px); margin: 0; font-weight: 600; line-height: 1.25;}
 """
+# the page is laid out for the device's width (a phone gets the one-column layout instead of a shrunk desktop
+# page): a block of Panel's page template (panel/_templates/base.html) filled through the session's document
+VIEWPORT_TEMPLATE = ('{% block postamble %}<meta name="viewport" content="width=device-width, initial-scale=1">'
+                     '{% endblock %}')
+# the lessons panel beside the tabs stays in view while the page scrolls (its own scrollbar when taller than
+# the window); below the tabs (a narrow window, a phone) it scrolls with the page
+SIDE_PX = 340
+SIDE_CSS = """
+@media (min-width: 1000px) {:host {position: sticky; top: 0; max-height: 100vh; overflow-y: auto;}}
+"""
+TABS_CSS = [":host .bk-tab {font-size: calc(16px * var(--rl-scale, 1));}", ":host .bk-headers-wrapper {flex-wrap: wrap;}"]
 # a permanent vertical scrollbar: otherwise content that grows past the window height adds a scrollbar,
 # the plots shrink, the page gets shorter, the scrollbar goes, ... (the 1280 px resize loop, item 7)
 BODY_CSS = "html {overflow-y: scroll;} body {margin: 0;}"
@@ -53,32 +65,53 @@ def _make(factory, runs):
 
 
 def create_app() -> pn.Column:
-    """The app for one session: a header and one tab per entry of TABS (``app.tabs``)."""
+    """The app for one session: a header and one tab per entry of TABS (``app.tabs``), the lessons beside."""
+    doc = pn.state.curdoc
+    if doc is not None and doc.session_context is not None:
+        doc.template = VIEWPORT_TEMPLATE
     runs = SessionRuns()
     views = [_make(factory, runs) for _, factory in TABS]
+    # beside the 340 px lessons panel from a 1000 px window on (a 1024 px projector keeps the question in view)
     tabs = pn.Tabs(*[(title, view) for (title, _), view in zip(TABS, views)], dynamic=True,
-                   sizing_mode="stretch_width", stylesheets=[":host .bk-tab {font-size: 16px;}",
-                                ":host .bk-headers-wrapper {flex-wrap: wrap;}"],
-                   styles={"flex": "1 1 720px", "min-width": "0"})
+                   sizing_mode="stretch_width", stylesheets=TABS_CSS, styles={"flex": "1 1 620px", "min-width": "0"})
     for view in views:  # [connect] the Linear tab's "Run this in ..." buttons show the other tabs
         if "tabs" in getattr(view, "param", ()):
             view.tabs = tabs
     header = pn.pane.HTML(f'<header class="app-header" id="app-header"><h1>{TITLE}</h1></header>',
-                          stylesheets=[PAGE_CSS], sizing_mode="stretch_width", margin=0)
+                          stylesheets=[PAGE_CSS], sizing_mode="stretch_width", margin=0, styles={"flex": "1 1 300px"})
+    present = pn.widgets.Toggle(name="Presentation mode", button_type="light", css_classes=["present-toggle"],
+                                width=170, margin=(8, 16), styles={"flex": "0 0 auto"})
+    top = pn.FlexBox(header, present, flex_wrap="wrap", align_items="center", sizing_mode="stretch_width",
+                     styles={"background": "#1f4e79", "margin-bottom": "4px"})
     # the lessons + glossary panel stays beside every tab on wide screens and wraps below on narrow ones
     lessons = LessonsPanel(runs=runs, tabs=tabs)
-    side = pn.Column(lessons, width=360, styles={"flex": "0 1 360px"}, margin=(0, 5))
+    side = pn.Column(lessons, width=SIDE_PX, styles={"flex": f"0 1 {SIDE_PX}px"}, margin=(0, 5),
+                     stylesheets=[SIDE_CSS], css_classes=["side-panel"])
     body = pn.FlexBox(tabs, side, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")
-    app = pn.Column(header, body, sizing_mode="stretch_width", margin=0)
+    app = pn.Column(top, body, sizing_mode="stretch_width", margin=0, styles=page_styles(False))
     app.tabs = tabs
     app.views = views
     app.lessons = lessons
+    app.side = side
+    app.present = present
+    present.param.watch(lambda e: set_presentation(app, e.new), "value")
     apply_query(app, pn.state.session_args)
     return app
 
 
+def set_presentation(app: pn.Column, on: bool) -> None:
+    """Presentation mode for the lecturer's screen: larger text and plot lines, no lessons panel."""
+    app.side.visible = not on
+    app.styles = {**app.styles, **page_styles(on)}
+    for view in app.views:
+        layout = view.__panel__() if hasattr(view, "__panel__") else view
+        for pane in layout.select(pn.pane.Bokeh):
+            (present_figure if on else plain_figure)(pane.object)
+
+
 def apply_query(app: pn.Column, args: dict) -> None:
-    """Teacher link: ``?tab=hydro`` opens that tab, ``&autostart=1`` then presses its Start.
+    """Teacher link: ``?tab=hydro`` opens that tab, ``&autostart=1`` then presses its Start;
+    ``?present=1`` turns presentation mode on (the lecturer's projector).
 
     ``args`` is the page address's query, as ``pn.state.session_args`` gives it (name -> list
     of bytes); unknown tab names are ignored (the page opens as usual).  Autostart calls the
@@ -89,6 +122,8 @@ def apply_query(app: pn.Column, args: dict) -> None:
         v = (args or {}).get(name) or [b""]
         v = v[0]
         return (v.decode() if isinstance(v, bytes) else str(v)).strip().lower()
+    if first("present") in ("1", "true", "yes"):
+        app.present.value = True
     index = TAB_KEYS.get(first("tab"))
     if index is None:
         return

@@ -228,7 +228,8 @@ def run(args) -> dict:
     cluster = None
     if args.dask:
         from dask.distributed import LocalCluster  # deferred on purpose: only --dask starts a cluster here
-        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=":0")
+        cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
+                               dashboard_address="127.0.0.1:0")
         env["RINGLAB_DASK_SCHEDULER"] = cluster.scheduler_address
     port = free_port()
     server = start_server(port, args.num_procs, env)

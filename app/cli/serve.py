@@ -111,8 +111,31 @@ def plan(args) -> dict:
     else:
         shown = address
     base = f"http://{shown}:{port}/main"
-    return dict(port=port, num_procs=num_procs, address=address, origins=origins, env=compute_env(args),
-                student=base, teacher=f"{base}?tab=hydro&autostart=1", docs=static_dirs())
+    return dict(port=port, num_procs=num_procs, address=address, network=network, origins=origins,
+                env=compute_env(args), student=base, teacher=f"{base}?tab=hydro&autostart=1", docs=static_dirs())
+
+
+def link_lines(p: dict) -> list[str]:
+    """The lines ``serve`` prints before it starts (``p`` from :func:`plan`): title, links, where it listens.
+
+    One line per link, so that a feature adding a link (a teacher's page, say) appends its line here.
+    """
+    lines = [TITLE,
+             f"  student link: {p['student']}",
+             f"  teacher link: {p['teacher']}   (opens Hydrodynamics and starts its run)"]
+    if p["docs"]:
+        lines.append(f"  documentation: {p['student'][:-len('main')]}docs/index.html")
+    else:
+        lines.append(f"  documentation: not in this install ({docs_dir()} is missing; `make docs` in the source tree)")
+    if p["network"]:
+        where = "every network interface" if p["address"] in (NETWORK, "::") else p["address"]
+        lines += [f"  class mode: listening on {where}, port {p['port']}: students open the student link above",
+                  "  the compute workers and their Dask dashboard stay on this machine only (127.0.0.1)",
+                  "  Ctrl-C stops the server"]
+    else:
+        lines += [f"  listening on {p['address']} only (this machine); for a class on the network: "
+                  "ringlab serve --class. Ctrl-C stops the server"]
+    return lines
 
 
 def run(args) -> int:
@@ -120,17 +143,7 @@ def run(args) -> int:
     p = plan(args)
     os.environ.update(p["env"])  # read by the app when a session starts (ringlab.server.remote.mode)
     configure()
-    print(TITLE)
-    print(f"  student link: {p['student']}")
-    print(f"  teacher link: {p['teacher']}   (opens Hydrodynamics and starts its run)")
-    if p["docs"]:
-        print(f"  documentation: {p['student'][:-len('main')]}docs/index.html")
-    else:
-        print(f"  documentation: not in this install ({docs_dir()} is missing; `make docs` in the source tree)")
-    if p["address"] == NETWORK:
-        print("  listening on every network interface (class mode); Ctrl-C stops the server")
-    else:
-        print(f"  listening on {p['address']} only; Ctrl-C stops the server")
+    print("\n".join(link_lines(p)), flush=True)
     pn.serve({"main": create_app}, port=p["port"], address=p["address"], websocket_origin=p["origins"],
              num_procs=p["num_procs"], show=args.show, static_dirs=p["docs"], title=TITLE, liveness=True,
              start=True, threaded=False, verbose=False)

@@ -54,6 +54,8 @@ def _blowup(fields: dict, message: str) -> BlowUp:
     return exc
 
 
+LOOPBACK = "127.0.0.1"  # the own LocalCluster listens here only (scheduler, workers, dashboard)
+
 class RemoteSim:
     """Stands for a runner's engine whose chunks compute on a Dask worker (see the module docstring).
 
@@ -251,7 +253,10 @@ class DaskBackend:
             self.client = Client(address, timeout=30)
         else:
             n = n_workers or _cores()
-            self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0")
+            # scheduler, workers and the dashboard on this machine only, also when the lab serves a class on the
+            # network: the dashboard has no login (a free port on the loopback address)
+            self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host=LOOPBACK,
+                                        dashboard_address=f"{LOOPBACK}:0")
             self.client = Client(self.cluster)
         self._lock = threading.Lock()
         self._count = {}  # worker address -> engines placed there

@@ -29,10 +29,10 @@ from ringlab.ui.checked_input import CheckedInputs
 from ringlab.ui.cite import publish
 from ringlab.ui.figures import new_figure, wavelength_markers
 from ringlab.ui.frame_gate import FrameGate
-from ringlab.ui.layout import page_row, responsive_grid, wrap_row
+from ringlab.ui.layout import responsive_grid, run_first, wrap_row
 from ringlab.ui.palette import LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
-from ringlab.ui.style import CSS
+from ringlab.ui.style import CSS, EXPLANATION_FONT
 
 PARTICLE_PERIOD_S = 0.3  # particle views sent at most ~3 times per second
 C0_COLOR = "#c2185b"
@@ -158,21 +158,22 @@ class NBodyView(pn.viewable.Viewer):
             box.number("seed"), box.pane,
             self.message, width=320)
         key = pn.pane.HTML(self._key_html(), stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
-        plots = pn.Column(
-            responsive_grid(pn.Column(pane(self.xy_fig), pane(self.xz_fig), sizing_mode="stretch_width"),
-                            pn.Column(pane(self.sigma_fig), pane(self.u_fig), sizing_mode="stretch_width"),
-                            min_px=340),
-            responsive_grid(pane(self.ekin_fig), pane(self.c_fig), pane(self.coll_fig), pane(self.psd_fig),
-                            min_px=300),
-            sizing_mode="stretch_width")
-        explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
+        main_plots = responsive_grid(pn.Column(pane(self.xy_fig), pane(self.xz_fig), sizing_mode="stretch_width",
+                                               css_classes=["nbody-particles"]),
+                                     pn.Column(pane(self.sigma_fig), pane(self.u_fig), sizing_mode="stretch_width"),
+                                     min_px=340)
+        series = responsive_grid(pane(self.ekin_fig), pane(self.c_fig), pane(self.coll_fig), pane(self.psd_fig),
+                                 min_px=300)
+        explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": EXPLANATION_FONT})
         explanation = pn.Column(explanation, pn.pane.HTML(tab_links("nbody"), stylesheets=[CSS], margin=(0, 10),
                                                           sizing_mode="stretch_width"), sizing_mode="stretch_width")
         buttons = wrap_row(*self.buttons.values())
         kept = wrap_row(self.kept, self.restore_button)
-        return page_row(pn.Column(widgets, self.export, width=340),
-                        pn.Column(self.header, buttons, self.status, kept, self.blowup, self.readouts, key,
-                                  self.note, plots, explanation, sizing_mode="stretch_width"))
+        # the run first (buttons, status, particles, profiles), the readouts under them, the settings beside
+        # the run on wide screens and below it on narrow ones (projector-first)
+        run = pn.Column(self.header, buttons, self.status, kept, self.blowup, key, self.note, main_plots,
+                        self.readouts, series, explanation, sizing_mode="stretch_width", css_classes=["nbody-run"])
+        return run_first(run, pn.Column(widgets, self.export, width=340, css_classes=["nbody-settings"]))
 
     @staticmethod
     def _key_html() -> str:

@@ -1,6 +1,8 @@
 """The app's CSS: readout cards, keys, messages (``BASE_CSS``: the Linear tab; ``CSS``: every tab)."""
 from __future__ import annotations
 
+from ringlab.ui.present import scalable
+
 BASE_CSS = """
 .readouts {display: grid; grid-template-columns: repeat(auto-fill, minmax(150px, 1fr)); gap: 8px;
            font-family: var(--bokeh-base-font, sans-serif);}
@@ -28,3 +30,7 @@ CSS = BASE_CSS + """
            font-size: 14px;}
 .group-title {font-weight: 600; font-size: 15px; margin: 10px 0 0 0; color: #1f4e79;}
 """
+
+# every font size follows the page's text scale (presentation mode, ringlab.ui.present)
+BASE_CSS, CSS = scalable(BASE_CSS), scalable(CSS)
+EXPLANATION_FONT = "calc(15px * var(--rl-scale, 1))"  # the tabs' "What am I looking at?" text

@@ -147,3 +147,19 @@ def test_backend_choice_from_the_environment(monkeypatch):
     monkeypatch.setenv(remote.ENV_MODE, "")
     monkeypatch.setenv(remote.ENV_SCHEDULER, "tcp://10.0.0.1:8786")
     assert remote.mode() == "dask"
+
+
+def test_own_cluster_and_its_dashboard_listen_on_this_machine_only():
+    """The lab's own LocalCluster (the default backend) binds the loopback address, dashboard included:
+    in class mode the app server is on the network, the dashboard (no login) must not be."""
+    from urllib.parse import urlparse
+
+    b = remote.DaskBackend(n_workers=1)
+    try:
+        assert urlparse(b.cluster.scheduler_address).hostname == "127.0.0.1"
+        # the bound sockets, not the link (the link names 127.0.0.1 also when the dashboard binds 0.0.0.0)
+        bound = [sock.getsockname()[0] for sock in b.cluster.scheduler.http_server._sockets.values()]
+        assert bound and set(bound) == {"127.0.0.1"}, bound
+        assert all(urlparse(w).hostname == "127.0.0.1" for w in b.workers())
+    finally:
+        b.close()

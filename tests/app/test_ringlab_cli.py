@@ -118,3 +118,27 @@ def test_ringlab_serve_answers_with_the_lab_and_its_docs(tmp_path):
     assert f"student link: http://localhost:{port}/main" in out
     assert f"teacher link: http://localhost:{port}/main?tab=hydro&autostart=1" in out
     assert "Traceback" not in out, out
+
+
+def test_default_listens_on_this_machine_only_and_says_how_to_open_a_class():
+    p = plan()
+    assert p["address"] == "127.0.0.1" and not p["network"]
+    assert all(o.split(":")[0] in ("localhost", "127.0.0.1") for o in p["origins"])
+    text = "\n".join(serve.link_lines(p))
+    assert "student link: http://localhost:5006/main" in text
+    assert "listening on 127.0.0.1 only" in text and "ringlab serve --class" in text and "class mode:" not in text
+
+
+def test_class_mode_prints_the_lan_link_and_keeps_the_dashboard_local(monkeypatch):
+    monkeypatch.setattr(serve, "host_names", lambda: ["10.20.30.40", "lab-pc", "localhost", "127.0.0.1"])
+    p = plan("--class", "--port", "8000")
+    assert p["address"] == "0.0.0.0" and p["network"]
+    assert "10.20.30.40:8000" in p["origins"] and "lab-pc:8000" in p["origins"]
+    lines = serve.link_lines(p)
+    assert "  student link: http://10.20.30.40:8000/main" in lines  # the machine's LAN address, not 0.0.0.0
+    assert any(ln.startswith("  teacher link: http://10.20.30.40:8000/main") for ln in lines)
+    text = "\n".join(lines)
+    assert "class mode: listening on every network interface, port 8000" in text
+    assert "Dask dashboard stay on this machine only (127.0.0.1)" in text and "0.0.0.0" not in text
+    p = plan("--address", "10.20.30.40")  # an explicit address is class mode too
+    assert p["network"] and "listening on 10.20.30.40, port 5006" in "\n".join(serve.link_lines(p))

@@ -43,7 +43,7 @@ class ComparePlots:
         self.image_sources, self.spacetime_figs = {}, {}
         for k in "AB":
             src = self.image_sources[k] = _empty_image(f"compare-{k.lower()}-image-source")
-            fig = new_figure(f"Run {k}: space-time diagram of σ/σ₀", "x [m]", "time [orbits]", height=380,
+            fig = new_figure(f"Run {k}: space-time diagram of σ/σ₀", "x [m]", "time [orbits]", height=350,
                              x_range=self.x_range, y_range=self.t_range, min_width=220)
             fig.image(image="image", x="x", y="y", dw="dw", dh="dh", source=src, color_mapper=self.color_mapper)
             fig.title.text_color = COLORS[k]

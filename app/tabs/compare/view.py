@@ -29,18 +29,19 @@ from ringlab.server.session_end import on_session_end
 from ringlab.tabs.compare.plots import COLORS, ComparePlots, DASH
 from ringlab.ui.frame_gate import FrameGate
 from ringlab.ui.layout import responsive_grid, wrap_row
+from ringlab.ui.present import scalable
 from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
-from ringlab.ui.style import CSS
+from ringlab.ui.style import CSS, EXPLANATION_FONT
 
 IMAGE_PERIOD_S = 0.25  # both space-time images are sent at most 4 times per second
 
-COMPARE_CSS = CSS + """
+COMPARE_CSS = scalable(CSS + """
 .differs {font-size: 16px; border-left: 5px solid #1f4e79; background: #f3f6fa; padding: 6px 10px; margin: 2px 0;}
 .run-title {font-size: 17px; font-weight: 700; margin: 4px 0 0 0;}
 .run-sub {font-size: 13px; color: #333;}
 .readouts {grid-template-columns: repeat(auto-fill, minmax(125px, 1fr)); gap: 6px;}
 .ro-value {font-size: 20px;}
-"""
+""")
 
 EXPLANATION = re.sub(r"\[\[([^\]]+)\]\]", lambda m: cite(m.group(1)), """
 ### What am I looking at?
@@ -107,19 +108,23 @@ class CompareView(pn.viewable.Viewer):
     def _build_layout(self):
         P, r = self.plots, self.runner
         fig = lambda f: pn.pane.Bokeh(f, sizing_mode="stretch_width")  # noqa: E731
-        top = wrap_row(pn.widgets.Select.from_param(r.param.preset, width=420),
+        top = wrap_row(pn.widgets.Select.from_param(r.param.preset, width=360),
                        pn.widgets.FloatSlider.from_param(r.param.orbits_per_frame, width=260, format="0.00"))
         columns = []
         for k in "AB":
             card = pn.Card(self.settings[k], title=f"Settings of run {k}", collapsed=True, sizing_mode="stretch_width",
                            css_classes=[f"compare-{k.lower()}-settings"], header_color=COLORS[k])
-            columns.append(pn.Column(self.titles[k], self.readouts[k], self.messages[k], card,
-                                     fig(P.spacetime_figs[k]), sizing_mode="stretch_width"))
+            # the space-time diagram right under the run's title (in the first screen of a projector), its
+            # readouts and settings below it
+            spacetime = P.spacetime_figs[k]
+            spacetime.css_classes = [*spacetime.css_classes, f"compare-{k.lower()}-spacetime"]
+            columns.append(pn.Column(self.titles[k], fig(spacetime), self.readouts[k], self.messages[k], card,
+                                     sizing_mode="stretch_width"))
         sides = responsive_grid(*columns, min_px=330)
         lines = responsive_grid(fig(P.ekin_fig), fig(P.lp_fig), fig(P.psd_fig), min_px=270)
-        explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
-        return pn.Column(self.differs, top, wrap_row(*self.buttons.values(), self.status), self.blowup, sides,
-                         self.key, lines, explanation, sizing_mode="stretch_width")
+        explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": EXPLANATION_FONT})
+        return pn.Column(wrap_row(*self.buttons.values(), self.status), self.differs, top, self.blowup, sides,
+                         self.key, lines, explanation, sizing_mode="stretch_width", css_classes=["compare-run"])
 
     def _widgets(self, run) -> list:
         W, p = pn.widgets, run.param

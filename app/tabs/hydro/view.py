@@ -1,7 +1,8 @@
 """The "Hydrodynamics" tab: a live 1D hydrodynamic integration of an overstable ring.
 
-Controls (settings, buffer zone, Start / Pause / Step / Reset, export) on the left; the
-space-time diagram, the profiles, e_kin(t), lambda_p(t) and the PSD on the right.  The
+Start / Pause / Step / Reset, the status, the space-time diagram and the profiles first; then the
+readouts, e_kin(t), lambda_p(t) and the PSD; the settings (model, grid, buffer zone, export) in a
+column beside them on wide screens and below them on narrow ones.  The
 :class:`ringlab.live.hydro.HydroRunner` advances the run in its periodic callback and bumps
 ``frame``; this view then writes the line plots (up to every frame, ~10/s) and the
 space-time image (at most every IMAGE_PERIOD_S) into Bokeh sources, each only once the
@@ -29,10 +30,10 @@ from ringlab.tabs.shared import ExportPanel, restore_widgets
 from ringlab.ui.checked_input import CheckedInputs
 from ringlab.ui.cite import publish
 from ringlab.ui.frame_gate import FrameGate
-from ringlab.ui.layout import page_row, responsive_grid, wrap_row
+from ringlab.ui.layout import responsive_grid, run_first, wrap_row
 from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
-from ringlab.ui.style import CSS
+from ringlab.ui.style import CSS, EXPLANATION_FONT
 
 IMAGE_PERIOD_S = 0.25  # the space-time image is sent at most 4 times per second
 
@@ -176,17 +177,20 @@ class HydroView(pn.viewable.Viewer):
         f = [pane(fig) for fig in P.profile_figs.values()]
         profiles = responsive_grid(responsive_grid(f[0], f[1], min_px=290), responsive_grid(f[2], f[3], min_px=290),
                                    min_px=640)  # 2 x 2, 4 x 1 on wide screens, 1 per row on a phone
+        P.spacetime_fig.css_classes = [*P.spacetime_fig.css_classes, "hydro-spacetime"]  # found by the layout tests
         top = responsive_grid(pane(P.spacetime_fig), profiles, min_px=580)
         bottom = responsive_grid(pane(P.ekin_fig), pane(P.lp_fig), pane(P.psd_fig), min_px=300)
         bottom = pn.Column(bottom, self.lp_note, sizing_mode="stretch_width")
-        explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": "15px"})
+        explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": EXPLANATION_FONT})
         explanation = pn.Column(explanation, pn.pane.HTML(tab_links("hydro"), stylesheets=[CSS], margin=(0, 10),
                                                           sizing_mode="stretch_width"), sizing_mode="stretch_width")
         controls = wrap_row(*self.buttons.values())
         kept = wrap_row(self.kept, self.restore_button)
-        return page_row(pn.Column(self._widgets(), self.export, width=340),
-                        pn.Column(self.header, controls, self.status, kept, self.blowup, self.readouts, self.key,
-                                  top, bottom, explanation, sizing_mode="stretch_width"))
+        # the run first (buttons, status, space-time diagram, profiles), the readouts under the main plots,
+        # the settings form beside it on wide screens and below it on narrow ones (projector-first)
+        run = pn.Column(self.header, controls, self.status, kept, self.blowup, self.key, top, self.readouts,
+                        bottom, explanation, sizing_mode="stretch_width", css_classes=["hydro-run"])
+        return run_first(run, pn.Column(self._widgets(), self.export, width=340, css_classes=["hydro-settings"]))
 
     @staticmethod
     def _key_pane() -> pn.pane.HTML:

@@ -1,0 +1,188 @@
+"""Projector-first layout: at 1024x768, 1280x720, 1366x768 and 1920x1080 (and on a 390 px phone with
+mobile emulation) Start and the main plot of the Hydrodynamics, N-body and Compare tabs lie in the first
+screen (the phone: within the first two) and no two panels overlap; presentation mode; the viewport tag.
+
+Screenshots go to test-artifacts/layout/ (1280x720, 1024x768, presentation mode, phone).
+"""
+from __future__ import annotations
+
+import time
+
+import pytest
+
+from browser_support import ARTIFACTS, CHROMIUM, FLAGS, free_port, start_server, stop_server, sync_playwright
+
+pytestmark = [pytest.mark.slow]
+
+SHOTS = ARTIFACTS / "layout"
+LOAD_MS = 180_000  # a loaded 2-core machine builds the page's models slowly
+DESKTOP = [(1024, 768), (1280, 720), (1366, 768), (1920, 1080)]
+SHOT_SIZES = {(1024, 768), (1280, 720)}
+# per tab: its Start button and its main plot(s)
+TABS = {"Hydrodynamics": ("hydro", ".hydro-start", [".hydro-spacetime"]),
+        "N-body": ("nbody", ".nbody-start", [".nbody-particles"]),
+        "Compare": ("compare", ".compare-start", [".compare-a-spacetime", ".compare-b-spacetime"])}
+# panels that must never overlap: the page header, the tab bar, every plot canvas shown, the run buttons and
+# status, the readouts, the settings column and the lessons panel (none of them contains another)
+PANELS_JS = """
+(prefix) => {
+  const sel = ['#app-header', '.bk-Canvas', `.${prefix}-start`, `.${prefix}-pause`, `.${prefix}-reset`,
+               `#${prefix}-status`, `#${prefix}-readouts`, `.${prefix}-settings`, '.side-panel'];
+  const out = [];
+  const walk = (root) => {
+    for (const el of root.querySelectorAll('*')) {
+      if (sel.some((s) => el.matches(s))) {
+        const r = el.getBoundingClientRect();
+        if (r.width > 0 && r.height > 0) out.push([el.className || el.id, r.left, r.top + scrollY, r.width, r.height]);
+      }
+      if (el.shadowRoot) walk(el.shadowRoot);
+    }
+  };
+  walk(document);
+  return out;
+}
+"""
+
+
+@pytest.fixture(scope="module")
+def server():
+    ARTIFACTS.mkdir(exist_ok=True)
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    port = free_port()
+    proc, _ = start_server(port, ARTIFACTS / "layout-serve.log")
+    try:
+        yield f"http://127.0.0.1:{port}/main"
+    finally:
+        stop_server(proc)
+
+
+@pytest.fixture(scope="module")
+def playwright():
+    with sync_playwright() as pw:
+        yield pw
+
+
+def new_context(pw, tmp_path, **kw):
+    ctx = pw.chromium.launch_persistent_context(str(tmp_path / f"profile-{time.monotonic_ns()}"),
+                                                executable_path=str(CHROMIUM), headless=True, args=FLAGS, **kw)
+    ctx.set_default_timeout(30_000)
+    return ctx
+
+
+def open_tab(page, url: str, key: str, start: str):
+    page.goto(f"{url}?tab={key}", timeout=LOAD_MS)
+    page.locator(start).first.wait_for(state="visible", timeout=LOAD_MS)
+    page.locator(".bk-Canvas").first.wait_for(timeout=LOAD_MS)
+    page.wait_for_timeout(1500)  # let the plots settle at their final sizes
+
+
+def box(page, sel: str) -> dict:
+    b = page.locator(sel).first.bounding_box()
+    assert b is not None, f"{sel} not shown"
+    return b
+
+
+def overlaps(panels, tol: float = 2.0) -> list:
+    bad = []
+    for i, (n1, x1, y1, w1, h1) in enumerate(panels):
+        for n2, x2, y2, w2, h2 in panels[i + 1:]:
+            if min(x1 + w1, x2 + w2) - max(x1, x2) > tol and min(y1 + h1, y2 + h2) - max(y1, y2) > tol:
+                bad.append((n1, n2))
+    return bad
+
+
+def check_first_screen(page, tab: str, screens: int, height: int) -> dict:
+    """Start and the tab's main plots inside the first ``screens`` screens (a plot: all of it on a desktop,
+    its top on a phone); no overlapping panels; the page not scrolled sideways.  Returns the positions."""
+    key, start, plots = TABS[tab]
+    out = {"start": box(page, start)}
+    limit = screens * height
+    assert out["start"]["y"] >= 0 and out["start"]["y"] + out["start"]["height"] <= limit, (tab, out)
+    for sel in plots:
+        b = out[sel] = box(page, sel)
+        end = b["y"] + (b["height"] if screens == 1 else 0)
+        assert b["y"] >= 0 and end <= limit + 1, f"{tab}: {sel} at y = {b['y']:.0f}..{b['y'] + b['height']:.0f} px, " \
+                                                f"first screen(s) end at {limit} px"
+    bad = overlaps(page.evaluate(PANELS_JS, key))
+    assert not bad, f"{tab}: overlapping panels {bad[:4]}"
+    assert page.evaluate("() => document.scrollingElement.scrollWidth <= innerWidth"), f"{tab}: sideways scroll"
+    return out
+
+
+@pytest.mark.timeout(900)
+@pytest.mark.parametrize("width, height", DESKTOP)
+def test_run_controls_and_main_plots_in_the_first_screen(server, playwright, tmp_path, width, height):
+    ctx = new_context(playwright, tmp_path, viewport={"width": width, "height": height})
+    try:
+        page = ctx.new_page()
+        errors = []
+        page.on("pageerror", lambda exc: errors.append(str(exc)))
+        for tab, (key, start, _) in TABS.items():
+            open_tab(page, server, key, start)
+            pos = check_first_screen(page, tab, 1, height)
+            print(f"{width}x{height} {tab}: " + ", ".join(f"{k} y={v['y']:.0f}..{v['y'] + v['height']:.0f}"
+                                                          for k, v in pos.items()))
+            # the lessons panel stands beside the tabs with its question in view
+            q = box(page, "#lesson-question")
+            assert q["x"] > pos["start"]["x"] and q["y"] + q["height"] <= height, q
+            if (width, height) in SHOT_SIZES:
+                page.screenshot(path=str(SHOTS / f"{key}-{width}x{height}.png"))
+        page.mouse.wheel(0, 1500)  # the lessons panel stays in view while the page scrolls (sticky)
+        page.wait_for_timeout(500)
+        q = box(page, "#lesson-question")
+        assert 0 <= q["y"] and q["y"] + q["height"] <= height, f"question scrolled away: {q}"
+        assert not errors, errors
+    finally:
+        ctx.close()
+
+
+@pytest.mark.timeout(900)
+def test_phone_with_mobile_emulation_gets_one_column(server, playwright, tmp_path):
+    device = {k: v for k, v in playwright.devices["iPhone 13"].items() if k != "default_browser_type"}
+    ctx = new_context(playwright, tmp_path, **device)
+    height = device["viewport"]["height"]
+    try:
+        page = ctx.new_page()
+        for tab, (key, start, _) in TABS.items():
+            open_tab(page, server, key, start)
+            # the viewport tag: the page is laid out 390 CSS px wide, not as a shrunk 980 px desktop page
+            assert page.evaluate("() => innerWidth") == 390
+            pos = check_first_screen(page, tab, 2, height)
+            print(f"phone {tab}: " + ", ".join(f"{k} y={v['y']:.0f}" for k, v in pos.items()))
+            page.screenshot(path=str(SHOTS / f"{key}-phone.png"))
+    finally:
+        ctx.close()
+
+
+FONT_JS = """(id) => {
+  const find = (root) => { for (const el of root.querySelectorAll('*')) {
+      if (el.id === id) return el; if (el.shadowRoot) { const f = find(el.shadowRoot); if (f) return f; } }
+    return null; };
+  return parseFloat(getComputedStyle(find(document)).fontSize);
+}"""
+
+
+@pytest.mark.timeout(600)
+def test_presentation_mode_larger_text_no_side_panel(server, playwright, tmp_path):
+    ctx = new_context(playwright, tmp_path, viewport={"width": 1280, "height": 720})
+    try:
+        page = ctx.new_page()
+        open_tab(page, server, "hydro", ".hydro-start")
+        normal = page.evaluate(FONT_JS, "hydro-status")
+        assert page.locator(".side-panel").is_visible()
+        page.goto(f"{server}?tab=hydro&present=1", timeout=LOAD_MS)
+        page.locator(".hydro-start").first.wait_for(state="visible", timeout=LOAD_MS)
+        page.wait_for_timeout(2500)
+        big = page.evaluate(FONT_JS, "hydro-status")
+        assert big >= 1.25 * normal, (normal, big)
+        assert not page.locator(".side-panel").is_visible()
+        pos = check_first_screen(page, "Hydrodynamics", 1, 720)
+        print("presentation 1280x720: " + ", ".join(f"{k} y={v['y']:.0f}" for k, v in pos.items()))
+        assert pos[".hydro-spacetime"]["width"] > 1000  # the whole width without the lessons panel
+        page.screenshot(path=str(SHOTS / "hydro-presentation-1280x720.png"))
+        page.locator(".present-toggle button").click()  # the toggle turns it off again
+        page.locator(".side-panel").wait_for(state="visible", timeout=30_000)
+        page.wait_for_timeout(1000)
+        assert page.evaluate(FONT_JS, "hydro-status") == pytest.approx(normal)
+    finally:
+        ctx.close()
