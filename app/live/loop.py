@@ -17,9 +17,15 @@ exports).  A session whose page has gone (websocket closed) is freed at its next
 boundary, with one log line, instead of computing until Bokeh destroys the session.
 With the chunks on Dask workers (:mod:`ringlab.server.remote`) the runner's ``sim`` may have a chunk
 computed ahead; Pause takes it into the shown state (``settle``) before the final frame.
+
+In a Jupyter kernel (no server session) the same chunks compute in the same pool and their results go
+to the kernel's event loop instead of a server document (:class:`ringlab.server.kernel.KernelTarget`):
+the frames, the controls and the numbers are those of the served app.  Without a running event loop
+(a plain script, a headless test) nothing is scheduled and the caller advances the run (``tick()``).
 """
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
 import threading
@@ -27,7 +33,7 @@ import threading
 import panel as pn
 from panel.io.state import set_curdoc
 
-from ringlab.server import compute, socket_guard
+from ringlab.server import compute, kernel, socket_guard
 
 PERIOD_MS = 100  # kept for callers; chunks are scheduled back to back now
 WAITING = "Running; waiting for a free core (the server's compute slots are all busy)."
@@ -50,7 +56,7 @@ class LiveLoop:
 
     # ------------------------------------------------------------------ public
     def _begin(self) -> None:
-        """Mark the run as running and schedule its first chunk (only inside a server session)."""
+        """Mark the run as running and schedule its first chunk (in a server session or a Jupyter kernel)."""
         self.running = True
         self.status = "Running."
         self._rates.clear()
@@ -68,15 +74,18 @@ class LiveLoop:
         if not self._inflight and not self._closed:
             if self._ahead() and self.offload(self._settle):  # [cluster] a worker's chunk computed ahead
                 return
-            self.frame += 1
+            with self._frame_changes():
+                self.frame += 1
 
     def offload(self, work, then=None) -> bool:
         """Compute ``work()`` (default: one chunk of ``budget_s``) in the shared pool, then call
-        ``then()`` and bump ``frame`` on the event loop.  Returns False outside a server session
-        (the caller then computes inline)."""
+        ``then()`` and bump ``frame`` on the event loop: the server session's, or a Jupyter kernel's
+        (:mod:`ringlab.server.kernel`).  Returns False without either (the caller then computes inline)."""
         doc = pn.state.curdoc
         if doc is None or doc.session_context is None:
-            return False
+            doc = kernel.target()  # a Jupyter kernel: its running event loop takes the frames
+            if doc is None:
+                return False
         self._doc = doc
         self._page_gone(doc)  # notes that the page is connected
         self._submit(work, then)
@@ -141,7 +150,8 @@ class LiveLoop:
         self._inflight = False
         if self._closed:
             return
-        with set_curdoc(doc):
+        # a kernel's loop has no document to make current (kernel.deliver sends the changes)
+        with set_curdoc(doc) if doc.session_context is not None else contextlib.nullcontext():
             if self._page_gone(doc):
                 self.close()
                 return
@@ -159,6 +169,12 @@ class LiveLoop:
                     self.status = "Running."
                 elif self.status == WAITING and not compute.pool().busy():
                     self.status = "Running."
+
+    def _frame_changes(self):
+        """Outside a server session: the view changes of a frame drawn now go out in one push
+        (:func:`ringlab.server.kernel.frame_changes`); in a server session Bokeh sends them."""
+        doc = pn.state.curdoc
+        return kernel.frame_changes() if doc is None or doc.session_context is None else contextlib.nullcontext()
 
     def _page_gone(self, doc) -> bool:
         """True once the session had a websocket connection and has no open one any more (a socket
