@@ -29,9 +29,12 @@ import contextlib
 import functools
 import math
 import threading
+import time
 
 import panel as pn
 from panel.io.state import set_curdoc
+
+from ringcore.checks import check_real
 
 from ringlab.server import compute, kernel, socket_guard
 
@@ -90,6 +93,40 @@ class LiveLoop:
         self._page_gone(doc)  # notes that the page is connected
         self._submit(work, then)
         return True
+
+    def wait(self, seconds: float | None = None, timeout_s: float = 3600.0) -> bool:
+        """Block the calling cell or script until the run stops by itself (Pause, a lesson's classroom
+        length, a blow-up) or, with ``seconds``, at most that long; the frames are drawn meanwhile.
+
+        In a Jupyter kernel the chunks go on in the shared pool and this call draws their frames (the
+        kernel's loop is blocked by the cell; :meth:`ringlab.server.kernel.KernelTarget.wait`).  Without
+        an event loop (a plain script) it advances the run here, chunk by chunk (``tick``).  In a server
+        session it returns at once: the page shows the run, and its event loop must not block.
+
+        Parameters
+        ----------
+        seconds : float, optional
+            Longest wait [s] of wall time (default: until the run stops, at most ``timeout_s``).
+        timeout_s : float
+            Longest wait [s] when ``seconds`` is not given.
+
+        Returns
+        -------
+        bool
+            True if the run has stopped.
+        """
+        limit = check_real("timeout_s" if seconds is None else "seconds",
+                           timeout_s if seconds is None else seconds, 0.0, 1e6, unit="s")
+        doc = pn.state.curdoc
+        if doc is not None and doc.session_context is not None:
+            return not self.running
+        target = kernel.target()
+        if target is not None:
+            return target.wait(lambda: not self.running and not self._inflight, limit)
+        t_end = time.perf_counter() + limit
+        while self.running and time.perf_counter() < t_end:
+            self.tick()
+        return not self.running
 
     def rates(self) -> tuple[float, float]:
         """(steps per second, orbits per second) of wall time over the last ~2 s of running."""

@@ -24,12 +24,16 @@ source: memory stays flat however long the run goes without a page.
 without a document does nothing in a kernel: the documents are held by Panel already.
 A cell that blocks the kernel (``time.sleep``, a long computation) holds the frames and the run
 (the chunk in flight finishes, the next one is submitted once its frame was drawn), like any
-Jupyter widget.
+Jupyter widget; :meth:`KernelTarget.wait` (``runner.wait()``) blocks a cell while the run goes on: it
+draws the frames itself, in the kernel's main thread, instead of the loop.
 """
 from __future__ import annotations
 
 import asyncio
+import collections
 import threading
+import time
+import weakref
 from contextlib import contextmanager
 
 import panel as pn
@@ -52,21 +56,57 @@ class KernelTarget:
     def __init__(self, loop: asyncio.AbstractEventLoop):
         self.loop = loop
         self.thread_id = threading.get_ident()
+        self._queue = collections.deque()  # callbacks handed over by the workers, run in order
+        self._arrived = threading.Event()
 
     def add_next_tick_callback(self, callback) -> None:
-        """Run ``callback()`` on the kernel's loop (thread-safe), its view changes sent in one push.
-        RuntimeError if the loop is closed (the kernel is shutting down)."""
-        self.loop.call_soon_threadsafe(deliver, callback)
+        """Run ``callback()`` on the kernel's main thread (thread-safe), its view changes sent in one push:
+        on the loop, or in :meth:`wait` if a cell is waiting.  RuntimeError if the loop is closed."""
+        self._queue.append(callback)
+        self._arrived.set()
+        self.loop.call_soon_threadsafe(self.drain)
+
+    def drain(self) -> int:
+        """Run the callbacks handed over so far (in the kernel's main thread only); returns how many."""
+        if threading.get_ident() != self.thread_id:
+            raise RuntimeError("KernelTarget.drain runs in the kernel's main thread only")
+        n = 0
+        while True:
+            try:
+                callback = self._queue.popleft()
+            except IndexError:
+                return n
+            deliver(callback)
+            n += 1
+
+    def wait(self, done, timeout_s: float) -> bool:
+        """Block the calling cell until ``done()`` is true or ``timeout_s`` seconds passed, running the
+        callbacks (frames, next chunks) as they arrive; returns ``done()``."""
+        t_end = time.perf_counter() + timeout_s
+        while not done():
+            left = t_end - time.perf_counter()
+            if left <= 0:
+                break
+            self._arrived.wait(min(left, 0.1))
+            self._arrived.clear()
+            self.drain()
+        return bool(done())
+
+
+_TARGETS: "weakref.WeakKeyDictionary[asyncio.AbstractEventLoop, KernelTarget]" = weakref.WeakKeyDictionary()
 
 
 def target() -> KernelTarget | None:
-    """A :class:`KernelTarget` for the event loop running in this thread, or None (no running loop:
-    a plain script or a headless test, where the runners are advanced by calling ``tick()``)."""
+    """The :class:`KernelTarget` of the event loop running in this thread (one per loop), or None (no
+    running loop: a plain script or a headless test, where the runners are advanced by ``tick()``)."""
     try:
         loop = asyncio.get_running_loop()
     except RuntimeError:
         return None
-    return KernelTarget(loop)
+    t = _TARGETS.get(loop)
+    if t is None:
+        t = _TARGETS[loop] = KernelTarget(loop)
+    return t
 
 
 def in_kernel_loop() -> bool:

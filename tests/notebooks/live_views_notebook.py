@@ -14,7 +14,7 @@
 # # The live views in a Jupyter kernel (executed by tests/notebooks/test_notebook_live.py)
 #
 # Each view is displayed, started from Python as the Start button would, and left running while the cell
-# awaits (the kernel's event loop takes the frames).  A lesson's classroom length stops each run at a known
+# awaits (the kernel's event loop takes the frames) or blocks in `runner.wait()` (which draws them itself).  A lesson's classroom length stops each run at a known
 # orbit, so the test can compare the final state with the same run computed outside the kernel.
 # Without a frontend the comm messages go nowhere: what is checked is the Python side (the runner, the
 # Bokeh sources the page would draw, the readouts).  `OUT` (a folder) and `DEADLINE_S` are set by the test in the first cell.
@@ -95,12 +95,14 @@ before = dict(orbits=n.box.orbits, frame=n.frame, series=len(nbody.series_source
               x=np.asarray(nbody.particle_source.data["x"]).copy())
 stop_after(n, 0.2)
 n.start()
-await wait_until(lambda: not n.running, "N-body pause at orbit 0.2")
-await asyncio.sleep(0.5)
+t0 = time.perf_counter()
+stopped = n.wait(timeout_s=DEADLINE_S)  # blocks this cell; the frames are drawn by the wait itself
+waited = dict(stopped=stopped, frames=n.frame - before["frame"], seconds=time.perf_counter() - t0)
 result["nbody"] = dict(
     before=dict(orbits=before["orbits"], frame=before["frame"], series=before["series"]),
     after=dict(orbits=n.box.orbits, frame=n.frame, series=len(nbody.series_source.data["t"]), status=n.status),
     particles_moved=bool(not np.array_equal(before["x"], nbody.particle_source.data["x"])),
+    waited=waited,
     held_events=held(nbody.series_source),
 )
 np.save(OUT / "nbody_x_plotted.npy", np.asarray(nbody.particle_source.data["x"]))

@@ -1,8 +1,8 @@
 """The live views run inside a Jupyter kernel (nbclient, a real ipykernel), not only in a server session.
 
 ``live_views_notebook.py`` (jupytext percent, executed like the tutorials) displays the Hydrodynamics,
-N-body, Compare and Paper-results views, starts them from Python and awaits: the runs must advance on
-the kernel's event loop (:mod:`ringlab.server.kernel`).  Without a frontend the comm messages go nowhere,
+N-body, Compare and Paper-results views, starts them from Python and awaits (or blocks in
+``runner.wait()``): the runs must advance on the kernel's event loop (:mod:`ringlab.server.kernel`).  Without a frontend the comm messages go nowhere,
 so the checks are on the Python side: the runner's orbit counter, the frames, the Bokeh sources the page
 draws (their lengths, and that the plotted profile is the run's state), the readouts, and that the
 changes held for a page that never connected stay bounded.  The hydro and N-body runs stop at a known
@@ -29,7 +29,7 @@ def executed(tmp_path_factory):
     out = tmp_path_factory.mktemp("live_nb")
     nb = jupytext.read(NOTEBOOK)
     cell = next(c for c in nb.cells if "parameters" in c.metadata.get("tags", []))
-    cell.source = f"OUT = {str(out)!r}"
+    cell.source = f"OUT = {str(out)!r}\nDEADLINE_S = 600"
     os.environ.setdefault("MPLBACKEND", "module://matplotlib_inline.backend_inline")
     nbclient.NotebookClient(nb, timeout=TIMEOUT_S, kernel_name="python3",
                             resources={"metadata": {"path": str(out)}}).execute()
@@ -59,6 +59,7 @@ def test_nbody_view_runs_in_a_kernel(executed):
     out, res = executed
     n = res["nbody"]
     assert n["after"]["orbits"] == pytest.approx(0.2, abs=1e-9)
+    assert n["waited"]["stopped"] and n["waited"]["frames"] > 1  # runner.wait() drew frames while the cell blocked
     assert n["after"]["frame"] > n["before"]["frame"]
     assert n["after"]["series"] > n["before"]["series"]
     assert n["particles_moved"]
@@ -91,3 +92,19 @@ def test_kernel_runs_equal_the_same_runs_outside_a_kernel(executed):
     while b.box.orbits < 0.2 - 1e-12:
         b.advance(0.5, until=0.2)
     np.testing.assert_array_equal(b.particles()[0], np.load(out / "nbody_x_state.npy"))
+
+
+def test_wait_without_an_event_loop_advances_the_run_here():
+    """A plain script: no server session, no kernel loop; ``wait`` runs the chunks itself up to the
+    classroom length, and rejects a bad duration."""
+    from ringlab.lessons.presets import stop_after
+    from ringlab.live.hydro import HydroRunner
+
+    r = HydroRunner()
+    stop_after(r, 0.3)
+    r.start()
+    assert r.running and r.sim.orbits == 0.0
+    assert r.wait(timeout_s=300)
+    assert r.sim.orbits == pytest.approx(0.3, abs=1e-9) and not r.running and r.status.startswith("Paused")
+    with pytest.raises(ValueError, match="seconds = -1"):
+        r.wait(seconds=-1)
