@@ -1,4 +1,4 @@
-"""Entry point of the ``ringlab`` command (console script): ``serve`` and ``loadtest``.
+"""Entry point of the ``ringlab`` command (console script): ``serve``, ``loadtest`` and ``tutorials``.
 
 Bad input is one line on standard error and exit status 2, as for ``ringcore``.
 """
@@ -7,7 +7,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ringlab.cli import loadtest, serve
+from ringlab.cli import loadtest, serve, tutorials
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -17,6 +17,7 @@ def build_parser() -> argparse.ArgumentParser:
     sub = ap.add_subparsers(dest="command", required=True, metavar="COMMAND")
     serve.add_parser(sub)
     loadtest.add_parser(sub)
+    tutorials.add_parser(sub)
     return ap
 
 

@@ -26,6 +26,7 @@ TUTORIALS = {  # stem -> title
     "03_self_gravity_sets_the_wavelength": "03 Self-gravity sets the wavelength",
     "04_particles_instead_of_fluid": "04 Particles instead of a fluid",
     "05_exercises": "05 Exercises",
+    "06_lecture_live_views": "06 A lecture with the lab's live views",
 }
 TAB_TUTORIALS = {  # the tutorials each tab's subject is taught in
     "linear": ("01_linear_theory", "05_exercises"),

@@ -17,17 +17,26 @@ exports).  A session whose page has gone (websocket closed) is freed at its next
 boundary, with one log line, instead of computing until Bokeh destroys the session.
 With the chunks on Dask workers (:mod:`ringlab.server.remote`) the runner's ``sim`` may have a chunk
 computed ahead; Pause takes it into the shown state (``settle``) before the final frame.
+
+In a Jupyter kernel (no server session) the same chunks compute in the same pool and their results go
+to the kernel's event loop instead of a server document (:class:`ringlab.server.kernel.KernelTarget`):
+the frames, the controls and the numbers are those of the served app.  Without a running event loop
+(a plain script, a headless test) nothing is scheduled and the caller advances the run (``tick()``).
 """
 from __future__ import annotations
 
+import contextlib
 import functools
 import math
 import threading
+import time
 
 import panel as pn
 from panel.io.state import set_curdoc
 
-from ringlab.server import compute, socket_guard
+from ringcore.checks import check_real
+
+from ringlab.server import compute, kernel, socket_guard
 
 PERIOD_MS = 100  # kept for callers; chunks are scheduled back to back now
 WAITING = "Running; waiting for a free core (the server's compute slots are all busy)."
@@ -50,7 +59,7 @@ class LiveLoop:
 
     # ------------------------------------------------------------------ public
     def _begin(self) -> None:
-        """Mark the run as running and schedule its first chunk (only inside a server session)."""
+        """Mark the run as running and schedule its first chunk (in a server session or a Jupyter kernel)."""
         self.running = True
         self.status = "Running."
         self._rates.clear()
@@ -68,19 +77,56 @@ class LiveLoop:
         if not self._inflight and not self._closed:
             if self._ahead() and self.offload(self._settle):  # [cluster] a worker's chunk computed ahead
                 return
-            self.frame += 1
+            with self._frame_changes():
+                self.frame += 1
 
     def offload(self, work, then=None) -> bool:
         """Compute ``work()`` (default: one chunk of ``budget_s``) in the shared pool, then call
-        ``then()`` and bump ``frame`` on the event loop.  Returns False outside a server session
-        (the caller then computes inline)."""
+        ``then()`` and bump ``frame`` on the event loop: the server session's, or a Jupyter kernel's
+        (:mod:`ringlab.server.kernel`).  Returns False without either (the caller then computes inline)."""
         doc = pn.state.curdoc
         if doc is None or doc.session_context is None:
-            return False
+            doc = kernel.target()  # a Jupyter kernel: its running event loop takes the frames
+            if doc is None:
+                return False
         self._doc = doc
         self._page_gone(doc)  # notes that the page is connected
         self._submit(work, then)
         return True
+
+    def wait(self, seconds: float | None = None, timeout_s: float = 3600.0) -> bool:
+        """Block the calling cell or script until the run stops by itself (Pause, a lesson's classroom
+        length, a blow-up) or, with ``seconds``, at most that long; the frames are drawn meanwhile.
+
+        In a Jupyter kernel the chunks go on in the shared pool and this call draws their frames (the
+        kernel's loop is blocked by the cell; :meth:`ringlab.server.kernel.KernelTarget.wait`).  Without
+        an event loop (a plain script) it advances the run here, chunk by chunk (``tick``).  In a server
+        session it returns at once: the page shows the run, and its event loop must not block.
+
+        Parameters
+        ----------
+        seconds : float, optional
+            Longest wait [s] of wall time (default: until the run stops, at most ``timeout_s``).
+        timeout_s : float
+            Longest wait [s] when ``seconds`` is not given.
+
+        Returns
+        -------
+        bool
+            True if the run has stopped.
+        """
+        limit = check_real("timeout_s" if seconds is None else "seconds",
+                           timeout_s if seconds is None else seconds, 0.0, 1e6, unit="s")
+        doc = pn.state.curdoc
+        if doc is not None and doc.session_context is not None:
+            return not self.running
+        target = kernel.target()
+        if target is not None:
+            return target.wait(lambda: not self.running and not self._inflight, limit)
+        t_end = time.perf_counter() + limit
+        while self.running and time.perf_counter() < t_end:
+            self.tick()
+        return not self.running
 
     def rates(self) -> tuple[float, float]:
         """(steps per second, orbits per second) of wall time over the last ~2 s of running."""
@@ -141,7 +187,8 @@ class LiveLoop:
         self._inflight = False
         if self._closed:
             return
-        with set_curdoc(doc):
+        # a kernel's loop has no document to make current (kernel.deliver sends the changes)
+        with set_curdoc(doc) if doc.session_context is not None else contextlib.nullcontext():
             if self._page_gone(doc):
                 self.close()
                 return
@@ -159,6 +206,12 @@ class LiveLoop:
                     self.status = "Running."
                 elif self.status == WAITING and not compute.pool().busy():
                     self.status = "Running."
+
+    def _frame_changes(self):
+        """Outside a server session: the view changes of a frame drawn now go out in one push
+        (:func:`ringlab.server.kernel.frame_changes`); in a server session Bokeh sends them."""
+        doc = pn.state.curdoc
+        return kernel.frame_changes() if doc is None or doc.session_context is None else contextlib.nullcontext()
 
     def _page_gone(self, doc) -> bool:
         """True once the session had a websocket connection and has no open one any more (a socket

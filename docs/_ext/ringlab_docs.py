@@ -4,7 +4,9 @@
   ``docs/tutorials/nb/NN_*.ipynb`` that MyST-NB renders (it never executes them itself).  A notebook the test
   suite executed (``test-artifacts/tutorials/NN_*.ipynb``, written by ``tests/notebooks/test_tutorials.py``) and newer
   than its source is copied; else the tutorial is executed here in its quick mode, as the tests do.  An
-  up-to-date notebook already in ``nb/`` is kept.
+  up-to-date notebook already in ``nb/`` is kept.  The app's live views in a tutorial (Panel outputs) need a
+  kernel and Panel's scripts from a CDN: in the site each is replaced by a note saying how to run it
+  (:func:`static_views`), so the pages stay offline and small.
 - **Benchmarks.** ``docs/benchmarks/data/<engine>.json`` (the JSON of ``ringcore bench <engine> --json``,
   recorded by ``docs/_ext/bench_record.py`` with date, machine, version and commit) become the markdown tables
   ``docs/benchmarks/generated/<engine>.md`` that the benchmark page includes: no number is typed by hand.
@@ -44,6 +46,46 @@ def _execute(source: Path):
     return nb
 
 
+PANEL_LOAD = "application/vnd.holoviews_load.v0+json"  # Panel's extension: loads BokehJS and Panel from a CDN
+PANEL_VIEW = "application/vnd.holoviews_exec.v0+json"  # a displayed Panel object (its document and scripts)
+LIVE_NOTE = ('<div class="admonition note"><p class="admonition-title">Live view{name}</p><p>The app\'s view runs '
+             'here when this notebook is opened in Jupyter: <code>pip install "ringlab[notebook]"</code>, '
+             '<code>ringlab tutorials DIR</code>, <code>jupyter lab DIR</code>. The documentation shows no live '
+             'views (no kernel behind the page).</p></div>')
+
+
+def static_views(nb) -> int:
+    """Replace the Panel outputs of ``nb`` (in place): Panel's script loaders and style sheets are dropped, each
+    displayed view becomes :data:`LIVE_NOTE` naming the object (the last line of its cell).  Returns the
+    number of views replaced."""
+    import nbformat
+
+    n = 0
+    for cell in nb.cells:
+        if cell.cell_type != "code":
+            continue
+        outputs = []
+        for out in cell.get("outputs", []):
+            data = out.get("data", {})
+            if PANEL_LOAD in data or (out.get("output_type") == "display_data" and not data):
+                continue
+            if PANEL_VIEW in data:
+                last = cell.source.strip().splitlines()[-1] if cell.source.strip() else ""
+                if "=" in last or not last:
+                    continue  # not a view the cell shows (e.g. pn.extension's own model)
+                name = last.split(".servable")[0].strip()
+                outputs.append(nbformat.v4.new_output("display_data", data={
+                    "text/html": LIVE_NOTE.format(name=f": <code>{name}</code>")}))
+                n += 1
+                continue
+            html = data.get("text/html", "")
+            if out.get("output_type") == "display_data" and "data-root-id" in html and "<style>" in html:
+                continue  # Panel's style sheet for its views in Jupyter
+            outputs.append(out)
+        cell.outputs = outputs
+    return n
+
+
 def prepare_tutorials(app=None) -> dict:
     """Executed notebooks of every tutorial in ``nb/``; returns ``{stem: "kept" | "copied" | "executed (s)"}``."""
     import nbformat
@@ -60,13 +102,17 @@ def prepare_tutorials(app=None) -> dict:
         if _fresh(dst, src) and not (_fresh(tested, src) and tested.stat().st_mtime > dst.stat().st_mtime):
             how[src.stem] = "kept"
         elif _fresh(tested, src):
-            shutil.copy2(tested, dst)
-            how[src.stem] = "copied from test-artifacts"
+            nb = nbformat.read(tested, as_version=4)
+            views = static_views(nb)
+            nbformat.write(nb, dst)
+            how[src.stem] = "copied from test-artifacts" + (f" ({views} live views as notes)" if views else "")
         else:
             t0 = time.perf_counter()
             nb = _execute(src)
+            views = static_views(nb)
             nbformat.write(nb, dst)
-            how[src.stem] = f"executed ({time.perf_counter() - t0:.0f} s)"
+            how[src.stem] = f"executed ({time.perf_counter() - t0:.0f} s)" + (f", {views} live views as notes"
+                                                                             if views else "")
     if app is not None:
         from sphinx.util import logging
 

@@ -77,7 +77,7 @@ def test_shipped_files_are_inside_the_package():
     assert (paths.DATA_DIR / "README.md").is_file() and list(paths.DATA_DIR.glob("*.nc"))
     assert (paths.LONGRUNS_DIR / "README.md").is_file() and list(paths.LONGRUNS_DIR.glob("*.nc"))
     assert len(list(paths.WORKSHEETS_DIR.glob("lesson*.html"))) == 5
-    assert len(list(paths.TUTORIALS_SRC_DIR.glob("0*.py"))) == 5
+    assert len(list(paths.TUTORIALS_SRC_DIR.glob("0*.py"))) == 6
 
 
 def _free_port() -> int:

@@ -22,6 +22,7 @@ import param
 from ringcore import paperrefs
 from ringcore.experiments.longruns import FULL_COST, run_title
 
+from ringlab.server import kernel
 from ringlab.server.session_end import on_session_end
 from ringlab.tabs.paper.playback import Playback, SPEEDS, frame_at, list_runs, load_run
 from ringlab.tabs.paper.plots import PaperPlots, WINDOWS
@@ -194,7 +195,9 @@ class PaperView(pn.viewable.Viewer):
         running = self.playback.playing
         self.play_button.disabled, self.pause_button.disabled = running, not running
         doc = pn.state.curdoc
-        if running and self._callback is None and doc is not None and doc.session_context is not None:
+        served = doc is not None and doc.session_context is not None
+        # the clock ticks in a server session or on a Jupyter kernel's event loop (ringlab.server.kernel)
+        if running and self._callback is None and (served or kernel.in_kernel_loop()):
             self._last_tick = time.perf_counter()
             self._callback = pn.state.add_periodic_callback(self._timer, period=PERIOD_MS)
         elif not running:
@@ -220,7 +223,12 @@ class PaperView(pn.viewable.Viewer):
         now = time.perf_counter()
         dt = min(now - (self._last_tick or now), 1.0)
         self._last_tick = now
-        self.tick(dt)
+        doc = pn.state.curdoc
+        if doc is None or doc.session_context is None:  # a kernel: the frame's changes in one push
+            with kernel.frame_changes():
+                self.tick(dt)
+        else:
+            self.tick(dt)
 
     def tick(self, wall_s: float) -> bool:
         """Advance the clock by ``wall_s`` seconds and draw if the page has taken the last frame."""

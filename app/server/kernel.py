@@ -1,0 +1,169 @@
+"""Where the frames of a live run go without a Bokeh server session: a Jupyter kernel's event loop.
+
+In a server session (``panel serve``, also ``panel serve notebook.ipynb``) a chunk's result reaches
+the page through ``doc.add_next_tick_callback`` (:mod:`ringlab.live.loop`).  In a Jupyter kernel
+there is no server session (``pn.state.curdoc`` is None): Panel renders each displayed object into
+its own Bokeh document, held by Panel (``hold("combine")``), and sends the document's changes over
+a Jupyter comm when something pushes them.  The kernel runs an asyncio event loop in its main
+thread; it handles the page's messages (button clicks, slider moves) and runs callbacks between
+cells and while a cell awaits (``await asyncio.sleep(...)``).
+
+A :class:`KernelTarget` stands in for the server document there: chunks still compute in the
+shared pool (:mod:`ringlab.server.compute`), and their results are handed to the kernel's loop
+with ``loop.call_soon_threadsafe`` (asyncio's one thread-safe entry), so everything that touches
+a view, a widget or a Bokeh model runs on the kernel's main thread, as in the server.  A frame's
+changes are then sent in one push per displayed document (:func:`push_views`) instead of one per
+changed pane, and only over comms a page has opened: a kernel without a frontend (nbclient,
+papermill) keeps the changes on the held document instead of Panel rescheduling every unsent
+message every 0.1 s.  Bokeh combines repeated changes of one property there, but not repeated
+``source.data = ...`` (each a ``ColumnDataChangedEvent``); those carry no data of their own (it is
+read from the source when the message is built), so :func:`compact` keeps only the last one per
+source: memory stays flat however long the run goes without a page.
+
+``pn.io.unlocked`` is not needed here (it only applies to server sessions) and ``pn.io.hold()``
+without a document does nothing in a kernel: the documents are held by Panel already.
+A cell that blocks the kernel (``time.sleep``, a long computation) holds the frames and the run
+(the chunk in flight finishes, the next one is submitted once its frame was drawn), like any
+Jupyter widget; :meth:`KernelTarget.wait` (``runner.wait()``) blocks a cell while the run goes on: it
+draws the frames itself, in the kernel's main thread, instead of the loop.
+"""
+from __future__ import annotations
+
+import asyncio
+import collections
+import threading
+import time
+import weakref
+from contextlib import contextmanager
+
+import panel as pn
+from bokeh.document.events import ColumnDataChangedEvent
+from panel.io.notebook import block_comm, push
+
+
+class KernelTarget:
+    """The running event loop of this thread, in the role of a server document for
+    :mod:`ringlab.live.loop` (``add_next_tick_callback`` from any thread; no session context).
+
+    Parameters
+    ----------
+    loop : asyncio.AbstractEventLoop
+        The kernel's loop (running in the thread that creates the target).
+    """
+
+    session_context = None  # not a server session (ringlab.server.socket_guard sees no connections)
+
+    def __init__(self, loop: asyncio.AbstractEventLoop):
+        self.loop = loop
+        self.thread_id = threading.get_ident()
+        self._queue = collections.deque()  # callbacks handed over by the workers, run in order
+        self._arrived = threading.Event()
+
+    def add_next_tick_callback(self, callback) -> None:
+        """Run ``callback()`` on the kernel's main thread (thread-safe), its view changes sent in one push:
+        on the loop, or in :meth:`wait` if a cell is waiting.  RuntimeError if the loop is closed."""
+        self._queue.append(callback)
+        self._arrived.set()
+        self.loop.call_soon_threadsafe(self.drain)
+
+    def drain(self) -> int:
+        """Run the callbacks handed over so far (in the kernel's main thread only); returns how many."""
+        if threading.get_ident() != self.thread_id:
+            raise RuntimeError("KernelTarget.drain runs in the kernel's main thread only")
+        n = 0
+        while True:
+            try:
+                callback = self._queue.popleft()
+            except IndexError:
+                return n
+            deliver(callback)
+            n += 1
+
+    def wait(self, done, timeout_s: float) -> bool:
+        """Block the calling cell until ``done()`` is true or ``timeout_s`` seconds passed, running the
+        callbacks (frames, next chunks) as they arrive; returns ``done()``."""
+        t_end = time.perf_counter() + timeout_s
+        while not done():
+            left = t_end - time.perf_counter()
+            if left <= 0:
+                break
+            self._arrived.wait(min(left, 0.1))
+            self._arrived.clear()
+            self.drain()
+        return bool(done())
+
+
+_TARGETS: "weakref.WeakKeyDictionary[asyncio.AbstractEventLoop, KernelTarget]" = weakref.WeakKeyDictionary()
+
+
+def target() -> KernelTarget | None:
+    """The :class:`KernelTarget` of the event loop running in this thread (one per loop), or None (no
+    running loop: a plain script or a headless test, where the runners are advanced by ``tick()``)."""
+    try:
+        loop = asyncio.get_running_loop()
+    except RuntimeError:
+        return None
+    t = _TARGETS.get(loop)
+    if t is None:
+        t = _TARGETS[loop] = KernelTarget(loop)
+    return t
+
+
+def in_kernel_loop() -> bool:
+    """True outside a server session when an event loop runs in this thread (a Jupyter kernel)."""
+    doc = pn.state.curdoc
+    return (doc is None or doc.session_context is None) and target() is not None
+
+
+@contextmanager
+def frame_changes():
+    """Collect the view changes made in the body and send them at the end in one push per displayed
+    document whose comm a page has opened (:func:`push_views`)."""
+    if pn.state._hold:  # nested: the outer one pushes
+        yield
+        return
+    try:
+        with block_comm():  # Panel's per-pane pushes wait: the changes stay on the held documents
+            yield
+    finally:
+        push_views()
+
+
+def deliver(callback) -> None:
+    """Run ``callback()`` (on the kernel's loop) inside :func:`frame_changes`."""
+    with frame_changes():
+        callback()
+
+
+def push_views() -> int:
+    """Send the pending changes of every displayed document over its comm if a page has opened it
+    (returns how many documents were pushed).  Uses Panel's registry of rendered views
+    (``pn.state._views``: ref -> (viewable, root model, document, comm); Panel <1.10, pinned)."""
+    n = 0
+    for _viewable, root, doc, comm in list(pn.state._views.values()):
+        if comm is None or "embedded" in root.tags:
+            continue  # a server session's document: Bokeh sends its changes
+        compact(doc)
+        if getattr(comm, "_comm", None) is not None and doc.callbacks._held_events:
+            push(doc, comm)  # else no page has opened the comm (yet): the changes stay held
+            n += 1
+    return n
+
+
+def compact(doc) -> int:
+    """Drop the held ``ColumnDataChangedEvent`` s of ``doc`` that a later one of the same source and
+    columns repeats (they serialize the source's current data, so only the last counts); returns how
+    many were dropped."""
+    events = doc.callbacks._held_events
+    seen, kept = set(), []
+    for e in reversed(events):
+        if isinstance(e, ColumnDataChangedEvent) and e.data is None:
+            key = (id(e.model), e.attr, None if e.cols is None else tuple(sorted(e.cols)))
+            if key in seen:
+                continue
+            seen.add(key)
+        kept.append(e)
+    dropped = len(events) - len(kept)
+    if dropped:
+        doc.callbacks._held_events = kept[::-1]
+    return dropped
