@@ -301,7 +301,7 @@ def test_glossary_and_citations():
 
 
 def test_parse_number():
-    assert parse_number("123 m") == 123.0
+    assert parse_number("123 m", "m") == 123.0
     assert parse_number("0,04") == 0.04
     assert parse_number("1.2e2") == 120.0
     assert parse_number("−0.5") == -0.5
