@@ -3,7 +3,8 @@ hydro run or N-body box, through their public attributes) and judges an answer.
 
 A check returns a :class:`Result`: ``correct``, ``wrong`` (with a hint), ``wait`` (the run
 is not far enough yet, or there is none: the message says what is missing) or ``error``
-(the answer is not a number / not one of the choices).  :data:`CHECKS` maps the names used
+(the answer cannot be read as a number in the step's unit, see :mod:`ringlab.lessons.answers`, or is
+not one of the choices: it is not judged).  :data:`CHECKS` maps the names used
 in :mod:`ringlab.lessons.content` to the functions.
 
 References: eqs. (osgrate), (vg), (ekin), (fourier), (lambdasigma), (ptot);
@@ -12,7 +13,6 @@ Table "Hydrodynamic Parameters".
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -22,6 +22,7 @@ from scipy.signal import hilbert
 from ringcore import paperrefs
 from ringcore.analysis.saturation import C_EMPIRICAL
 
+from ringlab.lessons.answers import AnswerError, read_answer
 from ringlab.model.linear import characteristic_numbers
 from ringlab.model.wave_trains import lambda_st_at, load_lambda_st
 
@@ -40,15 +41,22 @@ class Result:
         return self.status == "correct"
 
 
-def parse_number(answer) -> float:
-    """The first number in ``answer`` ("123", "123 m", "1.2e2", "0,04"); ValueError if none."""
-    text = str(answer).strip().replace("−", "-")
-    if re.fullmatch(r"[-+]?\d+,\d+", text.split(" ")[0] if text else ""):
-        text = text.replace(",", ".", 1)
-    m = re.search(r"[-+]?(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?", text)
-    if not m:
-        raise ValueError(f"answer = {answer!r} is not a number: enter a number such as 120 or 0.04")
-    return float(m.group(0))
+def parse_number(answer, unit: str = "") -> float:
+    """``answer`` read as a number in ``unit`` ("123", "0.123 km", "1/(2*pi*0.0411)", "0,04"; see
+    :func:`ringlab.lessons.answers.read_answer`); AnswerError (a ValueError) saying why if it cannot be."""
+    return read_answer(answer, unit).value
+
+
+def _shown(answer, x: float, unit: str) -> str:
+    """The student's answer as read: "3.872 orbits", or "1/(2*pi*0.0411) = 3.872 orbits" for a formula
+    or another unit, so the student sees what was judged."""
+    u = f" {unit}" if unit else ""
+    text = str(answer).strip()
+    try:
+        plain = float(text.replace(",", ".")) == x
+    except ValueError:
+        plain = False
+    return f"{x:.4g}{u}" if plain else f"{text} = {x:.4g}{u}"
 
 
 def _close(value: float, ref: float, rel_tol: float | None, abs_tol: float | None) -> bool:
@@ -59,14 +67,14 @@ def _close(value: float, ref: float, rel_tol: float | None, abs_tol: float | Non
 def _judge(answer, ref: float, rel_tol=None, abs_tol=None, unit: str = "", what: str = "", hint: str = "",
            extra: str = "") -> Result:
     try:
-        x = parse_number(answer)
-    except ValueError as exc:
+        x = parse_number(answer, unit)
+    except AnswerError as exc:
         return Result("error", str(exc))
     u = f" {unit}" if unit else ""
     if _close(x, ref, rel_tol, abs_tol):
         return Result("correct", f"Correct: {what} is {ref:.4g}{u}. {extra}".strip())
     side = "high" if x > ref else "low"
-    return Result("wrong", f"Not quite: {x:.4g}{u} is too {side} for {what}. {hint}".strip())
+    return Result("wrong", f"Not quite: {_shown(answer, x, unit)} is too {side} for {what}. {hint}".strip())
 
 
 def _choice(answer, choices, correct_index: int, why: str, hint: str = "") -> Result:
@@ -169,8 +177,8 @@ def hydro_lambda_p(targets, answer, rel_tol: float = 0.1, min_orbits: float = 60
     if wait:
         return wait
     try:
-        x = parse_number(answer)
-    except ValueError as exc:
+        x = parse_number(answer, unit or "m")
+    except AnswerError as exc:
         return Result("error", str(exc))
     t, lam = r.series.get("t"), r.series.get("lambda_p")
     recent = lam[t >= t[-1] - SETTLE_WINDOW]
@@ -179,7 +187,7 @@ def hydro_lambda_p(targets, answer, rel_tol: float = 0.1, min_orbits: float = 60
     now = r.sim.prevalent_wavelength()
     if not any(_close(x, c, rel_tol, None) for c in candidates):
         side = "high" if x > now else "low"
-        return Result("wrong", f"Not quite: {x:.4g} m is too {side} for the λ_p of your run (orbit "
+        return Result("wrong", f"Not quite: {_shown(answer, x, 'm')} is too {side} for the λ_p of your run (orbit "
                                f"{r.sim.orbits:.0f}). {hint}".strip())
     n = r.numbers
     fast = n.get("lambda_max_growth_m", math.nan)

@@ -137,6 +137,8 @@ class LessonsPanel(pn.viewable.Viewer):
             self.answer_choice.options = list(q.choices)
             self.answer_choice.value = None
         self.answer_text.value = ""
+        self.answer_text.placeholder = (f"your answer{' in ' + q.unit if q.unit else ''}: a number or a formula, "
+                                        "e.g. 3.9 or 1/(2*pi*0.0411)")
         self.feedback.object = ""
         self.prev_btn.disabled = self.step <= 1
         self.next_btn.disabled = self.step >= len(les.steps)
@@ -215,7 +217,8 @@ class LessonsPanel(pn.viewable.Viewer):
         """Check the current answer against the session's state; returns the Result."""
         les, st = self.current
         res = run_check(st.question, self.targets(), self.answer())
-        kind = {"correct": "ok", "wrong": "error", "wait": "warn", "error": "error"}[res.status]
+        # an unreadable answer is not judged: it is shown as a note, not as a wrong answer
+        kind = {"correct": "ok", "wrong": "error", "wait": "warn", "error": "warn"}[res.status]
         self.attempts += 1
         self._show(self.feedback, html.escape(res.message, quote=False), kind, f"lesson-feedback-{res.status}",
                    f' data-attempt="{self.attempts}"')

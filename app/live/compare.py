@@ -24,9 +24,9 @@ import time
 import param
 
 from ringlab.live.buffers import SpaceTimeImage
-from ringlab.live.compare_data import run_side
+from ringlab.live.compare_data import matched_amplitude, run_side
 from ringlab.live.hydro import HydroRunner
-from ringlab.live.loop import LiveLoop
+from ringlab.live.loop import RATE_SAMPLES, LiveLoop
 from ringlab.live.nbody import NBodyRunner, SETUP_PARAMS as NBODY_SETUP
 from ringlab.model.compare_presets import PRESETS, SHARED_NBODY, SHORT
 from ringlab.model.hydro_settings import SETUP_PARAMS as HYDRO_SETUP
@@ -75,7 +75,7 @@ class CompareRunner(LiveLoop, param.Parameterized):
         super().__init__(**params)
         self._callback = None
         self._catch_up_pending = False
-        self._rates = collections.deque(maxlen=40)
+        self._rates = collections.deque(maxlen=RATE_SAMPLES)
         self.a = self.b = None
         self._nb_box = None
         self.nbody_image = None
@@ -85,8 +85,8 @@ class CompareRunner(LiveLoop, param.Parameterized):
     # ------------------------------------------------------------------ building
     def _make_runs(self) -> None:
         p = PRESETS[self.preset]
-        self.a = HydroRunner(**p.a)
         self.b = (HydroRunner if p.kind_b == "hydro" else NBodyRunner)(**p.b)
+        self.a = HydroRunner(**{**p.a, "amplitude": matched_amplitude(p.a, self.b)} if p.match_noise else p.a)
         for r in (self.a, self.b):
             r.compute_lock = self.compute_lock  # one lock: no setting changes while a chunk computes
             setup = HYDRO_SETUP if isinstance(r, HydroRunner) else NBODY_SETUP

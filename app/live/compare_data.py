@@ -1,4 +1,5 @@
-"""What the Compare tab shows of one run, the same for a hydro run and an N-body box: :func:`run_side`.
+"""What the Compare tab shows of one run, the same for a hydro run and an N-body box: :func:`run_side`;
+and the hydro noise level that starts a hydro run at an N-body box's e_kin: :func:`matched_amplitude`.
 
 Units: time [orbits], e_kin [sigma0 (R_p Omega)^2] with R_p = 1 m (the hydro run's
 sigma0 c0^2 converted, as in the Hydrodynamics tab; the N-body box's own unit, eq. (ekin)),
@@ -10,7 +11,8 @@ import math
 
 import numpy as np
 
-from ringcore.nbody.diagnostics import psd, tabulate
+from ringcore import ranges
+from ringcore.nbody.diagnostics import e_kin, psd, tabulate
 
 from ringlab.live.hydro import HydroRunner
 from ringlab.model.units import ekin_unit
@@ -48,3 +50,17 @@ def last_e_kin(side: dict) -> float:
     """Latest e_kin [sigma0 (R_p Omega)^2] of a side (nan if none)."""
     e = side["e_kin"]
     return float(e[-1]) if e.size and np.isfinite(e[-1]) else math.nan
+
+
+def matched_amplitude(settings_a: dict, b) -> float:
+    """White-noise amplitude for hydro settings ``settings_a`` whose e_kin at t = 0 equals that of the
+    N-body runner ``b`` (its particle noise), both in sigma0 (R_p Omega)^2 (e_kin ~ amplitude^2, one
+    correction step); kept inside the core's range of ``amplitude_noise``; 3 significant digits."""
+    box = b.box
+    e_b = e_kin(tabulate(box.pos, box.vel, box.L_x, box.options.zones))
+    amp = settings_a.get("amplitude", 1e-4)
+    for _ in range(2):  # nonlinear terms (sigma u^2) make e_kin not exactly quadratic in the amplitude
+        probe = HydroRunner(**{**settings_a, "amplitude": amp})
+        e_a = probe.series.get("e_kin")[0] * ekin_unit(probe.sim.params)
+        amp = min(amp * math.sqrt(e_b / e_a), ranges.RANGES["amplitude_noise"].hi)
+    return float(f"{amp:.3g}")

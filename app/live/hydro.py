@@ -34,7 +34,8 @@ from ringcore.hydro import Hydro1D, HydroBlowUp
 
 from ringlab.live.buffers import RollingImage, SeriesBuffer, SpaceTimeImage
 from ringlab.live.export import run_file_bytes
-from ringlab.live.loop import LiveLoop
+from ringlab.live.loop import RATE_SAMPLES, LiveLoop
+from ringlab.live.revert import revert, snapshot
 from ringlab.model.hydro_settings import BUFFER_PARAMS, HydroSettings, SETUP_PARAMS
 from ringlab.model.linear import characteristic_numbers
 from ringlab.server import remote
@@ -62,13 +63,18 @@ class HydroRunner(LiveLoop, HydroSettings):
         super().__init__(**params)
         self.sim = None
         self._callback = None
-        self._rates = collections.deque(maxlen=40)  # (wall, orbits, steps) at ticks
+        self._rates = collections.deque(maxlen=RATE_SAMPLES)  # (wall, orbits, steps) at ticks
         self.buffer_events = []  # (orbit, beta or None)
+        self._reverting = False
+        self._valid_setup = snapshot(self, SETUP_PARAMS)  # settings of the last run built (Reset's fallback)
+        self._valid_buffer = snapshot(self, BUFFER_PARAMS)
         self._rebuild()
 
     # ------------------------------------------------------------------ building
     @param.depends(*SETUP_PARAMS, watch=True)
     def _on_setup(self):
+        if self._reverting:  # Reset puts several settings back and rebuilds once itself
+            return
         with self.compute_lock:  # [classroom] never while a chunk computes
             self._rebuild()
 
@@ -100,6 +106,7 @@ class HydroRunner(LiveLoop, HydroSettings):
         self.blowup = ""
         self.buffer_events = []
         self._rates.clear()
+        self._valid_setup = snapshot(self, SETUP_PARAMS)
         self._apply_buffer()
         model = "isothermal" if p.isothermal else "non-isothermal"
         self.run_label = (f"{p.name}, {model}, σ₀ = {p.sigma0:g} kg/m², p_s = {p.p_s:.3g}, L_x = {opt.L_x:g} m, "
@@ -113,12 +120,24 @@ class HydroRunner(LiveLoop, HydroSettings):
             return f"white noise (seed {self.seed})"
         return f"mode λ = {self.wavelength:g} m"
 
-    def reset(self, *_):
-        """Restart from t = 0 with the current settings (the last valid ones if they are invalid)."""
+    def reset(self, *_, field_notes=()):
+        """Restart from t = 0 with the current settings; settings that make them invalid are put
+        back to their last valid values first and named in ``status`` (with ``field_notes``, lines
+        about input fields the page put back)."""
         with self.compute_lock:  # [classroom]
-            ok = self._rebuild()
-        if not ok and self.sim is not None:
-            self.status = "Settings invalid: nothing reset (see the message beside the controls)."
+            put_back = list(field_notes)
+            self._reverting = True
+            try:
+                if any(k in self.find_problems() for k in ("model", "grid", "initial")):
+                    put_back += revert(self, self._valid_setup)
+                if self.buffer_problem():
+                    put_back += revert(self, self._valid_buffer)
+            finally:
+                self._reverting = False
+            self._rebuild()
+        if put_back:
+            self.status = ("Reset to t = 0 with the last valid settings; put back: " + "; ".join(put_back) + ". "
+                           + ("Running." if self.running else "Press Start."))
 
     # ------------------------------------------------------------------ buffer
     @param.depends(*BUFFER_PARAMS, watch=True)
@@ -140,6 +159,8 @@ class HydroRunner(LiveLoop, HydroSettings):
         if sim is None:
             return
         want = self.buffer_on and not self.buffer_problem()
+        if not self.buffer_problem():
+            self._valid_buffer = snapshot(self, BUFFER_PARAMS)
         if want:
             lo, hi = self.buffer_bounds()
             sim.set_buffer(lo, hi, self.buffer_beta)

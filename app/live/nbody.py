@@ -29,7 +29,8 @@ from ringcore.nbody import NBodyBlowUp, NBodyOptions, ShearingBox
 
 from ringlab.live.buffers import SeriesBuffer
 from ringlab.live.export import run_file_bytes
-from ringlab.live.loop import LiveLoop
+from ringlab.live.loop import RATE_SAMPLES, LiveLoop
+from ringlab.live.revert import revert, snapshot
 from ringlab.model.controls import SIGMA0_MAX
 from ringlab.model.linear import characteristic_numbers
 from ringlab.ui.cite import publish
@@ -83,7 +84,7 @@ class NBodyRunner(LiveLoop, param.Parameterized):
         super().__init__(**params)
         self.box = None
         self._callback = None
-        self._rates = collections.deque(maxlen=40)
+        self._rates = collections.deque(maxlen=RATE_SAMPLES)
         self.thinned = False
         self._rebuild()
 
@@ -109,6 +110,8 @@ class NBodyRunner(LiveLoop, param.Parameterized):
 
     @param.depends(*SETUP_PARAMS, watch=True)
     def _on_setup(self):
+        if getattr(self, "_reverting", False):  # Reset puts several settings back and rebuilds once itself
+            return
         with self.compute_lock:  # [classroom] never while a chunk computes
             self._rebuild()
 
@@ -119,6 +122,7 @@ class NBodyRunner(LiveLoop, param.Parameterized):
             return False
         p = self.ring_params()
         self.box = box = ShearingBox(p, self.options(), seed=self.seed)
+        self._valid_setup = snapshot(self, SETUP_PARAMS)  # Reset's fallback
         self.numbers = characteristic_numbers((p.name, p.sigma0, p.isothermal, 1.0, p.p_s if p.isothermal else 1.0))
         self.series = SeriesBuffer(("ekin", "c_mean", "collision_frequency", "lambda_p"))
         box.history_limit = MAX_HISTORY
@@ -134,11 +138,21 @@ class NBodyRunner(LiveLoop, param.Parameterized):
         self.frame += 1
         return True
 
-    def reset(self, *_):
+    def reset(self, *_, field_notes=()):
+        """Restart from t = 0; settings that make the box invalid are put back to those of the last box
+        built first and named in ``status`` (with ``field_notes`` about input fields the page put back)."""
         with self.compute_lock:  # [classroom]
-            ok = self._rebuild()
-        if not ok and self.box is not None:
-            self.status = "Settings invalid: nothing reset (see the message beside the controls)."
+            put_back = list(field_notes)
+            if self.find_problem() and getattr(self, "_valid_setup", None):
+                self._reverting = True
+                try:
+                    put_back += revert(self, self._valid_setup)
+                finally:
+                    self._reverting = False
+            self._rebuild()
+        if put_back:
+            self.status = ("Reset to t = 0 with the last valid settings; put back: " + "; ".join(put_back) + ". "
+                           + ("Running." if self.running else "Press Start."))
 
     # ------------------------------------------------------------------ running
     def start(self, *_):

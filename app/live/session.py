@@ -81,8 +81,21 @@ class SessionRuns(param.Parameterized):
         if not math.isfinite(lam):
             return "error: the hydro run has no prevalent wavelength yet"
         p = sim.params
+        key = r.run_label or f"{p.name} {p.sigma0:g} {p.isothermal}"  # the run's full setup
         point = dict(sigma0=p.sigma0, lambda_p_m=lam, orbits=sim.orbits, isothermal=p.isothermal, set=p.name,
-                     label=f"{p.name} {'iso' if p.isothermal else 'non-iso'}, σ₀ = {p.sigma0:g}, "
-                           f"{sim.orbits:.0f} orbits{' (blown up)' if r.blowup else ''}")
-        self.points = (self.points + [point])[-MAX_POINTS:]
+                     key=key, label=f"{p.name} {'iso' if p.isothermal else 'non-iso'}, σ₀ = {p.sigma0:g}, "
+                                    f"{sim.orbits:.0f} orbits{' (blown up)' if r.blowup else ''}")
+        old = [q for q in self.points if q.get("key") == key]
+        self.points = ([q for q in self.points if q.get("key") != key] + [point])[-MAX_POINTS:]
+        if old:  # the same run (same settings) again: its point moves to the new λ_p, no duplicate
+            return (f"ok: updated your point at σ₀ = {p.sigma0:g} kg/m²: λ_p = {old[-1]['lambda_p_m']:.4g} → "
+                    f"{lam:.4g} m ({old[-1]['orbits']:.0f} → {sim.orbits:.0f} orbits)")
         return f"ok: added λ_p = {lam:.4g} m at σ₀ = {p.sigma0:g} kg/m² ({sim.orbits:.0f} orbits)"
+
+    def remove_point(self, index: int) -> str:
+        """Remove the added point at ``index`` (position in ``points``); returns a message."""
+        if not 0 <= index < len(self.points):
+            return f"error: point = {index} does not exist: allowed 0 .. {len(self.points) - 1}"
+        gone = self.points[index]
+        self.points = self.points[:index] + self.points[index + 1:]
+        return f"ok: removed your point {gone['label']} (λ_p = {gone['lambda_p_m']:.4g} m)"

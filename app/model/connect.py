@@ -15,7 +15,9 @@ import math
 
 import numpy as np
 
-from ringcore import linear
+from ringcore import linear, ranges
+
+from ringlab.model.hydro_settings import toomre_problem
 
 HYDRO_KEYS = ("param_set", "sigma0", "isothermal", "ps_scale", "iso_p_s")  # RingControls -> HydroSettings
 NBODY_KEYS = ("param_set", "sigma0")  # the N-body box has no isothermal switch or p_s
@@ -35,8 +37,28 @@ def carry_values(controls, kind: str) -> dict:
     """
     if kind not in KINDS:
         raise ValueError(f"kind = {kind!r} is unknown: allowed {', '.join(KINDS)}")
-    controls.ring_params()  # raises ValueError for an impossible combination
+    problem = carry_problem(controls, kind)
+    if problem:
+        raise ValueError(problem)
     return {k: getattr(controls, k) for k in KINDS[kind]}
+
+
+def carry_problem(controls, kind: str) -> str:
+    """Why the ``kind`` runner cannot start a run at the Linear tab's settings ('' if it can): the
+    core's sigma0 range (:func:`ringcore.ranges.check_sigma0`), and for hydro also the live run's
+    Toomre limit Q0 >= 1 (:func:`ringlab.model.hydro_settings.toomre_problem`).
+
+    Raises ValueError for settings the Linear tab itself rejects (an impossible combination)."""
+    p = controls.ring_params()  # raises ValueError for an impossible combination
+    try:
+        ranges.check_sigma0(p.sigma0, p.Omega, p.c0, set_name=p.name)
+    except ValueError as exc:
+        return f"{LABELS[kind]} cannot run these settings: {exc}"
+    if kind == "hydro":
+        why = toomre_problem(p)
+        if why:
+            return f"{LABELS[kind]} cannot run these settings: {why}"
+    return ""
 
 
 def describe(controls, kind: str) -> str:

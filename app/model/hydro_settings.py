@@ -34,6 +34,16 @@ SETTINGS_PARAMS = SETUP_PARAMS + BUFFER_PARAMS + ("spacetime",)
 GROUPS = ("model", "grid", "initial", "buffer")  # where messages are shown
 
 
+def toomre_problem(p) -> str:
+    """Why a live hydro run refuses ``p`` (a RingParams) for its self-gravity ('' if it does not):
+    Toomre Q0 < MIN_Q0 = 1 is gravitationally unstable and the axisymmetric scheme blows up."""
+    if p.sigma0 > 0 and p.Q0 < MIN_Q0:
+        return (f"Toomre Q0 = {p.Q0:.2f} < {MIN_Q0:g} at sigma0 = {p.sigma0:g} kg/m^2: the ring is "
+                "gravitationally unstable (clumps, not waves) and the axisymmetric hydro scheme blows "
+                f"up; choose sigma0 below {p.sigma0 * p.Q0 / MIN_Q0:.0f} kg/m^2")
+    return ""
+
+
 class HydroSettings(RingControls):
     """Everything a student can set for one live hydro run (one instance per session)."""
 
@@ -93,10 +103,8 @@ class HydroSettings(RingControls):
         except ValueError as exc:
             out["model"] = str(exc)
             p = None
-        if p is not None and p.sigma0 > 0 and p.Q0 < MIN_Q0:
-            out["model"] = (f"Toomre Q0 = {p.Q0:.2f} < {MIN_Q0:g} at sigma0 = {p.sigma0:g} kg/m^2: the ring is "
-                            "gravitationally unstable (clumps, not waves) and the axisymmetric hydro scheme blows "
-                            f"up; choose sigma0 below {p.sigma0 * p.Q0 / MIN_Q0:.0f} kg/m^2")
+        if p is not None and toomre_problem(p):
+            out["model"] = toomre_problem(p)
         try:
             opt = self.options()
         except ValueError as exc:

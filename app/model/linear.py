@@ -108,11 +108,15 @@ class LinearTheory(param.Parameterized):
         self.param.update(curves=curves, numbers=characteristic_numbers(settings), model_label=label, error="")
 
     def preview(self, sigma0: float) -> None:
-        """Replace only the current curve by the one at ``sigma0`` [kg/m^2] (while a slider is dragged)."""
+        """Show ``sigma0`` [kg/m^2] while a slider is dragged: the current curve *and* the readouts
+        (numbers) move together, in one update, so readouts, markers and legend never name another
+        sigma0 than the thick curve (both cached; the settings change on release)."""
         if self.error or not self.curves or not (0.0 <= sigma0 <= self.controls.param.sigma0.bounds[1]):
             return
-        curve = self._curve(self.controls.settings(sigma0), float(sigma0), True)
-        self.curves = [cv for cv in self.curves[:-1] if cv["sigma0"] != sigma0] + [curve]
+        settings = self.controls.settings(sigma0)
+        curve = self._curve(settings, float(sigma0), True)
+        self.param.update(curves=[cv for cv in self.curves[:-1] if cv["sigma0"] != sigma0] + [curve],
+                          numbers=characteristic_numbers(settings))
 
     @staticmethod
     def _curve(settings: tuple, sigma0: float, current: bool) -> dict:

@@ -1,6 +1,8 @@
 """Display units of the app's plots that ringcore's SI scales do not name (one definition for every tab)."""
 from __future__ import annotations
 
+from ringcore.units import e_kin_rp
+
 R_P = 1.0  # [m] particle radius of the e_kin unit sigma0 (R_p Omega)^2 (Figure "ekinisonosg")
 
 
@@ -10,4 +12,4 @@ def ekin_unit(params) -> float:
     ``params`` is a :class:`ringcore.params.RingParams` (c0 = ``params.scales.velocity`` [m/s],
     Omega = ``params.Omega`` [1/s]).
     """
-    return (params.scales.velocity / (R_P * params.Omega)) ** 2
+    return float(e_kin_rp(1.0, params.scales.velocity, params.Omega))  # ringcore's one conversion

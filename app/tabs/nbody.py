@@ -27,7 +27,7 @@ from ringlab.server.session_end import on_session_end
 from ringlab.tabs.shared import ExportPanel, restore_widgets
 from ringlab.ui.checked_input import CheckedInputs
 from ringlab.ui.cite import publish
-from ringlab.ui.figures import new_figure, wavelength_markers
+from ringlab.ui.figures import follow_time, new_figure, time_range, wavelength_markers
 from ringlab.ui.frame_gate import FrameGate
 from ringlab.ui.layout import responsive_grid, run_first, wrap_row
 from ringlab.ui.palette import LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
@@ -85,7 +85,8 @@ class NBodyView(pn.viewable.Viewer):
                             pause=pn.widgets.Button(label="Pause", color="warning", css_classes=["nbody-pause"]),
                             step=pn.widgets.Button(label="Step 0.1 orbit", css_classes=["nbody-step"]),
                             reset=pn.widgets.Button(label="Reset", css_classes=["nbody-reset"]))
-        for key, fn in (("start", r.start), ("pause", r.pause), ("step", r.step_once), ("reset", r.reset)):
+        self.checked = None  # the box-size inputs (built with the layout); Reset puts back what they hold
+        for key, fn in (("start", r.start), ("pause", r.pause), ("step", r.step_once), ("reset", self.reset)):
             self.buttons[key].on_click(fn)
             self.buttons[key].param.update(width=120, sizing_mode="fixed")
         self.export = ExportPanel(r, "nbody")
@@ -119,16 +120,19 @@ class NBodyView(pn.viewable.Viewer):
         self.u_fig.step("x", "u", source=self.profile_source, mode="center", line_width=2, color=LINE_COLOR)
         self.series_source = ColumnDataSource(dict(t=[], ekin=[], c_mean=[], collision_frequency=[]),
                                               name="nbody-series-source")
+        self.t_range = time_range()  # the time axes follow the run and start again with a new one
         self.ekin_fig = new_figure(publish("Kinetic energy e_kin, eq. (ekin)", html_out=False), "time [orbits]", "e_kin [σ₀ (R_p Ω)²]",
+                                   x_range=self.t_range,
                                    height=230, y_axis_type="log")
         self.ekin_fig.line("t", "ekin", source=self.series_source, line_width=2, color=LINE_COLOR)
-        self.c_fig = new_figure("Velocity dispersion ⟨c⟩", "time [orbits]", "⟨c⟩ [mm/s]", height=230)
+        self.c_fig = new_figure("Velocity dispersion ⟨c⟩", "time [orbits]", "⟨c⟩ [mm/s]", height=230,
+                                x_range=self.t_range)
         r = self.c_fig.line("t", "c_mean", source=self.series_source, line_width=2, color=LINE_COLOR)
         self.c0_source = ColumnDataSource(dict(y=[], color=[]))
         self.c_fig.hspan(y="y", line_color="color", line_dash="dashed", line_width=2, source=self.c0_source)
         self.c_fig.add_tools(HoverTool(renderers=[r], tooltips=[("t", "@t{0.00}"), ("<c>", "@c_mean{0.000} mm/s")]))
         self.coll_fig = new_figure("Collision frequency", "time [orbits]", "per particle per orbit",
-                                   height=230)
+                                   height=230, x_range=self.t_range)
         self.coll_fig.line("t", "collision_frequency", source=self.series_source, line_width=2, color=LINE_COLOR)
         self.psd_source = ColumnDataSource(dict(wavelength=[], power=[]), name="nbody-psd-source")
         self.psd_markers = ColumnDataSource(dict(x=[], color=[], dash=[], label=[]))
@@ -141,12 +145,16 @@ class NBodyView(pn.viewable.Viewer):
                     self.psd_fig):
             fig.toolbar_location = "right"  # above, a long title pushes the toolbar off a phone screen
 
+    def reset(self, *_):
+        """Reset: input fields and invalid settings go back to the values in use / last valid, then restart."""
+        self.runner.reset(field_notes=self.checked.revert() if self.checked is not None else [])
+
     def _build_layout(self):
         r = self.runner
         p = r.param
         W = pn.widgets
         pane = lambda f: pn.pane.Bokeh(f, sizing_mode="stretch_width")  # noqa: E731
-        box = CheckedInputs(r, "nbody-input-box")
+        box = self.checked = CheckedInputs(r, "nbody-input-box")
         widgets = pn.Column(
             pn.pane.HTML('<div class="group-title">Ring and box</div><div class="buttons-note">a change restarts '
                          'the box at orbit 0 (the old run stays restorable)</div>', stylesheets=[CSS],
@@ -211,6 +219,7 @@ class NBodyView(pn.viewable.Viewer):
                 self.series_source.data = dict(t=s.get("t").astype(f32), ekin=s.get("ekin").astype(f32),
                                                c_mean=(s.get("c_mean") * 1e3).astype(f32),
                                                collision_frequency=s.get("collision_frequency").astype(f32))
+                follow_time(self.t_range, s.get("t"))
                 self._update_psd(prof)
                 self.readouts.object = readout_cards(self._readout_rows(), "nbody-readouts")
                 self.line_gate.mark_sent(now)
@@ -221,6 +230,7 @@ class NBodyView(pn.viewable.Viewer):
         Lx, Ly = box.options.L_x, box.options.L_y
         self.xy_fig.x_range.update(start=-Lx / 2, end=Lx / 2, reset_start=-Lx / 2, reset_end=Lx / 2)
         self.xy_fig.y_range.update(start=-Ly / 2, end=Ly / 2, reset_start=-Ly / 2, reset_end=Ly / 2)
+        follow_time(self.t_range, r.series.get("t"))  # a new box: the time axes start again
         self.c0_source.data = dict(y=[box.params.c0 * 1e3], color=[C0_COLOR])
         self.header.object = f'<div class="model-label" id="nbody-run-label">{r.run_label}</div>'
         n = r.numbers

@@ -69,3 +69,17 @@ class CheckedInputs:
         else:
             self.notes.pop(name, None)
         show_message(self.pane, "<br>".join(self.notes.values()), "warn")
+
+    def revert(self) -> list[str]:
+        """Put every field holding a value that was not used back to the value in use; returns one
+        line per field ("Box size L_x: typed 50 → 2000 m")."""
+        lines = []
+        for name in list(self.notes):
+            w, p = self.widgets[name], self.obj.param[name]
+            unit = p.label.rsplit("[", 1)[1].rstrip("]") if "[" in p.label else ""
+            good = getattr(self.obj, name)
+            typed = "empty" if w.value is None else f"{w.value:g}"
+            lines.append(f"{p.label.split(' [')[0]}: typed {typed} → {good:g}{' ' + unit if unit else ''}")
+            w.value = good
+            self._note(name, "")
+        return lines

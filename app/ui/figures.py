@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from bokeh.models import ColumnDataSource, CustomJSTickFormatter, FixedTicker
+from bokeh.models import ColumnDataSource, CustomJSTickFormatter, FixedTicker, Range1d
 from bokeh.plotting import figure
 
 from ringlab.ui.palette import MAXG_COLOR, ZERO_COLOR
@@ -62,3 +62,18 @@ def log_ticks(fig, ticks) -> None:
     """Readable fixed ticks (plain numbers) on a log y axis."""
     fig.yaxis.ticker = FixedTicker(ticks=list(ticks))
     fig.yaxis.formatter = CustomJSTickFormatter(code="return tick.toString()")
+
+
+def time_range() -> Range1d:
+    """An explicit time axis [orbits] for a live series, set by :func:`follow_time` (a DataRange1d
+    kept a previous run's range after a restart once the plot had been zoomed or panned)."""
+    return Range1d(0.0, 1.0)
+
+
+def follow_time(rng: Range1d, t) -> None:
+    """Set time range ``rng`` to the series' times ``t`` [orbits]: from the first to the last
+    sample (at least one orbit wide); a new run (empty or short ``t``) starts again at 0 .. 1."""
+    t0 = float(t[0]) if len(t) else 0.0
+    t1 = max(float(t[-1]) if len(t) else 0.0, t0 + 1.0)
+    if (rng.start, rng.end) != (t0, t1):
+        rng.update(start=t0, end=t1, reset_start=t0, reset_end=t1)

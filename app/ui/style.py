@@ -19,6 +19,8 @@ BASE_CSS = """
          font-size: 14px;}
 .msg-error {border: 2px solid #b00020; background: #fdecee; color: #7a0014; border-radius: 6px;
             padding: 8px 10px; font-size: 14px;}
+.msg-warn {border: 1px solid #b26a00; background: #fff6e5; color: #5c3700; border-radius: 6px; padding: 6px 10px;
+           font-size: 14px;}
 """
 
 CSS = BASE_CSS + """

@@ -137,7 +137,8 @@ def test_linear_questions(panel_, n, k):
     apply_preset(step_of(n, k).preset, t, FAST)
     truth = _linear_truth(n, k)
     assert answer_check(t, n, k, f"{truth:.4g}").ok
-    assert answer_check(t, n, k, f"{truth * 1.01:.4g} m").ok
+    unit = step_of(n, k).question.unit  # with the step's own unit (a wrong kind of unit is refused)
+    assert answer_check(t, n, k, f"{truth * 1.01:.4g} {unit}".strip()).ok
     assert answer_check(t, n, k, f"{truth * 1.5:.4g}").status == "wrong"
     assert "too high" in answer_check(t, n, k, f"{truth * 1.5:.4g}").message
     assert answer_check(t, n, k, "about a hundred").status == "error"
@@ -301,7 +302,7 @@ def test_glossary_and_citations():
 
 
 def test_parse_number():
-    assert parse_number("123 m") == 123.0
+    assert parse_number("123 m", "m") == 123.0
     assert parse_number("0,04") == 0.04
     assert parse_number("1.2e2") == 120.0
     assert parse_number("−0.5") == -0.5

@@ -24,6 +24,7 @@ from ringlab.lessons.refs import cite
 from ringlab.live.compare import CompareRunner
 from ringlab.live.compare_data import last_e_kin
 from ringlab.live.hydro import HydroRunner
+from ringlab.model.compare_presets import PRESETS
 from ringlab.model.controls import set_labels
 from ringlab.server.session_end import on_session_end
 from ringlab.tabs.compare.plots import COLORS, ComparePlots, DASH
@@ -84,6 +85,7 @@ class CompareView(pn.viewable.Viewer):
         pane = lambda **kw: pn.pane.HTML("", stylesheets=[COMPARE_CSS], sizing_mode="stretch_width",  # noqa: E731
                                          margin=(0, 10), **kw)
         self.differs, self.status, self.key = pane(), pane(), pane()
+        self.watch = pane(visible=False)  # the preset's "what to watch, and when"
         self.titles = {k: pane() for k in "AB"}
         self.readouts = {k: pane() for k in "AB"}
         self.messages = {k: message_pane(f"compare-{k.lower()}-message") for k in "AB"}
@@ -123,8 +125,8 @@ class CompareView(pn.viewable.Viewer):
         sides = responsive_grid(*columns, min_px=330)
         lines = responsive_grid(fig(P.ekin_fig), fig(P.lp_fig), fig(P.psd_fig), min_px=270)
         explanation = pn.pane.Markdown(EXPLANATION, sizing_mode="stretch_width", styles={"font-size": EXPLANATION_FONT})
-        return pn.Column(wrap_row(*self.buttons.values(), self.status), self.differs, top, self.blowup, sides,
-                         self.key, lines, explanation, sizing_mode="stretch_width", css_classes=["compare-run"])
+        return pn.Column(wrap_row(*self.buttons.values(), self.status), self.differs, top, self.watch, self.blowup,
+                         sides, self.key, lines, explanation, sizing_mode="stretch_width", css_classes=["compare-run"])
 
     def _widgets(self, run) -> list:
         W, p = pn.widgets, run.param
@@ -150,6 +152,9 @@ class CompareView(pn.viewable.Viewer):
             watch = ["problems", "blowup"] if isinstance(run, HydroRunner) else ["problem", "blowup"]
             run.param.watch(self._on_problems, watch)
         self._on_problems()
+        watch = PRESETS[r.preset].watch
+        self.watch.object = f'<div class="msg-ok" id="compare-watch">{watch}</div>' if watch else ""
+        self.watch.visible = bool(watch)
         self._shown = None
         self._on_frame()
 

@@ -21,7 +21,7 @@ from ringcore.analysis.saturation import C_EMPIRICAL
 from ringlab.model.connect import allowed_wavelengths, slope_line, theory_mode
 from ringlab.model.units import ekin_unit
 from ringlab.ui.cite import publish
-from ringlab.ui.figures import log_ticks, new_figure, wavelength_markers
+from ringlab.ui.figures import follow_time, log_ticks, new_figure, time_range, wavelength_markers
 from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
 
 SLOPE_COLOR = "#d84315"  # linear-theory growth of e_kin
@@ -80,8 +80,9 @@ class HydroPlots:
     def _series_figures(self):
         self.series_source = ColumnDataSource(dict(t=[], e_kin=[], lambda_p=[]), name="hydro-series-source")
         self.event_source = ColumnDataSource(dict(x=[], color=[], label=[]))
+        self.t_range = time_range()  # shared by the e_kin and lambda_p plots: follows the run, restarts with it
         fig = new_figure(publish("Wave kinetic energy e_kin, eq. (ekin)", html_out=False), "time [orbits]",
-                         "e_kin [σ₀ (R_p Ω)²]", height=260, y_axis_type="log")
+                         "e_kin [σ₀ (R_p Ω)²]", height=260, y_axis_type="log", x_range=self.t_range)
         r = fig.line("t", "e_kin", source=self.series_source, line_width=2, color=LINE_COLOR)
         fig.vspan(x="x", line_color="color", line_dash="dashed", line_width=2, source=self.event_source)
         # linear theory: e_kin ~ amplitude^2 grows as exp(2 omega_R t) (eqs. ekin, osgrate)
@@ -97,7 +98,7 @@ class HydroPlots:
         self.mode = None  # the linear-theory mode of the run shown (ringlab.model.connect.theory_mode)
         self.lp_marker_source = ColumnDataSource(dict(y=[], color=[], dash=[], label=[]))
         fig = new_figure("Prevalent wavelength λ_p", "time [orbits]", "λ_p [m]",
-                         height=260, y_axis_type="log")
+                         height=260, y_axis_type="log", x_range=self.t_range)
         self.allowed_source = ColumnDataSource(dict(y=[], n=[]), name="hydro-allowed-source")
         fig.hspan(y="y", line_color=ALLOWED_COLOR, line_dash="dotted", line_width=1, source=self.allowed_source)
         r = fig.scatter("t", "lambda_p", source=self.series_source, size=3, color=LP_COLOR)
@@ -124,6 +125,7 @@ class HydroPlots:
         sim = runner.sim
         L = sim.options.L_x
         self.x_range.update(start=-L / 2, end=L / 2, reset_start=-L / 2, reset_end=L / 2)
+        follow_time(self.t_range, runner.series.get("t"))  # a restart: the time axes start again
         n = runner.numbers
         lam = wavelength_markers(n)
         self.psd_markers.data = {**lam}
@@ -167,6 +169,7 @@ class HydroPlots:
         e[e <= 0] = np.nan
         t = s.get("t")
         self.series_source.data = dict(t=t.astype(f32), e_kin=e.astype(f32), lambda_p=s.get("lambda_p").astype(f32))
+        follow_time(self.t_range, t)
         if self.mode is not None:
             line = slope_line(t, e, self.mode["slope_per_orbit"])
             self.slope_source.data = dict(t=line["t"], e_kin=line["e_kin"])

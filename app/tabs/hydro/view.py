@@ -109,6 +109,12 @@ class HydroView(pn.viewable.Viewer):
         on_session_end(r.close)
         self._sync_location()
 
+    def reset(self, *_):
+        """Reset: fields holding a value that was not used go back to the value in use, invalid
+        settings to their last valid values (named in the status), then the run restarts."""
+        notes = [line for c in self.checked.values() for line in c.revert()]
+        self.runner.reset(field_notes=notes)
+
     # ---------------------------------------------------------------- building
     def _buttons(self) -> dict:
         r = self.runner
@@ -119,7 +125,7 @@ class HydroView(pn.viewable.Viewer):
         b["start"].on_click(r.start)
         b["pause"].on_click(r.pause)
         b["step"].on_click(r.step_once)
-        b["reset"].on_click(r.reset)
+        b["reset"].on_click(self.reset)
         for w in b.values():
             w.param.update(width=120, sizing_mode="fixed")
         return b

@@ -11,7 +11,7 @@ import panel as pn
 
 from ringlab.lessons.content import Preset
 from ringlab.lessons.presets import Targets, apply_preset
-from ringlab.model.connect import KINDS, LABELS, carry_values, describe
+from ringlab.model.connect import KINDS, LABELS, carry_problem, carry_values, describe
 
 
 def carry_to(controls, targets, kind: str) -> list[str]:
@@ -45,7 +45,26 @@ class CarryButtons:
             b.on_click(lambda e, k=kind: self.click(k))
         self.message = pn.pane.HTML("", stylesheets=list(stylesheets), sizing_mode="stretch_width", visible=False,
                                    margin=(0, 10))
-        self.panel = pn.Column(*self.buttons.values(), self.message, sizing_mode="stretch_width", margin=(6, 0))
+        self.reasons = pn.pane.HTML("", stylesheets=list(stylesheets), sizing_mode="stretch_width", visible=False,
+                                    margin=(0, 10))
+        self.panel = pn.Column(*self.buttons.values(), self.reasons, self.message, sizing_mode="stretch_width",
+                               margin=(6, 0))
+        self.refresh()
+
+    def refresh(self) -> dict:
+        """Disable a button whose tab cannot run the current settings and say why beside it (before
+        anyone clicks); returns {kind: reason} ('' where the run can start)."""
+        reasons = {}
+        for kind, b in self.buttons.items():
+            try:
+                reasons[kind] = carry_problem(self.controls, kind)
+            except ValueError as exc:
+                reasons[kind] = f"{LABELS[kind]} cannot run these settings: {exc}"
+            b.disabled = bool(reasons[kind])
+        text = "".join(f'<div class="msg-warn" id="linear-carry-why-{k}">{r}.</div>' for k, r in reasons.items() if r)
+        self.reasons.object = text
+        self.reasons.visible = bool(text)
+        return reasons
 
     def click(self, kind: str) -> None:
         """A button press: in a server session apply from a next-tick callback (it holds the
@@ -60,9 +79,9 @@ class CarryButtons:
         """Carry the settings to tab ``kind`` now; returns what was done (also shown as a message)."""
         runs, tabs = self.session()
         try:
+            what = describe(self.controls, kind)  # first: why these settings cannot run, if they cannot
             if runs is None:
                 raise ValueError(f"this page has no {LABELS[kind]} tab")
-            what = describe(self.controls, kind)
             done = carry_to(self.controls, Targets.from_session(runs, tabs), kind)
         except ValueError as exc:
             self._show(f"Not carried over: {exc}.", "msg-error")

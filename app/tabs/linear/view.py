@@ -7,8 +7,9 @@ fastest-growing wavelength, and readouts of the characteristic numbers.
 
 Plots are Bokeh figures whose ``ColumnDataSource`` objects are updated in place
 (a few ms per update, see ``shared/guides/panel-live-app.md``).  The sigma0 slider
-commits on release / key press (``value_throttled``); while it is dragged only
-the current curve follows (``LinearTheory.preview``, cached, ~20 ms).
+commits on release / key press (``value_throttled``); while it is dragged the current
+curve and the readouts, markers and legend follow it together (``LinearTheory.preview``,
+cached, ~0.2 s per new value), so they never name different sigma0.
 
 References: eqs. (matni), (osgrate), (osfreq), (vg); Figures "omega", "vgroup".
 """
@@ -121,6 +122,8 @@ class LinearView(pn.viewable.Viewer):
         self.readouts = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.message = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", visible=False)
         self.note = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", visible=False)
+        self.q0_warning = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", visible=False,
+                                       margin=(0, 10))
         self.controls.param.watch(self._on_note, "model_note")
         self.widgets = self._widgets()
         self.model.param.watch(self._render, ["curves", "numbers", "error", "model_label"])
@@ -131,7 +134,7 @@ class LinearView(pn.viewable.Viewer):
     def _widgets(self) -> pn.Column:
         c = self.controls
         self.sigma0_slider = pn.widgets.FloatSlider.from_param(c.param.sigma0, throttled=True, format="0")
-        # while dragging, only the current curve follows (cheap); readouts follow on release
+        # while dragging, the current curve and the readouts, markers and legend follow together
         self.sigma0_slider.param.watch(lambda e: self.model.preview(e.new), "value")
         isothermal = c.param.isothermal
         return pn.Column(
@@ -201,7 +204,8 @@ class LinearView(pn.viewable.Viewer):
                                 sizing_mode="stretch_width")
         grid = responsive_grid(plots["growth_rate"], plots["frequency"], plots["group_velocity_mm_s"], explanation)
         return page_row(pn.Column(pn.pane.Markdown("### Settings", margin=(0, 10)), self.widgets, width=340),
-                        pn.Column(header, self.readouts, self.key, grid, sizing_mode="stretch_width"))
+                        pn.Column(header, self.q0_warning, self.readouts, self.key, grid,
+                                  sizing_mode="stretch_width"))
 
     # ---------------------------------------------------------------- updating
     def _render(self, *events):
@@ -237,6 +241,16 @@ class LinearView(pn.viewable.Viewer):
             f'<div class="ro-value">{value}</div><div class="ro-note">{note}</div></div>'
             for rid, label, value, note in format_numbers(n))
         self.readouts.object = f'<div class="readouts" id="linear-readouts">{cards}</div>'
+        self.carry.refresh()
+        q0 = n.get("Q0", math.inf)
+        self.q0_warning.object = (
+            f'<div class="msg-warn" id="linear-q0-warning"><b>Toomre Q<sub>0</sub> = {q0:.2f} &lt; 1.</b> '
+            f'At σ<sub>0</sub> = {n["sigma0"]:g} kg/m² self-gravity wins over pressure: the ring is '
+            'gravitationally unstable and forms clumps, not the overstable waves drawn here (these curves '
+            'assume a ring that stays uniform). The Hydrodynamics tab refuses such a ring; choose '
+            f'σ<sub>0</sub> below {n["sigma0"] * q0:.0f} kg/m² for Q<sub>0</sub> ≥ 1.</div>'
+            if n and q0 < 1.0 else "")
+        self.q0_warning.visible = bool(n) and q0 < 1.0
         if m.error:
             self.message.object = (f'<div class="msg-error" id="linear-message"><b>Cannot use these settings.</b> '
                                    f'{m.error}.<br>The plots still show the last valid settings.</div>')

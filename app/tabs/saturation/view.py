@@ -171,6 +171,11 @@ class SaturationView(pn.viewable.Viewer):
         self.add_button = pn.widgets.Button(label="Add my run", color="primary", css_classes=["sat-add"],
                                             width=200)
         self.add_button.on_click(self._add)
+        self.point_select = pn.widgets.Select(name="My points", options={}, css_classes=["sat-point-select"],
+                                              width=300, visible=False)
+        self.remove_button = pn.widgets.Button(label="Remove this point", css_classes=["sat-remove"], width=200,
+                                               visible=False)
+        self.remove_button.on_click(self._remove)
         self.model_error = pn.pane.HTML("", stylesheets=[CSS], visible=False, sizing_mode="stretch_width")
         self.model_note = pn.pane.HTML("", stylesheets=[CSS], visible=False, sizing_mode="stretch_width")
         self.caveat = pn.pane.HTML("", stylesheets=[CSS], visible=False, sizing_mode="stretch_width")
@@ -259,9 +264,22 @@ class SaturationView(pn.viewable.Viewer):
         self.user_source.data = dict(sigma0=[p["sigma0"] for p in pts], lambda_p=[p["lambda_p_m"] for p in pts],
                                      label=[p["label"] for p in pts],
                                      alpha=[1.0 if self._matches(p) else FADED for p in pts])
+        if hasattr(self, "point_select"):
+            opts = {f"{p['label']}: λ_p = {p['lambda_p_m']:.4g} m": i for i, p in enumerate(pts)}
+            self.point_select.options = opts
+            self.point_select.value = len(pts) - 1 if pts else None
+            self.point_select.visible = self.remove_button.visible = bool(pts)
 
     def _add(self, *_):
         msg = self.runs.add_hydro_run()
+        kind, text = msg.split(": ", 1)
+        self.message.object = message_html(text, "sat-message", "ok" if kind == "ok" else "error")
+        self.message.visible = True
+
+    def _remove(self, *_):
+        if self.point_select.value is None:
+            return
+        msg = self.runs.remove_point(int(self.point_select.value))
         kind, text = msg.split(": ", 1)
         self.message.object = message_html(text, "sat-message", "ok" if kind == "ok" else "error")
         self.message.visible = True
@@ -272,7 +290,8 @@ class SaturationView(pn.viewable.Viewer):
             pn.pane.Markdown("### Theory curves for", margin=(0, 10)),
             W.Select.from_param(self.param.param_set, options=set_labels()),
             W.Checkbox.from_param(self.param.isothermal), self.model_note, self.model_error,
-            pn.pane.Markdown("### Your runs", margin=(0, 10)), self.add_button, self.message, width=340)
+            pn.pane.Markdown("### Your runs", margin=(0, 10)), self.add_button, self.message,
+            self.point_select, self.remove_button, width=340)
         explanation = pn.pane.Markdown(EXPLANATION + stability.EXPLANATION, sizing_mode="stretch_width",
                                        styles={"font-size": "15px"})
         one_line = pn.pane.HTML(f'<div class="buttons-note" id="sat-st-line">{stability.ONE_LINE}</div>',
