@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import panel as pn
 
+from ringlab.lessons.classroom import join_class
 from ringlab.lessons.view import LessonsPanel
 from ringlab.live.session import SessionRuns
 from ringlab.tabs.compare.view import CompareView
@@ -67,6 +68,7 @@ def create_app() -> pn.Column:
                           stylesheets=[PAGE_CSS], sizing_mode="stretch_width", margin=0)
     # the lessons + glossary panel stays beside every tab on wide screens and wraps below on narrow ones
     lessons = LessonsPanel(runs=runs, tabs=tabs)
+    join_class(lessons)  # the teacher's dashboard (ringlab.teacher) sees this page's step and answers
     side = pn.Column(lessons, width=360, styles={"flex": "0 1 360px"}, margin=(0, 5))
     body = pn.FlexBox(tabs, side, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")
     app = pn.Column(header, body, sizing_mode="stretch_width", margin=0)

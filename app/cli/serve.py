@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import os
 import socket
+from functools import partial
 
 import panel as pn
 
@@ -22,6 +23,8 @@ from ringlab.lessons.tutorials import docs_dir, static_dirs
 from ringlab.main import TITLE, configure, create_app
 from ringlab.server.compute import ENV_MAX
 from ringlab.server.remote import ENV_MODE, ENV_SCHEDULER, ENV_WORKERS, MODES
+from ringlab.teacher.access import ENV_PASSWORD, MIN_LENGTH, choose_key
+from ringlab.teacher.page import teacher_page
 
 LOOPBACK = "127.0.0.1"
 NETWORK = "0.0.0.0"
@@ -50,6 +53,9 @@ def add_parser(sub) -> None:
     p.add_argument("--num-procs", type=int, default=1, help="app server processes (1-64; sessions stay in the "
                                                             "process that made them)")
     p.add_argument("--show", action="store_true", help="open the lab in this machine's browser")
+    p.add_argument("--teacher-password", default=None, metavar="TEXT",
+                   help=f"the key of the teacher's dashboard (/teacher?key=TEXT; at least {MIN_LENGTH} characters; "
+                        f"default: ${ENV_PASSWORD}, else a new random key each start, printed)")
     p.set_defaults(run=run)
 
 
@@ -111,8 +117,10 @@ def plan(args) -> dict:
     else:
         shown = address
     base = f"http://{shown}:{port}/main"
+    key = choose_key(getattr(args, "teacher_password", None))
     return dict(port=port, num_procs=num_procs, address=address, origins=origins, env=compute_env(args),
-                student=base, teacher=f"{base}?tab=hydro&autostart=1", docs=static_dirs())
+                student=base, teacher=f"{base}?tab=hydro&autostart=1", docs=static_dirs(), key=key,
+                dashboard=f"{base[:-len('main')]}teacher?key={key}")
 
 
 def run(args) -> int:
@@ -127,11 +135,14 @@ def run(args) -> int:
         print(f"  documentation: {p['student'][:-len('main')]}docs/index.html")
     else:
         print(f"  documentation: not in this install ({docs_dir()} is missing; `make docs` in the source tree)")
+    print(f"  teacher's dashboard: {p['dashboard']}   (keep this link to yourself)")
+    if p["num_procs"] > 1:
+        print("  note: with --num-procs > 1 the dashboard sees only the students of its own server process")
     if p["address"] == NETWORK:
         print("  listening on every network interface (class mode); Ctrl-C stops the server")
     else:
         print(f"  listening on {p['address']} only; Ctrl-C stops the server")
-    pn.serve({"main": create_app}, port=p["port"], address=p["address"], websocket_origin=p["origins"],
+    pn.serve({"main": create_app, "teacher": partial(teacher_page, p["key"])}, port=p["port"], address=p["address"], websocket_origin=p["origins"],
              num_procs=p["num_procs"], show=args.show, static_dirs=p["docs"], title=TITLE, liveness=True,
              start=True, threaded=False, verbose=False)
     return 0
