@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import os
 import socket
-from functools import partial
 
 import panel as pn
 
@@ -24,7 +23,7 @@ from ringlab.main import TITLE, configure, create_app
 from ringlab.server.compute import ENV_MAX
 from ringlab.server.remote import ENV_MODE, ENV_SCHEDULER, ENV_WORKERS, MODES
 from ringlab.teacher.access import ENV_PASSWORD, MIN_LENGTH, choose_key
-from ringlab.teacher.page import teacher_page
+from ringlab.teacher.page import TITLE as TEACHER_TITLE, page_factory
 
 LOOPBACK = "127.0.0.1"
 NETWORK = "0.0.0.0"
@@ -142,7 +141,9 @@ def run(args) -> int:
         print("  listening on every network interface (class mode); Ctrl-C stops the server")
     else:
         print(f"  listening on {p['address']} only; Ctrl-C stops the server")
-    pn.serve({"main": create_app, "teacher": partial(teacher_page, p["key"])}, port=p["port"], address=p["address"], websocket_origin=p["origins"],
-             num_procs=p["num_procs"], show=args.show, static_dirs=p["docs"], title=TITLE, liveness=True,
+    apps = {"main": create_app, "teacher": page_factory(p["key"])}
+    pn.serve(apps, port=p["port"], address=p["address"], websocket_origin=p["origins"],
+             num_procs=p["num_procs"], show=args.show, static_dirs=p["docs"],
+             title={"main": TITLE, "teacher": TEACHER_TITLE}, liveness=True,
              start=True, threaded=False, verbose=False)
     return 0

@@ -113,7 +113,8 @@ class LessonsPanel(pn.viewable.Viewer):
         return les, les.steps[min(self.step, len(les.steps)) - 1]
 
     def goto(self, lesson: int, step: int) -> None:
-        """Show ``lesson``, ``step`` (clamped to the lesson's steps) in the Lessons tab (the teacher's "send everyone")."""
+        """Show ``lesson``, ``step`` (clamped to the lesson's steps) in the Lessons tab (the teacher's
+        "send everyone")."""
         self._layout.active = 0
         self._go(min(max(1, int(lesson)), len(LESSONS)), int(step))
 

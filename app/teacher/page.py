@@ -40,6 +40,15 @@ def teacher_page(key: str | None = None):
     return pn.Column(header, dash, sizing_mode="stretch_width", margin=0)
 
 
+def page_factory(key: str):
+    """The per-session factory of ``pn.serve`` for a dashboard with ``key`` (a plain function: Panel calls
+    functions and methods per session, and would show any other callable, e.g. a ``functools.partial``,
+    as an object)."""
+    def teacher():
+        return teacher_page(key)
+    return teacher
+
+
 if __name__.startswith("bokeh"):  # run by `panel serve app/teacher/page.py`
     pn.extension(sizing_mode="stretch_width", notifications=False)
     teacher_page().servable(title=TITLE)

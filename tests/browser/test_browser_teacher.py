@@ -77,6 +77,7 @@ def answer(page, value, attempt: int) -> str:
     return fb.get_attribute("id").rsplit("-", 1)[1]
 
 
+@pytest.mark.slow  # three browsers and a server: ~1-3 min on the shared 2-core machine
 @pytest.mark.timeout(400)
 def test_dashboard_sees_two_students_and_moves_them(class_server, tmp_path):
     base, log_path = class_server
@@ -140,5 +141,5 @@ def test_dashboard_sees_two_students_and_moves_them(class_server, tmp_path):
             for c in (ca, cb, ct):
                 c.close()
     out = log_path.read_text()
-    assert f"teacher's dashboard: http://localhost:" in out and f"/teacher?key={PASSWORD}" in out
+    assert "teacher's dashboard: http://localhost:" in out and f"/teacher?key={PASSWORD}" in out
     assert "Traceback" not in out, out
