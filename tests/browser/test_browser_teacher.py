@@ -4,7 +4,8 @@
 Two students answer lesson 1, step 1 (one right, one wrong); the dashboard shows both pages, both answers
 and the right/wrong counts; a reload of a student page keeps its step and its answer (and the dashboard
 still counts that student once); "Send everyone to this step" moves both pages; a student page cannot
-open the dashboard (no key or a wrong key: "Not authorised") and links nowhere near it.  A screenshot of
+open the dashboard (no key or a wrong key: "Not authorised") and links nowhere near it.  No page asks any other host for anything (the local-storage component
+included).  A screenshot of
 the dashboard goes to ``/tmp/shots/teacher/dashboard.png``.
 """
 from __future__ import annotations
@@ -15,6 +16,7 @@ import subprocess
 import sys
 import time
 import urllib.request
+from urllib.parse import urlsplit
 from pathlib import Path
 
 import pytest
@@ -63,6 +65,9 @@ def open_browser(pw, folder: Path):
     page = ctx.new_page()
     page.js_errors = []
     page.on("pageerror", lambda exc: page.js_errors.append(str(exc)))
+    page.hosts = set()  # every host the page asked for something (the lab loads nothing from elsewhere)
+    page.on("request", lambda req: urlsplit(req.url).scheme in ("http", "https", "ws", "wss")
+            and page.hosts.add(urlsplit(req.url).hostname))
     return ctx, page
 
 
@@ -137,6 +142,8 @@ def test_dashboard_sees_two_students_and_moves_them(class_server, tmp_path):
                 b.locator("#teacher-refused", has_text="Not authorised").wait_for()
                 assert b.locator("#teacher-count").count() == 0
             assert not (a.js_errors or b.js_errors or t.js_errors), (a.js_errors, b.js_errors, t.js_errors)
+            hosts = a.hosts | b.hosts | t.hosts
+            assert hosts == {"127.0.0.1"}, hosts
         finally:
             for c in (ca, cb, ct):
                 c.close()
