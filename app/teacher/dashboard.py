@@ -63,8 +63,12 @@ def _answer_cell(text: str, status: str) -> str:
 
 
 def answers_html(roster) -> str:
-    """For every step answered so far: the question, right / wrong counts, each distinct answer with its count."""
-    steps = roster.answered_steps()
+    """For every step answered so far or on a student's screen now: the question, how many students are on
+    it, right / wrong counts, each distinct answer with its count."""
+    here = {}
+    for r in roster.seats():
+        here[(r["lesson"], r["step"])] = here.get((r["lesson"], r["step"]), 0) + 1
+    steps = sorted(set(roster.answered_steps()) | set(here))
     if not steps:
         return '<div class="dash" id="teacher-answers"><p class="none">No answers yet.</p></div>'
     parts = []
@@ -80,7 +84,8 @@ def answers_html(roster) -> str:
             f'<div class="teacher-step" data-lesson="{lesson}" data-step="{step}">'
             f'<div class="q">{step_title(lesson, step)}</div><div>{render(q.text)}</div>'
             f'<div class="teacher-tally"><span class="correct">{d.right} right</span> · '
-            f'<span class="wrong">{d.wrong} wrong</span> · <span class="other">{d.other} not judged</span></div>'
+            f'<span class="wrong">{d.wrong} wrong</span> · <span class="other">{d.other} not judged</span>'
+            f' · {here.get((lesson, step), 0)} on this step now</div>'
             f'<table><tr><th>Students</th><th>Answer</th><th>Check</th></tr>{rows}</table></div>')
     return f'<div class="dash" id="teacher-answers">{"".join(parts)}</div>'
 
