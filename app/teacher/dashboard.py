@@ -86,7 +86,8 @@ def answers_html(roster) -> str:
             f'<div class="teacher-tally"><span class="correct">{d.right} right</span> · '
             f'<span class="wrong">{d.wrong} wrong</span> · <span class="other">{d.other} not judged</span>'
             f' · {here.get((lesson, step), 0)} on this step now</div>'
-            f'<table><tr><th>Students</th><th>Answer</th><th>Check</th></tr>{rows}</table></div>')
+            + (f'<table><tr><th>Students</th><th>Answer</th><th>Check</th></tr>{rows}</table>' if rows
+               else '<p class="none">No answers to this question yet.</p>') + '</div>')
     return f'<div class="dash" id="teacher-answers">{"".join(parts)}</div>'
 
 

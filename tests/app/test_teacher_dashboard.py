@@ -130,6 +130,9 @@ def test_dashboard_shows_count_students_and_answer_distribution():
     html = dash.answers.object
     assert "1 right" in html and "1 wrong" in html and ">49<" in html and ">10<" in html
     assert "2 on this step now" in html
+    a.goto(1, 3)
+    dash.refresh()
+    assert "No answers to this question yet" in dash.answers.object and "1 on this step now" in dash.answers.object
     dash.lesson.value, dash.step.value = 2, 2
     assert dash.send() == 2 and (a.lesson, a.step) == (2, 2) == (b.lesson, b.step)
 
