@@ -3,7 +3,8 @@
 
 Two students answer lesson 1, step 1 (one right, one wrong); the dashboard shows both pages, both answers
 and the right/wrong counts; a reload of a student page keeps its step and its answer (and the dashboard
-still counts that student once); "Send everyone to this step" moves both pages; a student page cannot
+still counts that student once); "Send everyone to this step" moves both pages; "Reset everyone" clears
+progress and answers; a student page cannot
 open the dashboard (no key or a wrong key: "Not authorised") and links nowhere near it.  No page asks any other host for anything (the local-storage component
 included).  A screenshot of
 the dashboard goes to ``/tmp/shots/teacher/dashboard.png``.
@@ -130,6 +131,14 @@ def test_dashboard_sees_two_students_and_moves_them(class_server, tmp_path):
             t.wait_for_timeout(2000)
             assert t.locator(".teacher-student", has_text="step 3").count() == 2
             t.screenshot(path=str(SHOTS / "dashboard.png"), full_page=True)
+
+            # reset everyone: A's progress (step 1 answered right) and every answer are gone
+            a.locator("#lesson-progress", has_text="1 of").wait_for()
+            t.locator(".teacher-reset button").click()
+            t.locator("#teacher-message", has_text="Reset 2 pages").wait_for()
+            a.locator("#lesson-progress", has_text="0 of").wait_for(timeout=30_000)
+            t.locator("#teacher-answers", has_text="No answers to this question yet").wait_for()
+            assert right not in t.locator("#teacher-answers").inner_text()
 
             # the step is kept in B's browser: a bare address opens it at step 3
             b.goto(base + "/main", timeout=90_000)
