@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import panel as pn
 
+from ringlab.lessons.classroom import join_class
 from ringlab.lessons.view import LessonsPanel
 from ringlab.live.session import SessionRuns
 from ringlab.tabs.compare.view import CompareView
@@ -85,6 +86,7 @@ def create_app() -> pn.Column:
                      styles={"background": "#1f4e79", "margin-bottom": "4px"})
     # the lessons + glossary panel stays beside every tab on wide screens and wraps below on narrow ones
     lessons = LessonsPanel(runs=runs, tabs=tabs)
+    join_class(lessons)  # the teacher's dashboard (ringlab.teacher) sees this page's step and answers
     side = pn.Column(lessons, width=SIDE_PX, styles={"flex": f"0 1 {SIDE_PX}px"}, margin=(0, 5),
                      stylesheets=[SIDE_CSS], css_classes=["side-panel"])
     body = pn.FlexBox(tabs, side, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")

@@ -22,6 +22,8 @@ from ringlab.lessons.tutorials import docs_dir, static_dirs
 from ringlab.main import TITLE, configure, create_app
 from ringlab.server.compute import ENV_MAX
 from ringlab.server.remote import ENV_MODE, ENV_SCHEDULER, ENV_WORKERS, MODES
+from ringlab.teacher.access import ENV_PASSWORD, MIN_LENGTH, choose_key
+from ringlab.teacher.page import TITLE as TEACHER_TITLE, page_factory
 
 LOOPBACK = "127.0.0.1"
 NETWORK = "0.0.0.0"
@@ -50,6 +52,9 @@ def add_parser(sub) -> None:
     p.add_argument("--num-procs", type=int, default=1, help="app server processes (1-64; sessions stay in the "
                                                             "process that made them)")
     p.add_argument("--show", action="store_true", help="open the lab in this machine's browser")
+    p.add_argument("--teacher-password", default=None, metavar="TEXT",
+                   help=f"the key of the teacher's dashboard (/teacher?key=TEXT; at least {MIN_LENGTH} characters; "
+                        f"default: ${ENV_PASSWORD}, else a new random key each start, printed)")
     p.set_defaults(run=run)
 
 
@@ -111,14 +116,16 @@ def plan(args) -> dict:
     else:
         shown = address
     base = f"http://{shown}:{port}/main"
+    key = choose_key(getattr(args, "teacher_password", None))
     return dict(port=port, num_procs=num_procs, address=address, network=network, origins=origins,
-                env=compute_env(args), student=base, teacher=f"{base}?tab=hydro&autostart=1", docs=static_dirs())
+                env=compute_env(args), student=base, teacher=f"{base}?tab=hydro&autostart=1", docs=static_dirs(),
+                key=key, dashboard=f"{base[:-len('main')]}teacher?key={key}")
 
 
 def link_lines(p: dict) -> list[str]:
     """The lines ``serve`` prints before it starts (``p`` from :func:`plan`): title, links, where it listens.
 
-    One line per link, so that a feature adding a link (a teacher's page, say) appends its line here.
+    One line per link, so that a feature adding a link appends its line here.
     """
     lines = [TITLE,
              f"  student link: {p['student']}",
@@ -127,6 +134,9 @@ def link_lines(p: dict) -> list[str]:
         lines.append(f"  documentation: {p['student'][:-len('main')]}docs/index.html")
     else:
         lines.append(f"  documentation: not in this install ({docs_dir()} is missing; `make docs` in the source tree)")
+    lines.append(f"  teacher's dashboard: {p['dashboard']}   (keep this link to yourself)")
+    if p["num_procs"] > 1:
+        lines.append("  note: with --num-procs > 1 the dashboard sees only the students of its own server process")
     if p["network"]:
         where = "every network interface" if p["address"] in (NETWORK, "::") else p["address"]
         lines += [f"  class mode: listening on {where}, port {p['port']}: students open the student link above",
@@ -144,7 +154,9 @@ def run(args) -> int:
     os.environ.update(p["env"])  # read by the app when a session starts (ringlab.server.remote.mode)
     configure()
     print("\n".join(link_lines(p)), flush=True)
-    pn.serve({"main": create_app}, port=p["port"], address=p["address"], websocket_origin=p["origins"],
-             num_procs=p["num_procs"], show=args.show, static_dirs=p["docs"], title=TITLE, liveness=True,
+    apps = {"main": create_app, "teacher": page_factory(p["key"])}
+    pn.serve(apps, port=p["port"], address=p["address"], websocket_origin=p["origins"],
+             num_procs=p["num_procs"], show=args.show, static_dirs=p["docs"],
+             title={"main": TITLE, "teacher": TEACHER_TITLE}, liveness=True,
              start=True, threaded=False, verbose=False)
     return 0

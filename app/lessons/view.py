@@ -1,9 +1,11 @@
 """The Lessons side panel of one session: pick a lesson, apply a step's preset, read what to
 predict and look for, answer the question, get it checked; worksheets, tutorials, glossary.
 
-Progress is kept per browser session (this object lives as long as the page); the page
-address carries ``?lesson=N&step=M`` (a permalink straight to a step, read on load through
-``pn.state.location``).  The panel lives in the template's sidebar so it stays visible
+Progress and answers live in the session and in the browser's local storage
+(:mod:`ringlab.lessons.memory`): a reload starts where the student was, another browser has its own.  The
+page address carries ``?lesson=N&step=M`` (a permalink straight to a step, read on load through
+``pn.state.location``; it wins over the stored step).  :mod:`ringlab.lessons.classroom` reports steps and
+answers to the teacher's dashboard.  The panel lives in the template's sidebar so it stays visible
 while the student works in the other tabs.
 """
 from __future__ import annotations
@@ -16,11 +18,13 @@ import param
 from ringlab.lessons.checks import run_check
 from ringlab.lessons.content import LESSONS, PRESETS
 from ringlab.lessons.glossary import GLOSSARY_CSS, GlossaryPanel
+from ringlab.lessons.memory import attach
 from ringlab.lessons.presets import Targets, apply_preset, default_scale
 from ringlab.lessons.refs import render
 from ringlab.lessons.tutorials import docs_note, links_html
 from ringlab.lessons.worksheets import worksheet_html, worksheet_path
 from ringlab.paths import TUTORIALS_SRC_DIR
+from ringlab.ui.local_store import LocalStore
 from ringlab.ui.style import CSS
 
 TUTORIALS = TUTORIALS_SRC_DIR
@@ -53,6 +57,8 @@ class LessonsPanel(pn.viewable.Viewer):
                            doc="Preset scale: the classroom boxes or smaller, faster ones.")
     progress = param.Dict(default={}, doc="{lesson: set of steps answered correctly} of this session.")
     attempts = param.Integer(default=0, doc="Answers checked in this session.")
+    answers = param.Dict(default={}, doc='{"lesson.step": {"text", "status"}}: the latest checked answer per step.')
+    last_answer = param.Dict(default={}, doc="The latest check: lesson, step, text, status (the dashboard's feed).")
 
     def __init__(self, **params):
         params.setdefault("scale", default_scale())
@@ -90,11 +96,14 @@ class LessonsPanel(pn.viewable.Viewer):
                             self.setup_btn, self.setup_msg, self.text, self.question, self.answer_text,
                             self.answer_choice, self.check_btn, self.feedback, self.downloads,
                             self.links, self.docs, sizing_mode="stretch_width")
+        self.store = LocalStore(storage_key="ringlab-lessons")
+        lessons.append(self.store)
         self._layout = pn.Tabs(("Lessons", lessons), ("Glossary", self.glossary), sizing_mode="stretch_width",
                                css_classes=["lessons-panel"])
         doc = pn.state.curdoc
         if pn.state.location is not None and doc is not None and doc.session_context is not None:
             pn.state.location.sync(self, {"lesson": "lesson", "step": "step"})
+        attach(self, self.store, address_names_step=bool((pn.state.session_args or {}).get("lesson")))
         self._render()
 
     # ---------------------------------------------------------------- navigation
@@ -102,6 +111,12 @@ class LessonsPanel(pn.viewable.Viewer):
     def current(self):
         les = LESSONS[self.lesson - 1]
         return les, les.steps[min(self.step, len(les.steps)) - 1]
+
+    def goto(self, lesson: int, step: int) -> None:
+        """Show ``lesson``, ``step`` (clamped to the lesson's steps) in the Lessons tab (the teacher's
+        "send everyone")."""
+        self._layout.active = 0
+        self._go(min(max(1, int(lesson)), len(LESSONS)), int(step))
 
     def _go(self, lesson: int, step: int) -> None:
         n = len(LESSONS[lesson - 1].steps)
@@ -140,6 +155,7 @@ class LessonsPanel(pn.viewable.Viewer):
         self.answer_text.placeholder = (f"your answer{' in ' + q.unit if q.unit else ''}: a number or a formula, "
                                         "e.g. 3.9 or 1/(2*pi*0.0411)")
         self.feedback.object = ""
+        self._show_last_answer()
         self.prev_btn.disabled = self.step <= 1
         self.next_btn.disabled = self.step >= len(les.steps)
         self._render_links(les)
@@ -222,6 +238,9 @@ class LessonsPanel(pn.viewable.Viewer):
         self.attempts += 1
         self._show(self.feedback, html.escape(res.message, quote=False), kind, f"lesson-feedback-{res.status}",
                    f' data-attempt="{self.attempts}"')
+        text = str(self.answer() or "").strip()[:80]
+        self.answers = {**self.answers, f"{self.lesson}.{self.step}": dict(text=text, status=res.status)}
+        self.last_answer = dict(lesson=self.lesson, step=self.step, text=text, status=res.status)
         if res.ok:
             prog = dict(self.progress)
             prog[self.lesson] = set(prog.get(self.lesson, set())) | {self.step}
@@ -241,6 +260,33 @@ class LessonsPanel(pn.viewable.Viewer):
         start = head.index("</div>")
         self.head.object = (f'<div class="lesson-progress" id="lesson-progress">{marks} · {len(done)} of '
                             f'{len(les.steps)} answered' + head[start:])
+
+    def _show_last_answer(self) -> None:
+        """The student's latest answer to this step (kept in the browser) back in its box, and its verdict."""
+        last = self.answers.get(f"{self.lesson}.{self.step}")
+        if not last:
+            return
+        _, st = self.current
+        if st.question.kind == "choice":
+            if last["text"] in self.answer_choice.options:
+                self.answer_choice.value = last["text"]
+        else:
+            self.answer_text.value = last["text"]
+        verdict = {"correct": "right", "wrong": "not right"}.get(last["status"], "not judged")
+        self._show(self.feedback, f"Your last answer here: {html.escape(last['text'])} ({verdict}).",
+                   "ok" if last["status"] == "correct" else "warn", "lesson-feedback-restored")
+
+    def restore(self, state: dict, place: bool = True) -> None:
+        """Take over a stored state (:func:`ringlab.lessons.memory.decode`); ``place``: also its lesson and step."""
+        where = dict(lesson=state["lesson"], step=state["step"]) if place else {}
+        self.param.update(progress=state["progress"], answers=state["answers"], **where)
+        self._render()
+
+    def reset_progress(self) -> None:
+        """Forget every lesson's progress and answers (the teacher's "reset everyone") and set the step up again."""
+        self.param.update(progress={}, answers={}, last_answer={})
+        self._render()
+        self.setup()
 
     def restart(self, *_):
         """Forget this lesson's progress and go back to its first step."""

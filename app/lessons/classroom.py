@@ -1,0 +1,64 @@
+"""A student's lessons panel in the class roster (:mod:`ringlab.live.roster`), read by the teacher's dashboard.
+
+:func:`join_class` registers the page when its session starts and removes it when the page leaves; the
+panel's step changes and checked answers are reported as they happen; the dashboard's commands ("send
+everyone to lesson L, step S", "reset everyone") reach the panel through its own document: Bokeh
+documents are not thread safe, and the command comes from the teacher's session, so it is queued with
+``doc.add_next_tick_callback`` and runs in the student's session with its document lock held.
+"""
+from __future__ import annotations
+
+import panel as pn
+from panel.io.state import set_curdoc
+
+from ringlab.live.roster import ROSTER, Roster, Seat
+from ringlab.server.session_end import on_session_end
+
+
+def _doc_dispatch(doc):
+    """Run a callable in ``doc``'s session on its next tick (callable from any thread)."""
+    def dispatch(fn):
+        def run():
+            with set_curdoc(doc):
+                fn()
+        doc.add_next_tick_callback(run)
+    return dispatch
+
+
+def join_class(panel, roster: Roster = ROSTER, session_id: str | None = None, dispatch=None) -> Seat | None:
+    """Register the lessons ``panel`` of this session in ``roster`` and keep its entry current.
+
+    In a server session the session id and the dispatch through the document are found here; outside
+    one (headless tests) pass ``session_id`` (``dispatch`` None runs commands at once).  Returns the seat,
+    or None when there is no session to register.
+    """
+    doc = pn.state.curdoc
+    in_server = doc is not None and doc.session_context is not None
+    if session_id is None:
+        if not in_server:
+            return None
+        session_id = doc.session_context.id
+    if dispatch is None and in_server:
+        dispatch = _doc_dispatch(doc)
+
+    def go(lesson: int, step: int, setup: bool = False) -> None:
+        panel.goto(lesson, step)
+        if setup:
+            panel.setup()
+
+    seat = roster.register(session_id, lesson=panel.lesson, step=panel.step, go=go, reset=panel.reset_progress,
+                           dispatch=dispatch)
+    panel.param.watch(lambda *e: roster.moved(session_id, panel.lesson, panel.step), ["lesson", "step"])
+    panel.param.watch(lambda e: e.new and roster.answered(session_id, e.new["lesson"], e.new["step"],
+                                                          e.new["text"], e.new["status"]), "last_answer")
+
+    def identified(*_):
+        if panel.store.browser_key:
+            roster.identify(session_id, panel.store.browser_key)
+            for key, ans in panel.answers.items():  # answers of an earlier visit (restored from the browser)
+                lesson, step = (int(p) for p in key.split("."))
+                roster.answered(session_id, lesson, step, ans["text"], ans["status"])
+    panel.store.param.watch(identified, ["browser_key", "loaded"])  # after the restore (attach)
+    if in_server:
+        on_session_end(lambda: roster.unregister(session_id))
+    return seat

@@ -1,0 +1,167 @@
+"""The teacher's dashboard: the class at a glance, and two commands for every student page.
+
+Shows how many student pages are open, each student (an anonymous name: "Student 3") with the lesson
+and step on their screen and their answer there, and for every question answered so far the
+distribution of the answers (each student's latest) with right / wrong counts.  "Send everyone" moves
+every student page to a lesson step (and optionally sets the step up: its preset, which may start a
+run); "Reset everyone" forgets every student's progress and answers and sets their current step up
+again.  Everything is read from the server's roster (:mod:`ringlab.live.roster`); :meth:`refresh` is
+called every ~1.5 s and sends the page only what changed.
+"""
+from __future__ import annotations
+
+import html
+
+import panel as pn
+import param
+
+from ringlab.lessons.content import LESSONS
+from ringlab.lessons.refs import render
+from ringlab.live.roster import ROSTER
+from ringlab.ui.style import CSS
+
+DASH_CSS = CSS + """
+.dash h2 {font-size: 18px; color: #1f4e79; margin: 8px 0 4px 0;}
+.dash-count {font-size: 30px; font-weight: 700; color: #1f4e79;}
+.dash table {border-collapse: collapse; font-size: 14px; width: 100%;}
+.dash th, .dash td {border-bottom: 1px solid #d0d7de; padding: 3px 8px; text-align: left; vertical-align: top;}
+.dash th {background: #eef3f8;}
+.dash .correct {color: #1b5e20; font-weight: 600;}
+.dash .wrong {color: #8a0015; font-weight: 600;}
+.dash .other {color: #5c3700;}
+.dash .bar {display: inline-block; height: 10px; background: #1f4e79; vertical-align: middle; margin-right: 6px;}
+.dash .q {margin: 10px 0 2px 0; font-weight: 600;}
+.dash .none {color: #555; font-style: italic;}
+"""
+STATUS = {"correct": ("right", "correct"), "wrong": ("wrong", "wrong"), "wait": ("not judged yet", "other"),
+          "error": ("unreadable", "other")}
+
+
+def step_title(lesson: int, step: int) -> str:
+    """"Lesson 2, step 3: <title>" (the lesson's own words)."""
+    les = LESSONS[lesson - 1]
+    st = les.steps[min(step, len(les.steps)) - 1]
+    return f"Lesson {lesson}, step {step}: {render(st.title)}"
+
+
+def students_html(rows: list[dict]) -> str:
+    """The table of students: name, where they are, their answer there."""
+    if not rows:
+        return '<div class="dash" id="teacher-students"><p class="none">No student page is open.</p></div>'
+    body = "".join(
+        f'<tr class="teacher-student"><td>{html.escape(r["name"])}</td><td>{step_title(r["lesson"], r["step"])}</td>'
+        f'<td>{_answer_cell(r["answer"], r["status"])}</td></tr>' for r in rows)
+    return (f'<div class="dash" id="teacher-students"><table><tr><th>Student</th><th>On screen</th>'
+            f'<th>Answer there</th></tr>{body}</table></div>')
+
+
+def _answer_cell(text: str, status: str) -> str:
+    if not status:
+        return '<span class="none">—</span>'
+    word, cls = STATUS.get(status, (status, "other"))
+    return f'{html.escape(text) or "(empty)"} <span class="{cls}">({word})</span>'
+
+
+def answers_html(roster) -> str:
+    """For every step answered so far or on a student's screen now: the question, how many students are on
+    it, right / wrong counts, each distinct answer with its count."""
+    here = {}
+    for r in roster.seats():
+        here[(r["lesson"], r["step"])] = here.get((r["lesson"], r["step"]), 0) + 1
+    steps = sorted(set(roster.answered_steps()) | set(here))
+    if not steps:
+        return '<div class="dash" id="teacher-answers"><p class="none">No answers yet.</p></div>'
+    parts = []
+    for lesson, step in steps:
+        d = roster.distribution(lesson, step)
+        total = max(1, sum(n for _, _, n in d.counts))
+        q = LESSONS[lesson - 1].steps[step - 1].question
+        rows = "".join(
+            f'<tr><td><span class="bar" style="width:{int(120 * n / total)}px"></span>{n}</td>'
+            f'<td>{html.escape(text) or "(empty)"}</td><td class="{STATUS.get(status, (status, "other"))[1]}">'
+            f'{STATUS.get(status, (status, "other"))[0]}</td></tr>' for text, status, n in d.counts)
+        parts.append(
+            f'<div class="teacher-step" data-lesson="{lesson}" data-step="{step}">'
+            f'<div class="q">{step_title(lesson, step)}</div><div>{render(q.text)}</div>'
+            f'<div class="teacher-tally"><span class="correct">{d.right} right</span> · '
+            f'<span class="wrong">{d.wrong} wrong</span> · <span class="other">{d.other} not judged</span>'
+            f' · {here.get((lesson, step), 0)} on this step now</div>'
+            + (f'<table><tr><th>Students</th><th>Answer</th><th>Check</th></tr>{rows}</table>' if rows
+               else '<p class="none">No answers to this question yet.</p>') + '</div>')
+    return f'<div class="dash" id="teacher-answers">{"".join(parts)}</div>'
+
+
+class TeacherDashboard(pn.viewable.Viewer):
+    """The dashboard of one teacher's page (see module docstring)."""
+
+    roster = param.Parameter(default=ROSTER, doc="The server's ringlab.live.roster.Roster.")
+
+    def __init__(self, **params):
+        super().__init__(**params)
+        W = pn.widgets
+        self.lesson = W.Select(label="Lesson", options={f"{les.number}. {les.title}": les.number for les in LESSONS},
+                               value=1, css_classes=["teacher-lesson"])
+        self.step = W.Select(label="Step", css_classes=["teacher-step-select"])
+        self.lesson.param.watch(lambda e: self._steps(), "value")
+        self._steps()
+        self.setup = W.Checkbox(label="and set the step up (its preset; may start a run on every page)", value=False,
+                                css_classes=["teacher-setup"])
+        self.send_btn = W.Button(label="Send everyone to this step", color="primary",
+                                 css_classes=["teacher-send"])
+        self.reset_btn = W.Button(label="Reset everyone", color="danger", css_classes=["teacher-reset"])
+        self.send_btn.on_click(lambda e: self.send())
+        self.reset_btn.on_click(lambda e: self.reset())
+        pane = lambda eid: pn.pane.HTML("", stylesheets=[DASH_CSS], sizing_mode="stretch_width",  # noqa: E731
+                                        css_classes=[eid])
+        self.count, self.students, self.answers, self.message = (pane("teacher-count-pane"),
+                                                                 pane("teacher-students-pane"),
+                                                                 pane("teacher-answers-pane"),
+                                                                 pane("teacher-message-pane"))
+        controls = pn.Column(pn.pane.HTML('<div class="dash"><h2>Whole class</h2></div>', stylesheets=[DASH_CSS]),
+                             self.lesson, self.step, self.setup, self.send_btn, self.reset_btn, self.message,
+                             width=360)
+        board = pn.Column(self.count, pn.pane.HTML('<div class="dash"><h2>Students</h2></div>',
+                                                   stylesheets=[DASH_CSS]), self.students,
+                          pn.pane.HTML('<div class="dash"><h2>Answers</h2></div>', stylesheets=[DASH_CSS]),
+                          self.answers, sizing_mode="stretch_width", styles={"flex": "1 1 600px"})
+        self._layout = pn.FlexBox(board, controls, flex_wrap="wrap", align_items="flex-start",
+                                  sizing_mode="stretch_width")
+        self.refresh()
+
+    def _steps(self) -> None:
+        les = LESSONS[self.lesson.value - 1]
+        self.step.options = {f"{i}. {render(st.title)}": i for i, st in enumerate(les.steps, 1)}
+        self.step.value = 1
+
+    @staticmethod
+    def _set(pane, text: str) -> None:
+        if pane.object != text:  # the page gets a message only when something changed
+            pane.object = text
+
+    def refresh(self) -> None:
+        """Read the roster and update what changed (cheap: a few small HTML strings)."""
+        n = self.roster.count()
+        self._set(self.count, f'<div class="dash"><span class="dash-count" id="teacher-count">{n}</span> '
+                              f'student page{"" if n == 1 else "s"} open</div>')
+        self._set(self.students, students_html(self.roster.seats()))
+        self._set(self.answers, answers_html(self.roster))
+
+    def send(self) -> int:
+        """Send every student page to the chosen lesson step (and set it up if ticked); returns pages reached."""
+        lesson, step = self.lesson.value, self.step.value
+        n = self.roster.send_all(lesson, step, setup=self.setup.value)
+        self._set(self.message, f'<div class="msg-ok" id="teacher-message">Sent {n} page{"" if n == 1 else "s"} '
+                                f'to {step_title(lesson, step)}.</div>')
+        self.refresh()
+        return n
+
+    def reset(self) -> int:
+        """Reset every student page (progress, answers, the current step set up again); returns pages reached."""
+        n = self.roster.reset_all()
+        self._set(self.message, f'<div class="msg-ok" id="teacher-message">Reset {n} page{"" if n == 1 else "s"}: '
+                                'progress and answers cleared, their step set up again.</div>')
+        self.refresh()
+        return n
+
+    def __panel__(self):
+        return self._layout

@@ -1,0 +1,54 @@
+"""The teacher's page for one browser session: the dashboard, only with the right key.
+
+``ringlab serve`` serves :func:`teacher_page` at ``/teacher`` with the key it printed;
+``panel serve app/main.py app/teacher/page.py`` serves it at ``/page`` with the key of the environment
+variable ``RINGLAB_TEACHER_KEY`` (no key set: nobody gets in).  Without the right key the page shows
+"Not authorised" and builds nothing else: no dashboard, no periodic callback, no roster read.
+"""
+from __future__ import annotations
+
+import os
+
+import panel as pn
+
+from ringlab.teacher.access import ENV_KEY, authorised, given_key
+from ringlab.teacher.dashboard import DASH_CSS, TeacherDashboard
+
+TITLE = "ringlab: teacher's dashboard"
+REFRESH_MS = 1500  # [ms] the dashboard reads the roster this often (a few small strings; nothing if unchanged)
+
+
+def refused() -> pn.pane.HTML:
+    """The whole page for a wrong or missing key."""
+    return pn.pane.HTML('<div class="dash" id="teacher-refused"><h2>Not authorised</h2>'
+                        '<p>This page needs the teacher\'s link printed by <code>ringlab serve</code>.</p></div>',
+                        stylesheets=[DASH_CSS])
+
+
+def teacher_page(key: str | None = None):
+    """The page for this session: the dashboard when the address's ``key`` is ``key`` (default: the
+    environment's ``RINGLAB_TEACHER_KEY``), else :func:`refused`."""
+    expected = key if key is not None else os.environ.get(ENV_KEY, "")
+    if not authorised(given_key(pn.state.session_args), expected):
+        return refused()
+    dash = TeacherDashboard()
+    if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None:
+        pn.state.add_periodic_callback(dash.refresh, period=REFRESH_MS)
+    header = pn.pane.HTML(f'<header class="app-header" style="background:#1f4e79;color:#fff;padding:8px 16px">'
+                          f'<h1 style="font-size:22px;margin:0">{TITLE}</h1></header>', sizing_mode="stretch_width",
+                          margin=0)
+    return pn.Column(header, dash, sizing_mode="stretch_width", margin=0)
+
+
+def page_factory(key: str):
+    """The per-session factory of ``pn.serve`` for a dashboard with ``key`` (a plain function: Panel calls
+    functions and methods per session, and would show any other callable, e.g. a ``functools.partial``,
+    as an object)."""
+    def teacher():
+        return teacher_page(key)
+    return teacher
+
+
+if __name__.startswith("bokeh"):  # run by `panel serve app/teacher/page.py`
+    pn.extension(sizing_mode="stretch_width", notifications=False)
+    teacher_page().servable(title=TITLE)
