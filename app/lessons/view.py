@@ -17,7 +17,7 @@ from ringlab.lessons.checks import run_check
 from ringlab.lessons.content import LESSONS, PRESETS
 from ringlab.lessons.glossary import GLOSSARY_CSS, GlossaryPanel
 from ringlab.lessons.presets import Targets, apply_preset, default_scale
-from ringlab.lessons.refs import render
+from ringlab.lessons.refs import publish, render
 from ringlab.lessons.tutorials import docs_note, links_html
 from ringlab.lessons.worksheets import worksheet_html, worksheet_path
 from ringlab.paths import TUTORIALS_SRC_DIR
@@ -217,7 +217,7 @@ class LessonsPanel(pn.viewable.Viewer):
         res = run_check(st.question, self.targets(), self.answer())
         kind = {"correct": "ok", "wrong": "error", "wait": "warn", "error": "error"}[res.status]
         self.attempts += 1
-        self._show(self.feedback, html.escape(res.message, quote=False), kind, f"lesson-feedback-{res.status}",
+        self._show(self.feedback, publish(html.escape(res.message, quote=False)), kind, f"lesson-feedback-{res.status}",
                    f' data-attempt="{self.attempts}"')
         if res.ok:
             prog = dict(self.progress)

@@ -118,7 +118,7 @@ class HydroRunner(LiveLoop, HydroSettings):
         with self.compute_lock:  # [classroom]
             ok = self._rebuild()
         if not ok and self.sim is not None:
-            self.status = "Settings invalid: nothing reset (see the message beside the controls)."
+            self.status = "Not restarted: a setting is not valid — fix the one marked beside the controls, then press Reset."
 
     # ------------------------------------------------------------------ buffer
     @param.depends(*BUFFER_PARAMS, watch=True)

@@ -295,7 +295,11 @@ def test_glossary_and_citations():
     from ringcore.paperrefs import eq as _eq
     assert cite("lambdasigma", html_out=False) == _eq("lambdasigma")  # the published number
     assert cite("fig:lambdap", False).startswith("Figure")
-    assert 'title="paper label: lambdasigma"' in cite("lambdasigma")
+    assert 'title="in Lehmann, Schmidt' in cite("lambdasigma") and "lambdasigma" not in cite("lambdasigma")
+    assert cite("sec:strob", False) == "Appendix A" and cite("tab:hydropar", False) == "Table 2"
+    assert cite("sec:per", False) == "Section 6.2"
+    with pytest.raises(ValueError, match="nosuchlabel"):
+        cite("nosuchlabel")
     from ringcore.paperrefs import eq
     assert eq("ekin") in render("see [[ekin]]", html_out=False)  # the published number (label in a tooltip)
 

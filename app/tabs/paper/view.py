@@ -25,6 +25,8 @@ from ringcore.experiments.longruns import FULL_COST, run_title
 from ringlab.server.session_end import on_session_end
 from ringlab.tabs.paper.playback import Playback, SPEEDS, frame_at, list_runs, load_run
 from ringlab.tabs.paper.plots import PaperPlots, WINDOWS
+from ringlab.lessons.tutorials import docs_link
+from ringlab.ui.cite import publish, ref, span
 from ringlab.ui.frame_gate import FrameGate
 from ringlab.ui.layout import responsive_grid, wrap_row
 from ringlab.ui.readouts import fmt, message_html, readout_cards
@@ -56,15 +58,13 @@ costs no computation, so a whole class can replay at once.
 * **Computed** λ<sub>p</sub> is the final PSD's maximum; it jumps between the box's allowed wavelengths
   L<sub>x</sub>/n (10 km/43 = 233 m, 10 km/40 = 250 m), so the value most frequent over the last 1,000 orbits is
   given too. A run still computing is marked so: its numbers are those of the last orbit reached.
-""".format(strob=paperrefs.html("sec:strob"), ekin=paperrefs.html("eq:ekin"))
+""".format(strob=span(paperrefs.sec("strob")), ekin=span(paperrefs.eq("ekin")))
 
 
 def paper_html(label: str) -> str:
-    """Published number of a label with the label as tooltip ("Figure 8")."""
-    try:
-        return paperrefs.html(label)
-    except ValueError:
-        return html.escape(label)
+    """Published number of a label ("Figure 8"), its tooltip naming the paper."""
+    shown = ref(label)
+    return span(shown) if shown else html.escape(label)
 
 
 class PaperView(pn.viewable.Viewer):
@@ -178,7 +178,7 @@ class PaperView(pn.viewable.Viewer):
         return (f'<div class="msg-ok" id="paper-compare"><b>Prevalent wavelength λ<sub>p</sub>: paper vs computed</b>'
                 f'<table style="border-collapse:collapse;margin:4px 0">'
                 + row.format(f"paper ({paper_html(a['figure'])})", "paper-number", f"{paper:g} m",
-                             html.escape(a["paper_reference"]))
+                             publish(html.escape(a["paper_reference"], quote=False)))
                 + row.format("computed", "computed-number", f"{comp:.0f} m",
                              f"at orbit {float(a['orbit']):,.0f} ({comp / paper:.2f} × paper); most frequent over "
                              f"the last 1,000 orbits {float(a['lambda_p_last1000_m']):.0f} m")
@@ -186,8 +186,10 @@ class PaperView(pn.viewable.Viewer):
                 + (f'<span id="paper-known-issue" style="color:#8a4b00">{html.escape(a["known_issue"])}</span><br>'
                    if a.get("known_issue") else "")
                 + f'{settings}<br>'
-                f'Recompute ({FULL_COST.get(a["name"], "hours")} on a shared 2-core machine): '
-                f'<code id="paper-command">{html.escape(a["recompute_command"])}</code></div>')
+                f'<details><summary>For researchers: recomputing this run takes '
+                f'{FULL_COST.get(a["name"], "hours")} on a shared 2-core machine</summary>see '
+                f'{docs_link("researcher/reproduce.html", "Paper figures as recipes")}; the command is '
+                f'<code id="paper-command">{html.escape(a["recompute_command"])}</code></details></div>')
 
     # ------------------------------------------------------------------ playback
     def _on_playing(self, *_):
