@@ -69,7 +69,7 @@ def _judge(answer, ref: float, rel_tol=None, abs_tol=None, unit: str = "", what:
 
 def _choice(answer, choices, correct_index: int, why: str, hint: str = "") -> Result:
     if answer is None or str(answer) not in [str(c) for c in choices]:
-        return Result("error", f"answer = {answer!r}: choose one of {', '.join(map(str, choices))}")
+        return Result("error", f"Pick one of the answers first: {' or '.join(map(str, choices))}.")
     if str(answer) == str(choices[correct_index]):
         return Result("correct", f"Correct. {why}")
     return Result("wrong", f"Not quite. {hint}".strip())

@@ -143,7 +143,8 @@ class Lesson:
 LESSONS = (
     Lesson(1, "What overstability is", "Small radial waves in a dense ring grow and oscillate at about the orbital "
            "frequency: read growth, oscillation and λ_zero off the exact dispersion relation [[matni]].",
-           "01_linear_theory.py", ("beta_c", "lambda_zero", "lambda_J", "Q0", "p_s"), (
+           "01_linear_theory.py", ("overstability", "beta_c", "lambda_zero", "group_velocity", "lambda_J", "Q0",
+                                   "p_s"), (
         Step("The fastest-growing wave", "linear-400",
              "Will the shortest waves grow fastest, or is there a best wavelength? Self-gravity (σ₀ = 400) lifts "
              "the growth rate of waves of a few tens of metres.",
@@ -177,7 +178,7 @@ LESSONS = (
     )),
     Lesson(2, "A white-noise run: growth, saturation, sources and sinks", "Follow white noise in the isothermal "
            "model without self-gravity from exponential growth to saturated, travelling wave trains.",
-           "02_hydro_without_self_gravity.py", ("e_kin", "stroboscopic", "p_s"), (
+           "02_hydro_without_self_gravity.py", ("e_kin", "lambda_p", "PSD", "stroboscopic", "source_sink", "p_s"), (
         Step("Exponential growth", "hydro-nosg",
              "Linear theory (Linear tab, same settings) gives a largest growth rate of about 0.04 Ω at λ ≈ 60 m. "
              "So e_kin ([[ekin]]) should grow as a straight line on its log axis, with slope 2 ω_R.",
@@ -206,7 +207,7 @@ LESSONS = (
     )),
     Lesson(3, "Self-gravity picks the wavelength", "Run the same white noise without and with self-gravity and "
            "compare λ_p with 1.4 λ_zero, [[lambdasigma]].",
-           "03_self_gravity_sets_the_wavelength.py", ("lambda_zero", "lambda_J", "Q0", "nonlinear"), (
+           "03_self_gravity_sets_the_wavelength.py", ("lambda_p", "lambda_zero", "lambda_J", "Q0", "nonlinear"), (
         Step("Without self-gravity", "hydro-sg0",
              "With σ₀ = 0 there is no frequency minimum and no λ_zero. Predict: will λ_p stay near the "
              "fastest-growing 106 m?",
@@ -232,7 +233,7 @@ LESSONS = (
     )),
     Lesson(4, "Particles instead of a fluid", "The hydrodynamic model takes its c₀ and ν₀ from N-body boxes "
            "([[tab:hydropar]]): measure them yourself in the N-body tab.",
-           "04_particles_instead_of_fluid.py", ("c0", "nonlocal", "R_p", "Omega_z"), (
+           "04_particles_instead_of_fluid.py", ("shearing_box", "c0", "nonlocal", "R_p", "Omega_z"), (
         Step("The velocity dispersion", "nbody-ground",
              "About 600 ice spheres of radius R_p = 1 m collide with the restitution law of [[bridges]] in a box "
              "with Ω_z = 3.6 Ω. Predict: will their random velocity ⟨c⟩ equal the hydro c₀ of the table?",
@@ -257,7 +258,7 @@ LESSONS = (
     )),
     Lesson(5, "A buffer zone: one source and one sink", "A strip with β = −0.5 < β_c damps the waves "
            "([[fig:tau15bufnosg]]) and organises the box into one source and one sink.",
-           "02_hydro_without_self_gravity.py", ("beta_c", "stroboscopic"), (
+           "02_hydro_without_self_gravity.py", ("beta_c", "stroboscopic", "source_sink"), (
         Step("Waves die in the buffer", "hydro-buffer",
              "Inside the purple strip β = −0.5 is below β_c ≈ 0.44 ([[osgrate]] gives ω_R < 0). Predict where "
              "the wave amplitude will be smallest.",

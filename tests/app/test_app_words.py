@@ -165,3 +165,29 @@ def test_units_are_given_once_in_questions():
             if q.unit:
                 assert f"({q.unit})" not in q.text and "(metres)" not in q.text, q.text
                 assert f"in units of {q.unit}" not in q.text, q.text
+
+
+def test_glossary_has_the_words_of_the_lessons():
+    from ringlab.lessons.glossary import TERMS
+
+    need = {"overstability": ("oscillat", "grows", "β_c"), "lambda_p": ("PSD", "1.4 λ_zero"),
+            "PSD": ("Fourier", "wavelength"), "source_sink": ("source", "sink", "stroboscopic"),
+            "group_velocity": ("dω_I/dk", "energy", "λ_zero"), "shearing_box": ("shear", "N-body", "edge")}
+    for key, words in need.items():
+        term = TERMS[key]
+        assert all(w in term.text for w in words), (key, term.text)
+        assert term.refs and len(term.text) < 600  # short, with the paper's published numbers
+        page = glossary_html([key])
+        assert raw_labels(page) == [] and re.search(r"(Eq\.|Figure|Section|Appendix) [(A-Z0-9]", page), page
+    for les in LESSONS:  # every word a lesson tells the student to look up is in the glossary
+        assert set(les.terms) <= set(TERMS), les.terms
+    assert glossary_html(query="power spectral").count("<dt") == 1
+    assert glossary_html(query="shearing").count("<dt") >= 1
+
+
+def test_a_choice_question_without_a_choice_says_so_in_words():
+    from ringlab.lessons.checks import _choice
+
+    res = _choice(None, ("sources", "sinks"), 0, "why")
+    assert res.status == "error" and "None" not in res.message and "answer =" not in res.message
+    assert "sources or sinks" in res.message

@@ -285,7 +285,8 @@ def test_worksheets_are_generated_from_the_definitions():
 
 def test_glossary_and_citations():
     for key in ("beta_c", "lambda_zero", "lambda_J", "Q0", "p_s", "G_T", "n_T", "stroboscopic", "nonlocal",
-                "R_p", "Omega_z", "e_kin", "c0"):
+                "R_p", "Omega_z", "e_kin", "c0", "overstability", "lambda_p", "PSD", "source_sink", "group_velocity",
+                "shearing_box"):
         assert key in TERMS
     assert "R_p Ω)²" in TERMS["e_kin"].text and "nonlocal" in TERMS["c0"].text
     page = glossary_html()
