@@ -18,6 +18,7 @@ from ringlab.tabs.linear.view import LinearView
 from ringlab.tabs.nbody import NBodyView
 from ringlab.tabs.paper.view import PaperView
 from ringlab.tabs.saturation import SaturationView
+from ringlab.ui.about import AboutCite
 
 TABS = [
     ("Linear theory", LinearView),
@@ -67,7 +68,7 @@ def create_app() -> pn.Column:
                           stylesheets=[PAGE_CSS], sizing_mode="stretch_width", margin=0)
     # the lessons + glossary panel stays beside every tab on wide screens and wraps below on narrow ones
     lessons = LessonsPanel(runs=runs, tabs=tabs)
-    side = pn.Column(lessons, width=360, styles={"flex": "0 1 360px"}, margin=(0, 5))
+    side = pn.Column(lessons, AboutCite(), width=360, styles={"flex": "0 1 360px"}, margin=(0, 5))
     body = pn.FlexBox(tabs, side, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")
     app = pn.Column(header, body, sizing_mode="stretch_width", margin=0)
     app.tabs = tabs

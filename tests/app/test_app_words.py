@@ -21,7 +21,7 @@ from ringlab.ui.cite import publish, raw_labels
 
 # words a student cannot act on: internal names, abbreviations, files and commands of the source tree
 JARGON = re.compile(r"CFL|f_t from|mOrb|nothing reset|Settings invalid|answer = None|README"
-                    r"|<code>(?:ringcore|make|ringlab)\b|`ringcore |ringcore\.\w|tutorials/\w|paper label"
+                    r"|<code>(?:ringcore|make|ringlab)\b|`ringcore |ringcore\.(?!cite\(\))\w|tutorials/\w|paper label"
                     r"|\(metres\)|\(mm/s\)|\(10⁻³ m²/s\)")
 
 
@@ -98,6 +98,9 @@ def test_no_tab_or_lesson_step_shows_a_label_or_jargon():
         for text in texts(view, set()):
             seen.append(text)
             bad += problems(title, text)
+    for text in texts(app, set()):  # the page around the tabs: header, side column, About / Cite
+        seen.append(text)
+        bad += problems("page", text)
     panel = app.lessons
     for les in LESSONS:
         for step in range(1, len(les.steps) + 1):
@@ -109,7 +112,8 @@ def test_no_tab_or_lesson_step_shows_a_label_or_jargon():
     # the walk reaches explanations, tooltips, options, legends and every step (else it could not fail)
     joined = "\n".join(seen)
     for must in ("Wave kinetic energy e_kin, eq. (39)", 'title="in Lehmann, Schmidt', "Row of Table 2",
-                 "fast (about 10 times larger steps)", "Appendix A", "fastest-growing λ (linear)",
+                 "fast (about 10 times larger steps)", "Appendix A", "fastest-growing λ (linear)", "About / Cite",
+                 "doi:10.3847/1538-4357/aa9a44",
                  LESSONS[-1].steps[-1].title):
         assert must in joined, must
 
@@ -191,3 +195,32 @@ def test_a_choice_question_without_a_choice_says_so_in_words():
     res = _choice(None, ("sources", "sinks"), 0, "why")
     assert res.status == "error" and "None" not in res.message and "answer =" not in res.message
     assert "sources or sinks" in res.message
+
+
+def test_about_cite_names_the_paper_and_this_software():
+    import ringcore
+    from ringlab.main import create_app
+    from ringlab.ui.about import PAPER_DOI, AboutCite, about_html, paper_fields
+
+    text = html.unescape(re.sub(r"<[^>]+>", " ", about_html()))
+    for words in ("Lehmann, M., Schmidt, J. & Salo, H. (2017)", "Viscous Overstability in Saturn's Rings",
+                  "The Astrophysical Journal 851, 125", f"doi:{PAPER_DOI}", "arXiv:1804.07968",
+                  f"ringlab {ringcore.__version__}", "BSD-3-Clause", "ringcore.cite()"):
+        assert words in text, words
+    assert ringcore.cite(show=False).strip() in text  # the same BibTeX the core prints
+    assert problems("about", about_html()) == []
+    # the paper named in the panel is the one of CITATION.cff (read from the source tree when it is there)
+    cff = Path(ringcore.__file__).resolve().parent.parent / "CITATION.cff"
+    if cff.exists():
+        meta = cff.read_text(encoding="utf-8")
+        f = paper_fields()
+        assert f"volume: {f['volume']}" in meta and f"start: {f['pages']}" in meta and f["eprint"] in meta
+        assert "license: BSD-3-Clause" in meta
+    # on the page: a button in the side column that shows the panel
+    app = create_app()
+    about = [o for o in app.select(AboutCite)] or [v for v in app.select(pn.widgets.Toggle) if v.name == "About / Cite"]
+    assert about, "no About / Cite on the page"
+    widget = AboutCite()
+    assert not widget.pane.visible
+    widget.button.value = True
+    assert widget.pane.visible and "about-bibtex" in widget.pane.object
