@@ -69,7 +69,7 @@ class AboutCite(pn.viewable.Viewer):
 
     def __init__(self, **params):
         super().__init__(**params)
-        self.button = pn.widgets.Toggle(name="About / Cite", value=False, button_type="default",
+        self.button = pn.widgets.Toggle(label="About / Cite", value=False, color="default",
                                         css_classes=["about-toggle"], sizing_mode="stretch_width")
         self.pane = pn.pane.HTML(about_html(), stylesheets=[CSS, ABOUT_CSS], sizing_mode="stretch_width",
                                  visible=False, margin=(0, 5))
