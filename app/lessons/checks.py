@@ -78,10 +78,12 @@ def _choice(answer, choices, correct_index: int, why: str, hint: str = "") -> Re
 # ---------------------------------------------------------------- linear theory
 def linear_values(controls) -> dict:
     """Characteristic numbers of the Linear tab's settings plus ``efold_orbits`` and
-    ``lambda_p_empirical_m`` = 1.4 lambda_zero [m] (eq. lambdasigma)."""
+    ``tenfold_orbits`` (the amplitude grows tenfold) and ``lambda_p_empirical_m`` = 1.4 lambda_zero [m]
+    (eq. lambdasigma)."""
     n = dict(characteristic_numbers(controls.settings()))
     g = n["max_growth_rate"]
     n["efold_orbits"] = 1.0 / (2.0 * math.pi * g) if g > 0 else math.nan
+    n["tenfold_orbits"] = math.log(10.0) * n["efold_orbits"]  # amplitude x 10: ln 10 e-folds
     n["lambda_p_empirical_m"] = C_EMPIRICAL * n["lambda_zero_m"]
     return n
 
@@ -100,6 +102,7 @@ def linear_number(targets, answer, key: str, rel_tol=None, abs_tol=None, unit: s
         return Result("wait", f"With the current settings ({where}) this number does not exist (σ₀ = 0 has no "
                               "λ_zero): press 'Set up this step'.")
     names = dict(lambda_max_growth_m="the fastest-growing wavelength", efold_orbits="the e-folding time",
+                 tenfold_orbits="the time to grow tenfold",
                  lambda_zero_m="λ_zero", beta_c="β_c", lambda_p_empirical_m="1.4 λ_zero")
     return _judge(answer, ref, rel_tol, abs_tol, unit, f"{names.get(key, key)} at {where}", hint)
 

@@ -155,12 +155,12 @@ LESSONS = (
                       hint="Read the card 'Fastest-growing λ' in the Linear theory tab (or the orange dotted line).")),
         Step("How fast does it grow?", "linear-400",
              "A growth rate ω_R in units of Ω means the amplitude grows by a factor e in 1/(2π ω_R) orbits. Predict: "
-             "a few orbits or a few hundred?",
-             "Read 'Max growth rate ω_R' and its note. Compare with σ₀ = 0 (thin curve): self-gravity makes the "
-             "waves grow several times faster.",
-             Question("Enter the number of orbits in which the fastest wave grows by a factor e.", "linear_number",
-                      unit="orbits", args=dict(key="efold_orbits", rel_tol=0.05),
-                      hint="1/(2π ω_R) with ω_R the maximum growth rate in units of Ω.")),
+             "does a wave need a few orbits or a few hundred to grow tenfold?",
+             "Read 'Max growth rate ω_R' and its note (the time for a factor e). Tenfold is ln 10 ≈ 2.3 factors "
+             "of e. Compare with σ₀ = 0 (thin curve): self-gravity makes the waves grow several times faster.",
+             Question("In how many orbits does the amplitude of the fastest-growing wave grow tenfold?",
+                      "linear_number", unit="orbits", args=dict(key="tenfold_orbits", rel_tol=0.05),
+                      hint="ln(10)/(2π ω_R), with ω_R the maximum growth rate in units of Ω.")),
         Step("The frequency minimum λ_zero", "linear-800",
              "Self-gravity lowers the oscillation frequency ω_I of long waves, pressure raises it for short ones "
              "([[osfreq]]), so ω_I has a minimum. Predict: does it move to shorter or longer waves at σ₀ = 800?",
@@ -180,10 +180,11 @@ LESSONS = (
            "model without self-gravity from exponential growth to saturated, travelling wave trains.",
            "02_hydro_without_self_gravity.py", ("e_kin", "lambda_p", "PSD", "stroboscopic", "source_sink", "p_s"), (
         Step("Exponential growth", "hydro-nosg",
-             "Linear theory (Linear tab, same settings) gives a largest growth rate of about 0.04 Ω at λ ≈ 60 m. "
-             "So e_kin ([[ekin]]) should grow as a straight line on its log axis, with slope 2 ω_R.",
-             "Take two points on the straight part of e_kin(t) (hover over the curve): "
-             "ω_R = ln(e₂/e₁) / (2 · 2π · (t₂ − t₁)) with t in orbits.",
+             "White noise holds waves of every length; linear theory (Linear tab) gives the growth rate of the "
+             "fastest-growing one. Predict: does the run grow as fast as that wave, or slower? Exponential growth "
+             "is a straight line of e_kin ([[ekin]]) on its log axis, with slope 2 ω_R.",
+             "Take two points on the straight part of your run's e_kin(t) (hover over the curve): "
+             "ω_R = ln(e₂/e₁) / (2 · 2π · (t₂ − t₁)) with t in orbits. Then compare with the Linear tab.",
              Question("Enter the growth rate ω_R you measured.", "hydro_growth_rate", unit="Ω",
                       args=dict(rel_tol=0.3),
                       hint="Use two times in the straight part, e.g. where e_kin is 1e-3 and 1e-2 of its final "

@@ -224,3 +224,46 @@ def test_about_cite_names_the_paper_and_this_software():
     assert not widget.pane.visible
     widget.button.value = True
     assert widget.pane.visible and "about-bibtex" in widget.pane.object
+
+
+def _numbers(text: str) -> list:
+    return [float(x) for x in re.findall(r"(?<![\w.])\d+(?:\.\d+)?(?:e-?\d+)?", text.replace("−", "-"))]
+
+
+def test_no_step_gives_the_number_it_asks_for():
+    """Neither a step's texts nor its hint state (within the check's tolerance) the number the step asks for;
+    the tenfold time of lesson 1 step 2 is not on any card of the Linear tab, and the e_kin legend of lesson 2
+    step 1 names the linear wave but not its growth rate (tests/app/test_connect.py)."""
+    import math
+
+    from ringcore import linear, params
+    from ringlab.lessons.checks import linear_values
+    from ringlab.lessons.presets import apply_preset
+    from ringlab.lessons.view import LessonsPanel
+    from ringlab.main import create_app
+
+    app = create_app()
+    panel: LessonsPanel = app.lessons
+    linear_view = app.views[0]
+    for les in LESSONS:
+        for k, st in enumerate(les.steps, start=1):
+            q = st.question
+            said = _numbers(" ".join((st.predict, st.look_for, q.text, q.hint)))
+            truth = None
+            if q.check == "linear_number":
+                apply_preset(st.preset, panel.targets(), "fast")
+                truth = linear_values(panel.targets().linear)[q.args["key"]]
+                tol = max(q.args.get("rel_tol", 0) * abs(truth), q.args.get("abs_tol", 0))
+            elif q.check == "hydro_growth_rate":  # a copied linear rate would pass the check: not in the text
+                truth = linear.summary(params.get("tau15", 0.0).isothermal_limit(1.0)).max_growth_rate
+                tol = 0.5 * truth
+            if truth is None:
+                continue
+            near = [x for x in said if abs(x - truth) <= tol]
+            assert not near, f"lesson {les.number} step {k} states {near} next to its question (answer {truth:.4g})"
+            if q.args.get("key") in ("tenfold_orbits", "efold_orbits"):
+                cards = " ".join(t for t in texts(linear_view, set()) if "linear-readouts" in t)
+                assert "ro-max-growth" in cards and linear_view.controls.sigma0 == 400.0  # the step's preset
+                shown = _numbers(re.sub(r"<[^>]+>", " ", cards))
+                assert not [x for x in shown if abs(x - truth) <= tol], (truth, shown)
+                assert math.isfinite(truth) and truth > 0
