@@ -44,8 +44,8 @@ class HydroSettings(RingControls):
     initial = param.Selector(default="noise", objects={"white noise (all wavelengths)": "noise",
                                                        "single overstable mode": "mode"},
                              label="Initial perturbation",
-                             doc=publish("Spectral white noise (every wavelength >= 50 m, random phases) or one "
-                                         "linear eigenmode of eq. (matni).", html_out=False))
+                             doc=publish("White noise (every wavelength ≥ 50 m, random phases) or a single "
+                                         "overstable wave (a linear eigenmode of eq. (matni)).", html_out=False))
     wavelength = param.Number(default=100.0, bounds=(5.0, 20000.0), step=5.0, label="Mode wavelength λ [m]",
                               doc="Wavelength of the single mode; the box must hold a whole number of them.")
     amplitude = param.Number(default=1e-4, bounds=(1e-6, 0.5), step=1e-4, label="Amplitude δσ/σ₀",

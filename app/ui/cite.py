@@ -71,6 +71,11 @@ _FIG_RUN = re.compile(r"\b(Figures?)\s+((?:([\"'])[A-Za-z][\w]*\3(?:\s*(?:,|and)
 _TABLE = re.compile(r"\bTables?\s*([\"'])([^\"']+)\1")
 _SECTION = re.compile(r"\b(?:Appendix\s+(?:Section\s+)?|Section\s+)([\"'])([^\"']+)\1")
 _BRACKET = re.compile(r"\[\[([^\]]+)\]\]")
+_LABELS = {k.split(":", 1)[1] for k in paperrefs.NUMBERS}
+# a label in quotes after the number it belongs to ("Figure 8 ('ekinisonosg')"): the number says it all
+_QUOTED_AFTER = re.compile(r"(\b(?:Figures?|Eqs?\.|Equations?|Tables?|Section|Appendix)\s*\(?[A-Z]?[\d.]+[a-z]?\)?)"
+                           r"\s*\(\s*(['\"])([a-z][a-z0-9]*)\2\s*\)")
+_QUOTED_LABEL = re.compile(r"(['\"])([a-z][a-z0-9]*)\1")
 
 
 def _table(title: str) -> str | None:
@@ -128,9 +133,14 @@ def publish(text: str, html_out: bool = True) -> str:
     text = _FIG_RUN.sub(lambda m: m.group(1) + " " + re.sub(r"([\"'])([A-Za-z][\w]*)\1", fig_one, m.group(2)),
                         text)
     text = _SECTION.sub(section, _TABLE.sub(table, text))
+    text = _QUOTED_AFTER.sub(lambda m: m.group(1) if m.group(3) in _LABELS else m.group(0), text)
     return to_published(text)  # the remaining forms (``eq. matni`` without parentheses)
 
 
-def raw_labels(text: str) -> list:
-    """Citations by label left in ``text`` (what a student must not see); [] when there are none."""
-    return [m.group(0) for m in RAW_LABEL.finditer(text)] + _core_raw_labels(text)
+def raw_labels(text: str, quoted: bool = True) -> list:
+    """Citations by label left in ``text`` (what a student must not see); [] when there are none.
+
+    With ``quoted`` a label of the paper standing alone in quotes (``'ekinisonosg'``) counts too (not for
+    program code, where ``"bridges"`` is a setting's name)."""
+    quoted = [m.group(0) for m in _QUOTED_LABEL.finditer(text) if m.group(2) in _LABELS] if quoted else []
+    return [m.group(0) for m in RAW_LABEL.finditer(text)] + _core_raw_labels(text) + quoted

@@ -123,7 +123,9 @@ class PaperView(pn.viewable.Viewer):
 
     def _build_layout(self):
         pane = lambda f: pn.pane.Bokeh(f, sizing_mode="stretch_width")  # noqa: E731
-        select = pn.widgets.Select.from_param(self.param.run, options={run_title(n) + f" ({n})": n for n in self.runs},
+        titles = {run_title(n): n for n in self.runs}  # plain words; the file name only if two titles agree
+        titles = titles if len(titles) == len(self.runs) else {f"{run_title(n)} ({n})": n for n in self.runs}
+        select = pn.widgets.Select.from_param(self.param.run, options=titles,
                                               css_classes=["paper-run"], width=330, sizing_mode="fixed")
         bar = wrap_row(select, self.play_button, self.pause_button, self.speed, self.position, self.window)
         note = pn.pane.HTML('<div class="buttons-note">Play replays the stored run (no computation): the diagram '
@@ -158,7 +160,7 @@ class PaperView(pn.viewable.Viewer):
             if json.loads(a.get("options_json") or "{}").get("buffer"):
                 self.window.value = "whole box"  # sources and sinks around the buffer zone span the box
             self.plots.set_run(d, WINDOWS[self.window.value])
-            self.header.object = (f'<div class="model-label" id="paper-run-label">{html.escape(self.run)}: '
+            self.header.object = (f'<div class="model-label" id="paper-run-label">'
                                   f'{html.escape(run_title(self.run))}, σ₀ = 0 — '
                                   f'<span id="paper-status">{html.escape(a["status"])}</span></div>')
             self.compare.object = self._compare_html(a)
