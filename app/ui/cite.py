@@ -47,7 +47,7 @@ RAW_LABEL = re.compile(
     r"\b[Ee]qs?\.\s*\**\s*\((?!\d|[A-Z]\d)[A-Za-z]\w*\)"          # eq. (ekin)
     r"|\bFig(?:ure)?s?\.?\s*[\"'][A-Za-z][\w:]*[\"']"            # Figure "lambdap" / 'lambdap'
     r"|\b(?:Appendix|Section|Sect\.|Table)s?\s*[\"'][^\"']+[\"']"  # Section "strob", Table "Hydrodynamic ..."
-    r"|paper label|\[\[[^\]]*\]\]")                              # tooltips of old, unrendered [[label]]
+    r"|paper label|\[\[[^\]]*\]\]")                              # a tooltip naming a label; an unrendered [[label]]
 
 
 def _published(kind: str, label: str) -> str | None:
