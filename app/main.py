@@ -20,6 +20,7 @@ from ringlab.tabs.nbody import NBodyView
 from ringlab.tabs.paper.view import PaperView
 from ringlab.tabs.saturation import SaturationView
 from ringlab.ui.present import page_styles, plain_figure, present_figure
+from ringlab.ui.about import AboutCite
 
 TABS = [
     ("Linear theory", LinearView),
@@ -87,7 +88,7 @@ def create_app() -> pn.Column:
     # the lessons + glossary panel stays beside every tab on wide screens and wraps below on narrow ones
     lessons = LessonsPanel(runs=runs, tabs=tabs)
     join_class(lessons)  # the teacher's dashboard (ringlab.teacher) sees this page's step and answers
-    side = pn.Column(lessons, width=SIDE_PX, styles={"flex": f"0 1 {SIDE_PX}px"}, margin=(0, 5),
+    side = pn.Column(lessons, AboutCite(), width=SIDE_PX, styles={"flex": f"0 1 {SIDE_PX}px"}, margin=(0, 5),
                      stylesheets=[SIDE_CSS], css_classes=["side-panel"])
     body = pn.FlexBox(tabs, side, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")
     app = pn.Column(top, body, sizing_mode="stretch_width", margin=0, styles=page_styles(False))

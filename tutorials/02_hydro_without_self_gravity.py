@@ -16,8 +16,8 @@
 #
 # Notebook 1 showed that small waves with wavelengths above a few tens of meters grow. What happens when
 # they are no longer small? Here we integrate the full nonlinear equations (Eq. (1)) with the
-# 1D hydro solver `ringcore.hydro.Hydro1D` (Section "Hydrodynamic Scheme") and **no radial
-# self-gravity** (σ0 = 0), following Section "Hydrodynamical Integrations Without Self-Gravity" of
+# 1D hydro solver `ringcore.hydro.Hydro1D` (Section 4.1) and **no radial
+# self-gravity** (σ0 = 0), following Section 5.1 of
 # Lehmann, Schmidt & Salo (2017):
 #
 # 1. white noise grows at the linear rate, then saturates;
@@ -70,7 +70,7 @@ print(f"{p.name}, {p.model}, p_s = {p.p_s}: fastest linear growth {s.max_growth_
 # The initial state is *spectral white noise*: every Fourier mode with λ ≥ 50 m, seeded as a left- and a
 # right-traveling linear eigenmode with relative amplitude 10⁻⁴ and a random phase (as in the paper).
 # `strobe=True` stores one row of σ per orbit at the same orbital phase: the **stroboscopic**
-# space-time diagram of Appendix "Stroboscopic Space-Time Diagram".
+# space-time diagram of Appendix A.
 
 # %%
 t0 = time.perf_counter()
@@ -116,7 +116,7 @@ print(f"e_kin at orbit 100: {ekin[np.searchsorted(t, 100)]:.2f}, at the end: {ek
 # ## The stroboscopic space-time diagram: sources and sinks
 # In a stroboscopic diagram (one frame per orbit) a wave crest seems to drift with the *effective* phase
 # velocity $v_{ph}^{eff} = (\omega_I - \Omega)/k \approx c_0 p_s \Omega k/2$, and for σ0 = 0 it has the same sign
-# as the group velocity $v_g \approx c_0 p_s \Omega k$ (Appendix "Stroboscopic Space-Time Diagram", Figure 27).
+# as the group velocity $v_g \approx c_0 p_s \Omega k$ (Appendix A, Figure 27).
 # So the drift direction of the stripes tells where the wave energy goes: **away from a source, into a sink**.
 #
 # To find them automatically we take the complex (analytic) signal $z(x)$ of each row, form
@@ -194,12 +194,12 @@ print(f"last source seen at orbit {last_pair}; afterwards one wave train travell
 #   stripes that open upward are **sources** (waves leave them on both sides); the stripes where two wave
 #   trains run into each other are **sinks** (compare Figure 7). The bottom row finds them: the counts
 #   printed above fall as sinks drift into sources and the pairs annihilate — "the sinks wander in a stochastic
-#   manner towards the sources, resulting eventually in an annihilation of the two" (Section "Isothermal Model").
+#   manner towards the sources, resulting eventually in an annihilation of the two" (Section 5.1.1).
 # * Meanwhile λ_p climbs in steps (right panel of the first plot: ≈ 60 → 83 → 107 → 150 → 176 m): the
 #   staircase is already at work while the pairs annihilate.
 # * After the last pair has gone, a single wave train fills the whole box and moves in one direction
 #   (right-hand panels). The long, slanted amplitude undulations visible on it travel with the group velocity
-#   (Appendix "Group Velocities of Saturated Wave Trains").
+#   (Appendix C).
 # * In the paper's 10 km box four pairs form and one survives about 7,000 orbits; our 3 km box holds fewer
 #   pairs, so the single-wave state arrives much sooner.
 
@@ -270,7 +270,7 @@ print(f"final lambda_p (100 m seed)  = {lp2[-1]:.0f} m = {lp2[-1] / 233:.2f} x l
 # (59 m): the nonlinear evolution, not linear theory, sets the wavelength. In the quick runs the wave is still
 # about 30 % shorter than λ_st: the climb up the last steps of the staircase is slow (the 167 m train of run 1
 # is unchanged from orbit ~1,000 on), and the paper needed 20,000 orbits in a 10 km box.
-# The non-isothermal model (not run here) ends at longer waves, about 360 m for τ15 (Section "Non-isothermal Model").
+# The non-isothermal model (not run here) ends at longer waves, about 360 m for τ15 (Section 5.1.2).
 
 # %% [markdown]
 # ## Run 3: a buffer zone
@@ -315,18 +315,17 @@ for lo, hi in [(150, 300), (orbits_buffer - 150, orbits_buffer)]:
 # * Early on (orbits 150–300) almost all waves on both sides travel *into* the buffer and die there: the buffer
 #   is the **sink** and a source sits near the box edge, x ≈ ±1.5 km — "A buffer-zone leads in all considered
 #   cases to a state with one source and one sink structure, where the buffer-zone serves as the latter"
-#   (Section "Isothermal Model"). The fractions are printed above.
+#   (Section 5.1.1). The fractions are printed above.
 # * Later the pattern reorganises: the waves on the right still run into the buffer, but the left side is now
 #   fed by waves leaving the buffer's left edge — source and sink both sit at the buffer and the wave pattern
-#   "tunnels" through it, as the paper describes for its buffer runs (Appendix "Influence of the Initial State on
-#   the Saturation Wavelength"). Either way the box never becomes one uniform wave train, so λ_p keeps
+#   "tunnels" through it, as the paper describes for its buffer runs (Appendix B.3). Either way the box never becomes one uniform wave train, so λ_p keeps
 #   fluctuating (range printed; the occasional very long "λ_p" is the density step at the buffer edges).
 # * The prevalent wavelength fluctuates around a median close to λ_st = 233 m (printed above), longer than the
 #   uniform trains of runs 1 and 2 — the buffer keeps perturbing the waves, which speeds up the climb that is so
 #   slow in the homogeneous box; the paper found the buffer runs' wavelengths "concentrated around those wavelengths
 #   which we also find for the final traveling waves in the homogeneous boxes". In the
 #   self-gravitating runs of notebook 3 the paper uses buffers to remove the influence of the periodic boundaries
-#   (Section "Hydrodynamical Integrations with a Buffer-Zone").
+#   (Section 6.2).
 
 # %% [markdown]
 # ## Try this

@@ -16,21 +16,21 @@
 #
 # Without self-gravity (notebook 2) the saturated waves end up hundreds of meters long. Cassini saw
 # 150–250 m. Lehmann, Schmidt & Salo (2017) show that **radial self-gravity** fixes the wavelength
-# (Section "Saturation Wavelength of Viscous Overstability"; equation and figure numbers below are the published ones,
-# from `ringcore.paperrefs` — hover over a number for the paper's LaTeX label, the name the code uses):
+# (Section 6; equation and figure numbers below are the published ones,
+# as printed in the article):
 #
-# * the prevalent wavelength λ_p of the saturated state **falls as σ0 rises** (<abbr title="label lambdap">Figure 20</abbr>);
+# * the prevalent wavelength λ_p of the saturated state **falls as σ0 rises** (Figure 20);
 # * for a wide range of σ0 it follows the empirical relation **λ_p = C λ_zero(σ0) with C = 1.4**
 #   (Eq. (55)), where λ_zero is the wavelength of the minimum of the *linear* frequency ω_I(k), i.e.
-#   of vanishing group velocity (<abbr title="label vgroup">Figure 2</abbr>);
+#   of vanishing group velocity (Figure 2);
 # * the deeper reason: the saturated waves sit near the minimum of the **nonlinear** dispersion relation
-#   (Section "Nonlinear Dispersion Relation", <abbr title="label nlvg">Figure 21</abbr>), where the group velocity vanishes, so that
+#   (Section 6.1, Figure 21), where the group velocity vanishes, so that
 #   wave patches stop talking to each other and the wavelength stops evolving.
 #
 # We use the non-isothermal τ15 parameters (τ = 1.5, Ω_z = 3.6) throughout.
 #
 # **Quick mode.** Large-scale runs need thousands of orbits in boxes of 5–20 km to saturate (the paper's
-# <abbr title="label lambdap">Figure 20</abbr> runs; the project's 2,000-orbit run at σ0 = 400 kg m⁻² took 6 minutes), and a few hundred orbits
+# Figure 20 runs; the project's 2,000-orbit run at σ0 = 400 kg m⁻² took 6 minutes), and a few hundred orbits
 # in a small box stop in the middle of the climb of λ_p, which would only mislead. Quick mode therefore
 # (1) reads the shipped sweep `app/data/saturation_sweep.nc` if it exists and (2) runs a tiny sweep over three σ0
 # values of the *nonlinear dispersion relation*, which is cheap (boxes of one wavelength) and is what actually
@@ -69,11 +69,11 @@ lmax = np.array([linear.summary(params.get(SET, sigma0=s)).lambda_max_growth_m f
 lapprox = np.array([analysis.lambda_p_approx(params.get(SET, sigma0=s)) for s in sig])
 
 # %% [markdown]
-# ## The empirical relation, <abbr title="label lambdasigma">Eq. (55)</abbr>
-# λ_zero(σ0) comes from the exact linear dispersion relation (notebook 1). For Q0 ≫ 1 <abbr title="label osfreq">Eq. (22)</abbr> gives
-# λ_zero ≈ 2(p_s + F_2) λ_J (where its group velocity dω_I/dk vanishes), hence the estimate <abbr title="label lambdasigmaap">Eq. (56)</abbr>,
+# ## The empirical relation, Eq. (55)
+# λ_zero(σ0) comes from the exact linear dispersion relation (notebook 1). For Q0 ≫ 1 Eq. (22) gives
+# λ_zero ≈ 2(p_s + F_2) λ_J (where its group velocity dω_I/dk vanishes), hence the estimate Eq. (56),
 # λ_p ≈ 2C(p_s + F_2) λ_J with the Jeans wavelength λ_J = c0²/(Gσ0) (Eq. (57)). The paper prints
-# <abbr title="label lambdasigmaap">Eq. (56)</abbr> with p_s − F_2; the sign that follows from <abbr title="label osfreq">Eq. (22)</abbr>, and that agrees with the exact
+# Eq. (56) with p_s − F_2; the sign that follows from Eq. (22), and that agrees with the exact
 # λ_zero at large Q0, is +F_2 (`analysis.lambda_p_approx` uses it; notebook 5 has an exercise on this).
 
 # %%
@@ -97,7 +97,7 @@ for s0 in (200, 400, 600, 800):
 # * The fastest-growing linear wavelength (red) is 2–4 times shorter: the saturated waves are *not* the ones that
 #   grow fastest.
 # * The Jeans-wavelength estimate (blue) is exact for Q0 ≫ 1 and falls below 1.4 λ_zero as Q0 → 1: 2 % low at
-#   σ0 = 200 kg m⁻² (Q0 = 4), 8 % at 400, 19 % at 600 (Q0 = 1.3): it rests on the small-k expansion <abbr title="label osfreq">Eq. (22)</abbr>,
+#   σ0 = 200 kg m⁻² (Q0 = 4), 8 % at 400, 19 % at 600 (Q0 = 1.3): it rests on the small-k expansion Eq. (22),
 #   which is only rough at these wavelengths. Its value is the scaling λ_p ∝ c0²/σ0, which notebook 5 uses.
 
 # %% [markdown]
@@ -126,7 +126,7 @@ else:
 # %% [markdown]
 # Our own large-scale runs (white noise, λ ≥ 50 m, amplitude 10⁻⁴) run only with `QUICK = False`: they need
 # ≳ 1,000 orbits in boxes of several km before λ_p stops climbing, far beyond a quick notebook. Long non-isothermal
-# runs use the temperature floor `T_floor=0.01` (README "Hydrodynamics": the cooling exponent G_T < 1 lets T reach
+# runs use the temperature floor `T_floor=0.01` (researcher's guide, "Hydrodynamics": the cooling exponent G_T < 1 lets T reach
 # zero where shear heating vanishes) and the fast time step. In quick mode the σ0-dependence comes from the shipped
 # sweep (if present) and from the nonlinear dispersion relation below, which is cheap.
 
@@ -158,8 +158,7 @@ else:
 # ## Why 1.4 λ_zero? The nonlinear dispersion relation
 # The paper measures the frequency of *saturated* waves of a given wavelength in a periodic box of exactly one
 # wavelength (so no other wavelength can take over): a large-amplitude eigenmode is seeded, the transient is
-# discarded, and ω_I^nl is the peak of the Lomb periodogram of u at x = 0 (Section "Nonlinear Dispersion
-# Relation"). `ringcore.analysis.nonlinear.hydro_frequency` does exactly this. We do it at three surface densities,
+# discarded, and ω_I^nl is the peak of the Lomb periodogram of u at x = 0 (Section 6.1). `ringcore.analysis.nonlinear.hydro_frequency` does exactly this. We do it at three surface densities,
 # with wavelengths spread around 1.4 λ_zero of each.
 
 # %%
@@ -193,7 +192,7 @@ a1.axvline(v["lam_lin"], color="k", ls=":", lw=1)
 a1.axvline(v["lam_nl"], color="C3", ls=":", lw=1)
 a1.axvline(1.4 * v["lam_lin"], color="C2", lw=4, alpha=0.3, label="1.4 λ_zero")
 a1.set_xscale("log"); a1.set_xlabel("λ [m]"); a1.set_ylabel("ω_I [Ω]"); a1.legend(fontsize=8)
-a1.set_title(f"τ15, σ0 = {q.sigma0:.0f} kg m⁻² (cf. Figure 'nlvg' a)")
+a1.set_title(f"τ15, σ0 = {q.sigma0:.0f} kg m⁻² (cf. Figure 21a)")
 a2.plot(lam_grid, d.group_velocity_m_s * 1e3, "k--", label="linear")
 a2.plot(cols["wavelength_m"], v["vg"] * 1e3, "o-", color="C3", label="nonlinear (3-point Lagrange)")
 a2.axhline(0, color="0.6"); a2.set_xscale("log"); a2.set_xlabel("λ [m]"); a2.set_ylabel("v_g [mm/s]"); a2.legend(fontsize=8)
@@ -212,16 +211,16 @@ print(f"sigma0 = {q.sigma0:.0f}, group velocity at {lam_near:.0f} m: nonlinear {
 #   the wavelength of minimal frequency is shifted by nonlinearity to larger values. For the non-isothermal model
 #   ... also the minimal frequency itself is larger". At long wavelengths the two curves meet again.
 # * At σ0 = 300 and 400 kg m⁻² the nonlinear minimum lies at 1.45 and 1.37 λ_zero (printed ratios), i.e. at the
-#   empirical 1.4 λ_zero: the factor C = 1.4 of <abbr title="label lambdasigma">Eq. (55)</abbr> is largely the nonlinear shift of the frequency
+#   empirical 1.4 λ_zero: the factor C = 1.4 of Eq. (55) is largely the nonlinear shift of the frequency
 #   minimum ("nonlinearity accounts for much of the deviation from unity of the factor C").
 # * At σ0 = 700 kg m⁻² the shift is smaller (1.12 λ_zero; the 210 m box, far from the minimum, was taken over by
 #   shorter waves, marked above). The paper sees the same: "with increasing σ0 the values of λ_p gradually depart from the minimum toward
 #   larger wavelengths" in periodic boxes, and runs with a buffer zone bring λ_p back to the nonlinear minimum
-#   (Section "Hydrodynamical Integrations with a Buffer-Zone", <abbr title="label nlvgbuff">Figures 24</abbr>, <abbr title="label osfrat">25</abbr>).
+#   (Section 6.2, Figures 24, 25).
 # * Near that wavelength the nonlinear group velocity is close to zero, while the *linear* one is not. A wave train at
 #   the minimum cannot send modulations anywhere: neighbouring patches stop interacting, so the wavelength stops
 #   evolving — the reason the large-scale runs settle there. The short-wave branch (v_g > 0) and the long-wave
-#   branch (v_g < 0) carry perturbations in opposite directions (Appendix "Group Velocities of Saturated Wave Trains").
+#   branch (v_g < 0) carry perturbations in opposite directions (Appendix C).
 # * The minimum is shallow (about 0.01 Ω, or 1 %, across a factor of two in λ at σ0 = 400), which is why λ_p is
 #   only loosely fixed and why
 #   the paper finds a "belt of quasi-stable wavelengths" around the minimum.
@@ -250,16 +249,16 @@ for s0, v in nl.items():
 # **What to notice.** The wavelength of the nonlinear frequency minimum falls as σ0 rises (240 → 177 → 101 m for
 # σ0 = 300 → 400 → 700 kg m⁻²) and follows the dashed curve 1.4 λ_zero up to σ0 ≈ 400, dropping below it at 700
 # (see above) — while the fastest-growing wavelength stays at 55–73 m. The saturated large-scale runs follow the
-# dashed curve (<abbr title="label lambdap">Figure 20</abbr>; e.g. the project's
-# 2,000-orbit run at σ0 = 400 kg m⁻² in a 5 km box ended at λ_p = 172 m = 0.96 × 1.4 λ_zero, README "A real nonlinear
-# run"; with `QUICK = False` this notebook's own runs are added). Stronger self-gravity (smaller Toomre Q0) means
+# dashed curve (Figure 20; e.g. the project's
+# 2,000-orbit run at σ0 = 400 kg m⁻² in a 5 km box ended at λ_p = 172 m = 0.96 × 1.4 λ_zero, researcher's guide, "Hydrodynamics",
+# "A real nonlinear run"; with `QUICK = False` this notebook's own runs are added). Stronger self-gravity (smaller Toomre Q0) means
 # shorter saturated waves; the Cassini band of 150–250 m (shaded) corresponds to σ0 of a few hundred kg m⁻²
 # (notebook 5 turns this around).
 
 # %% [markdown]
 # ## Try this
 # Switch to the isothermal model with p_s = 1 (`SET` stays, but use `params.get(SET, sigma0=s0).isothermal_limit()`
-# in the nonlinear cell). The paper (<abbr title="label nlvg">Figure 21</abbr> d): "In the isothermal model ... the presence of any substantial
+# in the nonlinear cell). The paper (Figure 21 d): "In the isothermal model ... the presence of any substantial
 # self-gravity force results in a nonlinear reduction of the oscillation frequencies." Does the minimum still move
 # to longer waves? The linear numbers to start from:
 

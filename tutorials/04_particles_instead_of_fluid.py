@@ -15,8 +15,7 @@
 # # 4. Particles instead of a fluid
 #
 # The hydrodynamic model of notebooks 1–3 needs transport coefficients (c0, ν0, κ0, T0 and the exponents β, p_s, ...).
-# Salo et al. (2001) measured them in **local N-body simulations** of colliding ice spheres (Table "Hydrodynamic
-# Parameters"). Here we run such a simulation ourselves with `ringcore.nbody.ShearingBox` (Section "N-Body Simulations"):
+# Salo et al. (2001) measured them in **local N-body simulations** of colliding ice spheres (Table 2). Here we run such a simulation ourselves with `ringcore.nbody.ShearingBox` (Section 4.2):
 # identical smooth spheres of radius R_p = 1 m in a co-moving box with shear-periodic boundaries, moving on the Hill
 # equations (Eq. (49)) with an enhanced vertical frequency Ω_z = 3.6 Ω, colliding with the velocity-dependent
 # coefficient of restitution of Bridges et al. (Eq. (48)). Radial self-gravity enters, as in the paper, through the
@@ -96,7 +95,7 @@ ax.set_xlabel("t [orbits]"); ax.set_ylabel("T [1e-8 m²/s²]"); ax.legend(); plt
 # * The box forgets its initial state in less than an orbit: T drops from the initial (0.4 mm/s)² = 16e-8 m²/s²
 #   to a steady value that fluctuates by about ±5 % around the table's T0.
 # * T, ν and c0 agree with Table 2 to a few percent (the project's longer validation in
-#   the README gives +0.8 %, −1.8 %, −0.8 %). The remaining differences are statistical: a few hundred particles
+#   the researcher's guide, "N-body", gives +0.8 %, −1.8 %, −0.8 %). The remaining differences are statistical: a few hundred particles
 #   over a few orbits.
 # * More than 90 % of the viscosity is nonlocal, and the *effective* dispersion c0, which includes the nonlocal
 #   pressure, is about three times the random velocity √T: the particles are so closely packed (√T is only about
@@ -196,13 +195,12 @@ for f_ps in (1.0, 1.4, 2.0):
 #   decide between 1.4 and 2.
 #
 # ## Why they differ
-# The transport coefficients were fitted to *small* perturbations of the ground state (Section "Hydrodynamic
-# Parameters": "it is not even clear if the particular form provided by Eqs. (8)–(11) is well suited to
+# The transport coefficients were fitted to *small* perturbations of the ground state (Section 3: "it is not even clear if the particular form provided by Eqs. (8)–(11) is well suited to
 # follow the development into the nonlinear regime"). In the particle ring:
 # * compressions splash particles vertically (the ring is nearly incompressible), changing pressure and transport on
-#   the orbital time scale — not in a vertically averaged fluid (Section "Growth Rates ... in the Linear Regime");
+#   the orbital time scale — not in a vertically averaged fluid (Section 4.2.2);
 # * the collision frequency rises in the nonlinear waves by up to ~20 %, increasing the nonlocal pressure, which the
-#   hydro model does not follow (Section "N-Body Simulations" of the results, Figure 19);
+#   hydro model does not follow (Section 5.3, Figure 19);
 # * the velocity dispersion never falls below about R_pΩ ≈ 0.2 mm/s because of nonlocal heating, while the hydro
 #   temperature can drop much lower in rarefied regions (Figure 16).
 # A stiffer pressure (larger p_s) absorbs most of this: ×1.4 for linear waves, ×2 for saturated ones. Still, the

@@ -16,8 +16,7 @@
 #
 # Five open questions about Lehmann, Schmidt & Salo (2017), each with a short worked answer computed with `ringcore`.
 # Try each question yourself before running the answer cell. Equation and figure numbers are the published ones
-# (`ringcore.paperrefs`, derived from the paper's source); hover over a number for the paper's LaTeX label, which
-# is the name the code and docstrings use.
+# (as printed in the article; `ringcore.paperrefs` maps them to the names the code and docstrings use).
 #
 # **Quick mode** keeps every check small (a handful of one-wavelength hydro boxes, one small N-body box); with
 # `QUICK = False` the checks use finer grids, longer runs and larger boxes.
@@ -65,19 +64,18 @@ print("saturated frequencies: " + ", ".join(f"{l:.0f} m: {w:.4f}" for l, w in zi
 
 # %% [markdown]
 # *Discussion.* The two agree to 6 % (printed above), well inside the ~28 % spacing of the five sample wavelengths. The paper's
-# large-scale runs scatter by about ±10–20 % around the dashed curve of <abbr title="label lambdap">Figure 20</abbr>, because the minimum is shallow
-# and the final state depends on the history (Appendix "Influence of the Initial State on the Saturation Wavelength").
+# large-scale runs scatter by about ±10–20 % around the dashed curve of Figure 20, because the minimum is shallow
+# and the final state depends on the history (Appendix B.3).
 # A prediction of λ_p to better than ~20 % is therefore not meaningful.
 
 # %% [markdown]
 # ## Exercise 2 — larger particles
 # All runs so far used particles of radius R_p = 1 m. How would λ_p change for R_p = 2 m at the same σ0 and τ?
-# Use <abbr title="label lambdasigmaap">Eq. (56)</abbr>, λ_p ≈ 2C(p_s + F_2) λ_J (the sign that follows from <abbr title="label osfreq">Eq. (22)</abbr>; Exercise 5), and the
-# Jeans wavelength <abbr title="label jeans">Eq. (57)</abbr>, λ_J = c0²/(Gσ0).
+# Use Eq. (56), λ_p ≈ 2C(p_s + F_2) λ_J (the sign that follows from Eq. (22); Exercise 5), and the
+# Jeans wavelength Eq. (57), λ_J = c0²/(Gσ0).
 #
 # *Answer.* In a dense ring the pressure is mostly *nonlocal* (collisions transport momentum over a particle
-# diameter), so the effective velocity dispersion scales with the particle size, c0 ∼ R_p Ω (Section "Variation of the
-# Particle Radius"). Then λ_J ∝ c0² ∝ R_p², and with the dimensionless exponents unchanged λ_p ∝ R_p²: doubling R_p
+# diameter), so the effective velocity dispersion scales with the particle size, c0 ∼ R_p Ω (Section 6.3). Then λ_J ∝ c0² ∝ R_p², and with the dimensionless exponents unchanged λ_p ∝ R_p²: doubling R_p
 # should make the waves about four times longer. Two checks:
 #
 # 1. *Is c0 really ∝ R_p?* A small N-body ground-state box with R_p = 2 m next to one with R_p = 1 m (same τ, and the box
@@ -135,13 +133,13 @@ print(f"power-law slope d ln(lambda_p) / d ln(R_p) = {slope:.2f}")
 # small-k estimate is only rough over that range (−38 % at R_p = 1 m where Q0 < 1, −3 % at 4 m). "Roughly quadratic",
 # as the paper
 # says. The paper's N-body runs with
-# R_p = 1–4 m (<abbr title="label radvar">Figure 26</abbr>) show the roughly quadratic growth, with boxes L_x = 2 km × (R_p/1 m)² to hold the
+# R_p = 1–4 m (Figure 26) show the roughly quadratic growth, with boxes L_x = 2 km × (R_p/1 m)² to hold the
 # longer waves. Without self-gravity the only length scale is R_p itself, and λ_p ∝ R_p (paper, same section).
 
 # %% [markdown]
 # ## Exercise 3 — what the Cassini wavelengths say about σ0
-# Cassini occultations show axisymmetric waves of λ ≈ 150–250 m in the A and B rings (Section "Introduction",
-# Section "Conclusion"). If these are saturated overstable waves obeying <abbr title="label lambdasigma">Eq. (55)</abbr>, which surface densities
+# Cassini occultations show axisymmetric waves of λ ≈ 150–250 m in the A and B rings (Section 1,
+# Section 7). If these are saturated overstable waves obeying Eq. (55), which surface densities
 # do they imply? How does the answer depend on the parameter set and on the particle size?
 #
 # *Answer.* Solve 1.4 λ_zero(σ0) = λ for σ0 (λ_zero falls monotonically with σ0, so a root finder works).
@@ -169,8 +167,7 @@ print(f"tau15 with R_p = 1.2 m (c0 x 1.2): {lo2:.0f} - {hi2:.0f} kg/m^2  (R_p = 
 # *Discussion.* For the τ15 parameters the observed band corresponds to σ0 ≈ 280–510 kg m⁻² (printed above). The other
 # sets move the range a lot: about 110–190 kg m⁻² for τ = 1.5 with Ω_z = 2 (smaller c0), and for τ20 (larger c0) 250 m
 # needs σ0 ≈ 560 kg m⁻² while 150 m is not reached at all below 1,500 kg m⁻² ("nan": 1.4 λ_zero levels off above
-# 150 m as Q0 falls below 1). Hot, dense rings need more mass for the same wavelength. These values bracket the A-ring estimate σ ≈ 300 kg m⁻² the paper quotes (Section "Variation of the
-# Particle Radius") and the B-ring values of several hundred kg m⁻², which is the paper's conclusion: "The range of
+# 150 m as Q0 falls below 1). Hot, dense rings need more mass for the same wavelength. These values bracket the A-ring estimate σ ≈ 300 kg m⁻² the paper quotes (Section 6.3) and the B-ring values of several hundred kg m⁻², which is the paper's conclusion: "The range of
 # observed wavelengths λ ∼ 150–250 m compares well with the prevalent wavelengths we find in our models" for
 # σ0 ≳ 300 kg m⁻². The constraint is only as good as the transport coefficients: since λ_p ∝ c0²/σ0 roughly, a 20 %
 # larger c0 (e.g. slightly larger particles) raises the inferred σ0 by 50–70 % (last line). Overstable waves measure
@@ -184,8 +181,8 @@ print(f"tau15 with R_p = 1.2 m (c0 x 1.2): {lo2:.0f} - {hi2:.0f} kg/m^2  (R_p = 
 # *Answer.* Growth only decides what appears first. Once the waves saturate, what matters is whether a wave train is
 # stable against slow modulations, and how fast neighbouring wave patches exchange perturbations. Short trains are
 # unstable and coarsen (the staircase, notebook 2); the coarsening stops where the nonlinear group velocity vanishes,
-# at the minimum of the nonlinear frequency (notebook 3; Sections "Nonlinear Dispersion Relation" and
-# "Hydrodynamical Integrations with a Buffer-Zone"). Numbers:
+# at the minimum of the nonlinear frequency (notebook 3; Sections 6.1 and
+# 6.2). Numbers:
 
 # %%
 q4 = params.get("tau15", sigma0=400)
@@ -203,8 +200,8 @@ print(f"saturated (1.4 lambda_zero): lambda = {analysis.lambda_p_empirical(q4):.
 
 # %% [markdown]
 # ## Exercise 5 — check a printed formula against the exact theory
-# Section "Variation of the Particle Radius" prints <abbr title="label lambdasigmaap">Eq. (56)</abbr> as λ_p ≈ 2C(p_s **−** F_2) λ_J and says it
-# "follows directly from <abbr title="label osfreq">Equation (22)</abbr> for Q0 ≫ 1". <abbr title="label osfreq">Eq. (22)</abbr> is the k² expansion of the overstable frequency,
+# Section 6.3 prints Eq. (56) as λ_p ≈ 2C(p_s **−** F_2) λ_J and says it
+# "follows directly from Equation (22) for Q0 ≫ 1". Eq. (22) is the k² expansion of the overstable frequency,
 # ω_I = 1 − k/Q0 + ½(p_s + F_2 − 1/Q0²) k² (k in Ω/c0). Derive λ_zero (where the group velocity dω_I/dk vanishes) from
 # it, and decide with the exact linear theory which sign is right. A printed formula can carry a typo; the exact
 # theory is the referee.
@@ -240,7 +237,7 @@ print(f"ringcore's lambda_p_approx (tau15, sigma0 = 400): {analysis.lambda_p_app
 # ## Try this
 # Redo Exercise 3 for the isothermal model with p_s = 1 (`params.get("tau15").isothermal_limit()`). The isothermal
 # model has a softer pressure: which σ0 would Cassini's 150–250 m waves then imply, and why is the non-isothermal
-# answer the one to trust (Section "Conclusion": "a good representation for the equation of state is essential")?
+# answer the one to trust (Section 7: "a good representation for the equation of state is essential")?
 
 # %%
 pi = params.get("tau15").isothermal_limit()

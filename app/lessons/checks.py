@@ -79,7 +79,7 @@ def _judge(answer, ref: float, rel_tol=None, abs_tol=None, unit: str = "", what:
 
 def _choice(answer, choices, correct_index: int, why: str, hint: str = "") -> Result:
     if answer is None or str(answer) not in [str(c) for c in choices]:
-        return Result("error", f"answer = {answer!r}: choose one of {', '.join(map(str, choices))}")
+        return Result("error", f"Pick one of the answers first: {' or '.join(map(str, choices))}.")
     if str(answer) == str(choices[correct_index]):
         return Result("correct", f"Correct. {why}")
     return Result("wrong", f"Not quite. {hint}".strip())
@@ -88,10 +88,12 @@ def _choice(answer, choices, correct_index: int, why: str, hint: str = "") -> Re
 # ---------------------------------------------------------------- linear theory
 def linear_values(controls) -> dict:
     """Characteristic numbers of the Linear tab's settings plus ``efold_orbits`` and
-    ``lambda_p_empirical_m`` = 1.4 lambda_zero [m] (eq. lambdasigma)."""
+    ``tenfold_orbits`` (the amplitude grows tenfold) and ``lambda_p_empirical_m`` = 1.4 lambda_zero [m]
+    (eq. lambdasigma)."""
     n = dict(characteristic_numbers(controls.settings()))
     g = n["max_growth_rate"]
     n["efold_orbits"] = 1.0 / (2.0 * math.pi * g) if g > 0 else math.nan
+    n["tenfold_orbits"] = math.log(10.0) * n["efold_orbits"]  # amplitude x 10: ln 10 e-folds
     n["lambda_p_empirical_m"] = C_EMPIRICAL * n["lambda_zero_m"]
     return n
 
@@ -110,6 +112,7 @@ def linear_number(targets, answer, key: str, rel_tol=None, abs_tol=None, unit: s
         return Result("wait", f"With the current settings ({where}) this number does not exist (σ₀ = 0 has no "
                               "λ_zero): press 'Set up this step'.")
     names = dict(lambda_max_growth_m="the fastest-growing wavelength", efold_orbits="the e-folding time",
+                 tenfold_orbits="the time to grow tenfold",
                  lambda_zero_m="λ_zero", beta_c="β_c", lambda_p_empirical_m="1.4 λ_zero")
     return _judge(answer, ref, rel_tol, abs_tol, unit, f"{names.get(key, key)} at {where}", hint)
 

@@ -146,29 +146,30 @@ class Lesson:
 LESSONS = (
     Lesson(1, "What overstability is", "Small radial waves in a dense ring grow and oscillate at about the orbital "
            "frequency: read growth, oscillation and λ_zero off the exact dispersion relation [[matni]].",
-           "01_linear_theory.py", ("beta_c", "lambda_zero", "lambda_J", "Q0", "p_s"), (
+           "01_linear_theory.py", ("overstability", "beta_c", "lambda_zero", "group_velocity", "lambda_J", "Q0",
+                                   "p_s"), (
         Step("The fastest-growing wave", "linear-400",
              "Will the shortest waves grow fastest, or is there a best wavelength? Self-gravity (σ₀ = 400) lifts "
              "the growth rate of waves of a few tens of metres.",
              "Look at the growth rate ω_R (top left, [[osgrate]]): where it is above zero the ring is overstable. "
              "The orange dotted line marks its maximum.",
-             Question("Enter the fastest-growing wavelength (metres).", "linear_number", unit="m",
+             Question("Enter the fastest-growing wavelength.", "linear_number", unit="m",
                       args=dict(key="lambda_max_growth_m", rel_tol=0.03),
                       hint="Read the card 'Fastest-growing λ' in the Linear theory tab (or the orange dotted line).")),
         Step("How fast does it grow?", "linear-400",
              "A growth rate ω_R in units of Ω means the amplitude grows by a factor e in 1/(2π ω_R) orbits. Predict: "
-             "a few orbits or a few hundred?",
-             "Read 'Max growth rate ω_R' and its note. Compare with σ₀ = 0 (thin curve): self-gravity makes the "
-             "waves grow several times faster.",
-             Question("Enter the number of orbits in which the fastest wave grows by a factor e.", "linear_number",
-                      unit="orbits", args=dict(key="efold_orbits", rel_tol=0.05),
-                      hint="1/(2π ω_R) with ω_R the maximum growth rate in units of Ω.")),
+             "does a wave need a few orbits or a few hundred to grow tenfold?",
+             "Read 'Max growth rate ω_R' and its note (the time for a factor e). Tenfold is ln 10 ≈ 2.3 factors "
+             "of e. Compare with σ₀ = 0 (thin curve): self-gravity makes the waves grow several times faster.",
+             Question("In how many orbits does the amplitude of the fastest-growing wave grow tenfold?",
+                      "linear_number", unit="orbits", args=dict(key="tenfold_orbits", rel_tol=0.05),
+                      hint="ln(10)/(2π ω_R), with ω_R the maximum growth rate in units of Ω.")),
         Step("The frequency minimum λ_zero", "linear-800",
              "Self-gravity lowers the oscillation frequency ω_I of long waves, pressure raises it for short ones "
              "([[osfreq]]), so ω_I has a minimum. Predict: does it move to shorter or longer waves at σ₀ = 800?",
              "The group velocity v_g = dω_I/dk ([[vg]]) changes sign at the minimum, λ_zero (pink dashed line): "
              "wave packets of shorter waves travel outward, of longer waves inward.",
-             Question("Enter λ_zero at σ₀ = 800 kg/m² (metres).", "linear_number", unit="m",
+             Question("Enter λ_zero at σ₀ = 800 kg/m².", "linear_number", unit="m",
                       args=dict(key="lambda_zero_m", rel_tol=0.03),
                       hint="Read the card 'λ_zero (v_g = 0)'; it is where the bottom-left curve crosses zero.")),
         Step("Why the ring is overstable at all", "linear-400",
@@ -180,13 +181,14 @@ LESSONS = (
     )),
     Lesson(2, "A white-noise run: growth, saturation, sources and sinks", "Follow white noise in the isothermal "
            "model without self-gravity from exponential growth to saturated, travelling wave trains.",
-           "02_hydro_without_self_gravity.py", ("e_kin", "stroboscopic", "p_s"), (
+           "02_hydro_without_self_gravity.py", ("e_kin", "lambda_p", "PSD", "stroboscopic", "source_sink", "p_s"), (
         Step("Exponential growth", "hydro-nosg",
-             "Linear theory (Linear tab, same settings) gives a largest growth rate of about 0.04 Ω at λ ≈ 60 m. "
-             "So e_kin ([[ekin]]) should grow as a straight line on its log axis, with slope 2 ω_R.",
-             "Take two points on the straight part of e_kin(t) (hover over the curve): "
-             "ω_R = ln(e₂/e₁) / (2 · 2π · (t₂ − t₁)) with t in orbits.",
-             Question("Enter the growth rate ω_R you measured (in units of Ω).", "hydro_growth_rate", unit="Ω",
+             "White noise holds waves of every length; linear theory (Linear tab) gives the growth rate of the "
+             "fastest-growing one. Predict: does the run grow as fast as that wave, or slower? Exponential growth "
+             "is a straight line of e_kin ([[ekin]]) on its log axis, with slope 2 ω_R.",
+             "Take two points on the straight part of your run's e_kin(t) (hover over the curve): "
+             "ω_R = ln(e₂/e₁) / (2 · 2π · (t₂ − t₁)) with t in orbits. Then compare with the Linear tab.",
+             Question("Enter the growth rate ω_R you measured.", "hydro_growth_rate", unit="Ω",
                       args=dict(rel_tol=0.3),
                       hint="Use two times in the straight part, e.g. where e_kin is 1e-3 and 1e-2 of its final "
                            "value; remember the factor 2: e_kin ∝ amplitude².")),
@@ -195,11 +197,11 @@ LESSONS = (
              "fastest-growing one (about 60 m)?",
              "When e_kin is flat, read λ_p (the PSD peak, [[fourier]]). Without self-gravity it keeps climbing in "
              "steps (the 'staircase'); step 4 predicts where the climb ends.",
-             Question("Enter the prevalent wavelength λ_p now (metres).", "hydro_lambda_p", unit="m",
+             Question("Enter the prevalent wavelength λ_p now.", "hydro_lambda_p", unit="m",
                       args=dict(rel_tol=0.1, min_orbits=60.0),
                       hint="Read the card 'λ_p now' or the green line in the PSD.")),
         Step("Sources and sinks", "hydro-nosg-strobe",
-             "In the stroboscopic diagram (one row per orbit, Appendix [[sec:strob]]) stripes drift with the "
+             "In the stroboscopic diagram (one row per orbit, [[sec:strob]]) stripes drift with the "
              "effective phase velocity, in the direction the wave energy travels.",
              "Find V-shaped patterns: where stripes leave on both sides, and where two wave trains run into each "
              "other (compare [[fig:tau15nga]]).",
@@ -220,12 +222,12 @@ LESSONS = (
     )),
     Lesson(3, "Self-gravity picks the wavelength", "Run the same white noise without and with self-gravity and "
            "compare λ_p with 1.4 λ_zero, [[lambdasigma]].",
-           "03_self_gravity_sets_the_wavelength.py", ("lambda_zero", "lambda_J", "Q0", "nonlinear"), (
+           "03_self_gravity_sets_the_wavelength.py", ("lambda_p", "lambda_zero", "lambda_J", "Q0", "nonlinear"), (
         Step("Without self-gravity", "hydro-sg0",
              "With σ₀ = 0 there is no frequency minimum and no λ_zero. Predict: will λ_p stay near the "
              "fastest-growing 106 m?",
              "Growth is slow here (about one e-fold per 20 orbits); wait until e_kin is flat, then read λ_p.",
-             Question("Enter λ_p of the run without self-gravity (metres).", "hydro_lambda_p", unit="m",
+             Question("Enter λ_p of the run without self-gravity.", "hydro_lambda_p", unit="m",
                       args=dict(rel_tol=0.1, min_orbits=150.0),
                       hint="Read the card 'λ_p now' when e_kin has stopped growing.")),
         Step("With self-gravity, σ₀ = 400 kg/m²", "hydro-sg400",
@@ -233,32 +235,32 @@ LESSONS = (
              "readout 1.4 λ_zero before you start.",
              "λ_p starts near the fastest-growing 66 m and climbs towards 1.4 λ_zero (blue dashed line in the PSD); "
              "the climb takes hundreds to thousands of orbits. Then press 'Add my run' in the Saturation tab.",
-             Question("Enter λ_p of the run with self-gravity (metres).", "hydro_lambda_p", unit="m",
+             Question("Enter λ_p of the run with self-gravity.", "hydro_lambda_p", unit="m",
                       args=dict(rel_tol=0.1, min_orbits=60.0, compare_empirical=True),
                       hint="Read the card 'λ_p now' when e_kin has stopped growing.")),
         Step("Predict a denser ring", "linear-800",
              "λ_zero falls as σ₀ rises (lesson 1), roughly like the Jeans wavelength λ_J = c₀²/(Gσ₀), [[jeans]].",
              "Read λ_zero at σ₀ = 800 kg/m² in the Linear theory tab and multiply by 1.4; compare with the dashed "
              "curve of the Saturation tab.",
-             Question("Predict the saturated λ_p at σ₀ = 800 kg/m² from [[lambdasigma]] (metres).", "linear_number",
+             Question("Predict the saturated λ_p at σ₀ = 800 kg/m² from [[lambdasigma]].", "linear_number",
                       unit="m", args=dict(key="lambda_p_empirical_m", rel_tol=0.03),
                       hint="λ_p = 1.4 λ_zero; read λ_zero in the Linear theory tab.")),
     )),
     Lesson(4, "Particles instead of a fluid", "The hydrodynamic model takes its c₀ and ν₀ from N-body boxes "
            "([[tab:hydropar]]): measure them yourself in the N-body tab.",
-           "04_particles_instead_of_fluid.py", ("c0", "nonlocal", "R_p", "Omega_z"), (
+           "04_particles_instead_of_fluid.py", ("shearing_box", "c0", "nonlocal", "R_p", "Omega_z"), (
         Step("The velocity dispersion", "nbody-ground",
              "About 600 ice spheres of radius R_p = 1 m collide with the restitution law of [[bridges]] in a box "
              "with Ω_z = 3.6 Ω. Predict: will their random velocity ⟨c⟩ equal the hydro c₀ of the table?",
              "⟨c⟩ settles within an orbit. c_eff (averaged over 5 orbits) includes the nonlocal pressure "
              "([[ptot]]) and is what the hydro model calls c₀ (pink dashed line).",
-             Question("Enter c_eff from the readout (mm/s), after at least 5 orbits.", "nbody_transport", unit="mm/s",
+             Question("Enter c_eff from the readout, after at least 5 orbits.", "nbody_transport", unit="mm/s",
                       args=dict(key="c_eff", factor=1e3, rel_tol=0.08, table="c0"),
                       hint="Read the card 'c_eff [mm/s], last 5 orbits'.")),
         Step("The viscosity", "nbody-continue",
              "The table's ν₀ was measured in boxes like this one. Predict: within a few percent?",
              "Read ν (averaged over the last 5 orbits) and compare with the hydro ν₀ beside it.",
-             Question("Enter ν from the readout (10⁻³ m²/s).", "nbody_transport", unit="10⁻³ m²/s",
+             Question("Enter ν from the readout.", "nbody_transport", unit="10⁻³ m²/s",
                       args=dict(key="nu", factor=1e3, rel_tol=0.1, table="nu0"),
                       hint="Read the card 'ν [10⁻³ m²/s], last 5 orbits'.")),
         Step("Where the viscosity comes from", "nbody-continue",
@@ -271,7 +273,7 @@ LESSONS = (
     )),
     Lesson(5, "A buffer zone: one source and one sink", "A strip with β = −0.5 < β_c damps the waves "
            "([[fig:tau15bufnosg]]) and organises the box into one source and one sink.",
-           "02_hydro_without_self_gravity.py", ("beta_c", "stroboscopic"), (
+           "02_hydro_without_self_gravity.py", ("beta_c", "stroboscopic", "source_sink"), (
         Step("Waves die in the buffer", "hydro-buffer",
              "Inside the purple strip β = −0.5 is below β_c ≈ 0.44 ([[osgrate]] gives ω_R < 0). Predict where "
              "the wave amplitude will be smallest.",

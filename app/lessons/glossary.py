@@ -27,6 +27,39 @@ class Term:
 
 
 TERMS = {t_key: t for t_key, t in (
+    ("overstability", Term("Overstability (viscous overstability)",
+                           "An instability that grows as an oscillation: a small radial density wave in a dense "
+                           "ring oscillates at about the orbital frequency Ω and its amplitude grows instead of "
+                           "dying out, because the viscosity rises steeply enough with density (β > β_c) to feed "
+                           "energy from the ring's shear flow into the wave. The growth rate is ω_R (> 0), the "
+                           "oscillation frequency ω_I. Grown waves saturate into wave trains of a few hundred "
+                           "metres; Cassini saw waves of about 150-250 m in Saturn's rings.", ("osgrate", "osfreq", "sec:intro"))),
+    ("lambda_p", Term("λ_p (prevalent wavelength)",
+                      "The wavelength with the most power in the PSD of the surface density σ(x) at a given time: "
+                      "the wavelength that dominates the box. It starts near the fastest-growing one and grows as "
+                      "waves merge; with self-gravity it settles near 1.4 λ_zero.",
+                      ("fourier", "lambdasigma", "fig:lambdap"))),
+    ("PSD", Term("PSD (power spectral density)",
+                 "How much of the variation of σ(x) lies at each wavelength: the squared amplitude of each "
+                 "Fourier mode of σ across the box. A periodic box of size L_x holds only the wavelengths L_x/n "
+                 "(n = 1, 2, ...), so the PSD is a set of points; its highest one is λ_p.", ("fourier",))),
+    ("source_sink", Term("Source and sink (of waves)",
+                         "A source is a place from which wave trains travel away on both sides; a sink is a place "
+                         "they run into from both sides and die. In the stroboscopic diagram the stripes drift "
+                         "away from a source and into a sink, forming V shapes. A buffer zone acts as a sink.",
+                         ("sec:strob", "fig:tau15nga", "fig:tau15bufnosg"))),
+    ("group_velocity", Term("Group velocity v_g",
+                            "v_g = dω_I/dk: the speed at which a wave packet, and the energy it carries, travels "
+                            "(the crests move with the phase velocity ω_I/k instead). With self-gravity v_g changes "
+                            "sign at λ_zero, so packets of shorter and of longer waves travel in opposite "
+                            "directions.", ("vg", "fig:vgroup", "sec:vgroup"))),
+    ("shearing_box", Term("Shearing box",
+                          "A small patch of the ring (tens of metres to kilometres) that moves along with its orbit, "
+                          "with the ring's shear flow built in: the inner side orbits faster than the outer side. "
+                          "What leaves one radial edge comes back in at the other (shifted with the shear), so the "
+                          "patch behaves like a piece of an endless ring. The N-body tab simulates particles in "
+                          "one; the hydrodynamic runs use a periodic radial box in the same way.",
+                          ("hill", "sec:nbsim"))),
     ("beta_c", Term("β_c (critical viscosity exponent)",
                     "The viscosity grows with density as η ∝ σ^(β+1). Long waves are overstable only if β > β_c; "
                     "β_c follows from the long-wave growth rate. A buffer zone sets β = −0.5 < β_c so waves are "

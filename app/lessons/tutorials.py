@@ -63,9 +63,10 @@ def docs_note(element_id: str = "docs-note") -> str:
         body = (f'Documentation (tutorials, teacher\'s and researcher\'s guides): '
                 f'<a href="{ROUTE}/index.html" target="_blank" rel="noopener">open</a>')
     else:
-        body = ("Documentation: not built into this install. In the source tree, <code>make docs</code> builds "
-                "it (then <code>ringlab serve</code> and <code>make app</code> serve it at /docs); the tutorials "
-                "are also the notebooks in <code>tutorials/</code>.")
+        # a student cannot act on build commands: say what is missing and what is there instead (the
+        # teacher's guide tells whoever runs the server how to add the site)
+        body = ("Documentation: not installed on this server (your teacher can add it). The tutorials are "
+                "offered above as notebook downloads.")
     return f'<div class="buttons-note" id="{element_id}">{body}</div>'
 
 
@@ -99,3 +100,12 @@ def links_html(stems, element_id: str, lead: str = "Executed tutorial:") -> str:
 def tab_links(tab: str) -> str:
     """:func:`links_html` for the tutorials of a tab ("linear", "hydro", "nbody", "saturation")."""
     return links_html(TAB_TUTORIALS[tab], f"{tab}-tutorials", "Worked through in the tutorials:")
+
+
+def docs_link(page: str, text: str) -> str:
+    """A link (new browser tab) to ``page`` of the documentation site (``"science/departures.html"``) when
+    this install serves it, else ``text`` followed by "(in the documentation)": never a broken link, never a
+    file of the source tree a student cannot open."""
+    if (docs_dir() / page).is_file():
+        return f'<a href="{ROUTE}/{page}" target="_blank" rel="noopener">{html.escape(text)}</a>'
+    return f"{html.escape(text)} (in the documentation)"

@@ -20,7 +20,7 @@ from ringlab.lessons.content import LESSONS, PRESETS
 from ringlab.lessons.glossary import GLOSSARY_CSS, GlossaryPanel
 from ringlab.lessons.memory import attach
 from ringlab.lessons.presets import Targets, apply_preset, default_scale
-from ringlab.lessons.refs import render
+from ringlab.lessons.refs import publish, render
 from ringlab.lessons.tutorials import docs_note, links_html
 from ringlab.lessons.worksheets import worksheet_html, worksheet_path
 from ringlab.paths import TUTORIALS_SRC_DIR
@@ -236,7 +236,7 @@ class LessonsPanel(pn.viewable.Viewer):
         # an unreadable answer is not judged: it is shown as a note, not as a wrong answer
         kind = {"correct": "ok", "wrong": "error", "wait": "warn", "error": "warn"}[res.status]
         self.attempts += 1
-        self._show(self.feedback, html.escape(res.message, quote=False), kind, f"lesson-feedback-{res.status}",
+        self._show(self.feedback, publish(html.escape(res.message, quote=False)), kind, f"lesson-feedback-{res.status}",
                    f' data-attempt="{self.attempts}"')
         text = str(self.answer() or "").strip()[:80]
         self.answers = {**self.answers, f"{self.lesson}.{self.step}": dict(text=text, status=res.status)}

@@ -13,6 +13,7 @@ from pathlib import Path
 
 from ringlab.lessons.content import LESSONS, Lesson, PRESETS
 from ringlab.lessons.refs import render
+from ringlab.lessons.tutorials import TUTORIALS, stem_of
 from ringlab.paths import WORKSHEETS_DIR
 
 OUT_DIR = WORKSHEETS_DIR
@@ -68,7 +69,8 @@ def worksheet_html(les: Lesson) -> str:
             f'<body><h1>Lesson {les.number}: {html.escape(les.title)}</h1>'
             f'<p class="goal">{render(les.goal)}</p>'
             f'<div class="meta">Name: ______________________ Date: ____________ · '
-            f'Tutorial: tutorials/{html.escape(les.tutorial)} · Paper: Lehmann, Schmidt &amp; Salo (2017, ApJ 851:125)'
+            f'Tutorial: {html.escape(TUTORIALS[stem_of(les.tutorial)])} · '
+            f'Paper: Lehmann, Schmidt &amp; Salo (2017), ApJ 851, 125'
             f'</div>\n{"".join(steps)}\n'
             f'<div class="terms">Words to look up in the app\'s glossary: {terms}.</div>'
             f'<p class="noprint"><button onclick="window.print()">Print</button></p></body></html>\n')

@@ -60,17 +60,18 @@ class NBodyRunner(LiveLoop, param.Parameterized):
     budget_s = BUDGET_S  # one chunk of work (ringlab.live.loop)
 
     param_set = param.Selector(default="tau15", objects=_set_names(), label="Parameter set (τ, Ω_z)",
-                               doc="Optical depth tau and vertical frequency enhancement of the box (and the "
+                               doc="Optical depth τ and vertical frequency enhancement of the box (and the "
                                    "hydrodynamic parameters used for the predictions).")
     sigma0 = param.Number(default=400.0, bounds=(0.0, SIGMA0_MAX), step=10.0, label="Surface density σ₀ [kg/m²]",
                           doc=publish("Sets the radial self-gravity, eq. (sgmodes); 0 switches it off.", html_out=False))
     L_x = param.Number(default=140.0, bounds=(20.0, 500.0), step=5.0, label="Radial size L_x [m]",
-                       doc="Radial box size [m].")
+                       doc="Radial size of the particle box.")
     L_y = param.Number(default=30.0, bounds=(10.0, 200.0), step=5.0, label="Azimuthal size L_y [m]",
-                       doc="Azimuthal box size [m].")
+                       doc="Azimuthal size (along the orbit) of the particle box.")
     restitution = param.Selector(default="bridges", objects={"Bridges et al. (velocity-dependent)": "bridges",
                                                              "constant ε = 0.5": "constant"},
-                                 label="Coefficient of restitution", doc=publish("eq. (bridges) or a constant 0.5.", html_out=False))
+                                 label="Coefficient of restitution", doc=publish("The velocity-dependent law of Bridges et al., eq. (bridges), or a constant 0.5.",
+                                             html_out=False))
     seed = param.Integer(default=1, bounds=(0, 2**31 - 1), label="Random seed", doc="Seed of the initial state.")
 
     running = param.Boolean(default=False)

@@ -83,16 +83,17 @@ class RingControls(param.Parameterized):
     """The model settings of one browser session (one instance per session)."""
 
     param_set = param.Selector(default="tau15", objects=list(ring_params.SET_NAMES), label="Parameter set",
-                               doc="Row of Table 'Hydrodynamic Parameters' (st99: isothermal only).")
+                               doc=publish("Row of Table 'Hydrodynamic Parameters' of the paper (st99: isothermal only).",
+                                           html_out=False))
     sigma0 = param.Number(default=400.0, bounds=(0.0, SIGMA0_MAX), step=10.0,
                           label="Surface density σ₀ [kg/m²]",
-                          doc="Ground-state surface density [kg/m^2]; 0 switches self-gravity off.")
+                          doc="Ground-state surface density; 0 switches self-gravity off.")
     isothermal = param.Boolean(default=False, label="Isothermal model (G_T → ∞)",
-                               doc="Drop the temperature equation (eq. ideal).")
+                               doc=publish("Drop the temperature equation (eq. (ideal)).", html_out=False))
     ps_scale = param.Number(default=1.0, bounds=PS_SCALE_BOUNDS, step=0.05, label="Scale the table's p_s by",
                             doc=publish("Factor on the pressure exponent p_s of eq. (pres), non-isothermal model.", html_out=False))
     iso_p_s = param.Number(default=1.0, bounds=ISO_PS_BOUNDS, step=0.01, label="Isothermal p_s",
-                           doc="Pressure exponent of the isothermal model: 1 = ideal gas (eq. ideal).")
+                           doc=publish("Pressure exponent of the isothermal model: 1 = ideal gas (eq. (ideal)).", html_out=False))
     compare_sigma0 = param.String(default="0, 400, 800", label="Compare with σ₀ [kg/m²]",
                                   doc="Comma-separated surface densities drawn as thin curves.")
 

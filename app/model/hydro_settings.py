@@ -48,39 +48,43 @@ class HydroSettings(RingControls):
     """Everything a student can set for one live hydro run (one instance per session)."""
 
     L_x = param.Number(default=2000.0, bounds=(100.0, 20000.0), step=100.0, label="Box size L_x [m]",
-                       doc="Radial size of the periodic box [m]; L_x/h must be a whole number of cells.")
+                       doc="Radial size of the periodic box; L_x/h must be a whole number of cells.")
     h = param.Number(default=2.5, bounds=(0.5, 20.0), step=0.5, label="Grid spacing h [m]",
-                     doc="Distance between grid nodes [m]; about 10 or more nodes per fastest-growing wavelength.")
+                     doc="Distance between grid nodes; about 10 or more nodes per fastest-growing wavelength.")
     initial = param.Selector(default="noise", objects={"white noise (all wavelengths)": "noise",
                                                        "single overstable mode": "mode"},
                              label="Initial perturbation",
-                             doc=publish("Spectral white noise (every wavelength >= 50 m, random phases) or one "
-                                         "linear eigenmode of eq. (matni).", html_out=False))
+                             doc=publish("White noise (every wavelength ≥ 50 m, random phases) or a single "
+                                         "overstable wave (a linear eigenmode of eq. (matni)).", html_out=False))
     wavelength = param.Number(default=100.0, bounds=(5.0, 20000.0), step=5.0, label="Mode wavelength λ [m]",
-                              doc="Wavelength of the single mode [m]; the box must hold a whole number of them.")
+                              doc="Wavelength of the single mode; the box must hold a whole number of them.")
     amplitude = param.Number(default=1e-4, bounds=(1e-6, 0.5), step=1e-4, label="Amplitude δσ/σ₀",
                              doc="Relative surface-density amplitude per mode (noise: at most 0.1).")
     seed = param.Integer(default=1, bounds=(0, 2**31 - 1), label="Random seed",
                          doc="Seed of the white-noise phases (same seed, same run).")
-    timestep = param.Selector(default="cfl", objects={"fast (CFL, f_t from ringcore)": "cfl",
-                                                      "paper (eq. timestep, f_t = 0.1)": "paper"},
+    timestep = param.Selector(default="cfl", objects={"fast (about 10 times larger steps)": "cfl",
+                                                      publish("the paper's (eq. (timestep), smaller)",
+                                                              html_out=False): "paper"},
                               label="Time step",
-                              doc="Time-step criterion of ringcore.hydro.timestep.")
+                              doc="How long each step is. 'fast': the largest step that stays stable, about 10 "
+                                  "times longer than the paper's cautious rule, so runs go about 10 times "
+                                  "faster.")
     T_floor = param.Selector(default=0.01, objects={"0.01 T0 (default)": 0.01, "0.001 T0": 0.001,
                                                     "off (the paper's scheme)": 0.0},
                              label="Temperature floor",
-                             doc="Non-isothermal model: T is kept above this fraction of T0. Without it, strongly "
-                                 "nonlinear runs stop when T reaches 0 where the shear heating vanishes (README: "
-                                 "'Departures from the paper').")
+                             doc="Non-isothermal model: the temperature T is kept above this fraction of its "
+                                 "ground-state value T0. Without it (as in the paper), strongly nonlinear runs stop "
+                                 "when T reaches 0 where the shear heating vanishes.")
     buffer_on = param.Boolean(default=False, label="Buffer zone on",
-                              doc="Lower the viscosity exponent beta inside a radial zone so waves are damped "
+                              doc="Lower the viscosity exponent β inside a radial zone so waves are damped "
                                   "there (can be switched while the run goes).")
     buffer_x = param.Number(default=0.0, bounds=(-10000.0, 10000.0), step=10.0, label="Buffer centre x [m]",
-                            doc="Centre of the buffer zone [m] (the box spans -L_x/2 .. L_x/2).")
+                            doc="Centre of the buffer zone (the box spans −L_x/2 .. L_x/2).")
     buffer_width = param.Number(default=400.0, bounds=(0.0, 20000.0), step=10.0, label="Buffer width [m]",
-                                doc="Radial width of the buffer zone [m].")
+                                doc="Radial width of the buffer zone.")
     buffer_beta = param.Number(default=-0.5, bounds=(-0.99, 5.0), step=0.05, label="Buffer β",
-                               doc="Viscosity exponent beta in the buffer (paper: -0.5 < beta_c, so waves damp).")
+                               doc="Viscosity exponent β in the buffer (the paper uses −0.5, below β_c, so waves "
+                                   "are damped there).")
     spacetime = param.Selector(default="stroboscopic", objects=["stroboscopic", "orbit-resolved"],
                                label="Space-time diagram",
                                doc="Whole run, one row per orbit at orbital phase 0; or the last 25 orbits with 20 rows per orbit.")

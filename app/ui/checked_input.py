@@ -12,6 +12,7 @@ from __future__ import annotations
 import panel as pn
 import param
 
+from ringlab.ui.cite import publish
 from ringlab.ui.readouts import message_pane, show_message
 
 
@@ -29,7 +30,7 @@ class CheckedInputs:
         p = self.obj.param[name]
         cls = pn.widgets.IntInput if isinstance(p, param.Integer) else pn.widgets.FloatInput
         kw.setdefault("step", p.step if getattr(p, "step", None) else (1 if cls is pn.widgets.IntInput else 0.1))
-        w = cls(label=p.label, value=getattr(self.obj, name), description=p.doc, **kw)
+        w = cls(label=p.label, value=getattr(self.obj, name), description=publish(p.doc or '', html_out=False), **kw)
         w.param.watch(lambda e: self._typed(name, e.new), "value")
         self.obj.param.watch(lambda e: self._changed(name, e.new), name)
         self.widgets[name] = w

@@ -11,6 +11,7 @@ import math
 from bokeh.models import ColumnDataSource, CustomJSTickFormatter, FixedTicker, Range1d
 from bokeh.plotting import figure
 
+from ringlab.ui.cite import publish
 from ringlab.ui.palette import MAXG_COLOR, ZERO_COLOR
 
 
@@ -25,9 +26,9 @@ def style_figure(fig, title_size: str = "14px") -> None:
 
 
 def new_figure(title: str, xlabel: str, ylabel: str, height: int = 260, **kw):
-    """A styled figure with pan/zoom/reset/save tools."""
+    """A styled figure with pan/zoom/reset/save tools (the title cites the paper by published numbers)."""
     kw.setdefault("min_width", 260)
-    fig = figure(title=title, x_axis_label=xlabel, y_axis_label=ylabel, height=height, sizing_mode="stretch_width",
+    fig = figure(title=publish(title, html_out=False), x_axis_label=xlabel, y_axis_label=ylabel, height=height, sizing_mode="stretch_width",
                  tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="above", **kw)
     style_figure(fig)
     return fig
@@ -52,7 +53,7 @@ def wavelength_markers(numbers: dict, extra=()) -> dict:
 def key_html(markers: dict, element_id: str, extra_items=()) -> str:
     """A legend line for marker rows (and extra (label, color, style) line items)."""
     items = [f'<span class="key-item"><span class="key-line" style="border-top: 3px {s} {c}"></span>'
-             f'<span>{lab}</span></span>' for lab, c, s in extra_items]
+             f'<span>{publish(lab)}</span></span>' for lab, c, s in extra_items]
     items += [f'<span class="key-item"><span class="key-vline" style="border-left: 2px {d} {c}"></span>'
               f'<span>{lab}</span></span>' for lab, c, d in zip(markers["label"], markers["color"], markers["dash"])]
     return f'<div class="key" id="{element_id}">{"".join(items)}</div>'

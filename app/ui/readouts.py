@@ -5,22 +5,23 @@ import math
 
 import panel as pn
 
+from ringlab.ui.cite import publish
 from ringlab.ui.style import CSS
 
 
 def readout_cards(rows, container_id: str) -> str:
     """HTML of readout cards from (element id, label, value text, note) rows."""
     cards = "".join(
-        f'<div class="readout" id="{rid}"><div class="ro-label">{label}</div>'
-        f'<div class="ro-value">{value}</div><div class="ro-note">{note}</div></div>'
+        f'<div class="readout" id="{rid}"><div class="ro-label">{publish(label)}</div>'
+        f'<div class="ro-value">{value}</div><div class="ro-note">{publish(note)}</div></div>'
         for rid, label, value, note in rows)
     return f'<div class="readouts" id="{container_id}">{cards}</div>'
 
 
 def message_html(text: str, element_id: str, kind: str = "error") -> str:
-    """A boxed message (kind: error, warn, ok)."""
+    """A boxed message (kind: error, warn, ok); the paper cited by its published numbers."""
     cls = {"error": "msg-error", "warn": "msg-warn", "ok": "msg-ok"}[kind]
-    return f'<div class="{cls}" id="{element_id}">{text}</div>'
+    return f'<div class="{cls}" id="{element_id}">{publish(text)}</div>'
 
 
 def message_pane(element_id: str) -> pn.pane.HTML:

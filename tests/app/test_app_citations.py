@@ -17,7 +17,8 @@ def test_publish_maps_labels_to_numbers_and_keeps_unknown_text():
     assert publish("eqs. (pres)-(coolfunc) and Figure \"lambdap\"", html_out=False) == "eqs. (8)-(11) and Figure 20"
     assert publish("eq. (16) and eq. (nosuchlabel)", html_out=False) == "eq. (16) and eq. (nosuchlabel)"
     out = publish("eq. (ekin)")
-    assert 'title="paper label: ekin"' in out and ">(39)<" in out
+    assert 'title="in Lehmann, Schmidt &amp; Salo (2017)' in out and ">(39)<" in out
+    assert "paper label" not in out and "ekin" not in out  # the tooltip names the paper, never the label
     assert LABEL.search("see eq. (ekin)") and not LABEL.search(publish("see eq. (ekin)", html_out=False))
 
 
@@ -60,6 +61,6 @@ def test_no_tab_shows_a_latex_label():
         for m in LABEL.finditer(text):
             bad.append(f"Lessons: {m.group(0)!r}")
     # the walk reaches the explanations and the plot titles (else the check above could not fail)
-    assert any('title="paper label: ekin"' in t for t in seen_texts)
+    assert any('title="in Lehmann, Schmidt' in t and ">(39)<" in t for t in seen_texts)
     assert any(t.startswith("Wave kinetic energy e_kin, eq. (39)") for t in seen_texts)
     assert not bad, "\n".join(bad[:30])

@@ -127,7 +127,7 @@ def test_fresh_preset_restarts_and_continue_preset_keeps_the_run(panel_):
 def _linear_truth(n, k):
     p = params.get("tau15", 800.0 if PRESETS[step_of(n, k).preset].linear["sigma0"] == 800.0 else 400.0)
     s = linear.summary(p)
-    return {(1, 1): s.lambda_max_growth_m, (1, 2): 1.0 / (2 * math.pi * s.max_growth_rate),
+    return {(1, 1): s.lambda_max_growth_m, (1, 2): math.log(10) / (2 * math.pi * s.max_growth_rate),
             (1, 3): s.lambda_zero_m, (1, 4): linear.beta_c(p), (3, 3): 1.4 * s.lambda_zero_m}[(n, k)]
 
 
@@ -286,7 +286,8 @@ def test_worksheets_are_generated_from_the_definitions():
 
 def test_glossary_and_citations():
     for key in ("beta_c", "lambda_zero", "lambda_J", "Q0", "p_s", "G_T", "n_T", "stroboscopic", "nonlocal",
-                "R_p", "Omega_z", "e_kin", "c0"):
+                "R_p", "Omega_z", "e_kin", "c0", "overstability", "lambda_p", "PSD", "source_sink", "group_velocity",
+                "shearing_box"):
         assert key in TERMS
     assert "R_p Ω)²" in TERMS["e_kin"].text and "nonlocal" in TERMS["c0"].text
     page = glossary_html()
@@ -296,7 +297,11 @@ def test_glossary_and_citations():
     from ringcore.paperrefs import eq as _eq
     assert cite("lambdasigma", html_out=False) == _eq("lambdasigma")  # the published number
     assert cite("fig:lambdap", False).startswith("Figure")
-    assert 'title="paper label: lambdasigma"' in cite("lambdasigma")
+    assert 'title="in Lehmann, Schmidt' in cite("lambdasigma") and "lambdasigma" not in cite("lambdasigma")
+    assert cite("sec:strob", False) == "Appendix A" and cite("tab:hydropar", False) == "Table 2"
+    assert cite("sec:per", False) == "Section 6.2"
+    with pytest.raises(ValueError, match="nosuchlabel"):
+        cite("nosuchlabel")
     from ringcore.paperrefs import eq
     assert eq("ekin") in render("see [[ekin]]", html_out=False)  # the published number (label in a tooltip)
 

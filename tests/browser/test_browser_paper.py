@@ -49,7 +49,10 @@ def test_paper_tab_plays(tmp_path):
                 page.goto(f"http://127.0.0.1:{port}/main?tab=paper", wait_until="commit", timeout=LOAD_TIMEOUT_MS)
                 page.locator("#paper-compare").wait_for(timeout=LOAD_TIMEOUT_MS)
                 text = page.locator("#paper-compare").inner_text()
-                assert "233 m" in text and "ringcore reproduce iso_tau15_mode100 --full" in text
+                assert "233 m" in text and "For researchers" in text
+                # the command sits in the collapsed "For researchers" note (not in a student's first view)
+                command = page.locator("#paper-command").text_content()
+                assert "ringcore reproduce iso_tau15_mode100 --full" in command
                 assert re.search(r"computed\t\d+ m", text)
                 assert re.search(r"(run reached [\d,]+ of 20,000 orbits; still computing|complete)", text)
                 end = orbit_shown(page)

@@ -26,6 +26,8 @@ from ringlab.server import kernel
 from ringlab.server.session_end import on_session_end
 from ringlab.tabs.paper.playback import Playback, SPEEDS, frame_at, list_runs, load_run
 from ringlab.tabs.paper.plots import PaperPlots, WINDOWS
+from ringlab.lessons.tutorials import docs_link
+from ringlab.ui.cite import publish, ref, span
 from ringlab.ui.frame_gate import FrameGate
 from ringlab.ui.layout import responsive_grid, wrap_row
 from ringlab.ui.readouts import fmt, message_html, readout_cards
@@ -57,15 +59,13 @@ costs no computation, so a whole class can replay at once.
 * **Computed** λ<sub>p</sub> is the final PSD's maximum; it jumps between the box's allowed wavelengths
   L<sub>x</sub>/n (10 km/43 = 233 m, 10 km/40 = 250 m), so the value most frequent over the last 1,000 orbits is
   given too. A run still computing is marked so: its numbers are those of the last orbit reached.
-""".format(strob=paperrefs.html("sec:strob"), ekin=paperrefs.html("eq:ekin"))
+""".format(strob=span(paperrefs.sec("strob")), ekin=span(paperrefs.eq("ekin")))
 
 
 def paper_html(label: str) -> str:
-    """Published number of a label with the label as tooltip ("Figure 8")."""
-    try:
-        return paperrefs.html(label)
-    except ValueError:
-        return html.escape(label)
+    """Published number of a label ("Figure 8"), its tooltip naming the paper."""
+    shown = ref(label)
+    return span(shown) if shown else html.escape(label)
 
 
 class PaperView(pn.viewable.Viewer):
@@ -124,7 +124,9 @@ class PaperView(pn.viewable.Viewer):
 
     def _build_layout(self):
         pane = lambda f: pn.pane.Bokeh(f, sizing_mode="stretch_width")  # noqa: E731
-        select = pn.widgets.Select.from_param(self.param.run, options={run_title(n) + f" ({n})": n for n in self.runs},
+        titles = {run_title(n): n for n in self.runs}  # plain words; the file name only if two titles agree
+        titles = titles if len(titles) == len(self.runs) else {f"{run_title(n)} ({n})": n for n in self.runs}
+        select = pn.widgets.Select.from_param(self.param.run, options=titles,
                                               css_classes=["paper-run"], width=330, sizing_mode="fixed")
         bar = wrap_row(select, self.play_button, self.pause_button, self.speed, self.position, self.window)
         note = pn.pane.HTML('<div class="buttons-note">Play replays the stored run (no computation): the diagram '
@@ -159,7 +161,7 @@ class PaperView(pn.viewable.Viewer):
             if json.loads(a.get("options_json") or "{}").get("buffer"):
                 self.window.value = "whole box"  # sources and sinks around the buffer zone span the box
             self.plots.set_run(d, WINDOWS[self.window.value])
-            self.header.object = (f'<div class="model-label" id="paper-run-label">{html.escape(self.run)}: '
+            self.header.object = (f'<div class="model-label" id="paper-run-label">'
                                   f'{html.escape(run_title(self.run))}, σ₀ = 0 — '
                                   f'<span id="paper-status">{html.escape(a["status"])}</span></div>')
             self.compare.object = self._compare_html(a)
@@ -179,7 +181,7 @@ class PaperView(pn.viewable.Viewer):
         return (f'<div class="msg-ok" id="paper-compare"><b>Prevalent wavelength λ<sub>p</sub>: paper vs computed</b>'
                 f'<table style="border-collapse:collapse;margin:4px 0">'
                 + row.format(f"paper ({paper_html(a['figure'])})", "paper-number", f"{paper:g} m",
-                             html.escape(a["paper_reference"]))
+                             publish(html.escape(a["paper_reference"], quote=False)))
                 + row.format("computed", "computed-number", f"{comp:.0f} m",
                              f"at orbit {float(a['orbit']):,.0f} ({comp / paper:.2f} × paper); most frequent over "
                              f"the last 1,000 orbits {float(a['lambda_p_last1000_m']):.0f} m")
@@ -187,8 +189,10 @@ class PaperView(pn.viewable.Viewer):
                 + (f'<span id="paper-known-issue" style="color:#8a4b00">{html.escape(a["known_issue"])}</span><br>'
                    if a.get("known_issue") else "")
                 + f'{settings}<br>'
-                f'Recompute ({FULL_COST.get(a["name"], "hours")} on a shared 2-core machine): '
-                f'<code id="paper-command">{html.escape(a["recompute_command"])}</code></div>')
+                f'<details><summary>For researchers: recomputing this run takes '
+                f'{FULL_COST.get(a["name"], "hours")} on a shared 2-core machine</summary>see '
+                f'{docs_link("researcher/reproduce.html", "Paper figures as recipes")}; the command is '
+                f'<code id="paper-command">{html.escape(a["recompute_command"])}</code></details></div>')
 
     # ------------------------------------------------------------------ playback
     def _on_playing(self, *_):

@@ -23,7 +23,7 @@ from ringcore import linear
 from ringcore.analysis.saturation import C_EMPIRICAL, lambda_p_empirical
 from ringcore.experiments.sweep import shipped_sweep_files, sweep_points
 
-from ringlab.lessons.tutorials import tab_links
+from ringlab.lessons.tutorials import docs_link, tab_links
 from ringlab.live.session import SessionRuns
 from ringlab.model.controls import ISOTHERMAL_ONLY, build_params, isothermal_only_note, set_labels
 from ringlab.model.wave_trains import load_lambda_st
@@ -56,15 +56,15 @@ surface density σ₀: denser rings have shorter waves, settling at 100-200 m.
   λ<sub>zero</sub> is the wavelength at which the linear group velocity vanishes (Linear-theory tab, Figure "vgroup").
   For weak self-gravity (large Q<sub>0</sub>, small σ₀) it is close to 2.8 (p<sub>s</sub> + F<sub>2</sub>) λ<sub>J</sub>,
   **eq. (lambdasigmaap)** with the sign that follows from eq. (osfreq) (the paper prints p<sub>s</sub> − F<sub>2</sub>;
-  see README, "Departures from the paper"), with the Jeans wavelength λ<sub>J</sub> = c<sub>0</sub>²/(Gσ₀), **eq. (jeans)**.
+  see DEPARTURES), with the Jeans wavelength λ<sub>J</sub> = c<sub>0</sub>²/(Gσ₀), **eq. (jeans)**.
 * **Dotted orange**: the fastest-growing linear wavelength. Saturated waves are *longer* than the waves that grow
   fastest at the start.
-* **Purple squares**: the runs shipped with the app (`ringcore sweep`s of tau15 and tau20, non-isothermal, and of
-  tau15 isothermal with p<sub>s</sub> = 1; runs of the other sets and models are drawn faint — pick the set and
+* **Purple squares**: long hydrodynamic runs computed in advance and shipped with the app (tau15 and tau20,
+  non-isothermal, and tau15 isothermal with p<sub>s</sub> = 1; runs of the other sets and models are drawn faint — pick the set and
   model above to bring theirs forward). **Green circles**: your own hydro runs —
   let a run in the Hydrodynamics tab saturate (e<sub>kin</sub> flat), then press "Add my run"; its λ<sub>p</sub> is the
   median over the last quarter of the run.
-""")
+""").replace("DEPARTURES", docs_link("science/departures.html", "Departures from the paper"))
 
 
 @pn.cache(max_items=64)
@@ -103,7 +103,7 @@ def load_sweep(path: Path | None = None) -> tuple[list, str]:
     path = Path(SWEEP_FILE if path is None else path)
     if not path.exists():
         return [], (f"No sweep data shipped yet ({path.name} is missing): only the theory curves are shown. "
-                    "It is made with <code>ringcore sweep</code>.")
+                    "The researcher's guide of the documentation (Sweeps) says how to compute it.")
     try:
         import xarray as xr
         with xr.open_dataset(path, engine="h5netcdf") as f:

@@ -1,0 +1,80 @@
+"""The "About / Cite" panel: the paper the lab follows, this software, its version and licence, how to cite both.
+
+Everything comes from :mod:`ringcore.citation` (the BibTeX that ``ringcore.cite()`` prints and
+``CITATION.cff`` repeats), so the panel, the command line and the citation file name the same paper and
+version.  The panel is self-contained (a button that shows or hides it); the page adds it with one line.
+Nothing here loads anything from another host: the DOI and arXiv numbers are text, not links.
+"""
+from __future__ import annotations
+
+import html
+import re
+
+import panel as pn
+
+from ringcore import cite
+from ringcore.citation import PAPER_BIBTEX
+from ringcore.provenance import __version__, commit
+
+from ringlab.ui.style import CSS
+
+# the article's DOI (ApJ 851:125); CITATION.cff and ringcore.citation give the arXiv number only
+PAPER_DOI = "10.3847/1538-4357/aa9a44"
+LICENSE = "BSD-3-Clause"
+
+ABOUT_CSS = """
+.about-box {font-size: 13.5px; line-height: 1.4;}
+.about-box h3 {font-size: 15px; margin: 6px 0 2px 0; color: #1f4e79;}
+.about-box pre {font-size: 11px; white-space: pre-wrap; background: #f4f6f8; padding: 6px; border-radius: 4px;
+                max-height: 260px; overflow: auto; user-select: all;}
+"""
+
+
+def paper_fields() -> dict:
+    """Title, journal, year, volume, pages and arXiv number of the paper, read from ringcore's BibTeX."""
+    fields = dict(re.findall(r"^\s*(\w+)\s*=\s*\{(.*)\},?\s*$", PAPER_BIBTEX, flags=re.M))
+    clean = {k: re.sub(r"[{}]", "", v) for k, v in fields.items()}
+    clean["title"] = clean["title"].replace("\\", "")
+    return clean
+
+
+def paper_reference() -> str:
+    """One line naming the paper: authors, year, title, journal, volume, article number, DOI, arXiv."""
+    f = paper_fields()
+    return (f"Lehmann, M., Schmidt, J. & Salo, H. ({f['year']}). {f['title']}. {f['journal']} {f['volume']}, "
+            f"{f['pages']}. doi:{PAPER_DOI} · arXiv:{f['eprint']}")
+
+
+def about_html() -> str:
+    """The panel's text (HTML)."""
+    bib = cite(show=False)
+    return (
+        '<div class="about-box" id="about-cite">'
+        "<h3>The science</h3>"
+        "<p>This lab follows one research paper: every equation, figure, table and section number in it is that "
+        f"paper's printed number.</p><p id=\"about-paper\"><b>{html.escape(paper_reference())}</b></p>"
+        "<h3>This software</h3>"
+        f"<p id=\"about-software\">ringlab {html.escape(__version__)} (code version {html.escape(commit()[:12])}): "
+        "its numerical core solves the paper's model — the exact linear theory, a one-dimensional hydrodynamic "
+        "solver with radial self-gravity and a local N-body simulation — and this web lab shows it. "
+        f"Licence: {LICENSE}, an open-source licence.</p>"
+        "<h3>How to cite</h3>"
+        "<p>If you use results from this lab in a report or paper, cite the paper and the software (these "
+        "BibTeX entries are what <i>ringcore.cite()</i> prints in Python):</p>"
+        f'<pre id="about-bibtex">{html.escape(bib)}</pre></div>')
+
+
+class AboutCite(pn.viewable.Viewer):
+    """A button "About / Cite" that shows or hides :func:`about_html` (one per session)."""
+
+    def __init__(self, **params):
+        super().__init__(**params)
+        self.button = pn.widgets.Toggle(label="About / Cite", value=False, color="default",
+                                        css_classes=["about-toggle"], sizing_mode="stretch_width")
+        self.pane = pn.pane.HTML(about_html(), stylesheets=[CSS, ABOUT_CSS], sizing_mode="stretch_width",
+                                 visible=False, margin=(0, 5))
+        self.button.param.watch(lambda e: setattr(self.pane, "visible", e.new), "value")
+        self._layout = pn.Column(self.button, self.pane, sizing_mode="stretch_width", css_classes=["about-cite"])
+
+    def __panel__(self):
+        return self._layout
