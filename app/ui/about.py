@@ -3,7 +3,7 @@
 Everything comes from :mod:`ringcore.citation` (the BibTeX that ``ringcore.cite()`` prints and
 ``CITATION.cff`` repeats), so the panel, the command line and the citation file name the same paper and
 version.  The panel is self-contained (a button that shows or hides it); the page adds it with one line.
-Nothing here loads anything from another host: the DOI and arXiv numbers are text, not links.
+Nothing here loads anything from another host: the ADS and arXiv identifiers are text, not links.
 """
 from __future__ import annotations
 
@@ -18,8 +18,10 @@ from ringcore.provenance import __version__, commit
 
 from ringlab.ui.style import CSS
 
-# the article's DOI (ApJ 851:125); CITATION.cff and ringcore.citation give the arXiv number only
-PAPER_DOI = "10.3847/1538-4357/aa9a44"
+# the article's ADS bibcode, which follows from year, journal, volume, article number and first author; its DOI
+# is not in the paper's source we ship and could not be checked offline, so it is not shown (a wrong DOI is worse
+# than none): the journal reference, this bibcode and the arXiv number each identify the article
+PAPER_ADS = "2017ApJ...851..125L"
 LICENSE = "BSD-3-Clause"
 
 ABOUT_CSS = """
@@ -39,10 +41,10 @@ def paper_fields() -> dict:
 
 
 def paper_reference() -> str:
-    """One line naming the paper: authors, year, title, journal, volume, article number, DOI, arXiv."""
+    """One line naming the paper: authors, year, title, journal, volume, article number, ADS bibcode, arXiv."""
     f = paper_fields()
     return (f"Lehmann, M., Schmidt, J. & Salo, H. ({f['year']}). {f['title']}. {f['journal']} {f['volume']}, "
-            f"{f['pages']}. doi:{PAPER_DOI} · arXiv:{f['eprint']}")
+            f"{f['pages']}. ADS: {PAPER_ADS} · arXiv:{f['eprint']}")
 
 
 def about_html() -> str:

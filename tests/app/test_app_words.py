@@ -114,7 +114,7 @@ def test_no_tab_or_lesson_step_shows_a_label_or_jargon():
     joined = "\n".join(seen)
     for must in ("Wave kinetic energy e_kin, eq. (39)", 'title="in Lehmann, Schmidt', "Row of Table 2",
                  "fast (about 10 times larger steps)", "Appendix A", "fastest-growing λ (linear)", "About / Cite",
-                 "doi:10.3847/1538-4357/aa9a44",
+                 "ADS: 2017ApJ...851..125L",
                  LESSONS[-1].steps[-1].title):
         assert must in joined, must
 
@@ -203,14 +203,16 @@ def test_a_choice_question_without_a_choice_says_so_in_words():
 def test_about_cite_names_the_paper_and_this_software():
     import ringcore
     from ringlab.main import create_app
-    from ringlab.ui.about import PAPER_DOI, AboutCite, about_html, paper_fields
+    from ringlab.ui.about import PAPER_ADS, AboutCite, about_html, paper_fields
 
     text = html.unescape(re.sub(r"<[^>]+>", " ", about_html()))
     for words in ("Lehmann, M., Schmidt, J. & Salo, H. (2017)", "Viscous Overstability in Saturn's Rings",
-                  "The Astrophysical Journal 851, 125", f"doi:{PAPER_DOI}", "arXiv:1804.07968",
+                  "The Astrophysical Journal 851, 125", f"ADS: {PAPER_ADS}", "arXiv:1804.07968",
                   f"ringlab {ringcore.__version__}", "BSD-3-Clause", "ringcore.cite()"):
         assert words in text, words
     assert ringcore.cite(show=False).strip() in text  # the same BibTeX the core prints
+    f = paper_fields()  # the bibcode is the one ADS builds from year, journal, volume, article and first author
+    assert PAPER_ADS == f"{f['year']}ApJ..{f['volume']:.>4}.{f['pages']:.>4}{f['author'].strip()[0]}"
     assert problems("about", about_html()) == []
     # the paper named in the panel is the one of CITATION.cff (read from the source tree when it is there)
     cff = Path(ringcore.__file__).resolve().parent.parent / "CITATION.cff"
