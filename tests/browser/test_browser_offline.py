@@ -115,6 +115,9 @@ def test_walk_through_every_tab_requests_nothing_from_other_hosts(server_url, br
     click(page, ".hydro-buffer-on input")
     click(page, ".hydro-settings button >> text=orbit-resolved")
     click(page, ".export-settings .bk-btn", 1500)  # a download
+    page.locator(".hydro-settings .settings-upload input[type=file]").first.set_input_files(
+        files=[{"name": "odd.json", "mimeType": "application/json", "buffer": b'{"sigma0": "many"}'}])
+    page.locator("#settings-message").first.wait_for(timeout=60_000)  # refused with a message, nothing changed
     click(page, ".hydro-reset button", 1500)
 
     show_tab(page, "N-body", ".nbody-start")
