@@ -6,9 +6,17 @@ promise (and hangs the page where the network is filtered).
 """
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
 from urllib.parse import urlparse
 
 import pytest
+
+from browser_support import ARTIFACTS, free_port, stop_server
 
 pytestmark = [pytest.mark.slow]
 LOAD_MS = 180_000
@@ -17,7 +25,7 @@ LOAD_MS = 180_000
 def click(page, sel: str, wait_ms: int = 800) -> None:
     loc = page.locator(sel).first
     loc.wait_for(state="visible", timeout=60_000)
-    loc.click()
+    loc.click(timeout=90_000)  # waits while the button is disabled (Pause: until the run has started)
     page.wait_for_timeout(wait_ms)
 
 
@@ -42,9 +50,39 @@ def keep_and_restore(page, prefix: str) -> None:
     click(page, f".{prefix}-restore button", 2500)
 
 
+@pytest.fixture(params=["panel serve", "ringlab serve"])
+def server_url(request, tmp_path):
+    """The app under ``panel serve`` (the test tier's server, runs in threads) and under ``ringlab serve``
+    as ``make app`` starts it (pn.serve, the default compute backend: worker processes on 2+ cores)."""
+    if request.param == "panel serve":
+        yield request.getfixturevalue("app_server")[0]
+        return
+    port = free_port()
+    env = {k: v for k, v in os.environ.items() if k != "RINGLAB_COMPUTE"}
+    exe = Path(sys.executable).with_name("ringlab")
+    cmd = [str(exe)] if exe.exists() else [sys.executable, "-m", "ringlab.cli.main"]
+    ARTIFACTS.mkdir(exist_ok=True)
+    log = open(ARTIFACTS / "offline-ringlab-serve.log", "w")
+    proc = subprocess.Popen([*cmd, "serve", "--port", str(port)], cwd=tmp_path, env=env, stdout=log,
+                            stderr=subprocess.STDOUT)
+    try:
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline:
+            assert proc.poll() is None, (ARTIFACTS / "offline-ringlab-serve.log").read_text()
+            try:
+                with urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=2):
+                    break
+            except OSError:
+                time.sleep(0.5)
+        yield f"http://127.0.0.1:{port}/main"
+    finally:
+        stop_server(proc)
+        log.close()
+
+
 @pytest.mark.timeout(900)
-def test_walk_through_every_tab_requests_nothing_from_other_hosts(app_server, browser_page):
-    url, _ = app_server
+def test_walk_through_every_tab_requests_nothing_from_other_hosts(server_url, browser_page):
+    url = server_url
     page = browser_page
     host = urlparse(url).netloc
     requests, foreign = [], []
@@ -75,9 +113,11 @@ def test_walk_through_every_tab_requests_nothing_from_other_hosts(app_server, br
     keep_and_restore(page, "hydro")
     click(page, ".hydro-isothermal input")
     click(page, ".hydro-buffer-on input")
-    page.locator(".hydro-spacetime-mode button").last.click()
-    page.wait_for_timeout(800)
+    click(page, ".hydro-settings button >> text=orbit-resolved")
     click(page, ".export-settings .bk-btn", 1500)  # a download
+    page.locator(".hydro-settings .settings-upload input[type=file]").first.set_input_files(
+        files=[{"name": "odd.json", "mimeType": "application/json", "buffer": b'{"sigma0": "many"}'}])
+    page.locator("#settings-message").first.wait_for(timeout=60_000)  # refused with a message, nothing changed
     click(page, ".hydro-reset button", 1500)
 
     show_tab(page, "N-body", ".nbody-start")
