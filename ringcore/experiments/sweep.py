@@ -241,6 +241,20 @@ def _collect(client, tasks, outdir: str, retries: int, progress: bool) -> list:
     return rows
 
 
+def local_cluster(n_workers: int, dashboard: bool = True):
+    """The sweep's own ``LocalCluster``: ``n_workers`` single-threaded processes, everything on 127.0.0.1.
+
+    The dashboard has no login, so it listens on this machine only (a free port; ``ssh -L`` reaches it from
+    elsewhere).  Without a dashboard the scheduler still starts its HTTP server (health routes), on port
+    8787 unless told otherwise: a free localhost port keeps a second sweep or the lab from colliding.
+    """
+    from dask.distributed import LocalCluster  # deferred on purpose: dask.distributed is slow to import
+
+    extra = {} if dashboard else {"scheduler_kwargs": {"dashboard": False, "dashboard_address": "127.0.0.1:0"}}
+    return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, host="127.0.0.1",
+                        dashboard_address="127.0.0.1:0" if dashboard else None, **extra)
+
+
 def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int | None = None, progress: bool = True,
               dashboard: bool = True, attrs: dict | None = None, client=None, retries: int = 2) -> SweepResult:
     """Run ``tasks`` on dask.distributed and write each result file as soon as it is done.
@@ -301,12 +315,7 @@ def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int | None
         elif client is None:
             client = running_client()
         if client is None:
-            # without a dashboard the scheduler still starts its HTTP server (health routes), on port 8787
-            # unless told otherwise: a free port on localhost keeps a second sweep or the app from colliding
-            extra = {} if dashboard else {"scheduler_kwargs": {"dashboard": False,
-                                                                "dashboard_address": "127.0.0.1:0"}}
-            cluster = LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True,
-                                   dashboard_address=":0" if dashboard else None, **extra)
+            cluster = local_cluster(n_workers, dashboard)
             client = own = Client(cluster)
         try:
             if progress and client.dashboard_link:

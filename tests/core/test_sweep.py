@@ -36,3 +36,17 @@ def test_sweep_runs_skips_and_reports(tmp_path, monkeypatch):
 def test_unknown_engine():
     with pytest.raises(ValueError, match="engine"):
         run_sweep([{"engine": "warp"}], "/tmp/x", progress=False)
+
+
+@pytest.mark.parametrize("dashboard", [True, False])
+def test_sweep_cluster_listens_on_this_machine_only(dashboard):
+    """The dashboard has no login: scheduler and HTTP server bind 127.0.0.1, never every interface."""
+    from ringcore.experiments.sweep import local_cluster
+
+    cluster = local_cluster(0, dashboard)
+    try:
+        hosts = {s.getsockname()[0] for s in cluster.scheduler.http_server._sockets.values()}
+        assert hosts == {"127.0.0.1"}
+        assert cluster.scheduler.address.startswith("tcp://127.0.0.1:")
+    finally:
+        cluster.close()
