@@ -3,9 +3,9 @@
 Theory curves for the chosen parameter set and model: the empirical relation
 lambda_p = 1.4 lambda_zero(sigma0), eq. (lambdasigma), the fastest-growing linear
 wavelength and the stability boundary lambda_st of the shipped table (:mod:`.stability`);
-below the plot, one wave train and its stability on request (:mod:`.wave_train`).  Points: the sweep shipped with the package (``app/data/saturation_sweep.nc``,
-the ``sweep.nc`` written by ``ringcore sweep``) and the student's own hydro runs of this
-session ("Add my run").
+below the plot, one wave train and its stability on request (:mod:`.wave_train`).  Points:
+the sweep shipped with the package (``app/data/saturation_sweep.nc``, the ``sweep.nc``
+written by ``ringcore sweep``) and the student's own hydro runs of this session ("Add my run").
 
 References: eqs. (lambdasigma), (lambdasigmaap), (jeans); Figure "lambdap".
 """

@@ -66,6 +66,7 @@ class WaveTrainCard(pn.viewable.Viewer):
         self.profile_source = ColumnDataSource(dict(x=[], sigma=[], u=[], T=[]), name="wt-profile-source")
         self.spectrum_source = ColumnDataSource(dict(q=[], growth=[]), name="wt-spectrum-source")
         self.figs = self._figures()
+        self.model_pane = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.job.param.watch(self._job_changed, ["busy", "progress", "status", "result"])
         self._model_label()
 
@@ -91,8 +92,9 @@ class WaveTrainCard(pn.viewable.Viewer):
     # ------------------------------------------------------------------ actions
     @param.depends("param_set", "isothermal", watch=True)
     def _model_label(self):
-        self.label = f"{self.param_set}, {'isothermal (p_s = 1)' if self.isothermal else 'non-isothermal'}"
-        self.button.name = "Compute wave train"
+        model = f"{self.param_set}, {'isothermal (p_s = 1)' if self.isothermal else 'non-isothermal'}"
+        self.model_pane.object = (f'<div class="group-title" id="wt-settings">Model: {model} — chosen at the top of '
+                                  'this tab</div>')
 
     def compute(self, *_):
         """Check the inputs and start the computation (progress and result follow)."""
@@ -156,7 +158,7 @@ class WaveTrainCard(pn.viewable.Viewer):
         return pn.Column(
             pn.pane.Markdown("### A wave train and its stability", margin=(10, 10, 0, 10)),
             pn.pane.Markdown(INTRO, sizing_mode="stretch_width", styles={"font-size": "14px"}),
-            inputs, self.message, self.bar, self.status, self.readouts, responsive_grid(*self.figs, min_px=320),
+            self.model_pane, inputs, self.message, self.bar, self.status, self.readouts, responsive_grid(*self.figs, min_px=320),
             pn.pane.HTML(f'<div class="buttons-note" id="wt-spectrum-note">{SPECTRUM_NOTE}</div>', stylesheets=[CSS],
                          sizing_mode="stretch_width", margin=(0, 10)),
             sizing_mode="stretch_width", css_classes=["wt-card"])
