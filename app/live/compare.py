@@ -150,7 +150,8 @@ class CompareRunner(LiveLoop, param.Parameterized):
 
     # ------------------------------------------------------------------ running
     def start(self, *_):
-        """Advance both runs together (in the server's pool; :meth:`tick` outside a server session)."""
+        """Advance both runs together (in the shared pool in a server session or a Jupyter kernel; elsewhere
+        :meth:`wait` or :meth:`tick`)."""
         if self.a.sim is None or self.b.sim is None:
             self.status = "Nothing to run: fix the settings first."
             return

@@ -172,7 +172,8 @@ class HydroRunner(LiveLoop, HydroSettings):
 
     # ------------------------------------------------------------------ running
     def start(self, *_):
-        """Run continuously (periodic callback in a server session; call :meth:`tick` otherwise)."""
+        """Run continuously: chunks in the shared pool in a server session or a Jupyter kernel; elsewhere
+        (a script, a headless test) :meth:`wait` or :meth:`tick` advance the run."""
         if self.sim is None:
             self.status = "Nothing to run: fix the settings first."
             return
