@@ -129,7 +129,7 @@ def link_lines(p: dict) -> list[str]:
     """
     lines = [TITLE,
              f"  student link: {p['student']}",
-             f"  teacher link: {p['teacher']}   (opens Hydrodynamics and starts its run)"]
+             f"  class start link: {p['teacher']}   (for students: opens Hydrodynamics and starts their run)"]
     if p["docs"]:
         lines.append(f"  documentation: {p['student'][:-len('main')]}docs/index.html")
     else:

@@ -162,7 +162,7 @@ def stop_after(runner, orbits: float) -> float:
             _STOPS.pop(runner, None)
             runner.pause_at = None
             runner.pause()
-            runner.status = (f"Paused by the lesson after {runner.sim.orbits:.0f} orbits (its classroom length): "
+            runner.status = (f"Paused by the lesson after {runner.sim.orbits:.3g} orbits (its classroom length): "
                              "answer the question, or press Start to go on.")
             runner.frame += 1  # the views redraw the paused state (frames skipped while running)
 

@@ -116,7 +116,7 @@ def test_ringlab_serve_answers_with_the_lab_and_its_docs(tmp_path):
         proc.terminate()
         out, _ = proc.communicate(timeout=20)
     assert f"student link: http://localhost:{port}/main" in out
-    assert f"teacher link: http://localhost:{port}/main?tab=hydro&autostart=1" in out
+    assert f"class start link: http://localhost:{port}/main?tab=hydro&autostart=1" in out
     assert "Traceback" not in out, out
 
 
@@ -136,7 +136,7 @@ def test_class_mode_prints_the_lan_link_and_keeps_the_dashboard_local(monkeypatc
     assert "10.20.30.40:8000" in p["origins"] and "lab-pc:8000" in p["origins"]
     lines = serve.link_lines(p)
     assert "  student link: http://10.20.30.40:8000/main" in lines  # the machine's LAN address, not 0.0.0.0
-    assert any(ln.startswith("  teacher link: http://10.20.30.40:8000/main") for ln in lines)
+    assert any(ln.startswith("  class start link: http://10.20.30.40:8000/main") for ln in lines)
     text = "\n".join(lines)
     assert "class mode: listening on every network interface, port 8000" in text
     assert "Dask dashboard stay on this machine only (127.0.0.1)" in text and "0.0.0.0" not in text

@@ -64,7 +64,7 @@ def browser(tmp_path_factory):
 
 
 def open_tab(ctx, url: str, tab: str, autostart: bool = False):
-    """A new page opened on ``tab`` with the teacher link (``?tab=...&autostart=1``)."""
+    """A new page opened on ``tab`` with the class start link (``?tab=...&autostart=1``)."""
     page = ctx.new_page()
     page.js_errors = []
     page.on("pageerror", lambda exc: page.js_errors.append(str(exc)))
