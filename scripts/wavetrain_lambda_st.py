@@ -74,7 +74,8 @@ def _base_records(path):
     """Records (as :func:`run` writes them, without the scan) of an assembled table's computed rows."""
     import xarray as xr
 
-    ds = xr.open_dataset(path, engine="h5netcdf")
+    with xr.open_dataset(path, engine="h5netcdf") as f:
+        ds = f.load()
     recs = []
     for c in ds.case.values:
         for s0 in ds.sigma0.values:
@@ -122,10 +123,12 @@ def assemble(args):
     ds.attrs["command"] = " ".join(["python scripts/wavetrain_lambda_st.py"] + sys.argv[1:])
     history = []
     if args.base:
-        base = xr.open_dataset(args.base, engine="h5netcdf")
-        history = [base.attrs.get("history", base.attrs.get("command", ""))]
+        with xr.open_dataset(args.base, engine="h5netcdf") as base:
+            history = [base.attrs.get("history", base.attrs.get("command", ""))]
     ds.attrs["history"] = "\n".join(history + [f"{time.strftime('%Y-%m-%d', time.gmtime())}: {ds.attrs['command']}"])
     ds.attrs["recipe"] = __doc__
+    ds.attrs["not_computed"] = ",".join(f"{c}@{s:g}" for i, c in enumerate(cases) for j, s in enumerate(s0)
+                                        if not np.isfinite(cpu[i, j]))
     ds.to_netcdf(args.out, engine="h5netcdf")
     print(ds.lambda_st_m.to_pandas().round(1))
     print(ds.lambda_slow_m.to_pandas().round(1))
