@@ -9,6 +9,13 @@ Usage (the recipe that made app/data/lambda_st.nc; two processes share the cases
     python scripts/wavetrain_lambda_st.py assemble runs/lambda_st_a.jsonl runs/lambda_st_b.jsonl \
         --out app/data/lambda_st.nc
 
+To add cells to the shipped table (the rows already there are kept; ``history`` records the step)::
+
+    OMP_NUM_THREADS=1 nice python scripts/wavetrain_lambda_st.py run \
+        --cases tau15:iso@200,st99:iso@600 --jsonl runs/lambda_st_d.jsonl
+    python scripts/wavetrain_lambda_st.py assemble runs/lambda_st_d.jsonl \
+        --base app/data/lambda_st.nc --out app/data/lambda_st.nc
+
 Each (case, sigma0) is one :func:`ringcore.wavetrain.stability_boundary` call at the defaults of
 ``ringcore wavetrain --stability-boundary`` except ``N_max`` (``--n-max``, default 301); one JSON line
 per result is appended as soon as it is done (an interrupted run keeps what it finished).
