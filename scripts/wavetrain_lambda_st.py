@@ -9,6 +9,13 @@ Usage (the recipe that made app/data/lambda_st.nc; two processes share the cases
     python scripts/wavetrain_lambda_st.py assemble runs/lambda_st_a.jsonl runs/lambda_st_b.jsonl \
         --out app/data/lambda_st.nc
 
+To add cells to the shipped table (the rows already there are kept; ``history`` records the step)::
+
+    OMP_NUM_THREADS=1 nice python scripts/wavetrain_lambda_st.py run \
+        --cases tau15:iso@200,st99:iso@600 --jsonl runs/lambda_st_d.jsonl
+    python scripts/wavetrain_lambda_st.py assemble runs/lambda_st_d.jsonl \
+        --base app/data/lambda_st.nc --out app/data/lambda_st.nc
+
 Each (case, sigma0) is one :func:`ringcore.wavetrain.stability_boundary` call at the defaults of
 ``ringcore wavetrain --stability-boundary`` except ``N_max`` (``--n-max``, default 301); one JSON line
 per result is appended as soon as it is done (an interrupted run keeps what it finished).
@@ -74,7 +81,8 @@ def _base_records(path):
     """Records (as :func:`run` writes them, without the scan) of an assembled table's computed rows."""
     import xarray as xr
 
-    ds = xr.open_dataset(path, engine="h5netcdf")
+    with xr.open_dataset(path, engine="h5netcdf") as f:
+        ds = f.load()
     recs = []
     for c in ds.case.values:
         for s0 in ds.sigma0.values:
@@ -122,10 +130,12 @@ def assemble(args):
     ds.attrs["command"] = " ".join(["python scripts/wavetrain_lambda_st.py"] + sys.argv[1:])
     history = []
     if args.base:
-        base = xr.open_dataset(args.base, engine="h5netcdf")
-        history = [base.attrs.get("history", base.attrs.get("command", ""))]
+        with xr.open_dataset(args.base, engine="h5netcdf") as base:
+            history = [base.attrs.get("history", base.attrs.get("command", ""))]
     ds.attrs["history"] = "\n".join(history + [f"{time.strftime('%Y-%m-%d', time.gmtime())}: {ds.attrs['command']}"])
     ds.attrs["recipe"] = __doc__
+    ds.attrs["not_computed"] = ",".join(f"{c}@{s:g}" for i, c in enumerate(cases) for j, s in enumerate(s0)
+                                        if not np.isfinite(cpu[i, j]))
     ds.to_netcdf(args.out, engine="h5netcdf")
     print(ds.lambda_st_m.to_pandas().round(1))
     print(ds.lambda_slow_m.to_pandas().round(1))

@@ -2,12 +2,19 @@
 
 The branch is computed from lambda_c up to ``lam_max_m``; the Floquet growth rate (largest over the
 sampled Bloch wavenumbers) is evaluated on wave trains spaced by about ``scan_step`` in
-lambda/lambda_c; in the first bracket (unstable -> stable) of the scan the boundary is refined by
-bisection (Newton at fixed wavelength) and finally by linear interpolation of the growth rate of
-the q that was most unstable on the unstable side, which changes sign smoothly.
+lambda/lambda_c (up to three times that where the growth is fast, far from the boundary); in the
+first bracket (unstable -> stable) of the scan the boundary is refined by bisection (Newton at fixed
+wavelength) and finally by linear interpolation of the growth rate of the q that was most unstable on
+the unstable side, which changes sign smoothly.
 
-lambda_st is reported only if every scanned wave train above it is stable; otherwise the result says
-which wavelengths are unstable again.
+Cost.  The dense eigenvalue problems dominate (about 0.6 s for one complex q at N = 217 nodes,
+isothermal), so a scan point first tries a coarse set of q (:data:`~.floquet.COARSE_Q` and the
+previous point's fastest q) and computes the remaining q only if these are all stable: stable or not
+is decided on the full set, while an unstable point's growth rate is a lower bound (the largest over
+the q tried).
+
+lambda_st is reported only if every scanned wave train above it, up to ``confirm`` times it, is
+stable; otherwise the result says which wavelengths are unstable again.
 """
 from __future__ import annotations
 
