@@ -18,17 +18,20 @@ import hashlib
 import os
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+# modules without compiled code whose constants numba freezes into the kernels (the array layout)
+CONSTANT_MODULES = ("layout.py",)
 
 
 @functools.lru_cache(maxsize=1)
 def kernel_sources_digest() -> bytes:
-    """SHA-256 over the modules of this package that hold compiled code (``njit``), in name order."""
+    """SHA-256 over the modules of this package that hold compiled code (``njit``) or the constants
+    compiled into it (:data:`CONSTANT_MODULES`), in name order."""
     h = hashlib.sha256()
     for name in sorted(os.listdir(HERE)):
         if name.endswith(".py"):
             with open(os.path.join(HERE, name), "rb") as f:
                 src = f.read()
-            if b"njit" in src or b"intrinsic" in src:
+            if b"njit" in src or b"intrinsic" in src or name in CONSTANT_MODULES:
                 h.update(name.encode() + b"\0" + src)
     return h.digest()
 
