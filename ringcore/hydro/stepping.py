@@ -17,7 +17,7 @@ from .. import ranges
 from ..checks import check_real
 from ..deprecation import warn_once
 from ..engine import BlowUp
-from ..units import e_kin_rp, time_to_orbits
+from ..units import e_kin_rp
 from . import kernels as K
 from .convert import cons_to_prim
 from .stepper import ssprk_step

@@ -6,6 +6,7 @@ from ringcore import linear, params
 from ringcore.experiments.sweep import execute_task, run_sweep, task_name
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 def test_sweep_runs_skips_and_reports(tmp_path):
     tasks = [{"engine": "linear", "set": "tau15", "sigma0": s} for s in (100.0, 400.0, 800.0)]
     tasks.append({"engine": "linear", "set": "tau15", "sigma0": -5.0})  # invalid: must be reported
