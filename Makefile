@@ -56,10 +56,13 @@ PYTEST_XDIST = -n $(PYTEST_WORKERS) --dist loadgroup
 lint-imports: $(STAMP)
 	$(BIN)/lint-imports --no-cache
 
+# the install tier runs while `make docs` builds (one core each: Sphinx runs on one); it installs the fresh venv's
+# packages first and waits for the docs build (RINGLAB_DOCS_PID) before it builds the wheel with the site inside
 test: $(STAMP) browser lint-imports
 	$(BIN)/python -m pytest $(PYTEST_XDIST) --ignore=tests/install
-	$(MAKE) docs
-	$(BIN)/python -m pytest tests/install
+	@$(MAKE) docs & docs_pid=$$!; \
+	RINGLAB_DOCS_PID=$$docs_pid $(BIN)/python -m pytest tests/install; rc=$$?; \
+	wait $$docs_pid || { echo "make docs failed"; exit 1; }; exit $$rc
 
 test-fast: $(STAMP) lint-imports
 	$(BIN)/python -m pytest $(PYTEST_XDIST) -m "not slow" tests/core tests/app

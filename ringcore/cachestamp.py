@@ -17,29 +17,34 @@ import functools
 import hashlib
 import os
 
-_PACKAGES: set[str] = set()  # directories of registered packages
+_PACKAGES: dict[str, tuple] = {}  # directory of a registered package -> its constant modules
 
 
 @functools.lru_cache(maxsize=None)
 def sources_digest(package_dir: str) -> bytes:
-    """SHA-256 over the modules of ``package_dir`` that hold compiled code (``njit``), in name order."""
+    """SHA-256 over the modules of ``package_dir`` that hold compiled code (``njit``) or constants compiled
+    into it (the ``constants`` given to :func:`register`), in name order."""
+    constants = _PACKAGES.get(package_dir, ())
     h = hashlib.sha256()
     for name in sorted(os.listdir(package_dir)):
         if name.endswith(".py"):
             with open(os.path.join(package_dir, name), "rb") as f:
                 src = f.read()
-            if b"njit" in src or b"intrinsic" in src:
+            if b"njit" in src or b"intrinsic" in src or name in constants:
                 h.update(name.encode() + b"\0" + src)
     return h.digest()
 
 
-def register(package_file: str) -> str:
+def register(package_file: str, constants: tuple = ()) -> str:
     """Stamp every compiled function of the package whose ``__init__.py`` (or any module) is ``package_file``.
 
-    Returns the package directory.  Call it before the package's first kernel is compiled or loaded.
+    ``constants`` names modules without compiled code whose module-level constants numba freezes into the
+    kernels (an array layout, say): they are part of the stamp too.  Returns the package directory.  Call it
+    before the package's first kernel is compiled or loaded.
     """
     d = os.path.dirname(os.path.abspath(package_file))
-    _PACKAGES.add(d)
+    _PACKAGES[d] = tuple(constants)
+    sources_digest.cache_clear()
     return d
 
 

@@ -10,7 +10,9 @@ import subprocess
 import sys
 import time
 import urllib.request
+from contextlib import contextmanager
 from pathlib import Path
+from typing import NamedTuple
 
 import pytest
 
@@ -75,6 +77,62 @@ def stop_server(proc: subprocess.Popen) -> None:
     except subprocess.TimeoutExpired:
         proc.kill()
         proc.wait(timeout=5)
+
+
+BAD_LOG_LINES = ("Traceback", "ERROR")
+
+
+def log_errors(log: Path, patterns=BAD_LOG_LINES) -> list:
+    """Lines of the server log ``log`` holding any of ``patterns``."""
+    return [ln for ln in log.read_text(errors="replace").splitlines() if any(p in ln for p in patterns)]
+
+
+class ServedApp(NamedTuple):
+    url: str  # the lab's page, http://127.0.0.1:<port>/main
+    port: int
+    log: Path
+    proc: subprocess.Popen
+    t_live: float  # seconds to /liveness
+
+
+@contextmanager
+def served(log_name: str, extra=(), compute: str | None = None, check_log: bool = False, patterns=BAD_LOG_LINES):
+    """An app server (:func:`start_server`) on a free port for the ``with`` block, logging to
+    ``test-artifacts/<log_name>``; stopped afterwards, and then, with ``check_log``, its whole log must hold no
+    line with any of ``patterns`` (a traceback or an error)."""
+    ARTIFACTS.mkdir(exist_ok=True)
+    port = free_port()
+    log = ARTIFACTS / log_name
+    proc, t_live = start_server(port, log, extra, compute)
+    try:
+        yield ServedApp(f"http://127.0.0.1:{port}/main", port, log, proc, t_live)
+    finally:
+        stop_server(proc)
+    if check_log:
+        bad = log_errors(log, patterns)
+        assert not bad, f"server log {log} has errors: {bad[:8]}"
+
+
+@contextmanager
+def chromium(profile, width: int = 1280, height: int = 720, timeout_ms: float = 20_000, **kw):
+    """A persistent Playwright context of headless Debian Chromium (profile folder ``profile``, viewport
+    ``width`` x ``height``, default timeout ``timeout_ms``; ``kw`` to ``launch_persistent_context``)."""
+    with sync_playwright() as pw:
+        ctx = pw.chromium.launch_persistent_context(str(profile), executable_path=str(CHROMIUM), headless=True,
+                                                    args=FLAGS, viewport={"width": width, "height": height}, **kw)
+        ctx.set_default_timeout(timeout_ms)
+        try:
+            yield ctx
+        finally:
+            ctx.close()
+
+
+def new_page(ctx):
+    """A new page of ``ctx`` that collects its JavaScript errors in ``page.js_errors``."""
+    page = ctx.new_page()
+    page.js_errors = []
+    page.on("pageerror", lambda exc: page.js_errors.append(str(exc)))
+    return page
 
 
 def readout_m(page, rid: str) -> float:

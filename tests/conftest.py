@@ -43,6 +43,31 @@ if settings is not None:
     settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", os.environ.get("RINGLAB_HYPOTHESIS_PROFILE", "ci")))
 
 
+# ---------------------------------------------------------------- numba: compile once, before the workers start
+# Every kernel is cached on disk (``@njit(cache=True)``).  On a fresh clone the xdist workers would each compile
+# the kernels they call, the same ones twice; the controller compiles them once instead, the hydro and N-body
+# kernels in two processes at the same time (:mod:`ringcore.warmup`), and the workers load the cache.  Skipped
+# without xdist (one process compiles each kernel once anyway) and with RINGLAB_TEST_WARMUP=0.
+_WARMUP: dict = {}
+
+
+def pytest_configure(config):
+    workers = getattr(config.option, "numprocesses", None)
+    if hasattr(config, "workerinput") or not workers or os.environ.get("RINGLAB_TEST_WARMUP", "1") == "0":
+        return
+    from ringcore.warmup import compile_in_parallel
+
+    _WARMUP.update(compile_in_parallel())
+
+
+def pytest_report_header(config):
+    if _WARMUP:
+        return "numba warm-up (compile or load the kernel cache before the workers start): " + ", ".join(
+            f"{e} {s:.1f} s" + ("" if rc == 0 else f" (exit {rc}: the workers compile on demand)")
+            for e, (rc, s) in _WARMUP.items())
+    return None
+
+
 def pytest_collection_modifyitems(config, items):
     """Mark each test with its tier (its folder under tests/); browser tests share one xdist group."""
     import browser_support  # tests/browser_support.py (tests/ is on sys.path: this file's folder)
@@ -59,37 +84,36 @@ def pytest_collection_modifyitems(config, items):
             for mark in browser_support.pytestmark:
                 item.add_marker(mark)
             item.add_marker(pytest.mark.xdist_group("browser"))
+    if hasattr(config, "workerinput"):  # an xdist worker (every worker sorts alike): long tests first
+        items.sort(key=_long_first)
+
+
+def _long_first(item) -> int:
+    """Sort key that hands the long tests out first (longest processing time first: no long test starts near
+    the end while the other worker idles): the browser group (xdist puts it first anyway), the tutorials and the
+    ``slow`` tests, then the rest in collection order (a stable sort).  Only under xdist, where every test is
+    its own unit of work already; a serial run keeps each module's tests together."""
+    if item.get_closest_marker("browser"):
+        return 0
+    if item.get_closest_marker("notebooks") or item.get_closest_marker("slow"):
+        return 1
+    return 2
 
 
 # ---------------------------------------------------------------- browser fixtures (tests/browser)
 @pytest.fixture
 def app_server():
     """URL of a freshly started app server (terminated in teardown) and its seconds to liveness."""
-    from browser_support import ARTIFACTS, free_port, start_server, stop_server
+    from browser_support import served
 
-    ARTIFACTS.mkdir(exist_ok=True)
-    port = free_port()
-    proc, t_live = start_server(port, ARTIFACTS / "panel-serve.log")
-    try:
-        yield f"http://127.0.0.1:{port}/main", t_live
-    finally:
-        stop_server(proc)
+    with served("panel-serve.log") as app:
+        yield app.url, app.t_live
 
 
 @pytest.fixture
 def browser_page(tmp_path):
     """A Playwright page in headless Debian Chromium with a fresh profile; collects JavaScript errors."""
-    from browser_support import CHROMIUM, FLAGS, sync_playwright
+    from browser_support import chromium, new_page
 
-    with sync_playwright() as pw:
-        ctx = pw.chromium.launch_persistent_context(
-            str(tmp_path / "profile"), executable_path=str(CHROMIUM), headless=True, args=FLAGS,
-            viewport={"width": 1500, "height": 1100})
-        ctx.set_default_timeout(15_000)
-        page = ctx.new_page()
-        page.js_errors = []
-        page.on("pageerror", lambda exc: page.js_errors.append(str(exc)))
-        try:
-            yield page
-        finally:
-            ctx.close()
+    with chromium(tmp_path / "profile", width=1500, height=1100, timeout_ms=15_000) as ctx:
+        yield new_page(ctx)

@@ -32,7 +32,34 @@ def bin_columns(row: np.ndarray, max_cols: int = MAX_IMAGE_COLS) -> np.ndarray:
     return (np.add.reduceat(row, edges) / np.diff(np.append(edges, row.size))).astype(np.float32)
 
 
-class SpaceTimeImage:
+class _ImageRows:
+    """Storage shared by the two images: at most ``max_rows`` binned rows (float32) and their times."""
+
+    def __init__(self, n: int, max_rows: int, max_cols: int):
+        self.max_rows, self.max_cols = int(max_rows), int(max_cols)
+        self.ncols = bin_columns(np.zeros(n), max_cols).size
+        self.data = np.zeros((self.max_rows, self.ncols), np.float32)
+        self.t = np.zeros(self.max_rows)
+        self.rows = 0
+        self.version = 0  # changes whenever the image changes
+
+    def _order(self) -> np.ndarray:
+        """Indices of the stored rows, oldest first."""
+        return np.arange(self.rows)
+
+    def image(self) -> np.ndarray:
+        """The stored rows (rows, ncols) float32, oldest first (a copy)."""
+        return self.data[self._order()]
+
+    def extent(self) -> tuple[float, float]:
+        """(t of the oldest row, t just after the newest row) [orbits]."""
+        if self.rows == 0:
+            return (0.0, self.interval)
+        idx = self._order()
+        return (float(self.t[idx[0]]), float(self.t[idx[-1]] + self.interval))
+
+
+class SpaceTimeImage(_ImageRows):
     """Rows sigma(x) at (roughly) equal time intervals, thinned in pairs when full.
 
     Parameters
@@ -44,17 +71,12 @@ class SpaceTimeImage:
     """
 
     def __init__(self, n: int, interval: float, max_rows: int = MAX_IMAGE_ROWS, max_cols: int = MAX_IMAGE_COLS):
-        self.max_rows, self.max_cols = int(max_rows), int(max_cols)
-        self.ncols = bin_columns(np.zeros(n), max_cols).size
-        self.data = np.zeros((self.max_rows, self.ncols), np.float32)
-        self.t = np.zeros(self.max_rows)
-        self.rows = 0
+        super().__init__(n, max_rows, max_cols)
         self.stride = 1  # incoming rows per stored row
         self.base_interval = float(interval)
         self._acc = np.zeros(self.ncols, np.float64)
         self._nacc = 0
         self._t_first = 0.0
-        self.version = 0  # changes whenever the image changes
 
     @property
     def interval(self) -> float:
@@ -85,29 +107,14 @@ class SpaceTimeImage:
         self.rows = h
         self.stride *= 2
 
-    def image(self) -> np.ndarray:
-        """The stored rows (rows, ncols) float32, oldest first (a copy)."""
-        return self.data[:self.rows].copy()
 
-    def extent(self) -> tuple[float, float]:
-        """(t of the first row, t just after the last row) [orbits]."""
-        if self.rows == 0:
-            return (0.0, self.interval)
-        return (float(self.t[0]), float(self.t[self.rows - 1] + self.interval))
-
-
-class RollingImage:
+class RollingImage(_ImageRows):
     """The latest ``max_rows`` rows (a window that moves with the run; ring buffer, float32)."""
 
     def __init__(self, n: int, interval: float, max_rows: int = MAX_IMAGE_ROWS, max_cols: int = MAX_IMAGE_COLS):
-        self.max_rows, self.max_cols = int(max_rows), int(max_cols)
-        self.ncols = bin_columns(np.zeros(n), max_cols).size
-        self.data = np.zeros((self.max_rows, self.ncols), np.float32)
-        self.t = np.zeros(self.max_rows)
-        self.rows = 0
+        super().__init__(n, max_rows, max_cols)
         self.head = 0  # index of the next row to write
         self.interval = float(interval)
-        self.version = 0
 
     def add(self, t: float, row) -> None:
         """Add one row at time ``t`` [orbits] (the oldest one drops out when full)."""
@@ -121,17 +128,6 @@ class RollingImage:
         if self.rows < self.max_rows:
             return np.arange(self.rows)
         return (np.arange(self.max_rows) + self.head) % self.max_rows
-
-    def image(self) -> np.ndarray:
-        """The rows in the window (rows, ncols), oldest first (a copy)."""
-        return self.data[self._order()]
-
-    def extent(self) -> tuple[float, float]:
-        """(t of the oldest row, t just after the newest row) [orbits]."""
-        if self.rows == 0:
-            return (0.0, self.interval)
-        idx = self._order()
-        return (float(self.t[idx[0]]), float(self.t[idx[-1]] + self.interval))
 
 
 class SeriesBuffer:

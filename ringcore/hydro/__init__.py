@@ -9,9 +9,10 @@
 
 ``Hydro1D`` is a :class:`ringcore.engine.Engine` (snapshot/restore, advance, on_sample, diagnostics()).
 
-Modules: :mod:`.kernels` (compiled MP5 / AUSM / central differences / RK stage),
+Modules: :mod:`.kernels` (compiled MP5 / AUSM / central differences / RK stage), :mod:`.layout` (their array
+layout), :mod:`.state_kernels` (ghosts, state check, temperature floor),
 :mod:`.gravity` (FFT self-gravity), :mod:`.timestep` (SSPRK(5,4), dt criteria),
-:mod:`.convert` (conservative <-> primitive), :mod:`.initial`, :mod:`.options`, :mod:`.solver`,
+:mod:`.convert` (conservative <-> primitive), :mod:`.initial`, :mod:`.options`, :mod:`.solver`, :mod:`.stepping` (the step and ``advance``),
 :mod:`.state_io` (State in and out), :mod:`.diagnostics`, :mod:`.runfile` (State <-> run file), :mod:`.bench`,
 :mod:`.mp5` (MP5 reconstruction), :mod:`.stepper` (a whole step in one compiled call), :mod:`.cachestamp`
 (one numba cache stamp for all hydro kernels).

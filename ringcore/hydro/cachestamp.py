@@ -8,10 +8,13 @@ from __future__ import annotations
 
 from .. import cachestamp as _stamp
 
-HERE = _stamp.register(__file__)
+# modules without compiled code whose constants numba freezes into the kernels (the array layout)
+CONSTANT_MODULES = ("layout.py",)
+HERE = _stamp.register(__file__, constants=CONSTANT_MODULES)
 INSTALLED = _stamp.INSTALLED
 
 
 def kernel_sources_digest() -> bytes:
-    """SHA-256 over the modules of this package that hold compiled code (``njit``), in name order."""
+    """SHA-256 over the modules of this package that hold compiled code (``njit``) or the constants
+    compiled into it (:data:`CONSTANT_MODULES`), in name order."""
     return _stamp.sources_digest(HERE)

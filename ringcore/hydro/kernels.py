@@ -6,21 +6,9 @@ eq. (hcl) and performs one stage of the SSPRK(5,4) update (coefficients in
 (Table "List of Symbols and their Scalings"): x in c0/Omega, t in 1/Omega,
 sigma in sigma0, u, v in c0, T in c0^2.
 
-Array layout (all C-contiguous float64)
----------------------------------------
-``U``        (nv, N): conservative variables (sigma, sigma u, sigma v[, e]) with
-             nv = 4 (non-isothermal) or 3 (isothermal), ``e = sigma (u^2/2 + 3T/2)``
-             (eq. energy).  N = n + 2 NG: the n interior nodes are ``U[:, NG:NG+n]``,
-             node j sits at x_j = -L_x/2 + j h; ``NG`` periodic ghost nodes on each side
-             are refilled by the kernels themselves.
-
-``W``        (NW, N): scratch rows (named ``R_*`` below), owned by the caller.
-
-``beta``     (N,): viscosity exponent per node (buffer zones), ghosts included.
-
-``g``        (n,): radial self-gravity force per unit mass -d(phi)/dx at interior nodes.
-
-``par``      (NPAR,): plain floats, indices ``P_*`` below.
+Array layout: :mod:`ringcore.hydro.layout` (``U`` (nv, N) with ``NG`` ghost nodes per side, scratch ``W``
+(NW, N), ``beta`` (N,), ``g`` (n,), ``par`` (NPAR,)).  The kernels on the state alone (ghosts, checks,
+floor, conversion) are in :mod:`ringcore.hydro.state_kernels`; both are re-exported here.
 
 Scheme
 ------
@@ -38,43 +26,16 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from .convert import temperature_nb
 from .fastmath import vexp, vlog
+from .layout import *  # noqa: F401,F403 (the layout constants, re-exported: kernels.NG, kernels.R_FP ...)
+from .layout import _FM, NG, P_BULK, P_DTFACTOR, P_DTMODE, P_GAMMA0, P_GRAVITY, P_GS, P_GT, P_H, P_KRATIO, \
+    P_NT, P_NU0, P_PS, P_PT, P_T0, R_C, R_DIF, R_ETA, R_ETAX, R_FH, R_FM, R_FP, R_GAM, R_MP5, R_P, R_RATE, \
+    R_SIG, R_T, R_TX, R_TXX, R_U, R_UX, R_UXX, R_V, R_VX, R_VXX
 from .mp5 import MP5_ALPHA, MP5_EPS, mp5, numerical_flux  # noqa: F401 (mp5 and its constants are re-exported)
-
-NG = 6  # ghost nodes per side (MP5 and the 6th-order central differences need 3)
-
-# rows of the scratch array W
-R_U, R_V, R_T, R_P, R_C, R_ETA, R_GAM = 0, 1, 2, 3, 4, 5, 6
-R_UX, R_VX, R_TX, R_UXX, R_VXX, R_TXX, R_ETAX = 7, 8, 9, 10, 11, 12, 13
-R_DIF, R_SIG = 14, 15  # diffusivity and |u| + c for the time step
-R_FP = 16  # 4 rows F+
-R_FM = 20  # 4 rows F-
-R_FH = 24  # 4 rows numerical flux f_{i+1/2} (stored at index i)
-R_RATE = 28  # cooling relaxation rate (2/3) G_T Gamma/(sigma T) for the time step
-R_MP5 = 29  # 4 scratch rows: MP5 reconstruction (curvatures of F+ and F-, their limited averages); log sigma, log T
-NW = 33
-
-# indices into the parameter vector
-P_NU0, P_KRATIO, P_T0, P_PS, P_PT, P_NT, P_GS, P_GT, P_GAMMA0, P_BULK, P_H = range(11)
-P_DTMODE, P_DTFACTOR, P_GRAVITY = 11, 12, 13
-NPAR = 14
-
-_FM = {"nsz"}  # no contract/arcp/afn/reassoc: their use depends on inlining, and cached code
-# would then differ in the last bits from freshly compiled code (breaks bit-for-bit restarts);
-# no nnan/ninf: blow-ups stay visible
-
-
-@njit(nogil=True, cache=True, error_model="numpy")
-def fill_ghosts(U, n):
-    """Periodic ghost nodes: U[:, :NG] <- last NG interior nodes, U[:, NG+n:] <- first NG."""
-    for k in range(U.shape[0]):
-        for g in range(NG):
-            U[k, g] = U[k, n + g]
-            U[k, NG + n + g] = U[k, NG + g]
+from .state_kernels import apply_temperature_floor, check_state, fill_ghosts, to_conservative  # noqa: F401
 
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
@@ -386,78 +347,3 @@ def rk_stage(Uin, W, beta, g, par, L, Lprev, A, a0, B, a1, C, a2, b1, b2, dt, dt
             for i in range(n):
                 o[i] += c2 * lp[i]
     return dt
-
-
-@njit(nogil=True, cache=True, error_model="numpy")
-def check_state(U):
-    """First bad interior node: returns (field, index) or (-1, -1) if all is well.
-
-    field 0: sigma not finite or <= 0; 1: u not finite; 2: v not finite; 3: T not finite
-    or <= 0 (non-isothermal only).  No fast-math here, so NaN tests are honoured.
-    """
-    nv, N = U.shape
-    n = N - 2 * NG
-    s_, mx_, my_ = U[0][NG:NG + n], U[1][NG:NG + n], U[2][NG:NG + n]
-    e_ = U[nv - 1][NG:NG + n]
-    bad = 0
-    for i in range(n):  # branch-free count first (vectorizes); the scan below only after a failure
-        s = s_[i]
-        u = mx_[i] / s
-        good = s > 0.0 and math.isfinite(s) and math.isfinite(u) and math.isfinite(my_[i] / s)
-        if nv == 4:
-            T = temperature_nb(e_[i] / s, u)
-            good = good and T > 0.0 and math.isfinite(T)
-        bad += 0 if good else 1
-    if bad == 0:
-        return -1, -1
-    for i in range(NG, NG + n):
-        s = U[0, i]
-        if not (s > 0.0) or not math.isfinite(s):
-            return 0, i - NG
-        u = U[1, i] / s
-        if not math.isfinite(u):
-            return 1, i - NG
-        if not math.isfinite(U[2, i] / s):
-            return 2, i - NG
-        if nv == 4:
-            T = temperature_nb(U[3, i] / s, u)
-            if not (T > 0.0) or not math.isfinite(T):
-                return 3, i - NG
-    return -1, -1
-
-
-@njit(nogil=True, cache=True, error_model="numpy")
-def apply_temperature_floor(U, T_min):
-    """Raise T to ``T_min`` where it is lower (adds internal energy to e); returns the node count (per RK stage).
-
-    Optional (``HydroOptions.T_floor``, off by default), a departure from the paper: in the
-    non-isothermal model the cooling Gamma ~ T^G_T with G_T < 1 drives T to zero in finite
-    time wherever the local shear heating vanishes, which an explicit scheme overshoots.
-    """
-    nv, N = U.shape
-    n = N - 2 * NG
-    hits = 0
-    s_, mx_, e_ = U[0][NG:NG + n], U[1][NG:NG + n], U[3][NG:NG + n]
-    for i in range(n):  # branch-free (vectorizes)
-        s = s_[i]
-        m = mx_[i]
-        T = temperature_nb(e_[i] / s, m / s)
-        low = T < T_min
-        e_[i] = 0.5 * m * m / s + 1.5 * s * T_min if low else e_[i]
-        hits += 1 if low else 0
-    return hits
-
-
-@njit(nogil=True, cache=True, error_model="numpy")
-def to_conservative(sigma, u, v, T, out):
-    """Fill interior nodes of ``out`` (nv, N) from primitive arrays of length n."""
-    n = sigma.shape[0]
-    nv = out.shape[0]
-    for j in range(n):
-        i = j + NG
-        out[0, i] = sigma[j]
-        out[1, i] = sigma[j] * u[j]
-        out[2, i] = sigma[j] * v[j]
-        if nv == 4:
-            out[3, i] = sigma[j] * (0.5 * u[j] * u[j] + 1.5 * T[j])
-    fill_ghosts(out, n)

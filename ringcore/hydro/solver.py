@@ -16,20 +16,19 @@ tableau of :mod:`ringcore.hydro.timestep`: by default all in one compiled call
 (:mod:`ringcore.hydro.gravity`).  Nothing is allocated per step.  The state goes in and
 out as a :class:`ringcore.engine.State` (:meth:`Hydro1D.snapshot`, :meth:`Hydro1D.restore`);
 run files are written from it by :mod:`ringcore.hydro.runfile` (this module does not import it).
+The time integration (the step, :meth:`Hydro1D.advance`, the sample callbacks) is the mixin
+:class:`ringcore.hydro.stepping.Stepping`; this module holds the set-up, the state and the output.
 
 References: eqs. (nleq), (hcl), (timestep); Section "Numerical Methods".
 """
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 
-from .. import ranges
 from ..checks import check_int, check_real
-from ..deprecation import warn_once
-from ..engine import BlowUp, SampleHub
+from ..engine import SampleHub
 from ..params import RingParams
 from ..units import e_kin_rp, time_to_orbits
 from . import kernels as K
@@ -40,40 +39,11 @@ from .gravity import SelfGravity
 from .initial import INITIAL_KINDS, amplitude_too_large, check_initial_arguments, make_initial
 from .state_io import StateIO
 from .options import HydroOptions
-from .stepper import HAVE_ROCKET_FFT, ssprk_step
-from .timestep import stage_plan
-
-NG = K.NG
-FIELD_NAMES = ("sigma", "u", "v", "T")
-TWO_PI = 2.0 * math.pi
-# SSPRK(5,4), flat per stage: input, L slot, Lprev slot, (U index, alpha) x 3, beta_self, beta_prev
-STAGES = tuple((i, li, lp, *terms[0], *terms[1], *terms[2], b1, b2) for i, li, lp, terms, b1, b2 in stage_plan())
-# the same table as arrays for the one-call step of :mod:`.stepper`
-STAGE_I = np.array([(st[0], st[1], st[2], st[3], st[5], st[7]) for st in STAGES], dtype=np.int64)
-STAGE_F = np.array([(st[4], st[6], st[8], st[9], st[10]) for st in STAGES], dtype=float)
+from .stepper import HAVE_ROCKET_FFT
+from .stepping import FIELD_NAMES, NG, STAGE_F, STAGE_I, STAGES, TWO_PI, HydroBlowUp, Stepping  # noqa: F401 (re-exported)
 
 
-class HydroBlowUp(BlowUp):
-    """A step produced a non-finite or non-positive field; the solver keeps the last good state.
-
-    Attributes as :class:`ringcore.engine.BlowUp`: ``what`` (``"sigma"``, ``"u"``, ``"v"``,
-    ``"T"`` or ``"dt"``), ``where_m`` (first bad node [m]), ``orbit`` (last good state
-    [orbits]), ``step`` (number of the failed step), ``value``; ``field`` and ``x_m`` are
-    the older names of ``what`` and ``where_m``.
-    """
-
-    engine = "hydro"
-
-    @property
-    def field(self) -> str:
-        return self.what
-
-    @property
-    def x_m(self) -> float:
-        return self.where_m
-
-
-class Hydro1D(StateIO, PhysicalFields):
+class Hydro1D(Stepping, StateIO, PhysicalFields):
     """Axisymmetric 1D hydrodynamics of a dense ring in a periodic box.
 
     Parameters
@@ -273,196 +243,6 @@ class Hydro1D(StateIO, PhysicalFields):
     def prevalent_wavelength(self) -> float:
         """Current lambda_p [m] (largest Fourier amplitude of sigma)."""
         return prevalent_wavelength(self.U[0], self.options.L_x)
-
-    def stable_dt(self) -> float:
-        """Time step [1/Omega] the criterion gives for the current state (no step taken)."""
-        vmax, numax, rmax = K.compute_rhs(self._U[0], self._W, self._beta, self.gravity.g, self._par, self._L[0])
-        return K.stable_dt(vmax, numax, rmax, self.h, int(self._par[K.P_DTMODE]), self._par[K.P_DTFACTOR])
-
-    def estimate_steps(self, orbits: float) -> float:
-        """Steps that ``orbits`` more orbits would take at the time step of the current state (an
-        estimate, without self-gravity, for refusing runs that could not finish; it works on copies
-        of the work arrays, so the run is untouched).  inf if the criterion gives no positive step."""
-        vmax, numax, rmax = K.compute_rhs(self._U[0].copy(), self._W.copy(), self._beta,
-                                          np.zeros_like(self.gravity.g), self._par, self._L[0].copy())
-        dt = K.stable_dt(vmax, numax, rmax, self.h, int(self._par[K.P_DTMODE]), self._par[K.P_DTFACTOR])
-        n = orbits * TWO_PI / dt if dt > 0.0 and math.isfinite(dt) else math.inf
-        return max(n, orbits * self.options.samples_per_orbit)
-
-    def check_work(self, orbits: float, label: str = "orbits") -> None:
-        """ValueError if ``orbits`` more orbits need more than :data:`ringcore.ranges.WORK_MAX`
-        node-steps (a run that could not finish), naming ``label`` and the allowed duration."""
-        ranges.check_work(label, orbits, self.estimate_steps(orbits) / max(orbits, 1e-300), self.n, "nodes")
-
-    # ------------------------------------------------------------------ stepping
-    def step(self, dt_cap: float = math.inf) -> float:
-        """Advance one SSPRK(5,4) step (dt from the criterion, at most ``dt_cap``); returns dt.
-
-        A bare step records no diagnostics; :meth:`advance` resumes the sample grid at the first
-        sample time after the current time.
-        The stages follow :data:`STAGES` (the tableau of :mod:`.timestep`).  On failure raises
-        :class:`HydroBlowUp` and leaves the state, time, counters and floor hits untouched.
-        """
-        if not dt_cap > 0.0:
-            raise ValueError(f"dt_cap = {dt_cap!r} is invalid: the step cap must be > 0 [1/Omega]")
-        if self.fast_step:
-            grav = self.gravity
-            dt, hits, field, j, k = ssprk_step(self._Ustack, self._slot, self._Lstack, self._W, self._beta, self._par,
-                                               grav.enabled, grav.G, self._gs, self._gsk, grav.g, STAGE_I, STAGE_F,
-                                               dt_cap, self._T_floor)
-            bad = self._U[k] if field >= 0 else None
-        else:
-            dt, hits, field, j, bad = self._step_reference(dt_cap)
-        if field >= 0:
-            val = cons_to_prim(bad[:, NG + j], self._par[K.P_T0])[field]
-            raise HydroBlowUp(FIELD_NAMES[field], float(self.x_m[j]), self.orbits, self._steps + 1, float(val))
-        if not (dt > 0.0 and math.isfinite(dt)):
-            raise HydroBlowUp("dt", float(self.x_m[0]), self.orbits, self._steps + 1, float(dt))
-        U, sl = self._U, self._slot
-        U[0], U[5] = U[5], U[0]
-        sl[0], sl[5] = sl[5], sl[0]
-        self.floor_hits += hits
-        self.t += dt
-        self._steps += 1
-        self.dt = dt
-        return dt
-
-    def _step_reference(self, dt_cap):
-        """The five stages driven from Python with pyfftw self-gravity (the scheme as first written;
-        :mod:`.stepper` explains the fast path).  Returns ``(dt, floor_hits, field, index, bad_state)``."""
-        U, Ls = self._U, self._L
-        W, beta, par = self._W, self._beta, self._par
-        grav, s = self.gravity.force, slice(NG, NG + self.n)
-        stage, fl = K.rk_stage, self._T_floor
-        hits = 0
-        dt = -1.0  # the first stage chooses it
-        for i, li, lp, ja, a0, jb, a1, jc, a2, b1, b2 in STAGES:
-            Uin, out = U[i], U[i + 1]
-            dt = stage(Uin, W, beta, grav(Uin[0, s]), par, Ls[li], Ls[lp], U[ja], a0, U[jb], a1, U[jc], a2,
-                       b1, b2, dt, dt_cap, out)
-            if fl > 0.0:
-                hits += K.apply_temperature_floor(out, fl)
-        field, j = K.check_state(U[5])
-        if field >= 0:
-            for Us in U[1:]:  # earliest stage: before gravity spreads a NaN
-                field, j = K.check_state(Us)
-                if field >= 0:
-                    return dt, hits, field, j, Us
-        return dt, hits, -1, -1, None
-
-    def advance(self, orbits: float | None = None, *, until: float | None = None,
-                max_wall_s: float | None = None, stop=None, progress: bool = False,
-                max_steps: int | None = None) -> float:
-        """Integrate for ``orbits`` more orbits (or up to orbit ``until``); returns the orbits advanced.
-
-        The step sequence belongs to the run, not to the call: a step is shortened only to land
-        on an event of the run's own grid (a sample time, a multiple of 1/``samples_per_orbit``
-        orbits, and the buffer switch-on time), never on the caller's end time.  ``advance``
-        stops at the first step boundary at or after the end time: exactly on it when it is a
-        sample time (an end time within 1e-9 sample intervals of one is moved onto it, so whole
-        orbits end exactly), otherwise up to one time step after it (``orbits`` then exceeds
-        ``until`` by less than ``dt_orbits``).  Hence how a run is split into calls -- at any
-        end time, or cut short by ``max_wall_s`` / ``stop`` / ``max_steps`` and continued --
-        never changes its numbers.  An end time the run has already passed (by less than the
-        last step, e.g. a repeated ``until``) returns 0 without stepping.
-
-        Diagnostics are recorded at the sample times (and pushed to :meth:`on_sample` callbacks).
-        Returns early, in a consistent continuable state, after ``max_wall_s`` seconds of wall
-        time, after ``max_steps`` steps, or when ``stop()`` (polled after every step, e.g. a
-        :class:`ringcore.io.StopRequest`) returns True.  Raises :class:`HydroBlowUp` (last good
-        state kept) if a field goes bad.
-        """
-        if (orbits is None) == (until is None):
-            raise ValueError("give exactly one of orbits (duration) or until (end time), in orbits")
-        cap = ranges.ORBITS_MAX if max_wall_s is None else ranges.OPEN_END_ORBITS  # a wall budget ends the call
-        if until is None:
-            until = self.orbits + check_real("orbits", orbits, 0.0, cap, unit="orbits")
-        until = check_real("until", until, self.orbits - self.dt_orbits, max(cap, self.orbits), unit="orbits")
-        if max_wall_s is not None:
-            max_wall_s = ranges.check("max_wall_s", max_wall_s)
-        if max_steps is not None:
-            max_steps = ranges.check("max_steps", max_steps)
-        if until - self.orbits >= 1.0 and max_steps is None and max_wall_s is None and stop is None:
-            self.check_work(until - self.orbits, "orbits" if orbits is not None else "until - orbits")
-        t_end = until * TWO_PI
-        ds = TWO_PI / self.options.samples_per_orbit
-        k_end = round(t_end / ds) if math.isfinite(t_end) else 0
-        if abs(k_end * ds - t_end) <= 1e-9 * ds:
-            t_end = k_end * ds  # the same float the sample grid uses
-        opt = self.options
-        t_buf = opt.buffer_on_orbit * TWO_PI if (opt.buffer is not None and not self.buffer_active
-                                                  and opt.buffer_on_orbit * TWO_PI >= self.t) else math.inf
-        bar = None
-        if progress:
-            from tqdm.auto import tqdm
-            bar = tqdm(total=round(max(until - self.orbits, 0.0), 6), unit="orbit", desc="hydro")
-        o0, steps0 = self.orbits, self._steps
-        t_wall = time.perf_counter() + max_wall_s if max_wall_s is not None else math.inf
-        try:
-            if self._k_sample * ds <= self.t:  # bare step() calls went past sample times: resume the grid
-                self._k_sample = math.floor(self.t / ds) + 1
-            while self.t < t_end * (1.0 - 1e-15):
-                if max_steps is not None and self._steps - steps0 >= max_steps:  # (checked >= 1 above)
-                    break
-                t_next = min(self._k_sample * ds, t_buf)  # the run's own events only, never t_end
-                cap = t_next - self.t
-                dt = self.step(cap)
-                if dt >= cap * (1.0 - 1e-12):
-                    self.t = t_next  # land exactly on the event
-                if self.t >= t_buf:
-                    self.set_buffer(*opt.buffer)
-                    t_buf = math.inf
-                self._record()
-                if stop is not None and stop():
-                    break
-                if time.perf_counter() >= t_wall:
-                    break
-                if bar is not None and self._steps % 200 == 0:
-                    bar.update(round(self.orbits - o0 - bar.n, 6))
-        finally:
-            if bar is not None:
-                bar.update(round(self.orbits - o0 - bar.n, 6))
-                bar.close()
-        return self.orbits - o0
-
-    def run(self, orbits: float | None = None, *, until: float | None = None, progress: bool = False,
-            max_steps: int | None = None, stop=None, max_wall_s: float | None = None) -> "Hydro1D":
-        """Deprecated: :meth:`advance` (the one way to run), returning the solver (for chaining; the older name)."""
-        warn_once("Hydro1D.run", "Hydro1D.advance (returns the orbits advanced)")
-        self.advance(orbits, until=until, max_wall_s=max_wall_s, stop=stop, progress=progress, max_steps=max_steps)
-        return self
-
-    def on_sample(self, fn) -> int:
-        """Call ``fn(sim, sample)`` after every recorded sample; returns a handle for
-        :meth:`remove_callback`.  ``sample``: ``orbit``, ``t`` [1/Omega], ``steps``, ``dt_orbits``,
-        ``e_kin`` [sigma0 c0^2] and ``e_kin_rp`` [sigma0 (R_p Omega)^2, the public unit], ``lambda_p_m`` [m],
-        ``strobe_row`` and ``spacetime_row`` (the
-        float32 sigma/sigma0 row just added, or None)."""
-        return self._hub.add(fn)
-
-    def remove_callback(self, handle: int) -> None:
-        """Unregister a callback of :meth:`on_sample`."""
-        self._hub.remove(handle)
-
-    def _record(self, force=False):
-        """Record the diagnostics if the state sits on the next sample time (or if forced, at t = 0)."""
-        ds = TWO_PI / self.options.samples_per_orbit
-        k = self._k_sample
-        if not force and self.t < k * ds:
-            return
-        sig, u, v, T = self.primitives()
-        rec = self.recorder
-        rec.sample(self.t, self.dt, self._steps, sig, u, v, T)
-        S = self.options.samples_per_orbit
-        strobe = rec.add_strobe(self.t, sig) if self.options.strobe and k % S == 0 else None
-        r = self.options.spacetime_rows_per_orbit
-        st_row = rec.add_spacetime(self.t, sig) if r and k % (S // r) == 0 else None
-        self._k_sample = k + 1
-        if self._hub:
-            self._hub.emit(self, dict(orbit=self.orbits, t=self.t, steps=self._steps, dt_orbits=self.dt_orbits,
-                                      e_kin=rec.e_kin[-1], lambda_p_m=rec.lambda_p[-1], strobe_row=strobe,
-                                      spacetime_row=st_row, e_kin_rp=e_kin_rp(rec.e_kin[-1], self.params.c0,
-                                                                              self.params.Omega)))
 
     # ------------------------------------------------------------------ output
     def diagnostics(self) -> dict:

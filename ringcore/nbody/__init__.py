@@ -6,7 +6,7 @@
 
 Modules: :mod:`.kernels` (drift, boundaries, cell list, collisions), :mod:`.gravity`
 (Fourier-mode radial self-gravity), :mod:`.integrator` (the step loop, packed parameters), :mod:`.recorder`, :mod:`.sanity` (sigma0 limit, runaway bounds), :mod:`.initial`,
-:mod:`.options`, :mod:`.box`, :mod:`.diagnostics`, :mod:`.store` (NetCDF run files),
+:mod:`.options`, :mod:`.box`, :mod:`.stepping` (the step loop of the box), :mod:`.diagnostics`, :mod:`.store` (NetCDF run files),
 :mod:`.growth` (linear mode measurement), :mod:`.bench`.
 Kernel units: lengths R_p, times 1/Omega, velocities R_p Omega.
 """

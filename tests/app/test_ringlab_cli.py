@@ -86,6 +86,7 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 @pytest.mark.xdist_group("browser")  # starts a server: with the browser tests, one at a time
 def test_ringlab_serve_answers_with_the_lab_and_its_docs(tmp_path):
     site = tmp_path / "site"

@@ -13,12 +13,13 @@ from __future__ import annotations
 
 import os
 import time
+from contextlib import ExitStack
 from urllib.parse import urljoin
 
 import pytest
 
 from ringlab.lessons import tutorials
-from browser_support import ARTIFACTS, CHROMIUM, FLAGS, free_port, pytestmark, start_server, stop_server  # noqa: F401
+from browser_support import ARTIFACTS, CHROMIUM, FLAGS, pytestmark, served  # noqa: F401
 
 SHOTS = ARTIFACTS / "shots"
 LOAD_TIMEOUT_MS = 150_000
@@ -39,22 +40,16 @@ def server(tmp_path):
             (site / "tutorials" / "nb" / f"{stem}.html").write_text(f"<html><body><h1>{title}</h1></body></html>")
     old = os.environ.get(tutorials.ENV)
     os.environ[tutorials.ENV] = str(site)  # the server process inherits it
-    ARTIFACTS.mkdir(exist_ok=True)
-    port = free_port()
-    log = ARTIFACTS / "panel-serve-connect.log"
-    try:
-        proc, _ = start_server(port, log, extra=tutorials.serve_args(site))
+    stack = ExitStack()
+    try:  # the server starts while the environment holds the site
+        app = stack.enter_context(served("panel-serve-connect.log", extra=tutorials.serve_args(site), check_log=True))
     finally:
         if old is None:
             os.environ.pop(tutorials.ENV)
         else:
             os.environ[tutorials.ENV] = old
-    try:
-        yield f"http://127.0.0.1:{port}/main", site
-    finally:
-        stop_server(proc)
-    bad = [ln for ln in log.read_text(errors="replace").splitlines() if "Traceback" in ln or "ERROR" in ln]
-    assert not bad, f"server log {log} has errors: {bad[:5]}"
+    with stack:
+        yield app.url, site
 
 
 def value_of(page, css: str) -> float:

@@ -19,44 +19,23 @@ from urllib.parse import urlparse
 
 import pytest
 
-from browser_support import ARTIFACTS, CHROMIUM, FLAGS, free_port, pytestmark, start_server, stop_server  # noqa: F401
+from browser_support import ARTIFACTS, chromium, pytestmark, served  # noqa: F401
 
 SHOTS = Path(os.environ.get("RINGLAB_SHOTS", ARTIFACTS / "shots"))
 SIZES = [(1024, 768), (1280, 720), (390, 844)]
 LOAD_TIMEOUT_MS = 150_000  # the page builds all tabs' models on a loaded 2-core machine
 
-try:
-    from playwright.sync_api import sync_playwright
-except ImportError:  # pragma: no cover
-    sync_playwright = None
-
-
 @pytest.fixture(scope="module")
 def server():
     """(URL, log path) of one app server for the module; the log is checked for tracebacks at the end."""
-    ARTIFACTS.mkdir(exist_ok=True)
-    port = free_port()
-    log = ARTIFACTS / "panel-serve-defects.log"
-    proc, _ = start_server(port, log)
-    try:
-        yield f"http://127.0.0.1:{port}/main", log
-    finally:
-        stop_server(proc)
-    bad = [ln for ln in log.read_text(errors="replace").splitlines() if "Traceback" in ln or "ERROR" in ln]
-    assert not bad, f"server log {log} has errors: {bad[:5]}"
+    with served("panel-serve-defects.log", check_log=True) as app:
+        yield app.url, app.log
 
 
 @pytest.fixture(scope="module")
 def browser(tmp_path_factory):
-    with sync_playwright() as pw:
-        ctx = pw.chromium.launch_persistent_context(
-            str(tmp_path_factory.mktemp("profile")), executable_path=str(CHROMIUM), headless=True, args=FLAGS,
-            viewport={"width": 1280, "height": 720})
-        ctx.set_default_timeout(20_000)
-        try:
-            yield ctx
-        finally:
-            ctx.close()
+    with chromium(tmp_path_factory.mktemp("profile"), 1280, 720, timeout_ms=20_000) as ctx:
+        yield ctx
 
 
 def open_page(ctx, url: str, width: int, height: int):

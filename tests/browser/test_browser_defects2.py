@@ -20,16 +20,10 @@ import time
 
 import pytest
 
-from browser_support import ARTIFACTS, CHROMIUM, FLAGS, free_port, pytestmark, start_server, stop_server  # noqa: F401
+from browser_support import ARTIFACTS, chromium, new_page, pytestmark, served  # noqa: F401
 
 LOAD_TIMEOUT_MS = 150_000  # the page builds all tabs' models on a loaded 2-core machine
 BAD = ("Traceback", "Task exception", "Error", "error handling", "Failed sending", "Uncaught")
-
-try:
-    from playwright.sync_api import sync_playwright
-except ImportError:  # pragma: no cover
-    sync_playwright = None
-
 
 def bad_lines(lines):
     return [ln for ln in lines if any(p in ln for p in BAD)]
@@ -38,36 +32,19 @@ def bad_lines(lines):
 @pytest.fixture(scope="module")
 def server():
     """(URL, log path, server pid); the whole log must hold no traceback or error line at the end."""
-    ARTIFACTS.mkdir(exist_ok=True)
-    port = free_port()
-    log = ARTIFACTS / "panel-serve-defects2.log"
-    proc, _ = start_server(port, log)
-    try:
-        yield f"http://127.0.0.1:{port}/main", log, proc.pid
-    finally:
-        stop_server(proc)
-    bad = bad_lines(log.read_text(errors="replace").splitlines())
-    assert not bad, f"server log {log} has errors: {bad[:8]}"
+    with served("panel-serve-defects2.log", check_log=True, patterns=BAD) as app:
+        yield app.url, app.log, app.proc.pid
 
 
 @pytest.fixture(scope="module")
 def browser(tmp_path_factory):
-    with sync_playwright() as pw:
-        ctx = pw.chromium.launch_persistent_context(
-            str(tmp_path_factory.mktemp("profile")), executable_path=str(CHROMIUM), headless=True, args=FLAGS,
-            viewport={"width": 1280, "height": 900}, accept_downloads=True)
-        ctx.set_default_timeout(30_000)
-        try:
-            yield ctx
-        finally:
-            ctx.close()
+    with chromium(tmp_path_factory.mktemp("profile"), 1280, 900, timeout_ms=30_000, accept_downloads=True) as ctx:
+        yield ctx
 
 
 def open_tab(ctx, url: str, tab: str, autostart: bool = False):
     """A new page opened on ``tab`` with the class start link (``?tab=...&autostart=1``)."""
-    page = ctx.new_page()
-    page.js_errors = []
-    page.on("pageerror", lambda exc: page.js_errors.append(str(exc)))
+    page = new_page(ctx)
     page.goto(f"{url}?tab={tab}" + ("&autostart=1" if autostart else ""), wait_until="commit",
               timeout=LOAD_TIMEOUT_MS)
     page.locator(f"#{tab}-orbits .ro-value").wait_for(timeout=LOAD_TIMEOUT_MS)

@@ -21,8 +21,7 @@ import pytest
 
 from ringlab.lessons import LESSONS
 from ringlab.lessons.worksheets import worksheet_path
-from browser_support import (ARTIFACTS, CHROMIUM, FLAGS, free_port, start_server, stop_server,
-                                sync_playwright)
+from browser_support import CHROMIUM, FLAGS, served, sync_playwright
 
 SHOTS = Path("/tmp/shots/lessons")
 
@@ -36,13 +35,8 @@ pytestmark = [
 @pytest.fixture
 def lessons_server(monkeypatch):
     monkeypatch.setenv("RINGLAB_LESSONS_SCALE", "fast")
-    ARTIFACTS.mkdir(exist_ok=True)
-    port = free_port()
-    proc, _ = start_server(port, ARTIFACTS / "panel-serve-lessons.log")
-    try:
-        yield f"http://127.0.0.1:{port}/main"
-    finally:
-        stop_server(proc)
+    with served("panel-serve-lessons.log") as app:
+        yield app.url
 
 
 def number(text: str) -> float:

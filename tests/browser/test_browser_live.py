@@ -18,7 +18,7 @@ import time
 import pytest
 
 from ringcore.io import read_run
-from browser_support import ARTIFACTS, free_port, pytestmark, start_server, stop_server  # noqa: F401
+from browser_support import ARTIFACTS, pytestmark, served  # noqa: F401
 
 # counts changes of named Bokeh sources in the page (each server update replaces .data)
 COUNTER_JS = """
@@ -50,13 +50,8 @@ SOURCE_JS = """
 @pytest.fixture
 def warm_server():
     """URL of a freshly started ``panel serve --warm`` (terminated in teardown)."""
-    ARTIFACTS.mkdir(exist_ok=True)
-    port = free_port()
-    proc, t_live = start_server(port, ARTIFACTS / "panel-serve-live.log", extra=("--warm",))
-    try:
-        yield f"http://127.0.0.1:{port}/main", t_live, proc.pid
-    finally:
-        stop_server(proc)
+    with served("panel-serve-live.log", extra=("--warm",)) as app:
+        yield app.url, app.t_live, app.proc.pid
 
 
 def readout(page, rid: str) -> str:

@@ -77,6 +77,7 @@ def _cli(*args):
     return r
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 def test_hydro_resume_at_a_non_grid_orbit_across_processes_is_bit_identical(tmp_path):
     """hydro --orbits, resume --until and checkpoints (0.54, 0.81) off the sample grid, each in its own process."""
     a, b, c = tmp_path / "a.nc", tmp_path / "b.nc", tmp_path / "c.nc"

@@ -323,6 +323,7 @@ def test_resume_mixed(seed_files, src, when, out, overwrite, junk):
         sb.close()
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 @budget("resume")
 @given(src=st.sampled_from(["h.nc", "n.nc"]), how=st.sampled_from(["inplace", "new", "overwrite"]),
        when=st.sampled_from([["--orbits", "0.01"], ["--until", "0.03"]]))

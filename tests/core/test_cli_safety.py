@@ -296,6 +296,7 @@ def test_nbody_equilibrate_resume_to_the_equilibration_end_then_on(tmp_path, cap
         assert got[k] == ref[k], k
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 def test_sweep_rerun_keeps_summary_complete(tmp_path, capsys):
     import xarray as xr
 
@@ -345,6 +346,7 @@ def test_library_import_has_no_matplotlib_side_effects():
     assert out.returncode == 0 and "ok" in out.stdout, out.stderr
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 def test_sweep_records_its_command_line(tmp_path, capsys, monkeypatch):
     """OUT/sweep.nc's 'command' is the command line as typed (it was a repr of the arguments under python -m)."""
     import xarray as xr

@@ -205,6 +205,13 @@ def test_every_hydro_kernel_is_stamped_with_all_kernel_sources():
         assert loc.get_source_stamp()[1] == cachestamp.kernel_sources_digest()
     d = os.path.dirname(K.__file__)
     held = {f for f in os.listdir(d) if f.endswith(".py") and b"njit" in open(os.path.join(d, f), "rb").read()}
-    assert {"kernels.py", "mp5.py", "fastmath.py", "convert.py", "stepper.py"} <= held
+    assert {"kernels.py", "mp5.py", "fastmath.py", "convert.py", "stepper.py", "state_kernels.py"} <= held
+    # the array layout holds no compiled code, but numba freezes its constants into the kernels: stamped too
+    import hashlib
+
+    h = hashlib.sha256()
+    for f in sorted(held | {"layout.py"}):
+        h.update(f.encode() + b"\0" + open(os.path.join(d, f), "rb").read())
+    assert h.digest() == cachestamp.kernel_sources_digest()
     assert fastmath.vexp._cache._impl._locator.get_source_stamp()[1] == cachestamp.kernel_sources_digest()
 

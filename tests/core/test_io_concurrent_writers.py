@@ -78,6 +78,7 @@ def test_second_sweep_on_the_same_folder_is_refused(tmp_path, capfd, holder):
     assert list(out.iterdir()) == [out / ".sweep.nc.lock"]  # the holder's lock; no task ran
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 def test_two_concurrent_cli_runs_keep_the_first_and_refuse_the_second(tmp_path):
     out = tmp_path / "run.nc"
     cmd = [sys.executable, "-m", "ringcore.cli.main", *LONG, "--out", str(out)]

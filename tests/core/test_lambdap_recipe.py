@@ -20,6 +20,7 @@ def test_shipped_sweeps_are_grouped_by_set_and_model():
     assert got[("tau15", True)][0].max() <= 400.0  # 500-900 blew up: no points
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 def test_full_mode_runs_a_resumable_dask_sweep(tmp_path, monkeypatch):
     monkeypatch.setattr(lr, "FULL_SWEEP", dict(lx=200.0, h=5.0, orbits=3.0))
     tasks = lr.full_tasks("tau15", False, (300.0, 600.0))

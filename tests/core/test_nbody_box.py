@@ -25,6 +25,7 @@ def ground_states():
     return out
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 def test_ground_state_matches_salo2001_table(ground_states):
     """T0, nu0 and c0 of Table "Hydrodynamic Parameters" (tau = 1.5) within 10 %."""
     tr = ground_states["bridges"]
@@ -35,6 +36,7 @@ def test_ground_state_matches_salo2001_table(ground_states):
     assert tr["unresolved_fraction"] < 0.3 and tr["max_overlap"] < 0.3
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 def test_constant_epsilon_mimics_bridges_state(ground_states):
     """Paper: eps = 0.5 gives practically the same state; nu and c0 within a few %, T lower."""
     b, c = ground_states["bridges"], ground_states["constant"]

@@ -48,6 +48,7 @@ def test_grates_ci_frequency():
         assert abs(w / linear.dispersion(p, [lam]).frequency[0] - 1) < 0.01
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 def test_nlvg_ci(tmp_path):
     """Reduced Figure nlvg: sigma0 = 400, three wavelengths. The nonlinear frequency minimum lies at a
     larger wavelength than the linear lambda_zero (129 m), and the saturated frequencies exceed the
@@ -75,6 +76,7 @@ def test_nlvg_panel_params():
         saturation_recipes.nlvg_params("e", 400.0)
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 def test_nlvg_extra_panels_ci(tmp_path):
     """Reduced panels (b)-(d) at sigma0 = 400, one wavelength each, near the linear frequency minimum: each
     panel's data under its prefix, checked against the linear dispersion relation (eq. evp) of its own model.

@@ -270,6 +270,7 @@ def apply(ds, m):
     return ds
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 @pytest.mark.parametrize("kind", ["hydro", "nbody"])
 @BUDGET
 @given(data=st.data())

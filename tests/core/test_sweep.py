@@ -6,6 +6,7 @@ from ringcore import linear, params
 from ringcore.experiments.sweep import execute_task, run_sweep, task_name
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 def test_sweep_runs_skips_and_reports(tmp_path, monkeypatch):
     import dask.distributed
     real, ports = dask.distributed.LocalCluster, []

@@ -15,6 +15,7 @@ TINY = {"engine": "hydro", "set": "tau15", "ps_scale": 1.0, "isothermal": False,
         "h": 2.5, "orbits": 3.0}
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 def test_hydro_sweep_on_local_cluster(tmp_path):
     assert {"hydro", "nbody"} <= set(RUNNERS)
     tasks = [{**TINY, "sigma0": s} for s in (300.0, 600.0)]

@@ -101,6 +101,7 @@ def test_floquet_neutral_modes_and_linear_limit():
     assert np.min(np.abs(mu.real - lin.real)) < 1e-5
 
 
+@pytest.mark.slow  # 10-25 s on a quiet 2-core machine: `make test` runs it, `make test-fast` leaves it out
 def test_wave_train_travels_unchanged_in_hydro1d():
     """(b) A wave train put into Hydro1D keeps its shape and moves at the computed phase speed."""
     p = params.get("tau15", isothermal=True)
