@@ -160,6 +160,9 @@ def _hydro_state(targets, min_orbits: float, need_saturated: bool = True):
     return r, None
 
 
+COPY_TOL = 0.01  # an answer this close (relative) to linear theory's rate is taken as copied from the Linear tab
+
+
 def hydro_growth_rate(targets, answer, rel_tol: float = 0.3, unit: str = "", hint: str = "") -> Result:
     r, wait = _hydro_state(targets, 0.0)
     if wait:
@@ -169,8 +172,20 @@ def hydro_growth_rate(targets, answer, rel_tol: float = 0.3, unit: str = "", hin
         return Result("wait", "The linear phase of this run is too short to measure: press 'Set up this step' "
                               "for a fresh run.")
     lin = r.numbers.get("max_growth_rate", math.nan)
+    known = math.isfinite(lin) and lin > 0
     extra = (f"The fastest linear mode grows at {lin:.3g} Ω: white noise also holds slower modes, so the "
-             f"measured rate is {g / lin:.0%} of it." if math.isfinite(lin) and lin > 0 else "")
+             f"measured rate is {g / lin:.0%} of it." if known else "")
+    if known and abs(g - lin) > COPY_TOL * lin:
+        # linear theory's number copied from the Linear tab (to its shown digits) is not a measurement, even
+        # when it lies within the tolerance of the run's rate
+        try:
+            x = parse_number(answer, "Ω")
+        except AnswerError:
+            x = math.nan
+        if abs(x - lin) <= COPY_TOL * lin:
+            return Result("wrong", f"{_shown(answer, x, 'Ω')} is linear theory's fastest growth rate (the Linear "
+                                   "tab), not your run's: measure it from e_kin, two points on the straight part. "
+                                   f"{hint}".strip())
     return _judge(answer, g, rel_tol, None, "Ω", "the growth rate of your run (fit to e_kin)", hint, extra)
 
 

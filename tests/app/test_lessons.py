@@ -15,7 +15,7 @@ import pytest
 
 from ringlab.lessons.glossary import TERMS, glossary_html
 from ringlab.lessons import LESSONS, PRESETS, cite, lesson
-from ringlab.lessons.checks import is_saturated, parse_number, run_check
+from ringlab.lessons.checks import growth_fit, is_saturated, parse_number, run_check
 from ringlab.lessons.presets import Targets, apply_preset, stop_target
 from ringlab.lessons.refs import render
 from ringlab.lessons.view import LessonsPanel
@@ -168,6 +168,11 @@ def test_lesson2_growth_saturation_sources(panel_):
     res = answer_check(t, 2, 1, f"{rate:.3f}")
     assert res.ok, res.message
     assert answer_check(t, 2, 1, f"{3 * rate:.3f}").status == "wrong"
+    # the Linear tab's number copied is not a measurement (the run's white noise grows slower than its fastest mode)
+    fit = growth_fit(ts, e)
+    assert abs(fit - lin) > 0.01 * lin
+    copied = answer_check(t, 2, 1, f"{lin:.3g}")
+    assert copied.status == "wrong" and "Linear tab" in copied.message, copied.message
     lp = r.sim.prevalent_wavelength()
     assert answer_check(t, 2, 2, f"{lp:.0f}").ok
     assert answer_check(t, 2, 2, f"{2.2 * lp:.0f}").status == "wrong"
