@@ -215,7 +215,7 @@ LESSONS = (
              "stable ([[sec:isonosg]], [[fig:ekinisonosg]]). Without self-gravity σ₀ = 0: hover over the teal dot "
              "at the left edge. Below the plot you can test a wave train shorter and one longer than it.",
              Question("Predict the wavelength at which this lesson's run (tau15, isothermal, no self-gravity) stops "
-                      "climbing: enter λ_st (metres).", "lambda_st_number", unit="m",
+                      "climbing: enter λ_st.", "lambda_st_number", unit="m",
                       args=dict(set="tau15", isothermal=True, sigma0=0.0, rel_tol=0.05),
                       hint="Hover over the teal dot at σ₀ = 0 in the Saturation tab (set tau15, isothermal); "
                            "answers within 5 % count.")),

@@ -1,5 +1,7 @@
 """Offline by default: a scripted walk through every tab, the lessons panel and the buttons that do not start
-a long job (runs are started and paused after a moment) sends no request to any host but the app server.
+a long job (runs are started and paused after a moment) sends no request to any host but the app server,
+and the text the student sees on the way (every tab, every lesson step, the glossary) holds no LaTeX label
+of the paper (published numbers only) and no internal jargon.
 
 The page promises a classroom without internet; a widget that loads its CSS or a font from a CDN breaks that
 promise (and hangs the page where the network is filtered).
@@ -7,6 +9,7 @@ promise (and hangs the page where the network is filtered).
 from __future__ import annotations
 
 import os
+import re
 import subprocess
 import sys
 import time
@@ -17,9 +20,42 @@ from urllib.parse import urlparse
 import pytest
 
 from browser_support import ARTIFACTS, free_port, stop_server
+from ringcore.paperlabels import raw_labels
+from ringlab.lessons.content import LESSONS
 
 pytestmark = [pytest.mark.slow]
 LOAD_MS = 180_000
+# bare labels (fig:lambdap, eq:matni, sec:strob), the old tooltips' "paper label", and the jargon the issue named
+INTERNAL = re.compile(r"\b(?:fig|eq|tab|sec):[A-Za-z]\w*|paper label|mOrb|f_t from|Settings invalid|nothing reset"
+                      r"|answer = None|README|\(metres\)")
+
+
+# the visible text of the page: Bokeh renders its widgets and panes in shadow roots, which innerText of the
+# body does not reach (plot titles and legends are drawn on canvases: tests/app/test_app_words.py reads those)
+VISIBLE_TEXT_JS = """() => {
+  const parts = [];
+  const visit = (root) => {
+    const walker = document.createTreeWalker(root, NodeFilter.SHOW_TEXT);
+    let n;
+    while ((n = walker.nextNode())) {
+      const el = n.parentElement;
+      if (el && !["STYLE", "SCRIPT"].includes(el.tagName) && el.checkVisibility()) parts.push(n.data);
+    }
+    for (const el of root.querySelectorAll("*")) if (el.shadowRoot) visit(el.shadowRoot);
+  };
+  visit(document.body);
+  return parts.join(" ");
+}"""
+
+
+def visible_text(page) -> str:
+    return page.evaluate(VISIBLE_TEXT_JS)
+
+
+def internal_words(where: str, text: str) -> list:
+    found = [f"{where}: label {r!r}" for r in raw_labels(text)]
+    return found + [f"{where}: {m.group(0)!r} in ...{text[max(0, m.start() - 50):m.end() + 30]!r}..."
+                    for m in INTERNAL.finditer(text)]
 
 
 def click(page, sel: str, wait_ms: int = 800) -> None:
@@ -29,10 +65,12 @@ def click(page, sel: str, wait_ms: int = 800) -> None:
     page.wait_for_timeout(wait_ms)
 
 
-def show_tab(page, title: str, ready: str) -> None:
+def show_tab(page, title: str, ready: str, seen: list | None = None) -> None:
     page.locator(".bk-tab", has_text=title).first.click()
     page.locator(ready).first.wait_for(state="visible", timeout=LOAD_MS)
     page.wait_for_timeout(1000)
+    if seen is not None:
+        seen.append((f"tab {title}", visible_text(page)))
 
 
 def run_briefly(page, prefix: str, step: bool = True) -> None:
@@ -98,6 +136,11 @@ def test_walk_through_every_tab_requests_nothing_from_other_hosts(server_url, br
     page.goto(url, timeout=LOAD_MS)
     page.locator("#ro-lambda-zero .ro-value").wait_for(timeout=LOAD_MS)
 
+    seen = []  # (where, visible text) along the walk
+
+    def read(where: str) -> None:
+        seen.append((where, visible_text(page)))
+
     # lessons panel: steps, set-up, an answer, the glossary
     click(page, ".lesson-next button")
     click(page, ".lesson-prev button")
@@ -106,9 +149,10 @@ def test_walk_through_every_tab_requests_nothing_from_other_hosts(server_url, br
     click(page, ".lesson-check button")
     page.locator(".lessons-panel .bk-tab", has_text="Glossary").first.click()
     page.wait_for_timeout(800)
+    read("glossary")
     page.locator(".lessons-panel .bk-tab", has_text="Lessons").first.click()
 
-    show_tab(page, "Hydrodynamics", ".hydro-start")
+    show_tab(page, "Hydrodynamics", ".hydro-start", seen)
     run_briefly(page, "hydro")
     keep_and_restore(page, "hydro")
     click(page, ".hydro-isothermal input")
@@ -120,23 +164,41 @@ def test_walk_through_every_tab_requests_nothing_from_other_hosts(server_url, br
     page.locator("#settings-message").first.wait_for(timeout=60_000)  # refused with a message, nothing changed
     click(page, ".hydro-reset button", 1500)
 
-    show_tab(page, "N-body", ".nbody-start")
+    show_tab(page, "N-body", ".nbody-start", seen)
     run_briefly(page, "nbody")
     keep_and_restore(page, "nbody")
     click(page, ".nbody-reset button", 1500)
 
-    show_tab(page, "Saturation", ".bk-Canvas")
-    show_tab(page, "Compare", ".compare-start")
+    show_tab(page, "Saturation", ".bk-Canvas", seen)
+    show_tab(page, "Compare", ".compare-start", seen)
     page.locator(".compare-a-settings").first.click()  # open the collapsed card
     page.wait_for_timeout(800)
     run_briefly(page, "compare", step=False)
     click(page, ".compare-reset button", 1500)
-    show_tab(page, "Paper results", ".bk-Canvas")
+    show_tab(page, "Paper results", ".bk-Canvas", seen)
 
     click(page, ".present-toggle button", 1500)  # presentation mode on and off
     click(page, ".present-toggle button", 1500)
     page.wait_for_timeout(2000)
 
+    # last (choosing lessons changes what the buttons above set up): every step of every lesson, as the
+    # student reads it (without setting the steps up)
+    select = page.locator(".lesson-select select")
+    for les in LESSONS:
+        select.select_option(label=select.locator("option", has_text=f"{les.number}. ").first.inner_text())
+        page.locator("#lesson-step-title", has_text="Step 1.").wait_for(timeout=60_000)
+        for k in range(1, len(les.steps) + 1):
+            page.locator("#lesson-step-title", has_text=f"Step {k}.").wait_for(timeout=60_000)
+            page.wait_for_timeout(300)  # the rest of the step's widgets arrive with or just after its title
+            read(f"lesson {les.number} step {k}")
+            if k < len(les.steps):
+                page.locator(".lesson-next button").click()
+
+    read("end of the walk")
+    show_tab(page, "Linear theory", "#ro-lambda-zero", seen)
+    bad = [w for where, text in seen for w in internal_words(where, text)]
+    assert len(seen) >= sum(len(les.steps) for les in LESSONS) + 6 and all(len(t) > 200 for _, t in seen)
+    assert not bad, "\n".join(sorted(set(bad))[:30])
     assert len(requests) > 5, requests  # the recorder saw the page's own requests
     assert not foreign, f"requests to hosts other than the app server ({host}): {sorted(set(foreign))}"
     assert not page.js_errors, page.js_errors
