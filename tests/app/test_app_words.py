@@ -140,7 +140,8 @@ def test_check_sources_cite_only_labels_of_the_paper():
     import ringlab.lessons.checks as checks
 
     source = Path(checks.__file__).read_text(encoding="utf-8")
-    strings = re.findall(r'"([^"\n]*)"', source)
+    # an f-string's {paperrefs.sec('label')} prints the published number when it runs: not a raw citation
+    strings = [s for s in re.findall(r'"([^"\n]*)"', source) if "{paperrefs." not in s]
     left = [s for s in strings if raw_labels(publish(s, html_out=False))]
     assert not left, left
 

@@ -29,8 +29,9 @@ EXPLANATION = publish(f"""
 * **Teal line with dots: λ<sub>st</sub>**, the stability boundary of nonlinear wave trains (Latter & Ogilvie 2009,
   used in the paper's {paperrefs.sec("isonosg")} and Figure "ekinisonosg" to explain where runs without
   self-gravity settle). Wave trains longer than λ<sub>st</sub> are stable; shorter ones break up, and the waves
-  of a run keep merging into longer ones until they reach λ<sub>st</sub>. The app's values were computed with
-  `ringcore wavetrain --stability-boundary` at the surface densities of the dots; a **teal cross** at the top
+  of a run keep merging into longer ones until they reach λ<sub>st</sub>. The app's values were computed in advance
+  (the same calculation as the card below the plot, scanned over wavelength) at the surface densities of the
+  dots; a **teal cross** at the top
   means the computation found no single boundary there (hover for why: e.g. a closed window of stable wave
   trains with self-gravity). Compute one wave train and its stability yourself below the plot.
 """)

@@ -32,7 +32,8 @@ from ringlab.ui.style import CSS
 T_COLOR = "#c62828"
 INTRO = (f"A *wave train* is a periodic, nonlinear wave that travels without changing its shape. Choose σ₀ and a "
          f"wavelength: the app finds the wave train of the parameter set and model chosen above (Newton's method on up "
-         f"to {N_MAX} Fourier points per wavelength; the command line `ringcore wavetrain` goes to 301) and tests "
+         f"to {N_MAX} Fourier points per wavelength, enough for a classroom; the table was computed with up to 301) "
+         f"and tests "
          f"whether small disturbances of any wavelength grow on it (Floquet analysis, as in the paper's "
          f"{paperrefs.sec('isonosg')}). This takes a few seconds.")
 
