@@ -1,5 +1,6 @@
 """The documentation site shows a note instead of each live Panel view of a tutorial (no kernel, no CDN)."""
 import importlib.util
+import sys
 from pathlib import Path
 
 import nbformat
@@ -8,9 +9,16 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def _ext():
-    spec = importlib.util.spec_from_file_location("ringlab_docs", ROOT / "docs" / "_ext" / "ringlab_docs.py")
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
+    """The docs extension, imported as Sphinx does it (docs/conf.py puts docs/_ext on sys.path: its modules
+    import each other)."""
+    ext_dir = str(ROOT / "docs" / "_ext")
+    sys.path.insert(0, ext_dir)
+    try:
+        spec = importlib.util.spec_from_file_location("ringlab_docs", Path(ext_dir) / "ringlab_docs.py")
+        mod = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(mod)
+    finally:
+        sys.path.remove(ext_dir)
     return mod
 
 
