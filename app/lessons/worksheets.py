@@ -20,17 +20,17 @@ OUT_DIR = WORKSHEETS_DIR
 
 CSS = """
 @page {size: A4; margin: 10mm 12mm;}
-body {font-family: "DejaVu Sans", Arial, sans-serif; font-size: 9.5pt; color: #111; max-width: 190mm;
-      margin: 0 auto; line-height: 1.25;}
+body {font-family: "DejaVu Sans", Arial, sans-serif; font-size: 9pt; color: #111; max-width: 190mm;
+      margin: 0 auto; line-height: 1.2;}
 h1 {font-size: 15pt; margin: 0 0 2mm 0; color: #1f4e79;}
 .goal {margin: 0 0 2mm 0;}
 .meta {font-size: 9pt; color: #444; margin-bottom: 3mm;}
-.step {border-top: 1px solid #999; padding-top: 1.5mm; margin-top: 2mm; page-break-inside: avoid;}
+.step {border-top: 1px solid #999; padding-top: 1mm; margin-top: 1.5mm; page-break-inside: avoid;}
 .step h2 {font-size: 11.5pt; margin: 0 0 1mm 0;}
 .preset {font-size: 9pt; color: #333;}
 .label {font-weight: bold;}
-.lines {border-bottom: 1px dotted #777; height: 5.5mm;}
-p {margin: 1mm 0;}
+.lines {border-bottom: 1px dotted #777; height: 4.5mm;}
+p {margin: 0.6mm 0;}
 .answer {border: 1px solid #333; display: inline-block; min-width: 45mm; height: 6mm; vertical-align: middle;}
 .choices {margin: 1mm 0 0 0;}
 .box {display: inline-block; width: 3.2mm; height: 3.2mm; border: 1px solid #333; margin-right: 1.5mm;}
