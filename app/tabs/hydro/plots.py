@@ -138,8 +138,8 @@ class HydroPlots:
                                           dash=[r[2] for r in rows], label=[r[3] for r in rows])
         self.mode = m = theory_mode(sim.params, L, sim.n, runner.initial, runner.wavelength)
         self.ekin_fig.legend.items[0].label = value(
-            "linear theory, " + ("the seeded wave" if runner.initial == "mode" else "fastest-growing wave of the box")
-            + f": λ = {m['wavelength_m']:.4g} m (L_x/{m['n']})")
+            "linear theory, " + ("seeded wave" if runner.initial == "mode" else "box's fastest wave")
+            + f" λ = {m['wavelength_m']:.4g} m")  # short: the legend must fit a 390 px phone
         self.allowed_lp = None
         self.update_buffer(runner)
 
