@@ -51,6 +51,7 @@ def start_server(port: int, log_path: Path, extra=(), compute: str | None = None
            "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness", *extra]
     env = dict(os.environ)
     env["RINGLAB_COMPUTE"] = compute if compute is not None else os.environ.get("RINGLAB_COMPUTE", "threads")
+    env["PYTHONUNBUFFERED"] = "1"  # tests read the log while the server runs: no line may wait in a buffer
     log = open(log_path, "w")
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, cwd=REPO, env=env, stdout=log, stderr=subprocess.STDOUT)
