@@ -175,9 +175,7 @@ def hydro_growth_rate(targets, answer, rel_tol: float = 0.3, unit: str = "", hin
     known = math.isfinite(lin) and lin > 0
     extra = (f"The fastest linear mode grows at {lin:.3g} Ω: white noise also holds slower modes, so the "
              f"measured rate is {g / lin:.0%} of it." if known else "")
-    if known and abs(g - lin) > COPY_TOL * lin:
-        # linear theory's number copied from the Linear tab (to its shown digits) is not a measurement, even
-        # when it lies within the tolerance of the run's rate
+    if known and abs(g - lin) > COPY_TOL * lin:  # the Linear tab's number copied is not a measurement
         try:
             x = parse_number(answer, "Ω")
         except AnswerError:
