@@ -35,7 +35,7 @@ from ringcore.hydro import Hydro1D, HydroBlowUp
 from ringlab.live.buffers import RollingImage, SeriesBuffer, SpaceTimeImage
 from ringlab.live.export import run_file_bytes
 from ringlab.live.loop import RATE_SAMPLES, LiveLoop
-from ringlab.live.revert import revert, snapshot
+from ringlab.live.revert import reset_status, revert, snapshot
 from ringlab.model.hydro_settings import BUFFER_PARAMS, HydroSettings, SETUP_PARAMS
 from ringlab.model.linear import characteristic_numbers
 from ringlab.server import remote
@@ -136,8 +136,7 @@ class HydroRunner(LiveLoop, HydroSettings):
                 self._reverting = False
             self._rebuild()
         if put_back:
-            self.status = ("Reset to t = 0 with the last valid settings; put back: " + "; ".join(put_back) + ". "
-                           + ("Running." if self.running else "Press Start."))
+            self.status = reset_status(put_back, self.running)
 
     # ------------------------------------------------------------------ buffer
     @param.depends(*BUFFER_PARAMS, watch=True)

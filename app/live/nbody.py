@@ -30,7 +30,7 @@ from ringcore.nbody import NBodyBlowUp, NBodyOptions, ShearingBox
 from ringlab.live.buffers import SeriesBuffer
 from ringlab.live.export import run_file_bytes
 from ringlab.live.loop import RATE_SAMPLES, LiveLoop
-from ringlab.live.revert import revert, snapshot
+from ringlab.live.revert import reset_status, revert, snapshot
 from ringlab.model.controls import SIGMA0_MAX
 from ringlab.model.linear import characteristic_numbers
 from ringlab.ui.cite import publish
@@ -152,8 +152,7 @@ class NBodyRunner(LiveLoop, param.Parameterized):
                     self._reverting = False
             self._rebuild()
         if put_back:
-            self.status = ("Reset to t = 0 with the last valid settings; put back: " + "; ".join(put_back) + ". "
-                           + ("Running." if self.running else "Press Start."))
+            self.status = reset_status(put_back, self.running)
 
     # ------------------------------------------------------------------ running
     def start(self, *_):

@@ -32,3 +32,9 @@ def revert(obj, last: dict) -> list[str]:
     if changed:
         obj.param.update(**changed)
     return lines
+
+
+def reset_status(put_back: list[str], running: bool) -> str:
+    """The status line after a Reset that put settings back (``put_back``: one description each)."""
+    return ("Reset to t = 0 with the last valid settings; put back: " + "; ".join(put_back) + ". "
+            + ("Running." if running else "Press Start."))
