@@ -68,8 +68,13 @@ def pytest_report_header(config):
     return None
 
 
+@pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
-    """Mark each test with its tier (its folder under tests/); browser tests share one xdist group."""
+    """Mark each test with its tier (its folder under tests/); browser tests share one xdist group.
+
+    ``tryfirst``: xdist's worker plugin reads the ``xdist_group`` marks in its own hook of this name, and,
+    registered after this file, it would otherwise run first and see none: the browser tests (module-scoped
+    servers writing one log file each) would then be spread over both workers."""
     import browser_support  # tests/browser_support.py (tests/ is on sys.path: this file's folder)
 
     for item in items:
