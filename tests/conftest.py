@@ -72,9 +72,10 @@ def pytest_report_header(config):
 def pytest_collection_modifyitems(config, items):
     """Mark each test with its tier (its folder under tests/); browser tests share one xdist group.
 
-    ``tryfirst``: xdist's worker plugin reads the ``xdist_group`` marks in its own hook of this name, and,
-    registered after this file, it would otherwise run first and see none: the browser tests (module-scoped
-    servers writing one log file each) would then be spread over both workers."""
+    ``tryfirst``: xdist's worker plugin reads the ``xdist_group`` marks in its own hook of this name, so they are
+    set before it runs.  xdist (3.8) groups by renaming ``item._nodeid``, which pytest 9 no longer reads (its
+    ``nodeid`` comes from ``_id``): the test extra keeps pytest below 9, else the browser tests (module-scoped
+    servers, one log file each) are spread over both workers."""
     import browser_support  # tests/browser_support.py (tests/ is on sys.path: this file's folder)
 
     for item in items:
@@ -91,6 +92,18 @@ def pytest_collection_modifyitems(config, items):
             item.add_marker(pytest.mark.xdist_group("browser"))
     if hasattr(config, "workerinput"):  # an xdist worker (every worker sorts alike): long tests first
         items.sort(key=_long_first)
+
+
+def pytest_collection_finish(session):
+    """Under ``--dist loadgroup`` every browser test must carry xdist's group suffix (``...@browser``) once
+    collection is done; a pytest/xdist pair that drops it would run two app servers and two Chromiums at once."""
+    config = session.config
+    if not hasattr(config, "workerinput") or not config.getvalue("loadgroup"):
+        return
+    lost = [it.nodeid for it in session.items if it.get_closest_marker("browser") and "@browser" not in it.nodeid]
+    if lost:
+        raise pytest.UsageError(f"xdist did not group {len(lost)} browser tests (e.g. {lost[0]}): "
+                                "check the pytest / pytest-xdist versions (tests/conftest.py)")
 
 
 def _long_first(item) -> int:
