@@ -154,6 +154,7 @@ def open_sweep(sweep) -> xr.Dataset:
     layout of :func:`ringcore.experiments.sweep_grid.as_runs`: one dimension ``run`` over the finished
     tasks, the swept settings (``sigma0`` [kg m-2], ``ps_scale``, ``seed`` ...) as coordinates along it."""
     path = _as_path(sweep)
+    what = repr(str(path)) if path is not None else "Dataset"
     if path is not None:
         if not path.is_file():
             raise ValueError(f"sweep = {str(path)!r} is not a file: allowed a sweep.nc written by ringcore sweep")
@@ -166,7 +167,7 @@ def open_sweep(sweep) -> xr.Dataset:
         raise ValueError(f"sweep = {type(sweep).__name__} object is not valid: allowed a sweep.nc path or its "
                          "xarray.Dataset")
     if "sigma0" not in sweep.coords:
-        raise ValueError("sweep: the Dataset has no sigma0 coordinate: allowed a sweep.nc written by ringcore sweep")
+        raise ValueError(f"sweep = {what} has no sigma0 coordinate: allowed a sweep.nc written by ringcore sweep")
     return as_runs(sweep)
 
 

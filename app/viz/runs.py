@@ -178,7 +178,8 @@ def longrun(run, rasterize: bool | None = None):
         A shipped long run's name (e.g. ``"iso_tau15_mode100"``, see
         :data:`ringcore.experiments.longruns.LONG_RUNS`), a compact file's path or its Dataset.
     rasterize : bool or None
-        As in :func:`space_time` (the shipped diagrams have 800 x 1,000 cells: not rasterized by default).
+        As in :func:`space_time`.  The shipped diagrams (about 800 x 1,000 cells) keep their last orbit as the
+        last row, so their rows are not evenly spaced and datashader rasterizes them by default.
 
     Returns
     -------
