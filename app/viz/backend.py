@@ -8,7 +8,7 @@ from __future__ import annotations
 
 INSTALL_HINT = "pip install 'ringlab[viz]'"
 RASTERIZE_CELLS = 1_000_000  # space-time diagrams with more cells are rasterized by datashader by default
-WIDTH, HEIGHT = 700, 320  # [px] default size of one view
+WIDTH, HEIGHT = 560, 300  # [px] default size of one view (two side by side fit a 1280 px screen)
 
 
 def holoviews():

@@ -135,7 +135,7 @@ def psd(run):
     keep = wl > 0
     hv = holoviews()
     return hv.Curve((wl[keep], np.maximum(p[keep], 1e-12)), dimension("wavelength", "wavelength λ", "m"),
-                    dimension("psd", "PSD of σ (normalised)", "dimensionless")).opts(
+                    dimension("psd", "normalised PSD of σ", "dimensionless")).opts(
         logx=True, logy=True, width=WIDTH, height=HEIGHT, title="Final PSD of σ", tools=["hover"])
 
 

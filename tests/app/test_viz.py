@@ -29,6 +29,7 @@ from ringcore.io import read_run  # noqa: E402
 from ringcore.units import E_KIN_UNIT  # noqa: E402
 from ringlab.paths import DATA_DIR, LONGRUNS_DIR  # noqa: E402
 from ringlab.viz import runs  # noqa: E402
+from ringlab.viz.backend import HEIGHT, WIDTH  # noqa: E402
 
 SWEEP = DATA_DIR / "saturation_sweep.nc"
 LONG = "iso_tau15_mode100"
@@ -146,7 +147,7 @@ def test_longrun_overview_matches_the_shipped_file():
     assert isinstance(obj, hv.Layout) and len(obj) == 4
     st, ek, lp, ps = obj
     fig = render(st)  # uneven rows (the last one kept): rasterized by datashader
-    assert isinstance(st, hv.DynamicMap) and image_of(fig).data_source.data["image"][0].shape == (420, 700)
+    assert isinstance(st, hv.DynamicMap) and image_of(fig).data_source.data["image"][0].shape == (HEIGHT + 100, WIDTH)
     assert (fig.x_range.start, fig.x_range.end) == pytest.approx((-5005.0, 4995.0))  # x = -5000 ... 4990 m
     assert fig.y_range.end == pytest.approx(float(ds["t_strobe"][-1]), abs=30)
     np.testing.assert_allclose(line_data(render(ek), "e_kin")["e_kin"], ds["e_kin"].values, rtol=1e-6)
