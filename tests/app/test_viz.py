@@ -117,6 +117,8 @@ def test_series_and_spectrum_of_a_run_file(run_file):
     d = line_data(fig, "e_kin")
     np.testing.assert_allclose(d["t"], ds["t"].values)
     np.testing.assert_allclose(d["e_kin"], ds["e_kin_rp"].values)
+    in_memory = line_data(render(viz.e_kin(Hydro1D.load(run_file))), "e_kin")  # an engine: its to_dataset()
+    np.testing.assert_allclose(in_memory["e_kin"], ds["e_kin_rp"].values)
     fig = render(viz.lambda_p(ds))
     assert fig.yaxis[0].axis_label == "prevalent wavelength λ_p (m)"
     steps = line_data(fig, "lambda_p")["lambda_p"]  # drawn as steps: every value twice but the last
