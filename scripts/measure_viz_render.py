@@ -4,6 +4,9 @@ Two static views of shipped data: the Saturation tab's figure (theory curves, th
 the lambda_st line) and the Paper-results overview (space-time diagram, e_kin(t), lambda_p(t), final PSD of one
 long run).  For each variant:
 
+HoloViews draws with WebGL by default (it loads bokeh-gl.js; headless Chromium without a GPU renders WebGL in
+software), so the HoloViews variants are also measured on a 2-D canvas, as the app's figures are ("canvas").
+
 - **build** [ms]: building the Bokeh models with their data in the server process, median of ``--repeat``
   runs after one warm-up: direct Bokeh = the tab's own figure code (``SaturationView._figure``,
   ``PaperPlots`` + ``set_run`` + one frame); HoloViews = the same plot as HoloViews objects + ``hv.render``;
@@ -12,7 +15,9 @@ long run).  For each variant:
   figure(s) with INLINE Bokeh resources: time from navigation start until the Bokeh document is idle (every
   view rendered), median of ``--repeat`` loads in one browser.  The same BokehJS parses in every variant.
 
-HoloViews, datashader and Bokeh imports are timed once (a server pays them once per process).
+HoloViews, datashader and Bokeh imports are timed once (a server pays them once per process).  With ``--app``
+also the whole tabs as the app serves them today (``panel serve app/main.py``, ``/main?tab=saturation`` and
+``?tab=paper``): navigation start until the Bokeh document is idle, median of ``--repeat`` page loads.
 
 Usage: ``.venv/bin/python scripts/measure_viz_render.py [--repeat 7] [--json out.json] [--no-browser]``
 (needs the viz extra: ``pip install -e '.[viz]'``).
@@ -22,12 +27,17 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import socket
 import statistics
+import subprocess
+import sys
 import tempfile
+import urllib.request
 import time
 from pathlib import Path
 
 CHROMIUM = Path(os.environ.get("RINGLAB_CHROMIUM", "/usr/bin/chromium"))
+REPO = Path(__file__).resolve().parents[1]
 LONG = "iso_tau15_mode100"
 IDLE_JS = """(() => { const t0 = performance.now(); (function poll() {
   const d = window.Bokeh && Bokeh.documents && Bokeh.documents[0];
@@ -83,6 +93,20 @@ def saturation_hv():
     return build
 
 
+def canvas(make):
+    """The variant of ``make`` drawn on a 2-D canvas as the app's figures are (HoloViews draws with WebGL by
+    default, which loads bokeh-gl.js and, in a browser without a GPU, renders in software)."""
+    from bokeh.models import Plot
+
+    def build():
+        models = make()
+        for m in models:
+            for plot in m.select({"type": Plot}):
+                plot.output_backend = "canvas"
+        return models
+    return build
+
+
 def paper_bokeh():
     from ringlab.tabs.paper.playback import frame_at, list_runs, load_run
     from ringlab.tabs.paper.plots import PaperPlots
@@ -127,7 +151,9 @@ def json_kb(models) -> float:
     return len(json.dumps(json_item(root))) / 1e3
 
 
-def browser_ms(pages: dict, repeat: int) -> dict:
+def browser_ms(pages: dict, repeat: int, timeout_ms: float = 60_000) -> dict:
+    """Median time [ms] from navigation start until the Bokeh document is idle, per page (``{name: Path or URL}``;
+    one warm-up load each)."""
     from playwright.sync_api import sync_playwright
 
     out = {}
@@ -139,8 +165,8 @@ def browser_ms(pages: dict, repeat: int) -> dict:
         for name, path in pages.items():
             runs = []
             for i in range(repeat + 1):
-                page.goto(path.as_uri())
-                page.wait_for_function("window.__idle_ms !== undefined", timeout=60_000)
+                page.goto(path.as_uri() if isinstance(path, Path) else path)
+                page.wait_for_function("window.__idle_ms !== undefined", timeout=timeout_ms)
                 if i:  # the first load warms the browser's caches
                     runs.append(page.evaluate("window.__idle_ms"))
             out[name] = statistics.median(runs)
@@ -148,11 +174,37 @@ def browser_ms(pages: dict, repeat: int) -> dict:
     return out
 
 
+def served_tabs_ms(tabs, repeat: int) -> dict:
+    """Median time [ms] until the Bokeh document of the served app's page ``/main?tab=TAB`` is idle."""
+    with socket.socket() as sk:
+        sk.bind(("127.0.0.1", 0))
+        port = sk.getsockname()[1]
+    env = dict(os.environ, RINGLAB_COMPUTE="threads")
+    log = open(Path(tempfile.mkdtemp(prefix="viz-serve-")) / "serve.log", "w")
+    proc = subprocess.Popen([sys.executable, "-m", "panel", "serve", "app/main.py", "--port", str(port), "--address",
+                             "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness"],
+                            cwd=REPO, env=env, stdout=log, stderr=subprocess.STDOUT)
+    try:
+        for _ in range(1200):
+            try:
+                with urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=1):
+                    break
+            except OSError:
+                time.sleep(0.1)
+        pages = {f"{tab} tab, served app (Bokeh)": f"http://127.0.0.1:{port}/main?tab={tab}" for tab in tabs}
+        return browser_ms(pages, repeat, timeout_ms=120_000)
+    finally:
+        proc.terminate()
+        proc.wait(timeout=20)
+        log.close()
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--repeat", type=int, default=7, help="timed runs per variant (median)")
     ap.add_argument("--json", help="write the numbers to this file")
     ap.add_argument("--no-browser", action="store_true", help="server-side numbers only")
+    ap.add_argument("--app", action="store_true", help="also the served app's Saturation and Paper tabs (today's)")
     args = ap.parse_args(argv)
     imports = {}
     for mod in ("bokeh.plotting", "panel", "holoviews", "datashader"):
@@ -160,7 +212,9 @@ def main(argv=None):
         __import__(mod)
         imports[mod] = round(time.perf_counter() - t0, 2)
     variants = {"saturation / Bokeh (app)": saturation_bokeh, "saturation / HoloViews": saturation_hv,
+                "saturation / HoloViews, canvas": lambda: canvas(saturation_hv()),
                 "paper / Bokeh (app)": paper_bokeh, "paper / HoloViews, Image": lambda: paper_hv(False),
+                "paper / HoloViews, Image, canvas": lambda: canvas(paper_hv(False)),
                 "paper / HoloViews, datashader": lambda: paper_hv(None)}
     rows, pages = {}, {}
     folder = Path(tempfile.mkdtemp(prefix="viz-render-"))
@@ -172,11 +226,14 @@ def main(argv=None):
     if not args.no_browser and CHROMIUM.exists():
         for name, ms in browser_ms(pages, args.repeat).items():
             rows[name]["browser_ms"] = round(ms)
+        if args.app:
+            for name, ms in served_tabs_ms(("saturation", "paper"), args.repeat).items():
+                rows[name] = dict(browser_ms=round(ms))
     load = os.getloadavg()
     result = dict(rows=rows, imports_s=imports, repeat=args.repeat, cpus=os.cpu_count(),
                   loadavg=[round(v, 2) for v in load], pages=str(folder))
     for name, r in rows.items():
-        print(f"{name:32s} build {r['build_ms']:8.1f} ms   JSON {r['json_kB']:8.1f} kB   "
+        print(f"{name:34s} build {r.get('build_ms', float('nan')):8.1f} ms   JSON {r.get('json_kB', float('nan')):8.1f} kB   "
               f"browser {r.get('browser_ms', float('nan')):6} ms")
     print(f"imports [s]: {imports}; {os.cpu_count()} CPUs, load average {result['loadavg']}; pages in {folder}")
     if args.json:
