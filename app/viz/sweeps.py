@@ -21,9 +21,12 @@ LABELS = {"sigma0": "surface density σ₀", "lambda_p_m": "prevalent wavelength
 KINDS = ("scatter", "line")
 
 
-def _dim(flat, name):
-    v = flat[name]
-    return dimension(name, LABELS.get(name, name), v.attrs.get("units"))
+def _dim(flat, name, legend: bool = False):
+    """The dimension of column ``name``; in a legend (``legend``) a ratio's values stand without "dimensionless"."""
+    units = flat[name].attrs.get("units")
+    if legend and str(units).strip() == "1":
+        units = None
+    return dimension(name, LABELS.get(name, name), units)
 
 
 def sweep(sweep, y: str = "lambda_p_m", x: str = "sigma0", by=None, kind: str = "scatter"):
@@ -78,4 +81,4 @@ def sweep(sweep, y: str = "lambda_p_m", x: str = "sigma0", by=None, kind: str = 
     if not by:
         return element(df).opts(**style)
     groups = {tuple(float(v) for v in key): element(part) for key, part in df.groupby(by, sort=True)}
-    return hv.NdOverlay(groups, kdims=[_dim(flat, b) for b in by]).opts(legend_position="right", **style)
+    return hv.NdOverlay(groups, kdims=[_dim(flat, b, legend=True) for b in by]).opts(legend_position="right", **style)
