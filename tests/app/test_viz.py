@@ -1,6 +1,6 @@
 """ringlab.viz: HoloViews views of real run files, the shipped long runs and real sweeps.
 
-Every view is built from files ringcore wrote (a short hydro run made here, the shipped compact long runs
+Every view is built from files ringcore wrote (a short hydro run and a short N-body run made here, the shipped compact long runs
 and sweeps, a small linear-theory sweep over sigma0 x ps_scale computed here) and rendered to Bokeh
 (``hv.render``); the tests compare what the figure holds with the file's own arrays (data, ranges, axis
 labels with units), check that datashader rasterizes above the cell threshold (and only then), that grouping
@@ -18,13 +18,14 @@ import xarray as xr
 hv = pytest.importorskip("holoviews", reason="the viz extra (pip install 'ringlab[viz]') is not installed")
 pytest.importorskip("datashader", reason="the viz extra (pip install 'ringlab[viz]') is not installed")
 
-from bokeh.models import GlyphRenderer, Image as ImageGlyph, LogScale, Span  # noqa: E402
+from bokeh.models import ColorBar, GlyphRenderer, Image as ImageGlyph, LogScale, Span  # noqa: E402
 
 import ringlab.viz as viz  # noqa: E402
 from ringcore import params  # noqa: E402
 from ringcore.experiments.sweep import aggregate, execute_task  # noqa: E402
 from ringcore.experiments.sweep_grid import as_runs  # noqa: E402
 from ringcore.hydro import Hydro1D, HydroOptions  # noqa: E402
+from ringcore.nbody import NBodyOptions, ShearingBox  # noqa: E402
 from ringcore.io import read_run  # noqa: E402
 from ringcore.units import E_KIN_UNIT  # noqa: E402
 from ringlab.paths import DATA_DIR, LONGRUNS_DIR  # noqa: E402
@@ -43,6 +44,16 @@ def run_file(tmp_path_factory):
                   initial="noise", seed=1)
     sim.advance(3)
     sim.save(path)
+    return path
+
+
+@pytest.fixture(scope="module")
+def box_file(tmp_path_factory):
+    """A short real N-body run (100 m x 10 m box, 0.5 orbit, zone profiles every 0.1 orbit)."""
+    path = tmp_path_factory.mktemp("viz-box") / "box.nc"
+    box = ShearingBox(params.get("tau15"), NBodyOptions(L_x=100.0, L_y=10.0, profile_every=0.1), seed=1)
+    box.advance(0.5)
+    box.save(path)
     return path
 
 
@@ -87,6 +98,21 @@ def test_space_time_of_a_run_file_holds_its_stroboscopic_rows(run_file):
     assert (r.glyph.color_mapper.low, r.glyph.color_mapper.high) == pytest.approx((lo, hi), rel=1e-6)
     every = render(viz.space_time(ds, rows="all"))  # the orbit-resolved rows: 5 per orbit
     assert image_of(every).data_source.data["image"][0].shape == ds["spacetime_sigma"].shape
+
+
+def test_views_of_an_nbody_run_file(box_file):
+    ds = read_run(box_file)
+    fig = render(viz.space_time(box_file, field="c"))  # the recorded zone profiles of the velocity dispersion
+    np.testing.assert_allclose(image_of(fig).data_source.data["image"][0], ds["c_tx"].values, rtol=1e-6)
+    assert ds.sizes["time_profile"] >= 5 and fig.yaxis[0].axis_label == "time (orbits)"
+    assert fig.select_one({"type": ColorBar}).title == "velocity dispersion c (m/s)"
+    fig = render(viz.e_kin(ds))
+    assert fig.yaxis[0].axis_label == f"e_kin ({E_KIN_UNIT})"
+    np.testing.assert_allclose(line_data(fig, "e_kin")["e_kin"], ds["ekin"].values)
+    sigma = render(viz.profiles(ds, fields="sigma")[0])
+    np.testing.assert_allclose(line_data(sigma, "sigma")["sigma"], ds["sigma_x"].values)
+    with pytest.raises(ValueError, match="a nbody file holds no PSD: allowed runs of kind hydro"):
+        viz.psd(ds)
 
 
 def test_rasterized_above_the_threshold_or_on_uneven_rows(monkeypatch):
