@@ -20,7 +20,7 @@ from ringcore.checks import check_choice
 from ringcore.experiments.longruns import LONG_RUNS, check_compact
 from ringcore.experiments.sweep_grid import as_runs
 from ringcore.io import read_run
-from ringcore.units import E_KIN_UNIT, e_kin_rp
+from ringcore.units import e_kin_rp
 
 from ringlab.paths import LONGRUNS_DIR
 
@@ -131,9 +131,6 @@ def series(ds: xr.Dataset, quantity: str) -> tuple[np.ndarray, np.ndarray]:
     if ds.sizes[tname] < 1:
         raise ValueError(f"run: this {kind} run has no samples of {quantity} yet")
     return ds[tname].values.astype(float), np.asarray(vals, float)
-
-
-E_KIN_LABEL = f"e_kin [{E_KIN_UNIT}, R_p = 1 m]"
 
 
 def profile_arrays(ds: xr.Dataset, fields) -> dict:
