@@ -11,5 +11,8 @@ the layers after it (``lint-imports`` checks this, see ``pyproject.toml``):
 - :mod:`ringlab.ui`       palette, CSS, layout helpers, readouts (a leaf)
 - :mod:`ringlab.server`   compute backends, Dask actors, socket guard
 
+Beside them, :mod:`ringlab.viz` (HoloViews views of run files and sweeps for researchers, the optional extra
+``viz``) reads ringcore and ringlab.paths only; no module of the app imports it, so the app runs on Bokeh alone.
+
 The app imports :mod:`ringcore`; ringcore never imports the app, panel, param, bokeh or holoviews.
 """

@@ -1,5 +1,5 @@
 """The API reference of the ringlab site (part of the Sphinx extension :mod:`ringlab_docs`): one page per
-public module of ringcore, written before autosummary runs; a build that leaves a public function or class
+public module of ringcore and of ringlab.viz (the researchers' plotting package), written before autosummary runs; a build that leaves a public function or class
 without a page fails; docstrings show the paper's published equation numbers; references to re-exported names
 resolve to the page where the object is defined.
 """
@@ -8,6 +8,7 @@ from __future__ import annotations
 from pathlib import Path
 
 DOCS = Path(__file__).resolve().parents[1]
+PACKAGES = ("ringcore", "ringlab.viz")  # documented recursively, each public module on a page of its own
 
 
 _BARS = None
@@ -96,14 +97,14 @@ def resolve_reexport(app, env, node, contnode):
         candidates += [f"{modname}.{node['py:class']}.{target}", f"{modname}.{node['py:class']}"]
     domain = env.get_domain("py")
     for cand in candidates:
-        if not cand.startswith("ringcore"):
+        if not cand.startswith(PACKAGES):
             continue
         found = _locate(cand)
         if found is None:
             continue
         obj, owner, attrs = found
         real = None
-        if (inspect.isclass(obj) or inspect.isroutine(obj)) and getattr(obj, "__module__", "").startswith("ringcore"):
+        if (inspect.isclass(obj) or inspect.isroutine(obj)) and getattr(obj, "__module__", "").startswith(PACKAGES):
             real = f"{obj.__module__}.{getattr(obj, '__qualname__', attrs[-1] if attrs else '')}"
         for name, kind in ((real, "obj"), (cand, "obj"), (owner if attrs else cand, "mod")):
             if not name:
@@ -114,24 +115,34 @@ def resolve_reexport(app, env, node, contnode):
     return None
 
 
-def public_objects() -> list:
-    """``module.name`` of every public function and class defined in a public module of ringcore."""
+def _modules() -> list:
+    """Names of the public modules of :data:`PACKAGES` (the packages themselves first), found recursively."""
     import importlib
-    import inspect
     import pkgutil
 
-    import ringcore
+    names = []
+    for package in PACKAGES:
+        pkg = importlib.import_module(package)
+        names += [package] + [i.name for i in pkgutil.walk_packages(pkg.__path__, f"{package}.")
+                              if not any(p.startswith("_") for p in i.name.split("."))]
+    return names
+
+
+def public_objects() -> list:
+    """``module.name`` of every public function and class defined in a public module of :data:`PACKAGES`."""
+    import importlib
+    import inspect
 
     names = []
-    for info in pkgutil.walk_packages(ringcore.__path__, "ringcore."):
-        if any(part.startswith("_") for part in info.name.split(".")):
+    for modname in _modules():
+        if modname in PACKAGES:
             continue
-        mod = importlib.import_module(info.name)
+        mod = importlib.import_module(modname)
         for name, obj in vars(mod).items():
-            if name.startswith("_") or getattr(obj, "__module__", None) != info.name:
+            if name.startswith("_") or getattr(obj, "__module__", None) != modname:
                 continue
             if inspect.isclass(obj) or inspect.isroutine(obj):
-                names.append(f"{info.name}.{name}")
+                names.append(f"{modname}.{name}")
     return sorted(names)
 
 
@@ -164,14 +175,9 @@ def _module_page(modname: str, submodules: list) -> str:
 
 
 def write_api_pages(app=None) -> list:
-    """One page per public module of ringcore (found recursively: new modules appear without edits), written
-    before autosummary generates the pages of their classes and functions."""
-    import pkgutil
-
-    import ringcore
-
-    names = ["ringcore"] + [i.name for i in pkgutil.walk_packages(ringcore.__path__, "ringcore.")
-                            if not any(p.startswith("_") for p in i.name.split("."))]
+    """One page per public module of :data:`PACKAGES` (found recursively: new modules appear without edits),
+    written before autosummary generates the pages of their classes and functions."""
+    names = _modules()
     API_OUT.mkdir(parents=True, exist_ok=True)
     written = []
     for name in names:
@@ -185,7 +191,7 @@ def write_api_pages(app=None) -> list:
 
 
 def check_api_coverage(app, exc) -> None:
-    """Fail the build when a public function or class of ringcore has no page in the API reference."""
+    """Fail the build when a public function or class of :data:`PACKAGES` has no page in the API reference."""
     if exc is not None or app.builder.name != "html":
         return
     from sphinx.errors import ExtensionError
@@ -193,5 +199,5 @@ def check_api_coverage(app, exc) -> None:
     pages = {f.stem for f in (DOCS / "api" / "generated").glob("*.rst")}
     missing = [n for n in public_objects() if n not in pages]
     if missing:
-        raise ExtensionError(f"{len(missing)} public objects of ringcore missing from the API reference: "
+        raise ExtensionError(f"{len(missing)} public objects of {' and '.join(PACKAGES)} missing from the API reference: "
                              + ", ".join(missing[:20]))
