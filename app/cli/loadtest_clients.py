@@ -15,13 +15,18 @@ import panel  # noqa: F401  (registers Panel's models for the client documents)
 from bokeh.client import ClientSession
 from bokeh.document.events import MessageSentEvent
 from bokeh.events import ButtonClick, DocumentReady
+from tornado.httpclient import HTTPRequest
 
+# A browser waits minutes for a page; Tornado's websocket handshake gives up after 20 s, which a server
+# building many pages at once exceeds: the simulated pages wait like a browser
+HANDSHAKE_TIMEOUT_S = 300.0
 ORBITS_RE = re.compile(r'id="hydro-orbits">.*?class="ro-value">([0-9.]+)<')
 
 
 def connect(url: str, loop, arguments: dict | None = None) -> ClientSession:
     """Open a session at ``url`` (``ws://.../main/ws``) on the IOLoop ``loop`` with the page address query
     ``arguments``, pull its document and tell the server it is rendered, as a page does."""
+    HTTPRequest._DEFAULTS.update(connect_timeout=HANDSHAKE_TIMEOUT_S, request_timeout=HANDSHAKE_TIMEOUT_S)
     s = ClientSession(websocket_url=url, io_loop=loop, arguments=arguments)
     s.pull()
     # the page tells the server it has rendered the document (Bokeh's DocumentReady event): Panel
