@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import numpy as np
 import panel as pn
+import pytest
 
-from ringlab.lessons import LESSONS
+from ringlab.lessons import LESSONS, PRESETS
+from ringlab.lessons.presets import apply_preset
 from ringlab.live.session import SessionRuns
 from ringlab.main import TAB_KEYS, TABS, create_app
 from ringlab.tabs.hydro.view import HydroView
@@ -86,3 +88,21 @@ def test_a_run_in_a_lazily_built_tab_is_bit_identical_to_an_eager_one():
         r.advance(60.0, until=1.0)
     assert lazy.sim.orbits == eager.sim.orbits
     np.testing.assert_array_equal(lazy.sim.sigma, eager.sim.sigma)
+
+
+@pytest.mark.parametrize("name", sorted(PRESETS))
+def test_every_preset_sets_up_its_tab_on_a_fresh_page(name):
+    """A page that has built only the Linear tab: each preset builds what it sets and shows its tab."""
+    app = create_app()
+    p = PRESETS[name]
+    t = app.lessons.targets()
+    apply_preset(name, t, "fast")
+    for part in ("linear", "hydro", "nbody", "saturation"):
+        for k, v in p.values(part, "fast").items():
+            assert getattr(getattr(t, part), k) == v, (name, part, k)
+    assert app.tabs.active == TAB_KEYS[p.tab] and app.lazy.is_built(TAB_KEYS[p.tab])
+    assert app.tabs.objects[TAB_KEYS[p.tab]] is app.views[TAB_KEYS[p.tab]].__panel__()
+    for kind in ("hydro", "nbody"):
+        runner = t.peek(kind)
+        if runner is not None and runner.running:
+            runner.pause()
