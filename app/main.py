@@ -4,7 +4,10 @@ Each tab is a (title, factory) pair in :data:`TABS`; a factory returns a fresh
 viewer for one browser session.  Factories that declare a ``runs`` parameter (the
 live tabs) get the session's :class:`ringlab.live.session.SessionRuns`, through which the
 Saturation tab reaches the session's hydro run; the others are called without
-arguments.
+arguments.  A page builds only the tab it shows first (``?tab=``, else the first) and the
+lessons panel; another tab is built when it is opened or when something needs it
+(:class:`ringlab.ui.lazy_tabs.LazyTabs`): a lesson step or "Run this in ..." through
+``runs.tab(kind)``, :func:`apply_query` and other callers through ``app.views[i]``.
 """
 from __future__ import annotations
 
@@ -21,6 +24,7 @@ from ringlab.tabs.paper.view import PaperView
 from ringlab.tabs.saturation import SaturationView
 from ringlab.ui.present import page_styles, plain_figure, present_figure
 from ringlab.ui.about import AboutCite
+from ringlab.ui.lazy_tabs import LazyTabs, LazyViews
 
 TABS = [
     ("Linear theory", LinearView),
@@ -66,19 +70,26 @@ def _make(factory, runs):
     return view
 
 
-def create_app() -> pn.Column:
-    """The app for one session: a header and one tab per entry of TABS (``app.tabs``), the lessons beside."""
+def create_app(args: dict | None = None) -> pn.Column:
+    """The app for one session: a header and one tab per entry of TABS (``app.tabs``), the lessons beside.
+
+    ``args``: the page address's query (default ``pn.state.session_args``, see :func:`apply_query`).
+    Only the tab shown first is built now; ``app.views[i]`` builds tab ``i`` when read.
+    """
     doc = pn.state.curdoc
     if doc is not None and doc.session_context is not None:
         doc.template = VIEWPORT_TEMPLATE
+    args = pn.state.session_args if args is None else args
     runs = SessionRuns()
-    views = [_make(factory, runs) for _, factory in TABS]
-    # beside the 340 px lessons panel from a 1000 px window on (a 1024 px projector keeps the question in view)
-    tabs = pn.Tabs(*[(title, view) for (title, _), view in zip(TABS, views)], dynamic=True,
-                   sizing_mode="stretch_width", stylesheets=TABS_CSS, styles={"flex": "1 1 620px", "min-width": "0"})
-    for view in views:  # [connect] the Linear tab's "Run this in ..." buttons show the other tabs
-        if "tabs" in getattr(view, "param", ()):
-            view.tabs = tabs
+    holder = {}
+    lazy = LazyTabs([t for t, _ in TABS], [lambda f=f: _make(f, runs) for _, f in TABS],
+                    first=TAB_KEYS.get(_query_value(args, "tab"), 0),
+                    on_built=lambda lazy, i, view: _built(holder.get("app"), lazy.tabs, view),
+                    # beside the 340 px lessons panel from a 1000 px window on (a 1024 px projector keeps the
+                    # question in view)
+                    sizing_mode="stretch_width", stylesheets=TABS_CSS, styles={"flex": "1 1 620px", "min-width": "0"})
+    tabs = lazy.tabs
+    runs.param.update(positions=dict(TAB_KEYS), builder=lambda kind: lazy.view(TAB_KEYS[kind]))
     header = pn.pane.HTML(f'<header class="app-header" id="app-header"><h1>{TITLE}</h1></header>',
                           stylesheets=[PAGE_CSS], sizing_mode="stretch_width", margin=0, styles={"flex": "1 1 300px"})
     present = pn.widgets.Toggle(name="Presentation mode", button_type="light", css_classes=["present-toggle"],
@@ -92,24 +103,47 @@ def create_app() -> pn.Column:
                      stylesheets=[SIDE_CSS], css_classes=["side-panel"])
     body = pn.FlexBox(tabs, side, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")
     app = pn.Column(top, body, sizing_mode="stretch_width", margin=0, styles=page_styles(False))
+    holder["app"] = app
     app.tabs = tabs
-    app.views = views
+    app.lazy = lazy
+    app.views = LazyViews(lazy)
     app.lessons = lessons
     app.side = side
     app.present = present
     present.param.watch(lambda e: set_presentation(app, e.new), "value")
-    apply_query(app, pn.state.session_args)
+    apply_query(app, args)
     return app
 
 
+def _built(app, tabs, view) -> None:
+    """A tab was just built: [connect] the Linear tab's "Run this in ..." buttons show the other tabs, and
+    presentation mode (if on) applies to its figures too."""
+    if "tabs" in getattr(view, "param", ()):
+        view.tabs = tabs
+    if app is not None and app.present.value:
+        _present_view(view, True)
+
+
 def set_presentation(app: pn.Column, on: bool) -> None:
-    """Presentation mode for the lecturer's screen: larger text and plot lines, no lessons panel."""
+    """Presentation mode for the lecturer's screen: larger text and plot lines, no lessons panel
+    (tabs built later get it when they are built)."""
     app.side.visible = not on
     app.styles = {**app.styles, **page_styles(on)}
-    for view in app.views:
-        layout = view.__panel__() if hasattr(view, "__panel__") else view
-        for pane in layout.select(pn.pane.Bokeh):
-            (present_figure if on else plain_figure)(pane.object)
+    for view in app.views.built():
+        _present_view(view, on)
+
+
+def _present_view(view, on: bool) -> None:
+    layout = view.__panel__() if hasattr(view, "__panel__") else view
+    for pane in layout.select(pn.pane.Bokeh):
+        (present_figure if on else plain_figure)(pane.object)
+
+
+def _query_value(args: dict, name: str) -> str:
+    """The first value of query ``name`` in ``args`` (name -> list of bytes), stripped and lower case."""
+    v = (args or {}).get(name) or [b""]
+    v = v[0]
+    return (v.decode() if isinstance(v, bytes) else str(v)).strip().lower()
 
 
 def apply_query(app: pn.Column, args: dict) -> None:
@@ -122,9 +156,7 @@ def apply_query(app: pn.Column, args: dict) -> None:
     (``hydro_*`` queries) and the server's compute limit like any other run.
     """
     def first(name):
-        v = (args or {}).get(name) or [b""]
-        v = v[0]
-        return (v.decode() if isinstance(v, bytes) else str(v)).strip().lower()
+        return _query_value(args, name)
     if first("present") in ("1", "true", "yes"):
         app.present.value = True
     index = TAB_KEYS.get(first("tab"))

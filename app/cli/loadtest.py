@@ -1,6 +1,7 @@
 """``ringlab loadtest``: K simulated students on one ringlab server (how many a machine carries; not a CI test).
 
-    ringlab loadtest --students K --seconds S [--compute auto|threads|processes] [--dask] [--num-procs N] --json
+    ringlab loadtest --students K --seconds S [--shared] [--join-together] [--compute auto|threads|processes]
+                     [--dask] [--num-procs N] --json
 
 Starts ``panel serve <package>/main.py`` (subprocess, loopback, free port) and opens K real Panel
 sessions without a browser (Bokeh client sessions on one event loop).  Each student opens
@@ -15,14 +16,20 @@ the server's process tree with psutil (and over the Dask workers with ``--dask``
 ``server_process_cores`` is the app server process alone.  ``--compute processes`` runs the
 server with ``RINGLAB_COMPUTE=processes`` (its own LocalCluster, one worker per core);
 ``--dask`` starts a LocalCluster of 2 single-threaded worker processes here and points the
-server at it with ``RINGLAB_DASK_SCHEDULER``.  Prints one JSON object.
+server at it with ``RINGLAB_DASK_SCHEDULER``.  ``--shared``: every student opens the same lesson step
+(``/main?lesson=2&step=1``) and presses its "Set up this step" (the page opens on the Linear tab; the
+preset builds the Hydrodynamics tab and starts the run).  ``--join-together``: all students open their
+page at the same moment (:mod:`ringlab.cli.loadtest_join`).  Either way ``pages_ready_s`` (median, max)
+is the time from opening a page until its document holds the Hydrodynamics tab's Start button,
+``page_server_cpu_s`` the app process's CPU seconds per page while they opened (building them, and
+their first frames), ``frames_per_s`` the frames each student received per second (measured window)
+and ``app_process_cores_per_student`` the app process's cores divided by the students.
+Prints one JSON object.
 """
 from __future__ import annotations
 
-import html
 import json
 import os
-import re
 import socket
 import statistics
 import subprocess
@@ -30,16 +37,15 @@ import sys
 import time
 import urllib.request
 
-import panel  # noqa: F401  (registers Panel's models for the client documents)
 import psutil
-from bokeh.client import ClientSession
-from bokeh.document.events import MessageSentEvent
-from bokeh.events import DocumentReady
 from tornado.ioloop import IOLoop, PeriodicCallback
 
+from ringlab.cli.loadtest_clients import Prober, Student, connect, press, pump
+from ringlab.cli.loadtest_join import join_together, stop_all
 from ringlab.paths import PACKAGE_DIR
 
-ORBITS_RE = re.compile(r'id="hydro-orbits">.*?class="ro-value">([0-9.]+)<')
+START_TIMEOUT_S = 300.0  # a loaded 2-core machine needs more than 2 minutes for `panel serve --warm`
+SHARED_STEP = (2, 1)  # --shared: lesson 2, step 1 (a fresh hydro run, started by its "Set up this step")
 
 
 def free_port() -> int:
@@ -53,7 +59,7 @@ def start_server(port: int, num_procs: int, env: dict) -> subprocess.Popen:
            "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness", "--warm", "--num-procs", str(num_procs)]
     log = open(os.environ.get("RINGLAB_LOAD_LOG", "/tmp/classroom_load_server.log"), "w")
     proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT)
-    t_end = time.time() + 120
+    t_end = time.time() + START_TIMEOUT_S
     while time.time() < t_end:
         try:
             if urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=2).status == 200:
@@ -61,7 +67,7 @@ def start_server(port: int, num_procs: int, env: dict) -> subprocess.Popen:
         except OSError:
             time.sleep(0.3)
     proc.kill()
-    raise RuntimeError("the server did not start within 120 s")
+    raise RuntimeError(f"the server did not start within {START_TIMEOUT_S:g} s")
 
 
 def main_thread_cpu(pid: int) -> float:
@@ -89,139 +95,6 @@ def cpu_rss(procs) -> tuple[float, float]:
     return cpu, rss / 2**20
 
 
-class Student:
-    """One Panel session driven like a page: the hydro tab opened and started, frames acknowledged.
-
-    Until the plot sources and the readout are found the server's messages are applied to the
-    client document (the models of a tab may arrive in a patch); after that each message is only
-    scanned: a new ``data`` of a plot source is acknowledged as the page's ``CustomJS`` does, and
-    the "Orbits elapsed" readout is read from the new ``text`` of the readout pane.  Skipping
-    Bokeh's deserialisation keeps this client cheap: it shares the 2 cores with the server.
-    """
-
-    def __init__(self, session):
-        self.s = session
-        self.doc = session.document
-        self.samples = []  # (wall, orbits shown)
-        self.acks = 0
-        self.started = False
-        self.hooked = set()
-        self.ack_fig = {}  # source id -> figure to acknowledge on
-        self.readout_id = None
-        self.poll()
-
-    def _ack(self, fig):
-        """Acknowledge a frame as the page's ``CustomJS`` does (bump the figure's ``tags``)."""
-        fig.tags = [(fig.tags[0] if fig.tags else 0) + 1]
-        self.acks += 1
-
-    def poll(self):
-        """Find the plot sources (and the figures their acknowledgement bumps) and the readout pane."""
-        for src_name in ("hydro-profile-source", "hydro-spacetime-source"):
-            if src_name in self.hooked:
-                continue
-            src = self.doc.select_one({"name": src_name})
-            if src is None:
-                continue
-            # the figure whose ``tags`` the page's CustomJS bumps (ringlab.ui.frame_gate.FrameGate)
-            figs = [cb.args.get("fig") for cb in src.js_property_callbacks.get("change:data", [])
-                    if "fig" in getattr(cb, "args", {})]
-            if figs:
-                self.ack_fig[src.id] = figs[0]
-                self.hooked.add(src_name)
-        if self.readout_id is None:
-            for m in self.doc.models:
-                if (type(m).__name__ == "HTML" and "text" in m.properties()
-                        and 'id="hydro-readouts"' in html.unescape(m.text or "")):
-                    self.readout_id = m.id
-                    self.hooked.add("readouts")
-
-    def on_message(self, message):
-        if len(self.hooked) < 3:
-            self.s._handle_patch(message)
-            self.poll()
-            return
-        for ev in message.content.get("events", ()):
-            mid = (ev.get("model") or {}).get("id")
-            if ev.get("attr") == "data" and mid in self.ack_fig:
-                self._ack(self.ack_fig[mid])
-            elif mid == self.readout_id and ev.get("attr") == "text":
-                self._readout(ev.get("new"))
-
-    def _readout(self, text):
-        m = ORBITS_RE.search(html.unescape(text or ""))
-        if m:
-            self.samples.append((time.perf_counter(), float(m.group(1))))
-            self.started = self.started or float(m.group(1)) > 0
-
-    def rate(self, t0: float, t1: float) -> float:
-        s = [(t, o) for t, o in self.samples if t0 <= t <= t1]
-        if len(s) < 2 or s[-1][0] <= s[0][0]:
-            return 0.0
-        return (s[-1][1] - s[0][1]) / (s[-1][0] - s[0][0])
-
-
-class Prober:
-    """A session on the Linear tab that moves sigma0 and times the readout update."""
-
-    def __init__(self, session):
-        self.doc = session.document
-        self.slider = next(m for m in self.doc.models if type(m).__name__ == "Slider"
-                           and "σ₀" in (m.title or "") and "Compare" not in (m.title or ""))
-        self.readout = next(m for m in self.doc.models if type(m).__name__ == "HTML"
-                            and "text" in m.properties() and 'id="linear-readouts"' in html.unescape(m.text or ""))
-        self.t_sent = None
-        self.latencies = []
-        self.values = [300.0, 500.0]
-
-    def move(self):
-        if self.t_sent is not None and time.perf_counter() - self.t_sent < 10:
-            return  # still waiting for the last one
-        if self.t_sent is not None:
-            self.latencies.append(10.0)  # lost (counted as 10 s)
-        v = self.values[len(self.latencies) % 2]
-        self.t_sent = time.perf_counter()
-        from bokeh.document.events import ModelChangedEvent
-        self.slider.value = v
-        self.doc.callbacks.trigger_on_change(ModelChangedEvent(self.doc, self.slider, "value_throttled", v))
-
-    def open_tab(self, title: str, marker: str):
-        """Open a never-opened tab (as a click on its header does); the time until a message carrying
-        ``marker`` (an element id of that tab's content) arrives is ``tab_latency_s``."""
-        tabs = next(m for m in self.doc.models if type(m).__name__ == "Tabs"
-                    and any(getattr(t, "title", "") == title for t in m.tabs))
-        index = [t.title for t in tabs.tabs].index(title)
-        self.tab_marker, self.t_tab = marker, time.perf_counter()
-        tabs.active = index
-
-    tab_marker = t_tab = None
-    tab_latency_s = None
-
-    def on_message(self, message):
-        if self.tab_marker is not None and self.tab_latency_s is None and self.tab_marker in message.content_json:
-            self.tab_latency_s = round(time.perf_counter() - self.t_tab, 3)
-        for ev in message.content.get("events", ()):
-            if (ev.get("model") or {}).get("id") == self.readout.id and ev.get("attr") == "text":
-                if self.t_sent is not None:
-                    self.latencies.append(time.perf_counter() - self.t_sent)
-                    self.t_sent = None
-
-
-async def pump(session, reader) -> None:
-    """Read the server's messages for one client session and hand each PATCH-DOC to ``reader``.
-
-    (Bokeh's own ``ClientConnection._next`` awaits itself once per message and overflows the
-    stack after a few thousand frames; this is the same loop without the recursion.)
-    """
-    conn = session._connection
-    while True:
-        message = await conn._pop_message()
-        if message is None:
-            return
-        if message.msgtype == "PATCH-DOC":
-            reader.on_message(message)
-
-
 def run(args) -> dict:
     env = dict(os.environ)
     env["RINGLAB_COMPUTE"] = args.compute if not args.dask else "dask"
@@ -237,21 +110,13 @@ def run(args) -> dict:
         loop = IOLoop()
         url = f"ws://127.0.0.1:{port}/main/ws"
 
-        def connect(arguments=None):
-            s = ClientSession(websocket_url=url, io_loop=loop, arguments=arguments)
-            s.pull()
-            # the page tells the server it has rendered the document (Bokeh's DocumentReady event): Panel
-            # then counts the session as connected; until then it sends no held changes (plot data)
-            s.document.callbacks.trigger_on_change(MessageSentEvent(s.document, "bokeh_event", DocumentReady()))
-            return s
-        sessions = [connect(dict(tab="hydro", autostart="1")) for _ in range(args.students)]
-        probe_session = connect()
+        probe_session = connect(url, loop)
         probe = Prober(probe_session)
-        tab_session = connect()  # a page that opens a never-opened tab while the students run
+        tab_session = connect(url, loop)  # a page that opens a never-opened tab while the students run
         tab_probe = Prober(tab_session)
-        students = [Student(s) for s in sessions]
-        for s, reader in zip(sessions + [probe_session, tab_session], students + [probe, tab_probe]):  # keep reading every connection
-            loop.add_callback(pump, s, reader)
+        students, sessions, threads, joined = open_students(args, url, loop, server.pid)
+        for s, reader in zip(sessions + [probe_session, tab_session], students[:len(sessions)] + [probe, tab_probe]):
+            loop.add_callback(pump, s, reader)  # keep reading every connection of this loop
         loop.call_later(args.warmup, lambda: probes.start())
         loop.call_later(args.warmup + min(10.0, args.seconds / 2),
                         lambda: tab_probe.open_tab("Paper results", "paper-run-label"))
@@ -299,10 +164,14 @@ def run(args) -> dict:
                    acks=[st.acks for st in students], started=[st.started for st in students],
                    hooked=[len(st.hooked) for st in students], load_average=[round(x, 2) for x in os.getloadavg()],
                    setup_s=round(marks["t0"] - t_start, 1))
+        out.update(joined, shared=bool(args.shared), join_together=bool(args.join_together),
+                   frames_per_s=[round(st.frame_rate(marks["t0"], t1), 2) for st in students],
+                   app_process_cores_per_student=round(out["server_process_cores"] / max(1, len(students)), 3))
         out["rss_mb_every_30s"] = rss_series
         if cluster is not None:
             out["dask_worker_rss_mb"] = round(wrss, 0)
             out["server_process_cpu_s_total"] = round(server_only, 1)
+        stop_all(threads)
         for s in sessions + [probe_session, tab_session]:
             s.close()
         # closing all tabs: CPU back to ~0 within 5 s?
@@ -332,6 +201,50 @@ def run(args) -> dict:
             cluster.close()
 
 
+def student_query(args) -> tuple[dict, str | None]:
+    """The page address's query of every student and the button each presses once the page is open:
+    the class start link (``tab=hydro&autostart=1``), or with ``--shared`` the same lesson step
+    (``lesson=L&step=S``, a hydro step that starts its run) and its "Set up this step"."""
+    if args.shared:
+        lesson, step = SHARED_STEP
+        return dict(lesson=str(lesson), step=str(step)), "lesson-setup"
+    return dict(tab="hydro", autostart="1"), None
+
+
+def open_students(args, url: str, loop, server_pid: int) -> tuple[list, list, list, dict]:
+    """Open the students' pages, one after the other on ``loop``, or all at once (``--join-together``,
+    each from its own thread).  Returns (the :class:`Student` readers, the sessions ``loop`` must read,
+    the threads to stop, the join figures: ``pages_ready_s``, ``page_server_cpu_s``)."""
+    query, button = student_query(args)
+    app = psutil.Process(server_pid)
+    cpu0 = app.cpu_times()
+    t0 = time.perf_counter()
+    if args.join_together:
+        threads, t_open, t_done = join_together(url, query, button, args.students)
+        students = [th.student for th in threads if th.student is not None]
+        opened = [t_open] * len(students)
+        sessions, errors = [], [th.error for th in threads if th.error]
+    else:
+        threads, students, sessions, opened, errors = [], [], [], [], []
+        for _ in range(args.students):
+            opened.append(time.perf_counter())
+            sessions.append(connect(url, loop, query))
+            students.append(Student(sessions[-1]))
+            if button:
+                press(sessions[-1], button)
+        t_done = time.perf_counter()
+    cpu1 = app.cpu_times()
+    ready = [st.ready_at - t for st, t in zip(students, opened) if st.ready_at is not None]
+    joined = dict(pages_ready_s=dict(median=round(statistics.median(ready), 2) if ready else None,
+                                     max=round(max(ready), 2) if ready else None, n_ready=len(ready), n=args.students),
+                  # the app process while the class opened its pages: building them (and their first frames)
+                  page_server_cpu_s=round((cpu1.user + cpu1.system - cpu0.user - cpu0.system) / args.students, 3),
+                  join_s=round(t_done - t0, 2))
+    if errors:
+        joined["page_errors"] = errors[:5]
+    return students, sessions, threads, joined
+
+
 def worker_procs(cluster) -> list:
     if cluster is None:
         return []
@@ -350,6 +263,10 @@ def add_parser(sub) -> None:
     ap.add_argument("--dask", action="store_true", help="run the simulations on a LocalCluster of 2 workers")
     ap.add_argument("--compute", choices=("auto", "threads", "processes"), default="auto",
                     help="RINGLAB_COMPUTE of the server (auto, the app's default: worker processes on >= 2 cores)")
+    ap.add_argument("--shared", action="store_true",
+                    help="every student opens the same lesson step (lesson %d, step %d) and sets it up" % SHARED_STEP)
+    ap.add_argument("--join-together", action="store_true",
+                    help="all students open their page at the same moment (reports pages_ready_s)")
     ap.add_argument("--json", action="store_true", help="print one JSON object (the default output)")
     ap.set_defaults(run=run_command)
 

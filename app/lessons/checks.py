@@ -146,7 +146,7 @@ def growth_fit(t: np.ndarray, e: np.ndarray) -> float:
 
 def _hydro_state(targets, min_orbits: float, need_saturated: bool = True):
     """(runner, None) when the run can be judged, else (None, Result('wait', why))."""
-    r = targets.hydro
+    r = targets.peek("hydro")  # a tab not built yet has no run
     if r is None or r.sim is None:
         return None, Result("wait", "There is no hydro run yet: press 'Set up this step'.")
     if r.blowup:
@@ -254,7 +254,7 @@ def lambda_st_number(targets, answer, set: str, isothermal: bool, sigma0: float,
     if isothermal and sigma0 == 0.0 and set in LO2009_M:
         extra = (f"Latter & Ogilvie (2009) found {LO2009_M[set]:.0f} m, and the paper's long run settled there "
                  f"({paperrefs.sec('isonosg')}, {paperrefs.fig('ekinisonosg')}).")
-    r = targets.hydro
+    r = targets.peek("hydro")
     sim = getattr(r, "sim", None)
     if sim is not None and sim.params.name == set and sim.params.isothermal == isothermal and sim.params.sigma0 == sigma0:
         lam = sim.prevalent_wavelength()
@@ -347,7 +347,7 @@ def buffer_role(targets, answer, choices=(), min_orbits: float = 80.0, hint: str
 
 # ---------------------------------------------------------------- N-body box
 def _nbody_state(targets):
-    r = targets.nbody
+    r = targets.peek("nbody")  # a tab not built yet has no box
     if r is None or r.box is None:
         return None, Result("wait", "There is no N-body box yet: press 'Set up this step'.")
     if not r.transport:

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import os
 import weakref
-from dataclasses import dataclass
 
 import param
 
@@ -29,28 +28,57 @@ def default_scale() -> str:
     return s
 
 
-@dataclass
-class Targets:
-    """What presets set and checks read in one session (None where a tab is missing)."""
+LESSON_KINDS = ("linear", "hydro", "nbody", "saturation")
 
-    linear: object = None  # ringlab.model.controls.RingControls of the Linear tab
-    hydro: object = None  # ringlab.live.hydro.HydroRunner
-    nbody: object = None  # ringlab.live.nbody.NBodyRunner
-    saturation: object = None  # the Saturation tab's view (its parameter set and model)
-    tabs: object = None  # the main pn.Tabs
-    tab_index: dict = None  # "linear"/"hydro"/"nbody"/"saturation" -> index in tabs
+
+class Targets:
+    """What presets set and checks read in one session.
+
+    ``linear`` (the Linear tab's ringlab.model.controls.RingControls), ``hydro`` (the HydroRunner),
+    ``nbody`` (the NBodyRunner) and ``saturation`` (the Saturation tab's view) are found in the session's
+    ``runs`` by kind when read, and that tab is built then if it was not yet (``runs.tab``); None where
+    the session has no such tab.  :meth:`peek` reads one without building it.  ``tabs`` is the main
+    ``pn.Tabs``, ``tab_index`` maps a kind to its tab's index there.
+    """
+
+    def __init__(self, runs=None, tabs=None):
+        self.runs, self.tabs = runs, tabs
 
     @classmethod
     def from_session(cls, runs, tabs=None) -> "Targets":
-        """Find the tabs' controllers in ``runs.tabs_by_kind`` (each tab registers itself by kind)."""
+        """The targets of the session whose tabs registered themselves in ``runs`` (by kind)."""
+        return cls(runs, tabs)
+
+    def _get(self, kind: str, build: bool = True):
+        runs = self.runs
+        if runs is None:
+            return None
+        if build and hasattr(runs, "tab"):
+            entry = runs.tab(kind)
+        else:
+            entry = (getattr(runs, "tabs_by_kind", None) or {}).get(kind)
+        if entry is None:
+            return getattr(runs, "hydro", None) if kind == "hydro" else None
+        return entry[1]
+
+    def peek(self, kind: str):
+        """The controller of tab ``kind`` if that tab is built, else None (nothing is built)."""
+        return self._get(kind, build=False)
+
+    linear = property(lambda self: self._get("linear"), doc="The Linear tab's settings (RingControls).")
+    hydro = property(lambda self: self._get("hydro"), doc="The session's HydroRunner.")
+    nbody = property(lambda self: self._get("nbody"), doc="The session's NBodyRunner.")
+    saturation = property(lambda self: self._get("saturation"), doc="The Saturation tab's view.")
+
+    @property
+    def tab_index(self) -> dict:
+        """Kind -> index of its tab in ``tabs`` (the lesson kinds only)."""
+        runs = self.runs
+        index = {k: i for k, i in (getattr(runs, "positions", None) or {}).items() if k in LESSON_KINDS}
         registered = dict(getattr(runs, "tabs_by_kind", None) or {})
-        t = cls(hydro=getattr(runs, "hydro", None), tab_index={})
-        for i, (kind, (view, controller)) in enumerate(registered.items()):
-            if kind in ("linear", "hydro", "nbody", "saturation"):
-                setattr(t, kind, controller)
-            t.tab_index[kind] = _tab_position(tabs, view, i)
-        t.tabs = tabs
-        return t
+        for i, (kind, (view, _)) in enumerate(registered.items()):
+            index.setdefault(kind, _tab_position(self.tabs, view, i))
+        return index
 
 
 def _tab_position(tabs, view, fallback: int) -> int:
@@ -106,12 +134,13 @@ def apply_preset(preset: Preset | str, targets: Targets, scale: str | None = Non
         done.append(f"Saturation tab shows {shown.param_set}, {'isothermal' if shown.isothermal else 'non-isothermal'}")
     for kind in ("hydro", "nbody"):
         values = preset.values(kind, scale)
-        runner = getattr(targets, kind)
-        if not values:
+        if not values:  # a tab not built yet has no run to pause
+            runner = targets.peek(kind)
             if preset.tab in ("hydro", "nbody") and runner is not None and runner.running:
                 runner.pause()
                 done.append(f"{kind} run paused")
             continue
+        runner = getattr(targets, kind)
         if runner is None:
             raise ValueError(f"preset {preset.name!r} needs the {kind} tab, which this session does not have")
         restart = _needs_restart(runner, values, kind)
@@ -128,8 +157,9 @@ def apply_preset(preset: Preset | str, targets: Targets, scale: str | None = Non
             else:
                 done.append(f"{kind} run started")
             runner.start()
-    if targets.tabs is not None and preset.tab in (targets.tab_index or {}):
-        targets.tabs.active = targets.tab_index[preset.tab]
+    index = targets.tab_index
+    if targets.tabs is not None and preset.tab in index:
+        targets.tabs.active = index[preset.tab]
     return done
 
 

@@ -3,7 +3,8 @@
 :class:`SessionRuns` links the Saturation tab to the session's hydro run: the hydro
 view registers its runner here, and the Saturation tab's "add my run" button stores the
 run's (sigma0, lambda_p) as a point.  ``ringlab.main.create_app`` makes one per session and
-passes it to every tab factory that declares a ``runs`` parameter.  Creating one also
+passes it to every tab factory that declares a ``runs`` parameter.  The tabs are built when first
+needed: :meth:`SessionRuns.tab` builds one by kind (a lesson preset, "Run this in ...").  Creating one also
 installs :mod:`ringlab.server.socket_guard` (a page that goes away mid-stream leaves no traceback) and
 :func:`show_app_log` (the app's own ``pn.state.log`` lines reach the server log).
 """
@@ -54,6 +55,9 @@ class SessionRuns(param.Parameterized):
     tabs_by_kind = param.Dict(default={}, doc="Kind ('linear', 'hydro', 'nbody', 'saturation') -> (view, controller): "
                                                 "each tab registers itself (register), so the lessons reach the Linear "
                                                 "tab's settings and the runners without importing tab classes.")
+    builder = param.Callable(default=None, doc="builder(kind) builds the session's tab of that kind (which registers "
+                                               "itself); set by ringlab.main, whose tabs are built when first needed.")
+    positions = param.Dict(default={}, doc="Kind -> index of its tab in the main pn.Tabs (set by ringlab.main).")
 
     def __init__(self, **params):
         super().__init__(**params)
@@ -64,6 +68,17 @@ class SessionRuns(param.Parameterized):
     def register(self, kind: str, view, controller=None) -> None:
         """Register this session's tab ``view`` of ``kind`` and its controller (settings or runner)."""
         self.tabs_by_kind = {**self.tabs_by_kind, kind: (view, controller)}
+
+    def tab(self, kind: str):
+        """The (view, controller) of this session's tab ``kind``, built now if it was not yet (None if
+        the session has no such tab)."""
+        if kind not in self.tabs_by_kind and self.builder is not None and kind in self.positions:
+            self.builder(kind)
+        return self.tabs_by_kind.get(kind)
+
+    def built(self, kind: str):
+        """The (view, controller) of tab ``kind`` if it is built (None if not: nothing is built here)."""
+        return self.tabs_by_kind.get(kind)
 
     def add_hydro_run(self, min_orbits: float = 20.0) -> str:
         """Add the hydro run's saturated lambda_p (median over its last quarter); returns a message.

@@ -24,6 +24,7 @@ from ringcore.params import RingParams
 from ringcore.wavetrain.boundary import STABLE_TOL
 from ringcore.wavetrain.floquet import DEFAULT_Q
 
+from ringlab.model.shipped import read_once
 from ringlab.paths import DATA_DIR
 
 LAMBDA_ST_FILE = DATA_DIR / "lambda_st.nc"
@@ -47,7 +48,10 @@ def load_lambda_st(path: Path | None = None) -> tuple[dict, str]:
     ``lambda_c_m``, ``lambda_zero_m``, ``lambda_slow_m`` [m] (nan where missing).  A missing or damaged
     file gives an empty table and a note saying so.
     """
-    path = Path(LAMBDA_ST_FILE if path is None else path)
+    return read_once(LAMBDA_ST_FILE if path is None else path, _read_lambda_st)  # once per server process
+
+
+def _read_lambda_st(path: Path) -> tuple[dict, str]:
     if not path.exists():
         return {}, f"The stability-boundary table ({path.name}) is missing: no λ_st line."
     try:

@@ -25,6 +25,7 @@ from ringcore.experiments.sweep import shipped_sweep_files, sweep_points
 
 from ringlab.lessons.tutorials import docs_link, tab_links
 from ringlab.live.session import SessionRuns
+from ringlab.model.shipped import read_once
 from ringlab.model.controls import ISOTHERMAL_ONLY, build_params, isothermal_only_note, set_labels
 from ringlab.model.wave_trains import load_lambda_st
 from ringlab.tabs.saturation import stability
@@ -100,7 +101,10 @@ def load_sweep(path: Path | None = None) -> tuple[list, str]:
     writes it), else (or where it is nan) from the file's ``note`` attribute (:func:`unsaturated_sigma0`);
     runs not named there count as saturated.
     """
-    path = Path(SWEEP_FILE if path is None else path)
+    return read_once(SWEEP_FILE if path is None else path, _read_sweep)  # once per server process
+
+
+def _read_sweep(path: Path) -> tuple[list, str]:
     if not path.exists():
         return [], (f"No sweep data shipped yet ({path.name} is missing): only the theory curves are shown. "
                     "The researcher's guide of the documentation (Sweeps) says how to compute it.")

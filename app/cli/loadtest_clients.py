@@ -1,0 +1,199 @@
+"""The simulated pages of ``ringlab loadtest`` (:mod:`ringlab.cli.loadtest`): Bokeh client sessions, no browser.
+
+:class:`Student` follows a hydro run the way a page does (it acknowledges every frame and reads the
+"Orbits elapsed" readout), :class:`Prober` moves a Linear-tab slider and opens a never-opened tab and
+times the answers; :func:`connect` opens a session like a page (its ``DocumentReady``), :func:`press`
+clicks a button, :func:`pump` reads a session's messages.
+"""
+from __future__ import annotations
+
+import html
+import re
+import time
+
+import panel  # noqa: F401  (registers Panel's models for the client documents)
+from bokeh.client import ClientSession
+from bokeh.document.events import MessageSentEvent
+from bokeh.events import ButtonClick, DocumentReady
+from tornado.httpclient import HTTPRequest
+
+# A browser waits minutes for a page; Tornado's websocket handshake gives up after 20 s, which a server
+# building many pages at once exceeds: the simulated pages wait like a browser
+HANDSHAKE_TIMEOUT_S = 300.0
+ORBITS_RE = re.compile(r'id="hydro-orbits">.*?class="ro-value">([0-9.]+)<')
+
+
+def connect(url: str, loop, arguments: dict | None = None) -> ClientSession:
+    """Open a session at ``url`` (``ws://.../main/ws``) on the IOLoop ``loop`` with the page address query
+    ``arguments``, pull its document and tell the server it is rendered, as a page does."""
+    HTTPRequest._DEFAULTS.update(connect_timeout=HANDSHAKE_TIMEOUT_S, request_timeout=HANDSHAKE_TIMEOUT_S)
+    s = ClientSession(websocket_url=url, io_loop=loop, arguments=arguments)
+    s.pull()
+    # the page tells the server it has rendered the document (Bokeh's DocumentReady event): Panel
+    # then counts the session as connected; until then it sends no held changes (plot data)
+    s.document.callbacks.trigger_on_change(MessageSentEvent(s.document, "bokeh_event", DocumentReady()))
+    return s
+
+
+def find_button(doc, css_class: str):
+    """The button of ``doc`` with ``css_class`` (None if the document has none)."""
+    for m in doc.models:
+        if type(m).__name__ == "Button" and css_class in (getattr(m, "css_classes", None) or []):
+            return m
+    return None
+
+
+def press(session, css_class: str) -> bool:
+    """Click the button with ``css_class`` in ``session`` as a page does (a ``ButtonClick``); False if absent."""
+    doc = session.document
+    button = find_button(doc, css_class)
+    if button is None:
+        return False
+    doc.callbacks.trigger_on_change(MessageSentEvent(doc, "bokeh_event", ButtonClick(button)))
+    return True
+
+
+class Student:
+    """One Panel session driven like a page: the hydro tab opened and started, frames acknowledged.
+
+    Until the plot sources and the readout are found the server's messages are applied to the
+    client document (the models of a tab may arrive in a patch); after that each message is only
+    scanned: a new ``data`` of a plot source is acknowledged as the page's ``CustomJS`` does, and
+    the "Orbits elapsed" readout is read from the new ``text`` of the readout pane.  Skipping
+    Bokeh's deserialisation keeps this client cheap: it shares the 2 cores with the server.
+    """
+
+    def __init__(self, session):
+        self.s = session
+        self.doc = session.document
+        self.samples = []  # (wall, orbits shown)
+        self.acks = 0
+        self.started = False
+        self.hooked = set()
+        self.ack_fig = {}  # source id -> figure to acknowledge on
+        self.readout_id = None
+        self.profile_id = None  # the profile plot's source: one new ``data`` of it is one frame drawn
+        self.frames = []  # wall times of the frames
+        self.ready_at = None  # wall time at which the document first held the hydro tab's Start button
+        self.poll()
+
+    def _ack(self, fig):
+        """Acknowledge a frame as the page's ``CustomJS`` does (bump the figure's ``tags``)."""
+        fig.tags = [(fig.tags[0] if fig.tags else 0) + 1]
+        self.acks += 1
+
+    def poll(self):
+        """Find the plot sources (and the figures their acknowledgement bumps) and the readout pane."""
+        for src_name in ("hydro-profile-source", "hydro-spacetime-source"):
+            if src_name in self.hooked:
+                continue
+            src = self.doc.select_one({"name": src_name})
+            if src is None:
+                continue
+            # the figure whose ``tags`` the page's CustomJS bumps (ringlab.ui.frame_gate.FrameGate)
+            figs = [cb.args.get("fig") for cb in src.js_property_callbacks.get("change:data", [])
+                    if "fig" in getattr(cb, "args", {})]
+            if figs:
+                self.ack_fig[src.id] = figs[0]
+                self.hooked.add(src_name)
+                if src_name == "hydro-profile-source":
+                    self.profile_id = src.id
+        if self.ready_at is None and find_button(self.doc, "hydro-start") is not None:
+            self.ready_at = time.perf_counter()
+        if self.readout_id is None:
+            for m in self.doc.models:
+                if (type(m).__name__ == "HTML" and "text" in m.properties()
+                        and 'id="hydro-readouts"' in html.unescape(m.text or "")):
+                    self.readout_id = m.id
+                    self.hooked.add("readouts")
+
+    def on_message(self, message):
+        if len(self.hooked) < 3:
+            self.s._handle_patch(message)
+            self.poll()
+            return
+        for ev in message.content.get("events", ()):
+            mid = (ev.get("model") or {}).get("id")
+            if ev.get("attr") == "data" and mid in self.ack_fig:
+                self._ack(self.ack_fig[mid])
+                if mid == self.profile_id:
+                    self.frames.append(time.perf_counter())
+            elif mid == self.readout_id and ev.get("attr") == "text":
+                self._readout(ev.get("new"))
+
+    def _readout(self, text):
+        m = ORBITS_RE.search(html.unescape(text or ""))
+        if m:
+            self.samples.append((time.perf_counter(), float(m.group(1))))
+            self.started = self.started or float(m.group(1)) > 0
+
+    def rate(self, t0: float, t1: float) -> float:
+        s = [(t, o) for t, o in self.samples if t0 <= t <= t1]
+        if len(s) < 2 or s[-1][0] <= s[0][0]:
+            return 0.0
+        return (s[-1][1] - s[0][1]) / (s[-1][0] - s[0][0])
+
+    def frame_rate(self, t0: float, t1: float) -> float:
+        """Frames (new profile data) per second received between ``t0`` and ``t1``."""
+        return sum(t0 <= t <= t1 for t in self.frames) / (t1 - t0) if t1 > t0 else 0.0
+
+
+class Prober:
+    """A session on the Linear tab that moves sigma0 and times the readout update."""
+
+    def __init__(self, session):
+        self.doc = session.document
+        self.slider = next(m for m in self.doc.models if type(m).__name__ == "Slider"
+                           and "σ₀" in (m.title or "") and "Compare" not in (m.title or ""))
+        self.readout = next(m for m in self.doc.models if type(m).__name__ == "HTML"
+                            and "text" in m.properties() and 'id="linear-readouts"' in html.unescape(m.text or ""))
+        self.t_sent = None
+        self.latencies = []
+        self.values = [300.0, 500.0]
+
+    def move(self):
+        if self.t_sent is not None and time.perf_counter() - self.t_sent < 10:
+            return  # still waiting for the last one
+        if self.t_sent is not None:
+            self.latencies.append(10.0)  # lost (counted as 10 s)
+        v = self.values[len(self.latencies) % 2]
+        self.t_sent = time.perf_counter()
+        from bokeh.document.events import ModelChangedEvent
+        self.slider.value = v
+        self.doc.callbacks.trigger_on_change(ModelChangedEvent(self.doc, self.slider, "value_throttled", v))
+
+    def open_tab(self, title: str, marker: str):
+        """Open a never-opened tab (as a click on its header does); the time until a message carrying
+        ``marker`` (an element id of that tab's content) arrives is ``tab_latency_s``."""
+        tabs = next(m for m in self.doc.models if type(m).__name__ == "Tabs"
+                    and any(getattr(t, "title", "") == title for t in m.tabs))
+        index = [t.title for t in tabs.tabs].index(title)
+        self.tab_marker, self.t_tab = marker, time.perf_counter()
+        tabs.active = index
+
+    tab_marker = t_tab = None
+    tab_latency_s = None
+
+    def on_message(self, message):
+        if self.tab_marker is not None and self.tab_latency_s is None and self.tab_marker in message.content_json:
+            self.tab_latency_s = round(time.perf_counter() - self.t_tab, 3)
+        for ev in message.content.get("events", ()):
+            if (ev.get("model") or {}).get("id") == self.readout.id and ev.get("attr") == "text":
+                if self.t_sent is not None:
+                    self.latencies.append(time.perf_counter() - self.t_sent)
+                    self.t_sent = None
+
+
+async def pump(session, reader) -> None:
+    """Read the server's messages for one client session and hand each PATCH-DOC to ``reader``.
+
+    (Bokeh's own ``ClientConnection._next`` awaits itself once per message and overflows the
+    stack after a few thousand frames; this is the same loop without the recursion.)
+    """
+    conn = session._connection
+    while True:
+        message = await conn._pop_message()
+        if message is None:
+            return
+        if message.msgtype == "PATCH-DOC":
+            reader.on_message(message)

@@ -1,0 +1,108 @@
+"""A page builds only the tab it shows and the lessons panel; the other tabs are built when opened, or
+when a lesson step, the page address or ``app.views`` needs them, with results bit-identical to a tab
+built eagerly (ringlab.main.create_app, ringlab.ui.lazy_tabs)."""
+from __future__ import annotations
+
+import numpy as np
+import panel as pn
+import pytest
+
+from ringlab.lessons import LESSONS, PRESETS
+from ringlab.lessons.presets import apply_preset
+from ringlab.live.session import SessionRuns
+from ringlab.main import TAB_KEYS, TABS, create_app
+from ringlab.tabs.hydro.view import HydroView
+from ringlab.ui.present import _SAVED
+
+SMALL = dict(L_x=1000.0, h=5.0)
+
+
+def built(app) -> list[int]:
+    return [i for i in range(len(TABS)) if app.lazy.is_built(i)]
+
+
+def test_the_default_page_builds_only_the_linear_tab():
+    app = create_app()
+    assert built(app) == [0] and app.tabs.active == 0
+    assert set(app.lessons.runs.tabs_by_kind) == {"linear"}
+    assert "tab-opening" in app.tabs.objects[1].object  # a note until the tab is opened
+    assert len(app.views) == len(TABS) and app.views.built() == [app.views[0]]
+
+
+def test_the_teacher_link_builds_only_the_hydro_tab_and_starts_it():
+    app = create_app({"tab": [b"hydro"], "autostart": [b"1"]})
+    assert built(app) == [TAB_KEYS["hydro"]] and app.tabs.active == TAB_KEYS["hydro"]
+    r = app.views[TAB_KEYS["hydro"]].runner
+    assert r.running
+    r.pause()
+
+
+def test_opening_a_tab_builds_it_in_place():
+    app = create_app()
+    i = TAB_KEYS["saturation"]
+    app.tabs.active = i
+    view = app.views.built()[-1]
+    assert built(app) == [0, i] and app.tabs.objects[i] is view.__panel__()
+    assert app.tabs._names[i] == TABS[i][0]  # the title stays
+    app.tabs.active = 0
+    app.tabs.active = i
+    assert app.views[i] is view  # built once
+
+
+def test_a_lesson_step_builds_the_tab_it_needs():
+    app = create_app()
+    lp = app.lessons
+    lp.scale = "fast"
+    lesson = next(les for les in LESSONS if les.steps[0].preset.startswith("hydro"))
+    lp.goto(lesson.number, 1)
+    done = lp.setup()
+    assert done and "hydro run started" in " ".join(done)
+    assert TAB_KEYS["hydro"] in built(app) and app.tabs.active == TAB_KEYS["hydro"]
+    r = lp.targets().hydro
+    assert r is app.views[TAB_KEYS["hydro"]].runner and r.running
+    r.pause()
+    assert built(app) == [0, TAB_KEYS["hydro"]]  # nothing else was built for it
+
+
+def test_a_check_does_not_build_a_tab():
+    app = create_app()
+    assert app.lessons.targets().peek("nbody") is None and app.lessons.targets().peek("hydro") is None
+    assert built(app) == [0]
+
+
+def test_presentation_mode_reaches_tabs_built_later():
+    app = create_app()
+    app.present.value = True
+    fig = app.views[TAB_KEYS["hydro"]].__panel__().select(pn.pane.Bokeh)[0].object
+    assert getattr(fig, _SAVED, None) is not None
+    app.present.value = False
+    assert getattr(fig, _SAVED, None) is None
+
+
+def test_a_run_in_a_lazily_built_tab_is_bit_identical_to_an_eager_one():
+    app = create_app()
+    lazy = app.views[TAB_KEYS["hydro"]].runner
+    eager = HydroView(runs=SessionRuns()).runner
+    for r in (lazy, eager):
+        r.param.update(**SMALL)
+        r.advance(60.0, until=1.0)
+    assert lazy.sim.orbits == eager.sim.orbits
+    np.testing.assert_array_equal(lazy.sim.sigma, eager.sim.sigma)
+
+
+@pytest.mark.parametrize("name", sorted(PRESETS))
+def test_every_preset_sets_up_its_tab_on_a_fresh_page(name):
+    """A page that has built only the Linear tab: each preset builds what it sets and shows its tab."""
+    app = create_app()
+    p = PRESETS[name]
+    t = app.lessons.targets()
+    apply_preset(name, t, "fast")
+    for part in ("linear", "hydro", "nbody", "saturation"):
+        for k, v in p.values(part, "fast").items():
+            assert getattr(getattr(t, part), k) == v, (name, part, k)
+    assert app.tabs.active == TAB_KEYS[p.tab] and app.lazy.is_built(TAB_KEYS[p.tab])
+    assert app.tabs.objects[TAB_KEYS[p.tab]] is app.views[TAB_KEYS[p.tab]].__panel__()
+    for kind in ("hydro", "nbody"):
+        runner = t.peek(kind)
+        if runner is not None and runner.running:
+            runner.pause()

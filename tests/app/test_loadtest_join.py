@@ -1,0 +1,38 @@
+"""``ringlab loadtest --join-together --shared``: a small class (3 students, 10 s) opens its pages at the
+same moment on one lesson step; the report has the join figures (pages_ready_s, page_server_cpu_s), the
+frames each student received and the app process's cores per student, next to the keys it always had."""
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+
+OLD_KEYS = {"students", "seconds", "server_process_cores", "per_session_orbits_per_s", "aggregate_orbits_per_s",
+            "server_cores", "server_rss_mb", "control_latency_s", "server_main_thread_cores", "never_opened_tab_s",
+            "client_cores", "acks", "started", "hooked", "load_average", "setup_s", "cores_5s_after_close"}
+
+
+def loadtest(tmp_path, *options) -> dict:
+    env = {**os.environ, "RINGLAB_LOAD_LOG": str(tmp_path / "server.log"), "RINGLAB_LESSONS_SCALE": "fast"}
+    out = subprocess.run([sys.executable, "-m", "ringlab.cli.main", "loadtest", "--students", "3", "--seconds", "10",
+                          "--warmup", "4", *options, "--json"], capture_output=True, text=True, timeout=600, env=env)
+    assert out.returncode == 0, out.stderr[-2000:]
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+@pytest.mark.slow  # a server, 3 pages and 14 s of running: 40-90 s on a 2-core machine
+@pytest.mark.xdist_group("browser")  # starts a server: with the browser tests, one at a time
+def test_a_class_joining_together_on_one_lesson_step_is_reported(tmp_path):
+    r = loadtest(tmp_path, "--join-together", "--shared")
+    assert OLD_KEYS <= set(r), OLD_KEYS - set(r)
+    assert r["shared"] is True and r["join_together"] is True and "page_errors" not in r
+    ready = r["pages_ready_s"]
+    assert ready["n"] == 3 and ready["n_ready"] == 3, ready  # every page got its Start button
+    assert 0 < ready["median"] <= ready["max"] < 300
+    assert r["page_server_cpu_s"] > 0 and r["join_s"] >= ready["max"] - 0.1
+    assert len(r["frames_per_s"]) == 3 and all(f > 0 for f in r["frames_per_s"]), r["frames_per_s"]
+    assert r["app_process_cores_per_student"] == pytest.approx(r["server_process_cores"] / 3, abs=0.01)
+    assert all(r["started"]), r["started"]  # the lesson's preset built the Hydrodynamics tab and started its run
