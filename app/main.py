@@ -41,8 +41,8 @@ TAB_KEYS = {"linear": 0, "hydro": 1, "nbody": 2, "saturation": 3, "compare": 4, 
 TITLE = "ringlab: viscous overstability in Saturn's rings"
 
 # A plain page instead of a template: FastListTemplate and its Fast design load the "Open Sans" web
-# font from fonts.googleapis.com on every page load, which fails in a classroom without internet
-# (issue 14, item 8).  Everything else Panel needs is served by the app server itself (/static).
+# font from fonts.googleapis.com on every page load, which fails in a classroom without internet.
+# Everything else Panel needs is served by the app server itself (/static).
 PAGE_CSS = """
 :host, .app-header {font-family: system-ui, -apple-system, "Segoe UI", Roboto, "DejaVu Sans", sans-serif;}
 .app-header {background: #1f4e79; color: #fff; padding: 8px 16px; margin: 0 0 4px 0;}

@@ -1,4 +1,4 @@
-"""Words a student can look up: the glossary shown beside every tab (issue 13, item 6).
+"""Words a student can look up: the glossary shown beside every tab.
 
 :data:`TERMS` maps a key to a :class:`Term` (name, explanation, paper citations as labels).
 :func:`glossary_html` renders all or some terms as an HTML definition list (used by the

@@ -1,4 +1,4 @@
-"""Printable one-page worksheets, generated from the lesson definitions (issue 13, item 7).
+"""Printable one-page worksheets, generated from the lesson definitions.
 
 ``python -m ringlab.lessons.worksheets`` writes ``app/lessons/worksheets/lesson<N>.html`` (committed,
 and served to the page by the Lessons panel); ``--check`` exits with status 1 if the files on

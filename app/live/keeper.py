@@ -1,4 +1,4 @@
-"""Keep the run a setup change replaced, restorable with one click (issue 14, item 3).
+"""Keep the run a setup change replaced, restorable with one click.
 
 A live runner (:class:`ringlab.live.hydro.HydroRunner`, :class:`ringlab.live.nbody.NBodyRunner`)
 starts a new simulation at t = 0 whenever a setup control changes.  :class:`RunKeeper` takes

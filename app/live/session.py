@@ -35,7 +35,7 @@ def show_app_log() -> None:
     ``pn.state.log`` writes to the ``panel.state`` logger, whose handler shows only warnings unless
     ``panel serve --log-level info``, which would add four Panel lines per session.  The app logs
     one line per event a server operator should see (e.g. "hydro run of a closed session freed at
-    orbit 12.34", issue 14 item 6); this handler shows exactly those.  Idempotent.
+    orbit 12.34"); this handler shows exactly those.  Idempotent.
     """
     logger = logging.getLogger("panel.state")
     if any(isinstance(f, _BelowPanelLevel) for h in logger.handlers for f in h.filters):

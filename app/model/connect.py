@@ -1,4 +1,4 @@
-"""Connect what the student sees (issue 13, item 5): one tab's settings and theory in another tab.
+"""Connect what the student sees: one tab's settings and theory in another tab.
 
 * :func:`carry_values` and :func:`describe` — which of the Linear tab's model settings the hydro or
   N-body runner takes over ("Run this in ...": :mod:`ringlab.tabs.linear.carry`).

@@ -102,7 +102,7 @@ class RingControls(param.Parameterized):
     @param.depends("param_set", watch=True)
     def _isothermal_only_sets(self):
         """Choosing an isothermal-only set (st99) switches the isothermal model on, with a note
-        (instead of an error message about an impossible combination; issue 14, item 4)."""
+        (instead of an error message about an impossible combination)."""
         if self.param_set in ISOTHERMAL_ONLY and not self.isothermal:
             self.model_note = isothermal_only_note(self.param_set)
             self.isothermal = True

@@ -8,7 +8,7 @@ convoy on the GIL (8 sessions: 4.3 orbits/s in all on 1.07 cores).  That is why 
 session on a multi-core machine computes in worker processes by default (:mod:`ringlab.server.remote`);
 this pool then only waits for their results.
 
-Rules (issue 12):
+Rules (so that a class shares the cores fairly and the event loop stays free):
 
 * at most :func:`max_compute` chunks compute at once (``RINGLAB_MAX_COMPUTE``, default the
   number of cores);

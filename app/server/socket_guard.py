@@ -1,4 +1,4 @@
-"""A page that goes away while frames stream must leave no traceback in the server log (issue 14, item 6).
+"""A page that goes away while frames stream must leave no traceback in the server log.
 
 When a browser tab is closed, reloaded or navigated away while the app streams frames, the
 server may write to a websocket whose peer has already gone before it has read the page's

@@ -1,4 +1,4 @@
-"""Number inputs that say why a typed value was not used (issue 14, item 4).
+"""Number inputs that say why a typed value was not used.
 
 ``FloatInput.from_param`` gives the browser widget the parameter's bounds, and a value
 outside them silently snaps back (typing L_x = 50 showed 2000 again with no word).

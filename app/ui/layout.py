@@ -10,7 +10,7 @@ def responsive_grid(*objects, min_px: int = 440, **kw) -> pn.Column:
     """Objects in as many equal columns of at least ``min_px`` pixels as fit (one on a phone).
 
     A CSS grid with ``auto-fit`` instead of a fixed number of columns: at 1024 px the plots
-    stack instead of overlapping, on a wide screen they sit side by side (issue 14, item 7).
+    stack instead of overlapping, on a wide screen they sit side by side.
     """
     styles = {"display": "grid", "grid-template-columns": f"repeat(auto-fit, minmax(min(100%, {min_px}px), 1fr))",
               "gap": "6px 10px", "align-items": "start"}

@@ -178,7 +178,7 @@ class HydroView(pn.viewable.Viewer):
     def _build_layout(self):
         P = self.plots
         pane = lambda f: pn.pane.Bokeh(f, sizing_mode="stretch_width")  # noqa: E731
-        # responsive grids (issue 14, item 7): the space-time diagram beside the profiles only on wide
+        # responsive grids: the space-time diagram beside the profiles only on wide
         # screens; profiles at least 280 px wide each (two per row at 1024 px, one on a phone)
         f = [pane(fig) for fig in P.profile_figs.values()]
         profiles = responsive_grid(responsive_grid(f[0], f[1], min_px=290), responsive_grid(f[2], f[3], min_px=290),
@@ -274,7 +274,7 @@ class HydroView(pn.viewable.Viewer):
             self._last_rate = r.rates()
         steps_s, orb_s = self._last_rate
         # the speed measured now (last ~2 s), not a fixed figure: it falls from ~11 to ~5 orbits/s as the
-        # waves become nonlinear and the time step shrinks (issue 14, item 9)
+        # waves become nonlinear and the time step shrinks
         when = "now, of wall-clock time" if r.running else "when last running"
         n = r.numbers
         return [
@@ -315,7 +315,7 @@ class HydroView(pn.viewable.Viewer):
     def _on_running(self, *_):
         r = self.runner
         b = self.buttons
-        # after a blow-up only Reset can go on: Start and Step are disabled (issue 14, item 5)
+        # after a blow-up only Reset can go on: Start and Step are disabled
         b["start"].disabled = r.running or bool(r.blowup)
         b["pause"].disabled = not r.running
         b["step"].disabled = r.running or bool(r.blowup)

@@ -156,7 +156,7 @@ class LinearView(pn.viewable.Viewer):
         Pressing Enter sends a ``value`` change *and* an ``enter-pressed`` event; Panel 1.9 handles
         the event in a coroutine without the Bokeh document lock and flushes the still pending value
         change from there, so every plot update it causes raised "RuntimeError: _pending_writes should
-        be non-None ..." (issue 14, item 1).  ``pn.state.execute(..., schedule=True)`` runs the update
+        be non-None ...".  ``pn.state.execute(..., schedule=True)`` runs the update
         on the event loop with the lock held (at once outside a server, e.g. in tests).
         """
         c = self.controls

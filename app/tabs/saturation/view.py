@@ -263,7 +263,7 @@ class SaturationView(pn.viewable.Viewer):
         self._update_points()
 
     def _update_points(self, *_):
-        """The user's runs; those of another set or model greyed like the sweep's (issue 14, item 9)."""
+        """The user's runs; those of another set or model greyed like the sweep's."""
         pts = self.runs.points
         self.user_source.data = dict(sigma0=[p["sigma0"] for p in pts], lambda_p=[p["lambda_p_m"] for p in pts],
                                      label=[p["label"] for p in pts],
