@@ -42,6 +42,7 @@ import numpy as np
 
 from .checks import check_real
 from .engine import State, engine_class
+from .engine import state_from_dataset
 
 MAX_BYTES = 256 * 2**20
 """Default limit of an archive's size [bytes] (256 MiB), in memory and in the run file."""
@@ -283,7 +284,7 @@ def archive_from_dataset(ds, source: str = "run file") -> Archive:
     ringcore.io.RunFileError
         The archive's checksum ``archive_sha256`` does not match its variables (a damaged or edited file).
     """
-    from .engine import state_from_dataset
+    # deferred: ringcore.io loads xarray (~1 s); ringcore.nbody imports this module and does not need it
     from .io import RunFileError
 
     kind = ds.attrs.get("kind")

@@ -212,6 +212,8 @@ def _runfile(kind: str):
 
 def read_dataset(path, kind: str | None = None):
     """A checked run file as an ``xarray.Dataset`` (:func:`ringcore.io.read_run`)."""
+    # deferred: ringcore.io loads xarray (~1 s); the engine contract (imported by ringcore.nbody and
+    # ringcore.analysis, which do not need xarray) must not pay it
     from .io import read_run
     return read_run(path, kind=kind)
 
@@ -223,6 +225,7 @@ def state_to_dataset(state: State):
 
 def state_from_dataset(ds, kind: str) -> State:
     """The :class:`State` saved in a run file (a Dataset or a path) of ``kind``."""
+    # deferred: ringcore.io loads xarray (~1 s); see read_dataset
     from .io import validate_run
     ds = validate_run(ds, kind=kind) if hasattr(ds, "data_vars") else read_dataset(ds, kind)
     return _runfile(kind).state_from_dataset(ds)
@@ -253,6 +256,7 @@ def load(path, kind: str | None = None, index: int | None = None):
     """
     ds = read_dataset(path, kind)
     if ds.attrs.get("kind") not in ENGINES:
+        # deferred: ringcore.io loads xarray (~1 s); see read_dataset
         from .io import RunFileError
 
         raise RunFileError(f"{path}: a {ds.attrs.get('kind')!r} run cannot be continued: allowed kinds "

@@ -34,6 +34,7 @@ import math
 from dataclasses import dataclass
 
 from .checks import check_int, check_real
+from .units import G
 
 ORBITS_MAX = 1.0e6  # [orbits] longest duration / latest end time of a run
 OPEN_END_ORBITS = 1.0e12  # [orbits] duration allowed with a wall-time budget (live runs: "until stopped")
@@ -175,16 +176,12 @@ def check(name: str, value, label: str | None = None, *, lo=None, hi=None, note:
 def sigma0_max(Omega: float, c0: float) -> float:
     """Largest sigma0 [kg/m^2] of a parameter set with ``Omega`` [1/s] and ``c0`` [m/s]:
     the smaller of the table's 1e4 kg/m^2 and Q0 = :data:`Q0_MIN` (Q0 = Omega c0 / (pi G sigma0))."""
-    from .units import G
-
     return min(RANGES["sigma0"].hi, Omega * c0 / (math.pi * G * Q0_MIN))
 
 
 def check_sigma0(sigma0, Omega: float, c0: float, label: str = "sigma0", set_name: str = "") -> float:
     """``sigma0`` [kg/m^2]: 0 (no self-gravity) or :data:`SIGMA0_MIN` .. :func:`sigma0_max`; the message
     says which limit binds and why."""
-    from .units import G
-
     s_max = sigma0_max(Omega, c0)
     x = check_real(label, sigma0, 0.0, s_max, unit="kg/m^2", allow_str=False) if not isinstance(sigma0, (int, float)) or \
         isinstance(sigma0, bool) or not math.isfinite(sigma0) or sigma0 < 0 else float(sigma0)

@@ -13,11 +13,13 @@ import subprocess
 import sys
 import time
 
+from . import params
+
 ENGINES = ("hydro", "nbody")
 
 
 def _hydro() -> None:
-    from . import params
+    # deferred: each warm-up process loads only its own engine; compile_in_parallel (pytest's controller) none
     from .hydro import Hydro1D, HydroOptions
 
     for iso in (False, True):
@@ -31,7 +33,7 @@ def _hydro() -> None:
 
 
 def _nbody() -> None:
-    from . import params
+    # deferred: each warm-up process loads only its own engine; compile_in_parallel (pytest's controller) none
     from .nbody import NBodyOptions, ShearingBox
 
     for law in ("bridges", "constant"):

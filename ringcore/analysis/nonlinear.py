@@ -38,6 +38,9 @@ import numpy as np
 
 from .. import linear
 from ..checks import check_int, check_real
+from ..hydro import Hydro1D, HydroBlowUp, HydroOptions
+from ..nbody import NBodyOptions, ShearingBox
+from ..nbody.growth import velocity_mode
 from ..params import RingParams
 from .rates import lomb_frequency
 from .saturation import lagrange_derivative
@@ -123,8 +126,6 @@ def hydro_frequency(p: RingParams, wavelength_m: float, *, amplitude: float = 0.
     timestep, samples_per_orbit, T_floor
         Passed to :class:`ringcore.hydro.HydroOptions`.
     """
-    from ..hydro import Hydro1D, HydroBlowUp, HydroOptions
-
     lam = check_real("wavelength_m", wavelength_m, 0.0, 1e6, lo_open=True, unit="m")
     orbits = check_real("orbits", orbits, 2.0, 1e6, unit="orbits")
     discard = check_real("discard", discard, 0.0, orbits - 2.0, unit="orbits")
@@ -182,9 +183,6 @@ def nbody_frequency(p: RingParams, wavelength_m: float, *, amplitude: float = 10
     resolve_m : float
         Shortest self-gravity wavelength [m] (m_max = lambda / resolve_m).
     """
-    from ..nbody import NBodyOptions, ShearingBox
-    from ..nbody.growth import velocity_mode
-
     lam = check_real("wavelength_m", wavelength_m, 6.0, 1e6, unit="m")
     orbits = check_real("orbits", orbits, 2.0, 1e6, unit="orbits")
     discard = check_real("discard", discard, 0.0, orbits - 2.0, unit="orbits")

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..checks import check_choice, check_real
 from ..engine import State
+from .summary import series_summary, strobe_wavelength
 
 METHODS = ("psd", "most_frequent", "instantaneous")
 DEFAULT_METHOD = "psd"
@@ -59,8 +60,8 @@ def all_methods(run, last_fraction: float = 0.25) -> dict:
 
 
 def _hydro(st: State, method: str, last_fraction: float) -> float:
+    # deferred: ringcore.hydro loads the numba engines (~2 s); `import ringcore.analysis` does not
     from ..hydro.diagnostics import prevalent_wavelength
-    from .summary import series_summary, strobe_wavelength
 
     a, L_x = st.arrays, st.options.L_x
     if method == "instantaneous":
@@ -71,9 +72,9 @@ def _hydro(st: State, method: str, last_fraction: float) -> float:
 
 
 def _nbody(st: State, method: str, last_fraction: float) -> float:
+    # deferred: ringcore.nbody loads the numba engines (~2 s); `import ringcore.analysis` does not
     from ..nbody import diagnostics as D
-    from ..nbody.store import summary
-    from .summary import strobe_wavelength
+    from ..nbody.store import summary  # deferred: as the line above (and .store loads xarray)
 
     a, o = st.arrays, st.options
     if method == "instantaneous":

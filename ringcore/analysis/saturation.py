@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..checks import check_real
+from ..linear import lambda_zero
 from ..params import RingParams
 
 C_EMPIRICAL = 1.4  # eq. (lambdasigma)
@@ -11,8 +12,6 @@ C_EMPIRICAL = 1.4  # eq. (lambdasigma)
 
 def lambda_p_empirical(p: RingParams, C: float = C_EMPIRICAL) -> float:
     """lambda_p = C lambda_zero(sigma0) [m], eq. (lambdasigma); nan without self-gravity."""
-    from ..linear import lambda_zero
-
     return _C(C) * lambda_zero(p)
 
 

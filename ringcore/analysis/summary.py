@@ -15,6 +15,7 @@ import numpy as np
 from .. import ranges
 from ..engine import State
 from ..units import e_kin_rp
+from ..units import time_to_orbits
 
 
 def _last(t, last_fraction: float):
@@ -74,6 +75,7 @@ def saturation_flag(t, lambda_p, last_fraction: float = 0.25) -> dict:
 def strobe_wavelength(t_rows, rows, L_x_m: float, last_fraction: float = 0.25) -> float:
     """Peak wavelength [m] of the time-averaged normalised PSD of the stroboscopic rows (sigma/sigma0)
     in the last ``last_fraction`` of their times; nan with fewer than two rows."""
+    # deferred: ringcore.hydro loads the numba engines (~2 s); ringcore.analysis (via .prevalent) does not
     from ..hydro.diagnostics import psd
 
     t_rows = np.asarray(t_rows, float)
@@ -98,8 +100,8 @@ def summary(run, last_fraction: float = 0.25) -> dict:
     mean velocity dispersion sqrt(T) of the final state [m/s]; ``orbits``; ``steps``;
     ``saturated`` and ``lambda_p_growth`` (:func:`saturation_flag`).
     """
+    # deferred: ringcore.hydro loads the numba engines (~2 s); ringcore.analysis (via .prevalent) does not
     from ..hydro.convert import cons_to_prim
-    from ..units import time_to_orbits
 
     ranges.check("last_fraction", last_fraction)
     st = run if isinstance(run, State) else run.snapshot()

@@ -15,6 +15,9 @@ the traceback.
 """
 from __future__ import annotations
 
+from ..engine import BlowUp
+from ..io.errors import OutputAppeared, OutputError, OutputExists
+
 
 class UsageError(ValueError):
     """Bad command-line input (exit status 2)."""
@@ -26,8 +29,6 @@ class EnvironmentProblem(RuntimeError):
 
 def is_blowup(exc: BaseException) -> bool:
     """True for an engine's numerical blow-up (``ringcore.engine.BlowUp`` or an engine's ``*BlowUp``)."""
-    from ..engine import BlowUp
-
     return isinstance(exc, BlowUp) or type(exc).__name__.endswith("BlowUp")
 
 
@@ -36,8 +37,6 @@ def status_and_message(exc: BaseException) -> tuple:
     msg = " ".join(str(exc).split()) or type(exc).__name__
     if isinstance(exc, EnvironmentProblem):
         return 1, msg
-    from ..io.errors import OutputAppeared, OutputError, OutputExists
-
     if isinstance(exc, OutputAppeared):  # appeared while the run computed: not the user's input
         return 1, msg
     if isinstance(exc, OutputExists):  # an existing output, --overwrite not given: the user's choice

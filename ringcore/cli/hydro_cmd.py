@@ -6,6 +6,9 @@ import sys
 
 from .. import params, ranges
 from ..checks import check_choice, check_int, check_real
+from ..experiments.checkpoint import run_checkpointed
+from ..hydro import Hydro1D, HydroOptions
+from ..io import read_run
 from ..units import E_KIN_UNIT
 from .archive_opt import add_archive_arguments, start_archive
 from .common import (add_ring_arguments, check_flag, check_ring_flags, check_self_gravity, flag,
@@ -153,15 +156,10 @@ def _check_duration(sim, args) -> None:
 
 
 def run(args) -> int:
-    from ..experiments.checkpoint import run_checkpointed
-    from ..hydro import Hydro1D, HydroOptions
-
     check_flag(args, "orbits")
     check_flag(args, "checkpoint_every")
     check_options(args)
     if args.init.endswith(".nc"):
-        from ..io import read_run
-
         ds = read_run(args.init, kind="hydro")
         n, rows = ds.sizes.get("x", 0), int(ds.attrs.get("option_spacetime_rows_per_orbit", 0) or 0)
         mem, size = estimate_bytes(n, args.orbits, int(ds.attrs.get("option_samples_per_orbit", 20) or 20), rows)

@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import json
 
+from ..io.describe import describe, format_info
+
 
 def register(sub) -> None:
     p = sub.add_parser("info", help="what a run file or sweep file holds: kind, parameters, grid, provenance",
@@ -16,8 +18,6 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..io.describe import describe, format_info
-
     info = describe(args.file)
     print(json.dumps(info) if args.json else format_info(info))
     return 1 if str(info.get("checksum", "")).startswith("FAILED") else 0

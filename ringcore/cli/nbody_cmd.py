@@ -8,6 +8,10 @@ import sys
 from .. import params
 from .. import ranges
 from ..checks import check_choice, check_int
+from ..experiments.checkpoint import run_checkpointed
+from ..io import read_run
+from ..nbody import NBodyOptions, ShearingBox
+from ..params import RingParams
 from ..units import E_KIN_UNIT
 from .archive_opt import add_archive_arguments, start_archive
 from .common import check_flag, check_self_gravity, refuse_with
@@ -131,11 +135,7 @@ def estimate_bytes(n: float, orbits: float, o) -> tuple:
 
 
 def _build(args):
-    from ..nbody import NBodyOptions, ShearingBox
-
     if args.from_file is not None:
-        from ..io import read_run
-
         ds = read_run(args.from_file, kind="nbody")
         n = ds.sizes.get("particle", 0) * (2 if args.tile_x else 1)
         o = NBodyOptions(**json.loads(ds.attrs.get("options_json", "{}")))
@@ -144,8 +144,6 @@ def _build(args):
         ranges.check_work("--equilibrate + --orbits" if args.equilibrate else "--orbits", args.equilibrate + args.orbits,
                           1.0 / o.dt_orbit, n, "particles")
         if args.sigma0 is not None:
-            from ..params import RingParams
-
             check_self_gravity(RingParams(**json.loads(ds.attrs["params_json"])).with_sigma0(args.sigma0))
         return _reserved(args, size, lambda: ShearingBox.from_dataset(ds, sigma0=args.sigma0, tile_x=args.tile_x))
     p = params.get(args.set, sigma0=0.0 if args.sigma0 is None else args.sigma0)
@@ -194,8 +192,6 @@ def run(args) -> int:
 
 
 def _run(args, box, fallback) -> int:
-    from ..experiments.checkpoint import run_checkpointed
-
     if box.orbits + args.equilibrate + args.orbits > ranges.ORBITS_MAX:
         raise UsageError(f"--orbits = {args.orbits:.7g} from orbit {box.orbits:.10g} of {args.from_file} ends beyond orbit "
                          f"{ranges.ORBITS_MAX:g}: allowed --equilibrate + --orbits <= {ranges.ORBITS_MAX - box.orbits:.10g}")

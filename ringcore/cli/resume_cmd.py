@@ -4,7 +4,13 @@ from __future__ import annotations
 import json
 import sys
 
+from .. import ranges
+from ..engine import load
+from ..experiments.checkpoint import kind_of, run_checkpointed
+from ..io import read_run
+from .common import check_flag
 from .errors import UsageError
+from .errors import is_blowup
 from .safety import check_fallback_dir, reserve_output_file
 
 PLAN_ATTR = "equilibrate_until"  # written by ``ringcore nbody --equilibrate`` (see nbody_cmd)
@@ -35,13 +41,6 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..engine import load
-    from ..experiments.checkpoint import kind_of
-    from ..io import read_run
-
-    from .. import ranges
-    from .common import check_flag
-
     check_flag(args, "orbits")
     check_flag(args, "until")
     check_flag(args, "checkpoint_every")
@@ -81,9 +80,6 @@ def run(args) -> int:
 
 def _continue(args, model, attrs, out, until, fallback) -> tuple:
     """Run ``model`` on to ``until`` (N-body: through its planned equilibration); (status, summary)."""
-    from ..experiments.checkpoint import run_checkpointed
-    from .errors import is_blowup
-
     kw = dict(out=out, every=args.checkpoint_every, progress=not args.no_progress, fallback=fallback)
     eq = attrs.get(PLAN_ATTR)
     tol = 1e-9 * max(1.0, until)

@@ -22,6 +22,7 @@ import shutil
 import tempfile
 from pathlib import Path
 
+from ..io import check_name, reserve_output
 from .errors import EnvironmentProblem, UsageError
 
 MEMORY_FRACTION = 0.5  # refuse runs whose estimated memory exceeds this fraction of the machine's RAM
@@ -85,8 +86,6 @@ def check_output_file(name, *, overwrite: bool, label: str = "--out", size: floa
     name = "" if name is None else str(name)
     if not name.strip():
         raise UsageError(f"{label} = {name!r} is not valid: give a file name")
-    from ..io import check_name
-
     path = check_name(name, label)  # at most NAME_MAX bytes: its temporary and lock names are made to fit
     if path.is_dir():
         raise UsageError(f"{label} {name!r} is a folder: give a file name inside it")
@@ -106,8 +105,6 @@ def check_output_file(name, *, overwrite: bool, label: str = "--out", size: floa
 def reserve_output_file(name, *, overwrite: bool, label: str = "--out", size: float = 0.0, same_as=None):
     """:func:`check_output_file`, then reserve the name for the run (a :class:`ringcore.io.Reservation`,
     to be used as a context manager around the run)."""
-    from ..io import reserve_output
-
     check_output_file(name, overwrite=overwrite, label=label, size=size, same_as=same_as)
     return reserve_output(name, overwrite=overwrite, label=label, same_as=same_as)
 

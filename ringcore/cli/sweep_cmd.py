@@ -7,10 +7,21 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import params as _params
+from .. import ranges
 from ..checks import check_int, check_real
+from ..checks import check_choice
+from ..experiments import runners
+from ..experiments.runners import HYDRO_DEFAULTS, NBODY_DEFAULTS, ring_params
+from ..experiments.sweep import RUNNERS, SchedulerUnreachable, run_sweep
 from ..io import check_name, reserve_output
 from ..io.errors import output_error
+from ..figures.saturation import figure_lambdap
+from ..hydro import HydroOptions
+from ..nbody import NBodyOptions
+from ..provenance import software_attrs
 from .common import refuse_with
+from .common import check_flag
 from .errors import EnvironmentProblem, UsageError
 from .safety import check_output_dir
 
@@ -19,8 +30,6 @@ UNUSED = {"linear": ("lx", "h", "orbits", "seed"), "nbody": ("h",), "hydro": ()}
 
 
 def register(sub) -> None:
-    from ..experiments.sweep import RUNNERS
-
     p = sub.add_parser("sweep", help="run a grid of runs on dask.distributed",
                        description="Each finished run is written to its own file at once; re-running into "
                                    "the same folder skips finished runs (their summaries are read back) and "
@@ -99,9 +108,6 @@ def provenance(args) -> dict:
     import sys
     from datetime import datetime, timezone
 
-    from ..experiments import runners
-    from ..provenance import software_attrs
-
     argv = getattr(args, "_argv", None) or (sys.argv[1:] if sys.argv and sys.argv[0].endswith("ringcore") else None)
     return dict(command=shlex.join(["ringcore", *argv]) if argv else f"ringcore sweep ({vars(args)})",
                 **software_attrs(), created=datetime.now(timezone.utc).isoformat(timespec="seconds"),
@@ -111,31 +117,19 @@ def provenance(args) -> dict:
 
 def tasks_of(args) -> list:
     """The task dicts of the command line, each validated through the one resolver."""
-    from ..experiments.runners import ring_params
-
-    from .. import ranges
-    from .common import check_flag
-
     parse_seeds(args.seed)  # each seed in range, before anything else
     check_flag(args, "orbits")
     lx = check_flag(args, "lx", "L_x")
     if args.engine == "nbody" and lx is not None:
         ranges.check("L_x", lx, "--lx", lo=6.0)  # at least 6 particle radii (R_p = 1 m)
     if args.engine == "hydro":
-        from ..experiments.runners import HYDRO_DEFAULTS
-
         lx = HYDRO_DEFAULTS["lx"] if lx is None else lx
         check_flag(args, "h", hi=lx / 16.0)
     if args.engine == "hydro" and args.h is not None:
-        from ..experiments.runners import HYDRO_DEFAULTS
-
         lam = HYDRO_DEFAULTS["lambda_min"]
         if args.h > 0 and 2 * args.h > lam:
             raise UsageError(f"--h = {args.h:g} m: the sweep's noise reaches down to {lam:g} m, below 2 grid cells "
                              f"(2 h = {2 * args.h:g} m); allowed --h <= {lam / 2:g} m")
-    from ..checks import check_choice
-    from .. import params as _params
-
     check_choice("--set", args.set, _params.SET_NAMES)
     p0 = _params.get(args.set)
     ps_values = [ranges.check("ps_scale", v, "--ps-scale") for v in parse_values("ps-scale", args.ps_scale)]
@@ -157,20 +151,13 @@ def tasks_of(args) -> list:
 def check_task(t: dict, p) -> None:
     """What a worker would refuse, refused in the parent: the grid (hydro: L_x = n h, n >= 16) and
     the amount of work of the task (:func:`ringcore.ranges.check_work`)."""
-    from .. import ranges
-    from ..experiments.runners import HYDRO_DEFAULTS, NBODY_DEFAULTS
-
     if t["engine"] == "hydro":
-        from ..hydro import HydroOptions
-
         cfg = {**HYDRO_DEFAULTS, **t}
         opt = HydroOptions(L_x=float(cfg["lx"]), h=float(cfg["h"]), timestep=cfg["timestep"],
                            samples_per_orbit=int(cfg["samples_per_orbit"]), T_floor=float(cfg["T_floor"]))
         r = 2.5 / opt.h  # ~640 steps per orbit at h = 2.5 m; the viscous limit scales as 1/h^2 below
         ranges.check_work("--orbits", float(cfg["orbits"]), 640.0 * max(r, r * r), opt.n, "nodes")
     elif t["engine"] == "nbody":
-        from ..nbody import NBodyOptions
-
         cfg = {**NBODY_DEFAULTS, **t}
         o = NBodyOptions(L_x=float(cfg["lx"]), L_y=float(cfg["ly"]), dt_orbit=float(cfg["dt_orbit"]),
                          record_every=float(cfg["record_every"]), profile_every=float(cfg["profile_every"]))
@@ -179,9 +166,6 @@ def check_task(t: dict, p) -> None:
 
 
 def run(args) -> int:
-    from ..experiments.sweep import SchedulerUnreachable, run_sweep
-    from ..figures.saturation import figure_lambdap
-
     refuse_with(args, UNUSED[args.engine], f"with --engine {args.engine}")
     if args.scheduler is not None:
         refuse_with(args, ("workers",), "with --scheduler (the scheduler's workers run the tasks)")

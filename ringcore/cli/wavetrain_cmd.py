@@ -5,6 +5,7 @@ import json
 import math
 
 from ..checks import check_int, check_real
+from .. import wavetrain as wtm
 from .common import add_ring_arguments, check_self_gravity, ring_params_from_args
 from .errors import UsageError
 
@@ -51,8 +52,6 @@ def run(args) -> int:
 
 
 def _run(args) -> int:
-    from .. import wavetrain as wtm
-
     p = _params(args)
     N = check_int("--n-fourier", args.n_fourier, 9, 1001)
     N_max = check_int("--n-max", args.n_max, N, 1001)

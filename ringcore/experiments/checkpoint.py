@@ -35,8 +35,10 @@ from pathlib import Path
 
 from .. import ranges
 from ..checks import check_real
+from ..deprecation import warn_once
 from ..engine import ENGINES, BlowUp
 from ..engine import engine_class as _engine_class
+from ..engine import load
 from ..io import OutputError, graceful_interrupt, output_policy
 from ..io.atomic import conflicts_kept
 
@@ -120,9 +122,6 @@ def kind_of(model) -> str:
 
 def load_model(path):
     """Deprecated: :func:`ringcore.engine.load` (the one way to load), the engine continuing any run file."""
-    from ..deprecation import warn_once
-    from ..engine import load
-
     warn_once("ringcore.experiments.checkpoint.load_model", "ringcore.engine.load")
     return load(path)
 

@@ -14,6 +14,7 @@ import xarray as xr
 from ..figures._mpl import subplots
 from .. import linear, params
 from ..analysis import growth_rate, lomb_frequency
+from ..hydro import Hydro1D, HydroOptions
 from .recipe_common import finish, hydro_run, pick, series_dataset, strobe_dataset, strobe_psd_figure
 from .registry import recipe
 from .resolution import resolved_h
@@ -24,8 +25,6 @@ GRATES_SIGMAS = (0.0, 350.0, 600.0)
 def _grates_growth(p, h, orbits):
     """Growth rates of all modes of a 1-km box seeded with white noise down to 38 m (wire kernel,
     5 replicas, bin correction), from log-linear fits to the Fourier amplitudes (Section "Tests")."""
-    from ..hydro import Hydro1D, HydroOptions
-
     L = 1000.0
     ms = (1, 2, 3, 4, 5, 6, 8, 10, 12, 15, 20, 25)
     opt = HydroOptions(L_x=L, h=h, timestep="cfl", gravity="wire", replicas=5, bin_correction=True,
@@ -47,8 +46,6 @@ def _grates_growth(p, h, orbits):
 
 def _grates_frequency(p, lam, h, orbits):
     """Frequency of one small seeded mode in a box L_x = lambda: Lomb periodogram of u at x = 0."""
-    from ..hydro import Hydro1D, HydroOptions
-
     opt = HydroOptions(L_x=lam, h=h, timestep="cfl", gravity="wire", replicas=5, bin_correction=True,
                        samples_per_orbit=40, strobe=False, probes_m=(0.0,), track_modes=(1,))
     sim = Hydro1D(p, opt, initial="mode", wavelength=lam, amplitude=1e-6)

@@ -19,6 +19,7 @@ from pathlib import Path
 
 from ..engine import BlowUp
 from ..figures._mpl import subplots
+from ..hydro import Hydro1D, HydroOptions
 from ..io import read_run
 from ..spec import RunSpec, resolve_params
 from .checkpoint import run_checkpointed
@@ -31,8 +32,6 @@ QUICK_L_X, QUICK_ORBITS = 2000.0, 1500.0  # [m], [orbits]
 
 def build(name: str, L_x: float):
     """A fresh ``Hydro1D`` of long run ``name`` in a box of ``L_x`` [m] (the run's own h, 2.5 m or 1.25 m)."""
-    from ..hydro import Hydro1D, HydroOptions
-
     s = run_settings(name, L_x=L_x)
     p = resolve_params(RunSpec(**s["spec"]))
     return Hydro1D(p, HydroOptions(**s["options"]), **s["initial"])
@@ -41,8 +40,6 @@ def build(name: str, L_x: float):
 def run_long(name: str, out, L_x: float, orbits: float, every: float | None = 200.0, progress: bool = True):
     """Run (or continue, if ``OUT/NAME.run.nc`` holds an unfinished run of the same box) long run ``name``
     to ``orbits``; write ``OUT/NAME.run.nc`` and return its path."""
-    from ..hydro import Hydro1D
-
     path = Path(out) / f"{name}.run.nc"
     sim = None
     if path.exists():

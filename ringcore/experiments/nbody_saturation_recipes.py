@@ -17,6 +17,7 @@ import xarray as xr
 from ..figures._mpl import subplots
 from .. import params
 from ..analysis import lambda_p_approx
+from ..hydro import HydroBlowUp
 from ..nbody import NBodyOptions, ShearingBox
 from ..nbody.diagnostics import psd as nbody_psd
 from .nbody_recipes import _history_dataset, _overstable_runs
@@ -35,8 +36,6 @@ def hydro_dispersion(p, L_x, orbits, *, h=2.5, initial="noise", seed=1):
     Returns ``(c_mean [m/s], status, sim)``; ``status`` is ``"ok"`` or the blow-up message (then
     the mean is over the samples before it, nan if none).
     """
-    from ..hydro import HydroBlowUp
-
     sim, status = hydro_run(p, L_x, h, 0.5 * orbits, initial=initial, seed=seed)
     vals = []
 

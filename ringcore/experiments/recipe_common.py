@@ -20,6 +20,8 @@ import numpy as np
 import xarray as xr
 
 from ..figures._mpl import subplots
+from ..hydro import Hydro1D, HydroBlowUp, HydroOptions
+from ..hydro.diagnostics import psd
 from ..io import save_figure, write_run
 from ..units import R_P
 from .registry import RecipeResult
@@ -60,8 +62,6 @@ def hydro_run(p, L_x, h, orbits, *, initial="noise", seed=1, wavelength=None, am
               timestep="cfl", dt_factor=None, track_modes=()):
     """Run a ``Hydro1D`` and return ``(sim, status)``; a blow-up stops the run and is reported in
     ``status`` (the records up to the last good state are kept and plotted)."""
-    from ..hydro import Hydro1D, HydroBlowUp, HydroOptions
-
     opt = HydroOptions(L_x=L_x, h=h, timestep=timestep, dt_factor=dt_factor, samples_per_orbit=samples_per_orbit,
                        spacetime_rows_per_orbit=spacetime_rows, strobe=True, buffer=buffer,
                        buffer_on_orbit=buffer_on_orbit, T_floor=0.0 if p.isothermal else T_floor,
@@ -130,8 +130,6 @@ def psd_below(sigma, L_x, lam_max=None):
 
     With a buffer zone the box-scale density contrast between buffer and ring (m = 1, 2, ...) carries
     most of the power; ``lam_max`` (e.g. L_x/4) leaves it out so that lambda_p is the waves' wavelength."""
-    from ..hydro.diagnostics import psd
-
     wl, P = psd(np.asarray(sigma, float), L_x)
     if lam_max is not None:
         keep = wl <= lam_max

@@ -52,6 +52,7 @@ class Recipe:
         them; ``None`` (the Python default, kept for scripts that re-run into one folder): the
         enclosing :func:`ringcore.io.output_policy` (replace unless set).
         """
+        # deferred: ringcore.io loads xarray (~1 s); importing the registry (ringcore.experiments) does not
         from ..io.atomic import OutputExists, output_policy
 
         check_choice("mode", mode, MODES)

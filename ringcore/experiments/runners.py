@@ -21,8 +21,11 @@ import xarray as xr
 
 from .. import linear, params
 from ..analysis.saturation import C_EMPIRICAL
+from ..hydro import Hydro1D, HydroOptions
 from ..io import RunFileError, attrs_from_dict, read_run, write_run
+from ..nbody import NBodyOptions, ShearingBox
 from ..spec import RunSpec, resolve
+from .checkpoint import engine_class, run_checkpointed
 
 # hydro: L_x = 3 km (about 20 wavelengths of the saturated wave at sigma0 = 400), h = 2.5 m as in the
 # paper, 300 orbits, the fast "cfl" time step (f_t = FAST_DT_FACTOR), 10 samples per orbit, white noise
@@ -84,8 +87,6 @@ def _theory(p) -> dict:
 
 def _continue_or_new(path, task_json: str, kind: str, make):
     """The unfinished model of the same task saved at ``path``, or ``make()``."""
-    from .checkpoint import engine_class
-
     try:
         ds = read_run(path, kind=kind)
         if ds.attrs.get("task_json") == task_json and not ds.attrs.get("complete", 0):
@@ -96,8 +97,6 @@ def _continue_or_new(path, task_json: str, kind: str, make):
 
 
 def _run_engine_task(task: dict, path, kind: str, defaults: dict, make) -> dict:
-    from .checkpoint import run_checkpointed
-
     t0 = time.perf_counter()
     cfg = {**defaults, **{k: v for k, v in task.items() if k in defaults and v is not None}}
     p = ring_params(task)
@@ -112,8 +111,6 @@ def _run_engine_task(task: dict, path, kind: str, defaults: dict, make) -> dict:
 
 
 def _make_hydro(p, cfg, task):
-    from ..hydro import Hydro1D, HydroOptions
-
     opt = HydroOptions(L_x=float(cfg["lx"]), h=float(cfg["h"]), timestep=cfg["timestep"],
                        samples_per_orbit=int(cfg["samples_per_orbit"]), T_floor=float(cfg["T_floor"]))
     return Hydro1D(p, opt, initial="noise", seed=int(task.get("seed", 0)), amplitude=float(cfg["amplitude"]),
@@ -121,8 +118,6 @@ def _make_hydro(p, cfg, task):
 
 
 def _make_nbody(p, cfg, task):
-    from ..nbody import NBodyOptions, ShearingBox
-
     opt = NBodyOptions(L_x=float(cfg["lx"]), L_y=float(cfg["ly"]), dt_orbit=float(cfg["dt_orbit"]),
                        record_every=float(cfg["record_every"]), profile_every=float(cfg["profile_every"]))
     return ShearingBox(p, opt, seed=int(task.get("seed", 0)))

@@ -29,7 +29,9 @@ import xarray as xr
 
 from ..checks import check_choice, check_int
 from ..io import RunFileError, netcdf_bytes, read_run, write_bytes
+from ..io import reserve_output
 from ..io.errors import output_error
+from ..io.lock import HELD, key
 from ..io.runfile import written_on
 from ..provenance import software_attrs
 from .sweep_grid import as_runs, grid_dataset
@@ -85,6 +87,7 @@ def _missing_keys(task: dict, summary: dict) -> dict:
     the wall time (unknown: nan)."""
     out = {}
     if task.get("engine") in ("hydro", "nbody") and "lambda_zero_m" not in summary:
+        # deferred: .runners loads both numba engines (~2 s); a process that drives or reads sweeps needs neither
         from .runners import _theory, ring_params
 
         out.update(_theory(ring_params(task)))
@@ -290,9 +293,6 @@ def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int | None
         Per-task rows, the aggregate dataset (also written to ``OUTDIR/sweep.nc``), failures, wall time [s].
     """
     from dask.distributed import Client, LocalCluster
-
-    from ..io import reserve_output
-    from ..io.lock import HELD, key
 
     tasks = list(tasks)
     for t in tasks:

@@ -29,6 +29,8 @@ import math
 import numpy as np
 
 from ..engine import State
+from ..analysis.summary import summary
+from ..archive import with_archive
 from ..io import attrs_from_dict, dict_from_attrs, stamp_run, status_attrs, write_run
 from ..params import RingParams
 from ..units import e_kin_rp, time_to_orbits
@@ -191,9 +193,6 @@ def save_state(st: State, path, *, complete: bool = True, archive_of=None, **att
     """Write the hydro state ``st`` to ``path`` with :func:`ringcore.io.write_run` (kind "hydro"),
     with the ``complete`` flag, the :func:`ringcore.analysis.summary.summary` and ``attrs``; ``archive_of``:
     the engine whose archive of states (:mod:`ringcore.archive`) the file also holds."""
-    from ..analysis.summary import summary
-    from ..archive import with_archive
-
     ds = with_archive(dataset_from_state(st), archive_of) if archive_of is not None else dataset_from_state(st)
     ds.attrs.update(status_attrs(summary(st), complete))
     ds.attrs.update(attrs)

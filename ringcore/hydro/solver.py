@@ -28,6 +28,7 @@ import math
 import numpy as np
 
 from ..checks import check_int, check_real
+from ..analysis.summary import summary
 from ..engine import SampleHub
 from ..params import RingParams
 from ..units import e_kin_rp, time_to_orbits
@@ -268,7 +269,6 @@ class Hydro1D(Stepping, StateIO, PhysicalFields):
 
     def summary(self, last_fraction: float = 0.25) -> dict:
         """Saturation summary over the last ``last_fraction`` of the run (:func:`ringcore.analysis.summary.summary`)."""
-        from ..analysis.summary import summary
         return summary(self.snapshot(), last_fraction)
 
     def __repr__(self):

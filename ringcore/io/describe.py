@@ -16,6 +16,7 @@ import xarray as xr
 
 from .schema import SCHEMA, RunFileError
 from .validate import LAYOUTS, validate_run
+from ..experiments.sweep_grid import LAYOUT, as_runs
 
 PROVENANCE = ("ringcore_version", "ringcore_commit", "created", "written_on", "command")
 
@@ -64,8 +65,6 @@ def _variables(ds) -> dict:
 
 
 def _sweep(ds, out: dict) -> dict:
-    from ..experiments.sweep_grid import LAYOUT, as_runs
-
     flat = as_runs(ds)
     status = flat["status"].values.astype(str) if "status" in flat else np.full(flat.sizes.get("run", 0), "done")
     failed = int((ds["status"].values.astype(str) == "failed").sum()) if "status" in ds else None

@@ -25,6 +25,8 @@ import xarray as xr
 from .schema import MIGRATIONS as _MIGRATIONS  # noqa: F401 (older callers)
 from .schema import SCHEMA, SCHEMA_VERSION, RunFileError
 from ..provenance import software_attrs
+from .atomic import netcdf_bytes, write_bytes
+from .errors import output_error
 from .validate import checksum_attrs, validate_run
 
 
@@ -113,8 +115,6 @@ def stamp_run(ds: xr.Dataset, kind: str) -> xr.Dataset:
 def run_bytes(ds: xr.Dataset, kind: str) -> memoryview:
     """The run file of ``ds`` (what :func:`write_run` writes: schema attributes, checksum) as bytes in
     memory, for a download or any other writer; nothing touches the disk."""
-    from .atomic import netcdf_bytes
-
     return netcdf_bytes(stamp_run(ds, kind))
 
 
@@ -137,14 +137,10 @@ def write_run(ds: xr.Dataset, path, kind: str, overwrite: bool | None = None) ->
     OutputExists, OutputBusy
         See :mod:`ringcore.io.atomic`.
     """
-    from .atomic import write_bytes
-
     path = Path(path)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        from .errors import output_error
-
         raise output_error(exc, path) from None
     return write_bytes(path, run_bytes(ds, kind), overwrite)
 

@@ -26,6 +26,7 @@ import numpy as np
 
 from .schema import MIGRATIONS as _MIGRATIONS
 from .schema import SCHEMA, SCHEMA_VERSION, RunFileError
+from ..params import RingParams
 
 # name -> (dims, dtype kinds, required); required variables are what a restore reads.
 _F, _I, _S = "f", "iu", "OUS"
@@ -168,10 +169,11 @@ def _attr_number(ds, name, typ, source):
 
 def _build(ds, kind, source):
     """(RingParams, options) of the file; RunFileError if they do not build."""
-    from ..params import RingParams
     if kind == "hydro":
+        # deferred: ringcore.hydro's __init__ loads the numba engine (~2 s); `import ringcore.io` does not
         from ..hydro.options import HydroOptions as Options
     else:
+        # deferred: ringcore.nbody's __init__ loads the numba engine (~2 s); `import ringcore.io` does not
         from ..nbody.options import NBodyOptions as Options
     out = []
     for prefix, cls in (("param", RingParams), ("option", Options)):
@@ -207,6 +209,7 @@ def _check_hydro(ds, source):
 
 
 def _check_nbody(ds, source):
+    # deferred: ringcore.nbody's __init__ loads the numba engine (~2 s); `import ringcore.io` does not
     from ..nbody.kernels import N_ACC
 
     p, opt = _build(ds, "nbody", source)

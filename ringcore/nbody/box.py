@@ -294,6 +294,7 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
 
     def to_dataset(self):
         """The run as an :class:`xarray.Dataset` (see :func:`ringcore.nbody.store.to_dataset`)."""
+        # deferred: the run-file layout (.store) loads xarray (~1 s); `import ringcore.nbody` does not
         from .store import to_dataset
 
         return to_dataset(self)
@@ -304,12 +305,14 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
         """Restore a box saved with :meth:`to_dataset` (a Dataset or a run-file path), optionally with a
         new ``sigma0`` [kg/m^2] and/or tiled to twice its radial size (``tile_x``; as in the paper's
         Figure "boxdouble").  Without changes, the run continues bit-for-bit."""
+        # deferred: the run-file layout (.store) loads xarray (~1 s); `import ringcore.nbody` does not
         from .store import from_dataset
 
         return from_dataset(cls, ds, sigma0=sigma0, tile_x=tile_x, options=options)
 
     def summary(self, last_fraction: float = 0.25) -> dict:
         """Saturation summary over the last ``last_fraction`` of the run (see :func:`.store.summary`)."""
+        # deferred: the run-file layout (.store) loads xarray (~1 s); `import ringcore.nbody` does not
         from .store import summary
 
         return summary(self, last_fraction)
@@ -318,6 +321,7 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
         """Write the run file ``path`` (:func:`ringcore.io.write_run`, kind "nbody") with everything
         needed to continue bit-for-bit; ``complete`` and ``summary_json`` attributes, plus ``attrs``; with
         :meth:`keep_archive`, the archived states too (:mod:`ringcore.archive`)."""
+        # deferred: the run-file layout (.store) loads xarray (~1 s); `import ringcore.nbody` does not
         from .store import save
 
         return save(self, path, complete=complete, archive_of=self, **attrs)
@@ -326,6 +330,7 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
     def load(cls, path) -> "ShearingBox":
         """Continue a run from its file; :class:`ringcore.io.RunFileError` for missing, corrupt,
         foreign, non-nbody or newer files."""
+        # deferred: ringcore.io loads xarray (~1 s); `import ringcore.nbody` does not
         from ..io import read_run
 
         return cls.from_dataset(read_run(path, kind="nbody"))

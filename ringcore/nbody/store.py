@@ -21,6 +21,7 @@ import numpy as np
 import xarray as xr
 
 from .. import ranges
+from ..archive import resume_archive, with_archive
 from ..checks import check_bool
 from ..io import attrs_from_dict, dict_from_attrs, read_run, stamp_run, status_attrs, validate_run, write_run
 from ..engine import State
@@ -132,8 +133,6 @@ def from_dataset(cls, ds, *, sigma0=None, tile_x: bool = False, options=None):
     tile_x = check_bool("tile_x", tile_x)
     if options is not None and not isinstance(options, NBodyOptions):
         raise ValueError(f"options = {options!r} is not valid: pass a ringcore.nbody.NBodyOptions")
-    from ..archive import resume_archive
-
     ds = read_run(ds, kind="nbody") if not isinstance(ds, xr.Dataset) else ds
     st = state_from_dataset(ds)
     if sigma0 is None and not tile_x and options is None:
@@ -200,8 +199,6 @@ def summary(src, last_fraction: float = 0.25) -> dict:
 def save(src, path, *, complete: bool = True, archive_of=None, **attrs):
     """Write a ShearingBox or its State to ``path`` with :func:`ringcore.io.write_run` (kind "nbody");
     ``archive_of``: the box whose archive of states (:mod:`ringcore.archive`) the file also holds."""
-    from ..archive import with_archive
-
     st = _state_of(src)
     ds = with_archive(to_dataset(st), archive_of) if archive_of is not None else to_dataset(st)
     ds.attrs.update(status_attrs(summary(st), complete))
