@@ -10,8 +10,8 @@
 from .prevalent import lambda_p
 from .rates import Fit, growth_rate, lomb_frequency
 from .saturation import lagrange_derivative, lambda_p_approx, lambda_p_empirical, lambda_zero_approx
-from .spectra import fourier_amplitudes, power_spectrum, prevalent_wavelength
+from .spectra import fourier_amplitudes, power_spectrum, prevalent_mode, prevalent_wavelength
 
-__all__ = ["Fit", "growth_rate", "lomb_frequency", "fourier_amplitudes", "power_spectrum",
+__all__ = ["Fit", "growth_rate", "lomb_frequency", "fourier_amplitudes", "power_spectrum", "prevalent_mode",
            "prevalent_wavelength", "lambda_p_empirical", "lambda_p_approx", "lambda_zero_approx",
            "lagrange_derivative", "lambda_p"]

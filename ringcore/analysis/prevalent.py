@@ -59,7 +59,7 @@ def all_methods(run, last_fraction: float = 0.25) -> dict:
 
 
 def _hydro(st: State, method: str, last_fraction: float) -> float:
-    from ..hydro.diagnostics import prevalent_wavelength
+    from .spectra import prevalent_wavelength
     from .summary import series_summary, strobe_wavelength
 
     a, L_x = st.arrays, st.options.L_x
@@ -78,7 +78,7 @@ def _nbody(st: State, method: str, last_fraction: float) -> float:
     a, o = st.arrays, st.options
     if method == "instantaneous":
         prof = D.tabulate(a["pos"], a["vel"], o.L_x / o.R_p, o.zones)
-        return float(D.psd(prof, o.L_x / o.R_p)[2] * o.R_p)
+        return float(D.prevalent_wavelength_m(prof, o.L_x / o.R_p, o.R_p))
     if method == "most_frequent":
         if not np.asarray(a["history_time"]).size:
             return math.nan
