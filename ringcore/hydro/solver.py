@@ -282,7 +282,7 @@ class Hydro1D(Stepping, StateIO, PhysicalFields):
 
     def e_kin_series(self):
         """(t [orbits], e_kin [sigma0 (R_p Omega)^2, :data:`ringcore.units.E_KIN_UNIT`]) at the sample times
-        (``series()["e_kin"]`` keeps the recorder's sigma0 c0^2)."""
+        (``series()["e_kin_dimless"]`` and :meth:`e_kin_dimless`: sigma0 c0^2)."""
         a = self.recorder.arrays()
         return time_to_orbits(a["t"]), self._e_kin_public(a["e_kin"])
 

@@ -218,7 +218,7 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
     def on_sample(self, fn) -> int:
         """Call ``fn(box, sample)`` after every recorded box mean; returns a handle.
 
-        ``sample`` keys: ``orbit``, ``steps``, ``e_kin`` (also ``e_kin_rp``) [sigma0 (R_p Omega)^2], ``lambda_p_m`` [m],
+        ``sample`` keys: ``orbit``, ``steps``, ``e_kin`` [sigma0 (R_p Omega)^2] (the old key ``e_kin_rp`` warns once), ``lambda_p_m`` [m],
         ``c_mean`` [m/s], ``T`` [m^2/s^2], ``collision_frequency`` [1/orbit], ``unresolved``,
         ``crossings``, and ``profile`` (dict ``sigma``, ``u``, ``v``, ``c`` [m/s] zone rows) when a
         profile was recorded too.
