@@ -187,3 +187,16 @@ def test_one_nyquist_convention():
     assert analysis.prevalent_wavelength(np.ones(n), L) == L  # flat: equal maxima give the longest wavelength
     with pytest.raises(ValueError, match="L_x = -1"):
         analysis.power_spectrum(f, -1.0)
+
+
+def test_one_e_kin_unit_for_an_nbody_run(tmp_path, capsys):
+    f = tmp_path / "box.nc"
+    assert main(["nbody", "--set", "tau15", "--sigma0", "300", "--L-x", "30", "--L-y", "12", "--orbits", "0.05",
+                 "--record-every", "0.05", "--out", str(f), "--no-progress", "--json"]) == 0
+    cli = json.loads(capsys.readouterr().out)
+    ds = read_run(f, kind="nbody")
+    assert cli["e_kin_units"] == E_KIN_UNIT == ds["ekin"].attrs["units"] == ds.attrs["ekin_units"]
+    from ringcore.engine import load
+
+    box = load(f)
+    assert cli["e_kin"] == box.diagnostics()["e_kin"] == pytest.approx(float(ds["ekin"][-1]), rel=1e-12)
