@@ -23,6 +23,13 @@ import numpy as np
 from ..checks import check_real
 
 
+def _max_wavelength(value):
+    """None (keep every wavelength) for None or +inf, else the checked value [m] (> 0)."""
+    if value is None or (isinstance(value, (int, float, np.floating)) and value == np.inf):
+        return None
+    return check_real("max_wavelength", value, 0.0, np.inf, lo_open=True, unit="m", allow_str=False)
+
+
 def fourier_amplitudes(field, axis: int = -1) -> np.ndarray:
     """Real amplitudes U^m of eq. (fourier), m = 0 .. n//2, along ``axis`` (periodic samples).
 
@@ -61,7 +68,7 @@ def power_spectrum(field, L_x: float, *, normalise: bool = False, max_wavelength
         Divide each profile's power by its maximum (a flat profile keeps its zeros).
     max_wavelength : float, optional
         Keep only wavelengths <= ``max_wavelength`` [m] (e.g. L_x/4 to leave out a buffer zone's box-scale
-        contrast); the normalisation then uses the kept modes.
+        contrast; None or inf: all); the normalisation then uses the kept modes.
 
     Returns
     -------
@@ -79,9 +86,8 @@ def power_spectrum(field, L_x: float, *, normalise: bool = False, max_wavelength
     if f.shape[-1] % 2 == 0 and P.shape[-1]:
         P[..., -1] *= 2.0  # the Nyquist mode: all of its variance is in the cosine
     lam = L_x / m
+    max_wavelength = _max_wavelength(max_wavelength)
     if max_wavelength is not None:
-        max_wavelength = check_real("max_wavelength", max_wavelength, 0.0, np.inf, lo_open=True, unit="m",
-                                    allow_str=False)
         keep = lam <= max_wavelength
         lam, P = lam[keep], P[..., keep]
     if normalise and P.shape[-1]:
@@ -136,9 +142,8 @@ def prevalent_wavelength(field, L_x: float, *, max_wavelength: float | None = No
     L_x = check_real("L_x", L_x, 0.0, np.inf, lo_open=True, unit="m", allow_str=False)
     f = np.asarray(field, float)
     lam = L_x / np.arange(1, f.shape[-1] // 2 + 1) if f.ndim else np.zeros(0)
+    max_wavelength = _max_wavelength(max_wavelength)
     kept = lam <= max_wavelength if max_wavelength is not None else np.ones(lam.size, bool)
-    if max_wavelength is not None:
-        check_real("max_wavelength", max_wavelength, 0.0, np.inf, lo_open=True, unit="m", allow_str=False)
     if not kept.any():
         return np.nan if f.ndim <= 1 else np.full(f.shape[:-1], np.nan)
     m_lo = int(np.argmax(kept)) + 1  # the longest kept wavelength's mode (kept modes are m >= m_lo)

@@ -149,10 +149,12 @@ def test_sweep_finishes_after_a_worker_is_killed(tmp_path, capsys):
     assert len(res.rows) == 3 and not res.failed, res.failed
     ds = res.dataset
     assert list(ds.sigma0.values) == [300.0, 500.0, 700.0] and np.all(ds.orbits.values == pytest.approx(6.0))
-    for t in tasks:  # e_kin in one unit: the hydro summary's e_kin_rp, not its sigma0 c0^2 value
-        summ = json.loads(read_run(tmp_path / f"{task_name(t)}.nc", kind="hydro").attrs["summary_json"])
-        assert ds.e_kin.sel(sigma0=t["sigma0"]).item() == pytest.approx(summ["e_kin_rp"], rel=1e-12)
-        assert summ["e_kin_rp"] != pytest.approx(summ["e_kin"])
+    for t in tasks:  # e_kin in one unit: the hydro summary's e_kin in sigma0 (R_p Omega)^2, not its sigma0 c0^2 value
+        f = read_run(tmp_path / f"{task_name(t)}.nc", kind="hydro")
+        summ = json.loads(f.attrs["summary_json"])
+        assert ds.e_kin.sel(sigma0=t["sigma0"]).item() == pytest.approx(summ["e_kin"], rel=1e-12)
+        scale = (f.attrs["c0_m_s"] / (1.0 * f.attrs["Omega_per_s"])) ** 2  # R_p = 1 m
+        assert summ["e_kin"] == pytest.approx(summ["e_kin_dimless"] * scale, rel=1e-12) and scale > 10
     # the readers of the shipped (flat) files read the grid alike: the app's points, Figure 20's plot
     pts = sweep_points(xr.load_dataset(tmp_path / "sweep.nc", engine="h5netcdf"))
     assert [p["sigma0"] for p in pts] == [300.0, 500.0, 700.0] and all(p["engine"] == "hydro" for p in pts)
