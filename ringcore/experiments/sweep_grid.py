@@ -19,6 +19,7 @@ import math
 import numpy as np
 import xarray as xr
 
+from ..io.ekin import upgrade_sweep_e_kin
 from ..units import E_KIN_UNIT, R_P
 
 LAYOUT = "grid"  # value of the sweep_layout attribute of a grid sweep.nc (absent in older files)
@@ -122,9 +123,9 @@ def grid_dataset(rows, numeric_keys) -> xr.Dataset:
 def as_runs(ds: xr.Dataset) -> xr.Dataset:
     """The sweep ``ds`` in the flat layout of older ``sweep.nc`` files: one dimension ``run`` over the finished
     tasks (``sigma0`` and the other settings as coordinates along it, ascending sigma0).  An older file (already
-    flat) is returned as it is."""
+    flat) is returned as it is, its e_kin read in :data:`E_KIN_UNITS` (:func:`ringcore.io.ekin.upgrade_sweep_e_kin`)."""
     if ds.attrs.get("sweep_layout") != LAYOUT or "run" in ds.dims:
-        return ds
+        return upgrade_sweep_e_kin(ds)
     dims = json.loads(ds.attrs["sweep_dims"])
     flat = ds.stack(run=dims).reset_index("run")
     flat = flat.drop_vars([c for c in ("run",) if c in flat.coords])

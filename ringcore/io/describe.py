@@ -135,6 +135,10 @@ def describe(path) -> dict:
                    checksum=checksum, summary=summary)
     elif a.get("sweep_layout") or ("run" in ds.dims and "sigma0" in ds.variables and "lambda_p_m" in ds):
         out["kind"] = "sweep"
+        if "run" in ds.dims:  # an older flat file: its e_kin read in the one public unit
+            from ..experiments.sweep_grid import as_runs
+
+            ds = as_runs(ds)
         _sweep(ds, out)
     else:
         out.update(kind="netcdf", grid={d: int(n) for d, n in ds.sizes.items()},

@@ -72,3 +72,17 @@ def upgrade_e_kin(ds):
     if "state_sha256" in ds.attrs:
         ds.attrs.update(checksum_attrs(ds, "hydro"))
     return ds
+
+
+def upgrade_sweep_e_kin(ds):
+    """``ds`` (a sweep Dataset) with ``e_kin`` in :data:`E_KIN_UNIT`: an older flat sweep file held the hydro runs'
+    ``e_kin`` in sigma0 c0^2 and the public value as ``e_kin_rp``; that one becomes ``e_kin`` (the others are
+    returned unchanged)."""
+    if "e_kin" not in ds.data_vars or not str(ds["e_kin"].attrs.get("units", "")).startswith(E_KIN_DIMLESS_UNIT):
+        return ds
+    if "e_kin_rp" not in ds.data_vars:
+        return ds  # no public value stored: leave it as written (its units attribute says which)
+    ds = ds.drop_vars("e_kin").rename({"e_kin_rp": "e_kin"})
+    ds["e_kin"].attrs.update(units=E_KIN_UNIT, note="read from the older file's e_kin_rp")
+    ds.attrs["e_kin_units"] = E_KIN_UNIT
+    return ds
