@@ -20,7 +20,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..checks import check_real
+from ..checks import check_int, check_real
 
 
 def _max_wavelength(value):
@@ -116,7 +116,7 @@ def prevalent_mode(field, *, max_mode: int | None = None):
         raise ValueError(f"field of shape {f.shape} is not valid: allowed at least 2 samples along the last axis")
     _, P = power_spectrum(f, 1.0)
     if max_mode is not None:
-        P = P[..., :max(int(max_mode), 1)]
+        P = P[..., :check_int("max_mode", max_mode, 1, 2**62)]
     j = np.argmax(P, axis=-1) + 1
     return int(j) if P.ndim == 1 else j
 
