@@ -54,10 +54,8 @@ def _summary(text: str, c0: float, Omega: float) -> str:
 def upgrade_e_kin(ds):
     """``ds`` (a hydro run Dataset) with ``e_kin`` in :data:`E_KIN_UNIT`: unchanged when it already is; an older
     file's sigma0 c0^2 series becomes ``e_kin_dimless`` (kept bit for bit) and ``e_kin`` its conversion, its
-    ``e_kin_rp`` is dropped, its ``summary_json`` speaks the same unit, and its checksums are re-stamped (the
-    file passed its checks before; the conversion is this function's own)."""
-    from .validate import checksum_attrs
-
+    ``e_kin_rp`` is dropped and its ``summary_json`` speaks the same unit (:func:`ringcore.io.validate_run`, which
+    applies it to a file that passed its checks, then re-stamps the checksums)."""
     if "e_kin" not in ds.data_vars or str(ds["e_kin"].attrs.get("units", "")).strip() != E_KIN_DIMLESS_UNIT:
         return ds
     c0, Omega = _c0_omega(ds)
@@ -69,8 +67,6 @@ def upgrade_e_kin(ds):
     ds["e_kin_dimless"] = ("t", raw, {"units": E_KIN_DIMLESS_UNIT, "long_name": LONG_NAME + ", exact (continuation)"})
     if isinstance(ds.attrs.get("summary_json"), str):
         ds.attrs["summary_json"] = _summary(ds.attrs["summary_json"], c0, Omega)
-    if "state_sha256" in ds.attrs:
-        ds.attrs.update(checksum_attrs(ds, "hydro"))
     return ds
 
 

@@ -306,5 +306,8 @@ def validate_run(ds, kind: str | None = None, source: str = "<dataset>"):
     if kind == "hydro":  # an older file's e_kin in sigma0 c0^2: read in the one public unit
         from .ekin import upgrade_e_kin
 
-        ds = upgrade_e_kin(ds)
+        up = upgrade_e_kin(ds)
+        if up is not ds and "state_sha256" in up.attrs:  # checked as written; the conversion is ringcore's own
+            up.attrs.update(checksum_attrs(up, "hydro"))
+        ds = up
     return ds

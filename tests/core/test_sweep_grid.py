@@ -107,10 +107,16 @@ def test_second_sweep_into_the_same_folder_is_refused(tmp_path, threads_client):
 
 
 def test_old_flat_sweep_files_read_alike():
-    """The shipped files (flat layout, dimension run) go through as_runs unchanged; sweep_points reads them."""
+    """The shipped files (flat layout, dimension run) go through as_runs with their runs unchanged and e_kin read in
+    the one unit (their e_kin_rp; their e_kin was sigma0 c0^2); sweep_points reads them."""
     path = Path(__file__).resolve().parents[2] / "app" / "data" / "saturation_sweep.nc"
     with xr.open_dataset(path, engine="h5netcdf") as ds:
-        assert "run" in ds.dims and as_runs(ds) is ds
+        flat = as_runs(ds)
+        assert "run" in ds.dims and flat.sizes == ds.sizes and ds.e_kin.attrs["units"].startswith("sigma0 c0^2")
+        assert flat.e_kin.attrs["units"] == E_KIN_UNITS and "e_kin_rp" not in flat
+        assert np.array_equal(flat.e_kin.values, ds.e_kin_rp.values, equal_nan=True)
+        assert np.array_equal(flat.lambda_p_m.values, ds.lambda_p_m.values, equal_nan=True)
+        assert as_runs(flat) is flat
         pts = sweep_points(ds)
         assert len(pts) == int(np.isfinite(ds.lambda_p_m.values).sum()) > 5
 
