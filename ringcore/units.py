@@ -115,3 +115,31 @@ def e_kin_rp(e_kin_dimless, c0: float, Omega: float):
         Orbital frequency [1/s].
     """
     return e_kin_dimless * c0 ** 2 / (R_P * Omega) ** 2
+
+
+E_KIN_DIMLESS_UNIT = "sigma0 c0^2"
+"""The hydro kernels' unit of e_kin (and that of the ``e_kin`` of hydro run files written before
+:data:`E_KIN_UNIT` was the one public unit; :func:`e_kin_public` converts them)."""
+
+
+def e_kin_public(values, units: str, c0: float, Omega: float):
+    """e_kin given in ``units`` converted to :data:`E_KIN_UNIT` (how a stored series is read).
+
+    Parameters
+    ----------
+    values : float or array_like
+        e_kin in ``units``.
+    units : str
+        :data:`E_KIN_UNIT` (also with a suffix such as ", R_p = 1 m": returned unchanged) or
+        :data:`E_KIN_DIMLESS_UNIT` (converted with :func:`e_kin_rp`).
+    c0 : float
+        Ground-state velocity dispersion of the run [m/s].
+    Omega : float
+        Orbital frequency of the run [1/s].
+    """
+    u = str(units).strip()
+    if u.startswith(E_KIN_UNIT):
+        return values
+    if u == E_KIN_DIMLESS_UNIT:
+        return e_kin_rp(values, c0, Omega)
+    raise ValueError(f"units = {units!r} is not valid for e_kin: allowed {E_KIN_UNIT!r} or {E_KIN_DIMLESS_UNIT!r}")

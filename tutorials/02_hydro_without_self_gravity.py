@@ -86,7 +86,8 @@ lam_p_t = run1.series()["lambda_p"]            # prevalent wavelength at each sa
 amp = np.sqrt(ekin)                              # wave amplitude ~ sqrt(e_kin)
 fit = analysis.growth_rate(t, amp, window=(15, 30))  # per orbit
 fit_rate = fit.value / (2 * np.pi)                # in Omega
-t_lin_end = t[np.argmax(ekin > 0.1)]             # end of the exponential phase
+e_end = 0.1 * (p.c0 / p.Omega) ** 2             # 0.1 sigma0 c0^2 in sigma0 (R_p Omega)^2 (R_p = 1 m)
+t_lin_end = t[np.argmax(ekin > e_end)]           # end of the exponential phase
 
 fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 3.8))
 a1.semilogy(t, ekin, "k-")
@@ -94,7 +95,7 @@ tl = np.linspace(0, 40, 50)
 e15 = np.interp(15, t, ekin)
 a1.semilogy(tl, e15 * np.exp(2 * s.max_growth_rate * 2 * np.pi * (tl - 15)), "r--",
             label=f"slope of the fastest linear mode, 2 × {s.max_growth_rate:.4f} Ω")
-a1.set_xlabel("t [orbits]"); a1.set_ylabel("e_kin [σ0 c0²]  (Eq. (39))"); a1.legend(fontsize=8)
+a1.set_xlabel("t [orbits]"); a1.set_ylabel("e_kin [σ0 (R_p Ω)²]  (Eq. (39))"); a1.legend(fontsize=8)
 a1.set_xscale("symlog", linthresh=100); a1.set_ylim(ekin.min() / 3, ekin.max() * 3)
 a2.plot(t, lam_p_t, "k.", ms=2)
 a2.axhline(233, color="C1", ls="--", label="λ_st = 233 m (LO2009, τ15)")
@@ -103,8 +104,8 @@ a2.set_xscale("symlog", linthresh=100)
 a1.set_xlim(0, t[-1]); a2.set_xlim(0, t[-1])
 plt.tight_layout(); plt.show()
 print(f"growth of sqrt(e_kin), orbits 15-30: {fit_rate:.4f} +- {fit.stderr / (2 * np.pi):.4f} Omega "
-      f"(linear maximum {s.max_growth_rate:.4f}); e_kin passes 0.1 at orbit {t_lin_end:.0f}")
-print(f"e_kin at orbit 100: {ekin[np.searchsorted(t, 100)]:.2f}, at the end: {ekin[-1]:.2f};  "
+      f"(linear maximum {s.max_growth_rate:.4f}); e_kin passes {e_end:.2g} at orbit {t_lin_end:.0f}")
+print(f"e_kin at orbit 100: {ekin[np.searchsorted(t, 100)]:.3g}, at the end: {ekin[-1]:.3g};  "
       f"lambda_p at orbit 100: {lam_p_t[np.searchsorted(t, 100)]:.0f} m, at the end: {lam_p_t[-1]:.0f} m")
 
 # %% [markdown]
@@ -223,12 +224,12 @@ first_change = t2[np.argmax(lp2 != lp2[0])]
 e_before = np.median(ekin2[(t2 > 200) & (t2 < 1000)])
 fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 3.6))
 a1.plot(t2, ekin2, "k-", label="single 100 m wave"); a1.plot(t, ekin, "0.6", lw=0.8, label="white noise (run 1)")
-a1.set_xlabel("t [orbits]"); a1.set_ylabel("e_kin [σ0 c0²]"); a1.legend()
+a1.set_xlabel("t [orbits]"); a1.set_ylabel("e_kin [σ0 (R_p Ω)²]"); a1.legend()
 a2.step(t2, lp2, "k-", where="post"); a2.axhline(233, color="C1", ls="--", label="λ_st = 233 m (LO2009)")
 a2.set_xlabel("t [orbits]"); a2.set_ylabel("λ_p [m]"); a2.set_ylim(0, 300); a2.legend()
 plt.tight_layout(); plt.show()
 print(f"lambda_p = {lp2[0]:.0f} m until orbit {first_change:.0f}, then {lp2[-1]:.0f} m to the end")
-print(f"e_kin of the saturated 100 m wave: {e_before:.2f}; after the step: {ekin2[-1]:.2f}; ratio {ekin2[-1] / e_before:.2f} "
+print(f"e_kin of the saturated 100 m wave: {e_before:.3g}; after the step: {ekin2[-1]:.3g}; ratio {ekin2[-1] / e_before:.2f} "
       f"against (lambda ratio)^2 = {(lp2[-1] / lp2[0]) ** 2:.2f}")
 
 # %% [markdown]
@@ -298,7 +299,7 @@ late = t3 > orbits_buffer / 2
 inside = (run3.x_m >= buffer[0]) & (run3.x_m <= buffer[1])
 sig = run3.sigma
 q10, q50, q90 = np.percentile(lp3[late], [10, 50, 90])
-print(f"last {orbits_buffer // 2} orbits: e_kin = {ekin3[late].mean():.2f} (run 1 at its end: {ekin[-1]:.2f}); "
+print(f"last {orbits_buffer // 2} orbits: e_kin = {ekin3[late].mean():.3g} (run 1 at its end: {ekin[-1]:.3g}); "
       f"lambda_p median {q50:.0f} m, 10-90 % range {q10:.0f}-{q90:.0f} m")
 print(f"final rms of sigma/sigma0 - 1: inside the buffer {np.std(sig[inside]):.3f}, outside {np.std(sig[~inside]):.3f}")
 left = run3.x_m < buffer[0]

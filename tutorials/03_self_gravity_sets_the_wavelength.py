@@ -148,7 +148,7 @@ if RUN_LARGE:
         a1.semilogy(t, e, color=f"C{j}", label=f"σ0 = {s0:.0f}")
         a2.plot(t, sim.series()["lambda_p"], ".", ms=2, color=f"C{j}")
         a2.axhline(analysis.lambda_p_empirical(params.get(SET, sigma0=s0)), color=f"C{j}", ls="--")
-    a1.set_xlabel("t [orbits]"); a1.set_ylabel("e_kin [σ0 c0²]"); a1.legend()
+    a1.set_xlabel("t [orbits]"); a1.set_ylabel("e_kin [σ0 (R_p Ω)²]"); a1.legend()
     a2.set_xlabel("t [orbits]"); a2.set_ylabel("λ_p [m]  (-- 1.4 λ_zero)")
     plt.tight_layout(); plt.show()
 else:

@@ -98,7 +98,7 @@ s = run.series
 t0, t1 = run.orbit_image.extent()
 fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 3.8))
 ax1.semilogy(s.get("t"), s.get("e_kin"))
-ax1.set(xlabel="time [orbits]", ylabel="e_kin [σ₀ c₀²]", title="Kinetic energy of the waves, Eq. (39)")
+ax1.set(xlabel="time [orbits]", ylabel="e_kin [σ₀ (R_p Ω)²]", title="Kinetic energy of the waves, Eq. (39)")
 L = run.sim.options.L_x
 ax2.imshow(run.orbit_image.image(), origin="lower", aspect="auto", extent=(-L / 2, L / 2, t0, t1), cmap="viridis")
 ax2.set(xlabel="x [m]", ylabel="time [orbits]", title="σ/σ₀, orbit-resolved")

@@ -20,6 +20,7 @@ from scipy.ndimage import uniform_filter1d
 from scipy.signal import hilbert
 
 from ringcore import paperrefs
+from ringcore.analysis import growth_rate
 from ringcore.analysis.saturation import C_EMPIRICAL
 
 from ringlab.lessons.answers import AnswerError, read_answer
@@ -140,7 +141,7 @@ def growth_fit(t: np.ndarray, e: np.ndarray) -> float:
     mask = (e > 1e-3 * e_sat) & (e < 3e-2 * e_sat) & (np.arange(e.size) < first)
     if mask.sum() < 4 or np.ptp(t[mask]) < 1.0:
         return math.nan
-    slope = np.polyfit(t[mask], np.log(e[mask]), 1)[0]  # per orbit
+    slope = growth_rate(t[mask], e[mask]).value  # d ln e_kin / dt per orbit (ringcore.analysis's fit)
     return float(slope / (2.0 * 2.0 * math.pi))
 
 

@@ -1,9 +1,9 @@
 """What the Compare tab shows of one run, the same for a hydro run and an N-body box: :func:`run_side`;
 and the hydro noise level that starts a hydro run at an N-body box's e_kin: :func:`matched_amplitude`.
 
-Units: time [orbits], e_kin [sigma0 (R_p Omega)^2] with R_p = 1 m (the hydro run's
-sigma0 c0^2 converted, as in the Hydrodynamics tab; the N-body box's own unit, eq. (ekin)),
-wavelengths [m], the PSD of sigma normalised to a maximum of 1 (both engines), eq. (fourier).
+Units: time [orbits], e_kin [sigma0 (R_p Omega)^2] with R_p = 1 m (:data:`ringcore.units.E_KIN_UNIT`, both
+engines' e_kin, eq. (ekin)), wavelengths [m], the PSD of sigma normalised to a maximum of 1 (both engines,
+:func:`ringcore.analysis.power_spectrum`), eq. (fourier).
 """
 from __future__ import annotations
 
@@ -12,10 +12,9 @@ import math
 import numpy as np
 
 from ringcore import ranges
-from ringcore.nbody.diagnostics import e_kin, psd, tabulate
+from ringcore.nbody.diagnostics import e_kin, tabulate
 
 from ringlab.live.hydro import HydroRunner
-from ringlab.model.units import ekin_unit
 
 
 def run_side(r, nbody_image=None) -> dict | None:
@@ -31,19 +30,17 @@ def run_side(r, nbody_image=None) -> dict | None:
         sim = r.sim
         if sim is None:
             return None
-        unit = ekin_unit(sim.params)  # sigma0 c0^2 -> sigma0 (R_p Omega)^2
         s = r.series
         return dict(kind="hydro", orbits=sim.orbits, L_x=sim.options.L_x, numbers=r.numbers,
-                    t=s.get("t"), e_kin=s.get("e_kin") * unit, lambda_p=s.get("lambda_p"),
+                    t=s.get("t"), e_kin=s.get("e_kin"), lambda_p=s.get("lambda_p"),
                     lambda_p_now=sim.prevalent_wavelength(), psd=sim.psd(), image=r.strobe_image)
     box = r.box
     if box is None:
         return None
-    lam, P, lp = psd(tabulate(box.pos, box.vel, box.L_x, box.options.zones), box.L_x)
     s = r.series
     return dict(kind="nbody", orbits=box.orbits, L_x=box.options.L_x, numbers=r.numbers,
                 t=s.get("t"), e_kin=s.get("ekin"), lambda_p=s.get("lambda_p"),
-                lambda_p_now=lp * box.R_p, psd=(lam * box.R_p, P), image=nbody_image)
+                lambda_p_now=box.prevalent_wavelength(), psd=box.psd(), image=nbody_image)
 
 
 def last_e_kin(side: dict) -> float:
@@ -61,6 +58,6 @@ def matched_amplitude(settings_a: dict, b) -> float:
     amp = settings_a.get("amplitude", 1e-4)
     for _ in range(2):  # nonlinear terms (sigma u^2) make e_kin not exactly quadratic in the amplitude
         probe = HydroRunner(**{**settings_a, "amplitude": amp})
-        e_a = probe.series.get("e_kin")[0] * ekin_unit(probe.sim.params)
+        e_a = probe.series.get("e_kin")[0]
         amp = min(amp * math.sqrt(e_b / e_a), ranges.RANGES["amplitude_noise"].hi)
     return float(f"{amp:.3g}")

@@ -18,7 +18,7 @@ import panel as pn
 import param
 from bokeh.models import ColumnDataSource, HoverTool, Range1d
 
-from ringcore.nbody.diagnostics import Profiles, psd
+from ringcore.analysis import power_spectrum, prevalent_wavelength
 
 from ringlab.lessons.tutorials import tab_links
 from ringlab.live.keeper import RunKeeper
@@ -245,15 +245,12 @@ class NBodyView(pn.viewable.Viewer):
                             f'so it cannot appear in its spectrum.</div>')
 
     def _update_psd(self, prof):
-        box = self.runner.box
-        R = box.R_p
-        kp = Profiles(x=prof.x / R, sigma=prof.sigma, u=prof.u, v=prof.v, C_xx=prof.C_xx, C_yy=prof.C_yy,
-                      C_zz=prof.C_zz, c=prof.c, z_rms=prof.z_rms)
-        lam, P, lp = psd(kp, box.L_x)
-        self.psd_source.data = dict(wavelength=(lam * R).astype(np.float32),
-                                    power=np.maximum(P, 1e-6).astype(np.float32))
+        L_x = self.runner.box.options.L_x  # [m]; prof: the SI profiles of the zones
+        lam, P = power_spectrum(prof.sigma, L_x, normalise=True)
+        lp = prevalent_wavelength(prof.sigma, L_x)
+        self.psd_source.data = dict(wavelength=lam.astype(np.float32), power=np.maximum(P, 1e-6).astype(np.float32))
         n = self.runner.numbers
-        self.psd_markers.data = wavelength_markers(n, [(lp * R, LP_COLOR, "solid", "λ_p now")])
+        self.psd_markers.data = wavelength_markers(n, [(lp, LP_COLOR, "solid", "λ_p now")])
 
     def _readout_rows(self):
         r, box = self.runner, self.runner.box

@@ -43,6 +43,8 @@ def run_progress(path: Path, target: float | None = None) -> dict:
     with xr.open_dataset(path) as ds:
         a = dict(ds.attrs)
     s = json.loads(a.get("summary_json", "{}"))
+    if "e_kin_dimless" not in s and "e_kin_rp" in s:  # a file of an older ringcore: its e_kin was sigma0 c0^2
+        s["e_kin"] = s["e_kin_rp"]
     orbit, steps = float(a["time_orbits"]), int(a["steps"])
     created = (dt.datetime.fromisoformat(a["created"]) if "created" in a   # written by the CLI's checkpoints
                else dt.datetime.fromtimestamp(path.stat().st_mtime, dt.timezone.utc))
@@ -53,7 +55,7 @@ def run_progress(path: Path, target: float | None = None) -> dict:
     return dict(name=path.stem, orbit=orbit, target=target, steps=steps, steps_per_orbit=steps / max(orbit, 1e-9),
                 checkpoint_utc=created.strftime("%Y-%m-%dT%H:%M:%SZ"),
                 start_utc=start.strftime("%Y-%m-%dT%H:%M:%SZ") if start else "",
-                orbits_per_s=rate, hours_left=left_h, lambda_p_m=s.get("lambda_p_m"), e_kin_rp=s.get("e_kin_rp"))
+                orbits_per_s=rate, hours_left=left_h, lambda_p_m=s.get("lambda_p_m"), e_kin=s.get("e_kin"))
 
 
 def main(argv=None):
@@ -72,7 +74,7 @@ def main(argv=None):
           f"{'lambda_p':>8s} {'e_kin':>9s}  checkpoint")
     for r in rows:
         print(f"{r['name']:22s} {r['orbit']:8.0f} {r['target']:7.0f} {r['steps_per_orbit']:9.1f} "
-              f"{r['orbits_per_s']:6.3f} {r['hours_left']:6.1f} {r['lambda_p_m']:8.1f} {r['e_kin_rp']:9.3g}  "
+              f"{r['orbits_per_s']:6.3f} {r['hours_left']:6.1f} {r['lambda_p_m']:8.1f} {r['e_kin']:9.3g}  "
               f"{r['checkpoint_utc']}")
     if record and rows:
         f = d / "progress.csv"

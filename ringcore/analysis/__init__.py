@@ -1,7 +1,12 @@
-"""Analyses shared by hydro and N-body results (Sections "Tests", "Results", "Saturation Wavelength").
+"""Analyses shared by hydro and N-body results (Sections "Tests", "Results", "Saturation Wavelength"): the one
+place for growth rates, Lomb frequencies and spectra, used by both engines, the command line, the recipes and the app.
 
-- :mod:`.rates`      growth rate from a log-linear fit, oscillation frequency from the Lomb periodogram
-- :mod:`.spectra`    power spectral density and prevalent wavelength lambda_p
+- :mod:`.rates`      :func:`growth_rate` (d ln A/dt [1/unit of t]) from a log-linear fit, :func:`lomb_frequency`
+                     (angular frequency [rad per unit of t]) from the Lomb periodogram; both return a :class:`Fit`
+                     (value, 1-sigma error)
+- :mod:`.spectra`    :func:`fourier_amplitudes` (U^m of eq. (fourier), unit of the field), :func:`power_spectrum`
+                     (wavelength [m], variance per mode [unit of the field squared] or normalised; the one Nyquist
+                     convention), :func:`prevalent_wavelength` (lambda_p [m]), :func:`prevalent_mode` (m)
 - :mod:`.prevalent`  lambda_p of a run by a named method (PSD peak of the last part: the default)
 - :mod:`.saturation` empirical lambda_p = C lambda_zero (eq. lambdasigma), eq. (lambdasigmaap) with the
                      sign of eq. (osfreq) (+F2; the paper prints -F2), lambda_zero ~ 2 (p_s + F2) lambda_J,
@@ -10,8 +15,8 @@
 from .prevalent import lambda_p
 from .rates import Fit, growth_rate, lomb_frequency
 from .saturation import lagrange_derivative, lambda_p_approx, lambda_p_empirical, lambda_zero_approx
-from .spectra import fourier_amplitudes, power_spectrum, prevalent_wavelength
+from .spectra import fourier_amplitudes, power_spectrum, prevalent_mode, prevalent_wavelength
 
-__all__ = ["Fit", "growth_rate", "lomb_frequency", "fourier_amplitudes", "power_spectrum",
+__all__ = ["Fit", "growth_rate", "lomb_frequency", "fourier_amplitudes", "power_spectrum", "prevalent_mode",
            "prevalent_wavelength", "lambda_p_empirical", "lambda_p_approx", "lambda_zero_approx",
            "lagrange_derivative", "lambda_p"]

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..checks import check_choice, check_real
 from ..engine import State
+from .spectra import prevalent_wavelength
 from .summary import series_summary, strobe_wavelength
 
 METHODS = ("psd", "most_frequent", "instantaneous")
@@ -60,9 +61,6 @@ def all_methods(run, last_fraction: float = 0.25) -> dict:
 
 
 def _hydro(st: State, method: str, last_fraction: float) -> float:
-    # deferred: ringcore.hydro loads the numba engines (~2 s); `import ringcore.analysis` does not
-    from ..hydro.diagnostics import prevalent_wavelength
-
     a, L_x = st.arrays, st.options.L_x
     if method == "instantaneous":
         return float(prevalent_wavelength(np.asarray(a["U"])[0], L_x))
@@ -79,7 +77,7 @@ def _nbody(st: State, method: str, last_fraction: float) -> float:
     a, o = st.arrays, st.options
     if method == "instantaneous":
         prof = D.tabulate(a["pos"], a["vel"], o.L_x / o.R_p, o.zones)
-        return float(D.psd(prof, o.L_x / o.R_p)[2] * o.R_p)
+        return float(D.prevalent_wavelength_m(prof, o.L_x / o.R_p, o.R_p))
     if method == "most_frequent":
         if not np.asarray(a["history_time"]).size:
             return math.nan

@@ -13,9 +13,11 @@ import math
 import numpy as np
 
 from .. import ranges
+from ..deprecation import E_KIN_RP_KEY, DeprecatedKeys
 from ..engine import State
 from ..units import e_kin_rp
 from ..units import time_to_orbits
+from .spectra import power_spectrum
 
 
 def _last(t, last_fraction: float):
@@ -73,20 +75,16 @@ def saturation_flag(t, lambda_p, last_fraction: float = 0.25) -> dict:
 
 
 def strobe_wavelength(t_rows, rows, L_x_m: float, last_fraction: float = 0.25) -> float:
-    """Peak wavelength [m] of the time-averaged normalised PSD of the stroboscopic rows (sigma/sigma0)
-    in the last ``last_fraction`` of their times; nan with fewer than two rows."""
-    # deferred: ringcore.hydro loads the numba engines (~2 s); ringcore.analysis (via .prevalent) does not
-    from ..hydro.diagnostics import psd
-
+    """Peak wavelength [m] of the time-averaged normalised PSD (:func:`ringcore.analysis.power_spectrum`) of the
+    stroboscopic rows (sigma/sigma0) in the last ``last_fraction`` of their times; nan with fewer than two rows."""
     t_rows = np.asarray(t_rows, float)
     if t_rows.size <= 1:
         return math.nan
     sel_rows = rows[_last(t_rows, last_fraction)]
     if not sel_rows.shape[0]:
         return math.nan
-    spec = np.mean([psd(r.astype(float), L_x_m)[1] for r in sel_rows], axis=0)
-    wl = psd(sel_rows[0].astype(float), L_x_m)[0]
-    return float(wl[np.argmax(spec)])
+    wl, P = power_spectrum(np.asarray(sel_rows, float), L_x_m, normalise=True)
+    return float(wl[np.argmax(P.mean(axis=0))])
 
 
 def summary(run, last_fraction: float = 0.25) -> dict:
@@ -96,7 +94,8 @@ def summary(run, last_fraction: float = 0.25) -> dict:
     Keys: ``lambda_p_m`` (also ``lambda_p_most_frequent_m``) most frequent sampled prevalent wavelength [m];
     ``lambda_p_mean_m`` its mean [m]; ``lambda_p_psd_m`` peak of the time-averaged PSD of the
     stroboscopic sigma rows [m] (nan without strobe rows); ``e_kin`` mean kinetic energy density
-    [sigma0 c0^2] and ``e_kin_rp`` [sigma0 (R_p Omega)^2, R_p = 1 m]; ``c_mean`` mass-weighted
+    [sigma0 (R_p Omega)^2, R_p = 1 m: :data:`ringcore.units.E_KIN_UNIT`, as the N-body box's] and
+    ``e_kin_dimless`` the same in sigma0 c0^2 (the old key ``e_kin_rp`` = ``e_kin`` warns once); ``c_mean`` mass-weighted
     mean velocity dispersion sqrt(T) of the final state [m/s]; ``orbits``; ``steps``;
     ``saturated`` and ``lambda_p_growth`` (:func:`saturation_flag`).
     """
@@ -112,9 +111,10 @@ def summary(run, last_fraction: float = 0.25) -> dict:
     out.update(series_summary(a["rec_t"], a["rec_lambda_p"], a["rec_e_kin"], last_fraction))
     out.update(saturation_flag(a["rec_t"], a["rec_lambda_p"], last_fraction))
     sc = p.scales
-    out["e_kin_rp"] = e_kin_rp(out["e_kin"], sc.velocity, p.Omega)
+    out["e_kin_dimless"] = out["e_kin"]
+    out["e_kin"] = out["e_kin_rp"] = float(e_kin_rp(out["e_kin_dimless"], sc.velocity, p.Omega))
     out["lambda_p_most_frequent_m"] = out["lambda_p_m"]  # the name of its method (ringcore.analysis.prevalent)
     out["lambda_p_psd_m"] = strobe_wavelength(a["rec_t_strobe"], a["rec_strobe"], st.options.L_x, last_fraction)
     sig, _, _, T = cons_to_prim(a["U"])
     out["c_mean"] = float(np.sum(sig * np.sqrt(np.maximum(T, 0.0))) / np.sum(sig)) * sc.velocity
-    return out
+    return DeprecatedKeys(out, E_KIN_RP_KEY)

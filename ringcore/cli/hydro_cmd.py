@@ -199,11 +199,11 @@ def run(args) -> int:
     if args.json:
         import json
 
-        e_kin, lam = float(sim.e_kin_rp()), float(sim.prevalent_wavelength())
+        e_kin, lam = float(sim.e_kin()), float(sim.prevalent_wavelength())
         print(json.dumps({"kind": "hydro", "file": str(args.out), "orbits": float(sim.orbits), "steps": int(sim.steps),
                           "e_kin": e_kin if math.isfinite(e_kin) else None, "e_kin_units": E_KIN_UNIT,
                           "lambda_p_m": lam if math.isfinite(lam) else None}))
         return 0
-    print(f"{sim.orbits:.2f} orbits, {sim.steps} steps, e_kin = {sim.e_kin_rp():.4e} {E_KIN_UNIT}, "
+    print(f"{sim.orbits:.2f} orbits, {sim.steps} steps, e_kin = {sim.e_kin():.4e} {E_KIN_UNIT}, "
           f"lambda_p = {sim.prevalent_wavelength():.1f} m -> {args.out}")
     return 0

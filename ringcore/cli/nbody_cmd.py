@@ -213,7 +213,7 @@ def _run(args, box, fallback) -> int:
     run_checkpointed(box, until=end, **kw)
     d = box.diagnostics()
     if args.json:
-        print(json.dumps({k: (float(v) if isinstance(v, float) else v) for k, v in d.items()}))
+        print(json.dumps({**{k: (float(v) if isinstance(v, float) else v) for k, v in d.items()}, "e_kin_units": E_KIN_UNIT}))
         return 0
     print(f"N = {d['N']}, tau = {d['tau']:.3f}, t = {d['orbit']:.2f} orbits -> {args.out}")
     rows = [(f"e_kin [{E_KIN_UNIT}]", f"{d['ekin']:.4g}"), ("<c> [mm/s]", f"{d['c_mean'] * 1e3:.4f}"),

@@ -9,6 +9,7 @@ from ..engine import load
 from ..experiments.checkpoint import kind_of, run_checkpointed
 from ..io import read_run
 from .common import check_flag
+from ..units import E_KIN_UNIT
 from .errors import UsageError
 from .errors import is_blowup
 from .safety import check_fallback_dir, reserve_output_file
@@ -71,10 +72,10 @@ def run(args) -> int:
     if status:
         return status
     if args.json:
-        print(json.dumps({"kind": kind, "file": str(out), **s}))
+        print(json.dumps({"kind": kind, "file": str(out), **s, "e_kin_units": E_KIN_UNIT}))
     else:
         print(f"{kind}: orbit {start:.2f} -> {model.orbits:.2f}, lambda_p = {s['lambda_p_m']:.1f} m, "
-              f"e_kin = {s['e_kin']:.4g}, <c> = {s['c_mean'] * 1e3:.4f} mm/s -> {out}")
+              f"e_kin = {s['e_kin']:.4g} {E_KIN_UNIT}, <c> = {s['c_mean'] * 1e3:.4f} mm/s -> {out}")
     return 0
 
 

@@ -15,6 +15,7 @@ from ..figures._mpl import subplots
 from .. import linear, params
 from ..analysis import growth_rate, lomb_frequency
 from ..hydro import Hydro1D, HydroOptions
+from ..units import E_KIN_UNIT
 from .recipe_common import finish, hydro_run, pick, series_dataset, strobe_dataset, strobe_psd_figure
 from .registry import recipe
 from .resolution import resolved_h
@@ -117,7 +118,7 @@ def _strobe_recipe(mode, out, name, p, L_q, L_f, orb_q, orb_f, title, buffer_fra
             ax.axvspan(buffer[0] / 1e3, buffer[1] / 1e3, color="C0", alpha=0.12)
     ds = strobe_dataset(sim, lam_max=lam_max)
     t, e = sim.e_kin_series()
-    ds["e_kin"] = ("t", e, {"units": "sigma0 c0^2"})
+    ds["e_kin"] = ("t", e, {"units": E_KIN_UNIT})
     ds = ds.assign_coords(t=("t", t, {"units": "orbits"}))
     cap = (f"{mode} run: {p.name} {p.model} (p_s = {p.p_s:g}), sigma0 = {p.sigma0:g} kg/m^2, white noise down to 50 m, "
            f"L_x = {L / 1e3:g} km, h = {h:g} m, {sim.orbits:.0f} orbits, fast time step"

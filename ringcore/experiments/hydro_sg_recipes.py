@@ -15,7 +15,7 @@ import xarray as xr
 from ..figures._mpl import cmap, subplots
 from .. import params
 from ..analysis.nonlinear import group_velocity, hydro_frequency
-from .recipe_common import (ekin_rp, finish, hydro_run, pick, plot_spacetime, series_dataset,
+from .recipe_common import (finish, hydro_run, pick, plot_spacetime, series_dataset,
                             strobe_dataset, strobe_psd_figure)
 from .registry import recipe
 from .resolution import H_PAPER, resolved_h
@@ -43,7 +43,7 @@ def _ekin_panels(mode, out, name, panels, L, orbits, iso, title, paper, grid=Non
             sim, st = hydro_run(p, L_run, h_run, orbits, initial="noise", seed=1,
                                 dt_factor=0.11 if small_dt else None)
             all_runs[k], status[k] = sim, st
-            t, e = ekin_rp(sim)
+            t, e = sim.e_kin_series()
             ax.semilogy(t, e, color="C3" if s == max(sigmas) else c, lw=1,
                         label=f"{s:g} ($\\lambda_p$ = {sim.prevalent_wavelength():.0f} m)" + ("" if st == "ok" else " *"))
         ax.set_xlabel("t [orbits]")
@@ -170,7 +170,7 @@ def boxsizecomp01(mode, out):
             sim, st = hydro_run(params.get("tau15", sigma0=s), L, 2.5, orbits, initial="noise", seed=1)
             k = f"{s:g} {L / 1e3:g}km"
             runs[k] = sim
-            t, e = ekin_rp(sim)
+            t, e = sim.e_kin_series()
             axes[0, j].semilogy(t, e, color=c, lw=1, label=f"L_x = {L / 1e3:g} km" + ("" if st == "ok" else " *"))
             wl, P = sim.psd()
             axes[1, j].semilogx(wl, P, color=c, lw=1, label=f"L_x = {L / 1e3:g} km, lambda_p = {wl[np.argmax(P)]:.0f} m")

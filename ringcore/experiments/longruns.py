@@ -29,7 +29,10 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from ..analysis.spectra import prevalent_wavelength
 from ..checks import check_choice, check_int
+from ..io.ekin import e_kin_of
+from ..units import E_KIN_UNIT
 from ..paperrefs import ref
 from ..provenance import software_attrs
 from .resolution import H_PAPER, resolved_h
@@ -183,15 +186,11 @@ def strobe_rows(t: np.ndarray, at_most: int) -> np.ndarray:
 
 
 def _psd_peak(rows, L_x: float, lam_max: float, block: int = 500) -> np.ndarray:
-    """lambda_p [m] of each sigma row (largest Fourier power among wavelengths <= lam_max; mean removed);
-    ``rows`` may be a lazy (xarray) array: read and transformed ``block`` rows at a time."""
+    """lambda_p [m] of each sigma row (:func:`ringcore.analysis.prevalent_wavelength` among wavelengths
+    <= lam_max); ``rows`` may be a lazy (xarray) array: read and transformed ``block`` rows at a time."""
     out = np.empty(rows.shape[0])
-    wl = L_x / np.arange(1, rows.shape[1] // 2 + 1)
     for i in range(0, rows.shape[0], block):
-        r = np.asarray(rows[i:i + block], float)
-        c = np.abs(np.fft.rfft(r - r.mean(axis=1, keepdims=True), axis=1))[:, 1:wl.size + 1] ** 2
-        c[:, wl > lam_max] = 0.0
-        out[i:i + block] = wl[np.argmax(c, axis=1)]
+        out[i:i + block] = prevalent_wavelength(np.asarray(rows[i:i + block], float), L_x, max_wavelength=lam_max)
     return out
 
 
@@ -227,7 +226,7 @@ def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) ->
         strobe = ds["strobe_sigma"].values[ir][:, ix].astype(np.float32)
         t_strobe = ds["t_strobe"].values[ir]
         wl, P = ds["wavelength"].values, ds["psd"].values.astype(float)
-        e_kin = ds["e_kin_rp"].values[it]
+        e_kin = e_kin_of(ds)[it]  # [sigma0 (R_p Omega)^2] whatever the file's layout
         x = ds["x"].values[ix].astype(np.float32)
         t_all, lam_all = ds["t"].values, ds["lambda_p"].values
     keep = wl <= lam_max
@@ -242,7 +241,7 @@ def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) ->
     out = xr.Dataset(
         {"strobe": (("t_strobe", "x"), strobe, {"long_name": "sigma/sigma0, stroboscopic (one row per orbit, thinned)",
                                                "units": "sigma0"}),
-         "e_kin": ("t", e_kin.astype(np.float32), {"units": "sigma0 (R_p Omega)^2, R_p = 1 m",
+         "e_kin": ("t", e_kin.astype(np.float32), {"units": E_KIN_UNIT,
                                                    "long_name": "wave kinetic energy, eq. (ekin)"}),
          "lambda_p": ("t", lam.astype(np.float32), {"units": "m", "long_name": "prevalent wavelength"}),
          "psd": ("wavelength", P.astype(np.float32), {"long_name": "normalised PSD of sigma, final state"})},

@@ -16,10 +16,9 @@ import xarray as xr
 
 from ..figures._mpl import subplots
 from .. import params
-from ..analysis import lambda_p_approx
+from ..analysis import lambda_p_approx, power_spectrum
 from ..hydro import HydroBlowUp
 from ..nbody import NBodyOptions, ShearingBox
-from ..nbody.diagnostics import psd as nbody_psd
 from .nbody_recipes import _history_dataset, _overstable_runs
 from .recipe_common import finish, hydro_run, pick
 from .registry import recipe
@@ -63,8 +62,7 @@ def run_box(p, L_x, L_y, orbits, *, R_p=1.0, record_every=0.5, profile_every=0.0
 def final_psd(box):
     """(wavelength [m], PSD normalised to max 1) of the box's radial surface number density profile
     (zones of ~5 R_p; the inset of Figure "boxdouble", right)."""
-    lam, P, _ = nbody_psd(box.profiles(), box.options.L_x)
-    return lam, P
+    return power_spectrum(box.profiles().sigma, box.options.L_x, normalise=True)
 
 
 def most_frequent(values) -> float:

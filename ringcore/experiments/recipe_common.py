@@ -19,11 +19,11 @@ import textwrap
 import numpy as np
 import xarray as xr
 
+from ..analysis import power_spectrum
 from ..figures._mpl import subplots
 from ..hydro import Hydro1D, HydroBlowUp, HydroOptions
-from ..hydro.diagnostics import psd
 from ..io import save_figure, write_run
-from ..units import R_P
+from ..units import E_KIN_UNIT
 from .registry import RecipeResult
 
 
@@ -76,16 +76,10 @@ def hydro_run(p, L_x, h, orbits, *, initial="noise", seed=1, wavelength=None, am
     return sim, status
 
 
-def ekin_rp(sim):
-    """(t [orbits], e_kin [sigma0 (R_p Omega)^2] with R_p = 1 m) of a hydro run (Figure "ekinisonosg" units)."""
-    t, e = sim.e_kin_series()
-    return t, e * (sim.params.scales.c0 / (R_P * sim.params.Omega)) ** 2
-
-
 def series_dataset(runs: dict) -> xr.Dataset:
     """e_kin(t) and lambda_p(t) of several hydro runs {label: sim} on a common run dimension (nan-padded)."""
     labels = list(runs)
-    tt = [ekin_rp(runs[k]) for k in labels]
+    tt = [runs[k].e_kin_series() for k in labels]  # e_kin in sigma0 (R_p Omega)^2 (Figure "ekinisonosg" units)
     n = max(len(t) for t, _ in tt)
     T = np.full((len(labels), n), np.nan)
     E = np.full_like(T, np.nan)
@@ -95,7 +89,7 @@ def series_dataset(runs: dict) -> xr.Dataset:
         T[i, :t.size], E[i, :t.size] = t, e
         L[i, :t.size] = runs[k].series()["lambda_p"]
     return xr.Dataset({"time": (("run", "sample"), T, {"units": "orbits"}),
-                       "e_kin": (("run", "sample"), E, {"units": "sigma0 (R_p Omega)^2, R_p = 1 m"}),
+                       "e_kin": (("run", "sample"), E, {"units": E_KIN_UNIT}),
                        "lambda_p": (("run", "sample"), L, {"units": "m"})},
                       coords={"run": ("run", np.array(labels, dtype=object))})
 
@@ -126,16 +120,12 @@ def plot_spacetime(ax, t, x_m, rows, title="", cmap="gray", vmax_q=99.0):
 
 
 def psd_below(sigma, L_x, lam_max=None):
-    """(wavelength [m], PSD normalised to max 1) of a sigma profile, keeping wavelengths <= lam_max [m].
+    """(wavelength [m], PSD normalised to max 1) of a sigma profile, keeping wavelengths <= lam_max [m]
+    (:func:`ringcore.analysis.power_spectrum`).
 
     With a buffer zone the box-scale density contrast between buffer and ring (m = 1, 2, ...) carries
     most of the power; ``lam_max`` (e.g. L_x/4) leaves it out so that lambda_p is the waves' wavelength."""
-    wl, P = psd(np.asarray(sigma, float), L_x)
-    if lam_max is not None:
-        keep = wl <= lam_max
-        wl, P = wl[keep], P[keep]
-        P = P / P.max() if P.max() > 0 else P
-    return wl, P
+    return power_spectrum(np.asarray(sigma, float), L_x, normalise=True, max_wavelength=lam_max)
 
 
 def plot_psd(ax, wl, P, title="final PSD of sigma"):

@@ -126,7 +126,7 @@ def _make_nbody(p, cfg, task):
 def run_hydro_task(task: dict, path) -> dict:
     """Hydro run from white noise (:data:`HYDRO_DEFAULTS`; task keys set, sigma0, ps_scale, isothermal,
     seed, lx, h, orbits).  Summary: lambda_p_m (most frequent sampled prevalent wavelength over the last
-    quarter), lambda_p_psd_m, lambda_p_mean_m, e_kin (mean, sigma0 c0^2), e_kin_rp, c_mean (mass-weighted
+    quarter), lambda_p_psd_m, lambda_p_mean_m, e_kin (mean, sigma0 (R_p Omega)^2), e_kin_dimless (the same in sigma0 c0^2), c_mean (mass-weighted
     sqrt(T) of the final state, m/s), orbits, steps, lambda_zero_m, lambda_p_empirical_m (1.4 lambda_zero)."""
     return _run_engine_task(task, path, "hydro", HYDRO_DEFAULTS, _make_hydro)
 

@@ -115,8 +115,9 @@ def aggregate(rows) -> xr.Dataset:
     one dimension per swept setting (``sigma0`` [kg m-2], ``ps_scale``, ``seed``, ...) with coordinates; every
     summary number a variable (nan where a task failed), ``e_kin`` in one unit whatever the engine."""
     ok = [r for r in rows if r["status"] in ("done", "skipped")]
+    other_units = ("e_kin_rp", "e_kin_dimless")  # e_kin in other units or names: the grid has one e_kin
     keys = list(SUMMARY_KEYS) + sorted({k for r in ok for k, v in r.items()
-                                        if isinstance(v, (int, float)) and k not in SUMMARY_KEYS and k != "e_kin_rp"})
+                                        if isinstance(v, (int, float)) and k not in SUMMARY_KEYS and k not in other_units})
     return grid_dataset(rows, keys)
 
 

@@ -19,10 +19,11 @@ import math
 import numpy as np
 import xarray as xr
 
-from ..units import R_P
+from ..io.ekin import upgrade_sweep_e_kin
+from ..units import E_KIN_UNIT, R_P
 
 LAYOUT = "grid"  # value of the sweep_layout attribute of a grid sweep.nc (absent in older files)
-E_KIN_UNITS = "sigma0 (R_p Omega)^2 with R_p = 1 m (dimensionless)"
+E_KIN_UNITS = E_KIN_UNIT  # the one public unit of e_kin (the older name of this constant)
 SUMMARY_UNITS = {"lambda_p_m": "m", "e_kin": E_KIN_UNITS, "c_mean": "m s-1", "orbits": "orbits", "wall_s": "s",
                  "lambda_zero_m": "m", "lambda_max_growth_m": "m", "lambda_p_mean_m": "m", "lambda_p_psd_m": "m",
                  "lambda_p_empirical_m": "m", "max_growth_rate": "Omega", "Q0": "1"}
@@ -61,10 +62,12 @@ def _positions(coord: np.ndarray) -> dict:
 
 
 def _e_kin(row: dict) -> float:
-    """The row's e_kin in :data:`E_KIN_UNITS`: the engines' ``e_kin_rp`` (hydro's own e_kin is in sigma0 c0^2)."""
-    v = row.get("e_kin_rp")
-    if v is None and row.get("engine") == "nbody":
-        v = row.get("e_kin")  # N-body's e_kin is already in sigma0 (R_p Omega)^2
+    """The row's e_kin in :data:`E_KIN_UNITS`: both engines' ``e_kin``; a hydro row of an older ringcore (its
+    summary had ``e_kin`` in sigma0 c0^2 and no ``e_kin_dimless``) gives its ``e_kin_rp``."""
+    if row.get("engine") == "hydro" and "e_kin_dimless" not in row and "e_kin_rp" in row:
+        v = dict.get(row, "e_kin_rp")
+    else:
+        v = row.get("e_kin")
     return math.nan if v is None else float(v)
 
 
@@ -120,9 +123,9 @@ def grid_dataset(rows, numeric_keys) -> xr.Dataset:
 def as_runs(ds: xr.Dataset) -> xr.Dataset:
     """The sweep ``ds`` in the flat layout of older ``sweep.nc`` files: one dimension ``run`` over the finished
     tasks (``sigma0`` and the other settings as coordinates along it, ascending sigma0).  An older file (already
-    flat) is returned as it is."""
+    flat) is returned as it is, its e_kin read in :data:`E_KIN_UNITS` (:func:`ringcore.io.ekin.upgrade_sweep_e_kin`)."""
     if ds.attrs.get("sweep_layout") != LAYOUT or "run" in ds.dims:
-        return ds
+        return upgrade_sweep_e_kin(ds)
     dims = json.loads(ds.attrs["sweep_dims"])
     flat = ds.stack(run=dims).reset_index("run")
     flat = flat.drop_vars([c for c in ("run",) if c in flat.coords])

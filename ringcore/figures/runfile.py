@@ -1,12 +1,13 @@
 """The overview figure of a hydro run file: e_kin(t), lambda_p(t) and the stroboscopic space-time diagram."""
 from __future__ import annotations
 
+from ..io.ekin import e_kin_of
 from ._mpl import subplots
 
 
 def run_overview(ds):
     """A 1 x 3 :class:`matplotlib.figure.Figure` of a hydro run file's dataset ``ds`` (``ringcore.io.read_run``
-    or ``xarray.open_dataset``): mean kinetic energy density e_kin(t) [sigma0 c0^2] on a log axis, the
+    or ``xarray.open_dataset``): mean kinetic energy density e_kin(t) [sigma0 (R_p Omega)^2] on a log axis, the
     prevalent wavelength lambda_p(t) [m], and sigma/sigma0 of the stroboscopic rows against x [m] and
     t [orbits].
 
@@ -19,8 +20,9 @@ def run_overview(ds):
     if missing:
         raise ValueError(f"run file has no {', '.join(missing)}: allowed a hydro run file (ringcore hydro --out)")
     fig, ax = subplots(1, 3, figsize=(15, 4.2))
-    ax[0].semilogy(ds["t"], ds["e_kin"])
-    ax[0].set(xlabel="t [orbits]", ylabel=r"$e_{kin}$ [$\sigma_0 c_0^2$]", title="mean kinetic energy density")
+    ax[0].semilogy(ds["t"], e_kin_of(ds))  # [sigma0 (R_p Omega)^2] whatever the file's layout
+    ax[0].set(xlabel="t [orbits]", ylabel=r"$e_{kin}$ [$\sigma_0 (R_p \Omega)^2$], $R_p$ = 1 m",
+              title="mean kinetic energy density")
     ax[1].plot(ds["t"], ds["lambda_p"], lw=0.6)
     ax[1].set(xlabel="t [orbits]", ylabel=r"$\lambda_p$ [m]", title="prevalent wavelength")
     ax[2].pcolormesh(ds["x"], ds["t_strobe"], ds["strobe_sigma"], shading="auto", cmap="viridis")

@@ -18,10 +18,12 @@ layout), :mod:`.state_kernels` (ghosts, state check, temperature floor),
 (one numba cache stamp for all hydro kernels).
 """
 from . import cachestamp  # noqa: F401  (first: the package-wide numba cache stamp, before any kernel)
-from .diagnostics import e_kin, growth_rate, lomb_frequency, prevalent_wavelength, psd
+from .diagnostics import e_kin_dimless
+from .diagnostics import e_kin, growth_rate, lomb_frequency, prevalent_wavelength, psd  # noqa: F401 (deprecated)
 from .gravity import SelfGravity
 from .options import HydroOptions
 from .solver import Hydro1D, HydroBlowUp
 
-__all__ = ["Hydro1D", "HydroOptions", "HydroBlowUp", "SelfGravity", "e_kin", "psd", "prevalent_wavelength",
-           "growth_rate", "lomb_frequency"]
+# e_kin, psd, prevalent_wavelength, growth_rate, lomb_frequency: deprecated (they warn once); spectra, lambda_p,
+# growth rates and Lomb frequencies are ringcore.analysis's
+__all__ = ["Hydro1D", "HydroOptions", "HydroBlowUp", "SelfGravity", "e_kin_dimless"]

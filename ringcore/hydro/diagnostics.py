@@ -5,74 +5,70 @@ values at the solver's sample times (``samples_per_orbit`` per orbit, time step
 shortened to land on them) and keeps the stroboscopic and orbit-resolved
 space-time rows.
 
-Units: e_kin is returned in sigma0 c0^2 (dimensionless).  Multiply by
-sigma0 c0^2 for J/m^2 = kg/s^2, or by c0^2/(R_p Omega)^2 for units of
-sigma0 (R_p Omega)^2 with the paper's R_p = 1 m (Figure "ekinisonosg").
+Units: the recorder keeps e_kin in sigma0 c0^2 (dimensionless, the kernels' unit);
+:func:`ringcore.units.e_kin_rp` converts it to the public unit :data:`ringcore.units.E_KIN_UNIT`,
+sigma0 (R_p Omega)^2 with the paper's R_p = 1 m (Figure "ekinisonosg").  Spectra, lambda_p, growth rates
+and Lomb frequencies are :mod:`ringcore.analysis`'s; the old functions here (``psd``,
+``prevalent_wavelength``, ``growth_rate``, ``lomb_frequency``, ``e_kin``) are deprecated aliases that warn once.
 
 References: eqs. (ekin), (fourier).
 """
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import lombscargle
+
+from ..analysis import rates, spectra
+from ..deprecation import warn_once
 
 
-def e_kin(sigma, u, v) -> float:
-    """Mean kinetic energy density (1/L_x) int sigma (u^2 + v^2)/2 dx [sigma0 c0^2], eq. (ekin)."""
+def e_kin_dimless(sigma, u, v) -> float:
+    """Mean kinetic energy density (1/L_x) int sigma (u^2 + v^2)/2 dx [sigma0 c0^2], eq. (ekin), of
+    dimensionless fields (the kernels' unit; :func:`ringcore.units.e_kin_rp` converts to the public unit)."""
     return float(np.mean(0.5 * sigma * (u * u + v * v)))
 
 
 def fourier_coefficients(f):
-    """Complex coefficients c_m (m = 0 .. n/2) with f = sum_m |c_m| cos(k_m x + arg c_m), eq. (fourier).
+    """Complex coefficients c_m (m = 0 .. n/2) with f = sum_m |c_m| cos(k_m x + arg c_m), eq. (fourier), for
+    0 < m < n/2 (the tracked modes' amplitudes and phases; spectra: :mod:`ringcore.analysis.spectra`).
 
-    Phases refer to the first node; amplitudes |c_m| are the paper's U^m.
+    Phases refer to the first node.
     """
     c = np.fft.rfft(f) * (2.0 / f.size)
     c[0] *= 0.5
     return c
 
 
-def psd(sigma, L_x_m: float):
-    """Power spectral density of sigma normalised to a maximum of 1 (mean removed).
+def e_kin(sigma, u, v) -> float:
+    """Deprecated: :func:`e_kin_dimless` (the same value, sigma0 c0^2)."""
+    warn_once("ringcore.hydro.diagnostics.e_kin", "ringcore.hydro.diagnostics.e_kin_dimless [sigma0 c0^2] or "
+              "ringcore.units.e_kin_rp [sigma0 (R_p Omega)^2]")
+    return e_kin_dimless(sigma, u, v)
 
-    Returns ``(wavelength_m, psd)`` for modes m = 1 .. n/2.
-    """
-    c = fourier_coefficients(np.asarray(sigma, float))[1:]
-    P = np.abs(c) ** 2
-    m = np.arange(1, c.size + 1)
-    top = P.max()
-    return L_x_m / m, (P / top if top > 0 else P)
+
+def psd(sigma, L_x_m: float):
+    """Deprecated: :func:`ringcore.analysis.power_spectrum` with ``normalise=True`` (its Nyquist convention:
+    the Nyquist bin is half the value this function gave before)."""
+    warn_once("ringcore.hydro.diagnostics.psd", "ringcore.analysis.power_spectrum(sigma, L_x, normalise=True)")
+    return spectra.power_spectrum(sigma, L_x_m, normalise=True)
 
 
 def prevalent_wavelength(sigma, L_x_m: float) -> float:
-    """lambda_p [m]: wavelength of the largest Fourier amplitude of sigma (m >= 1)."""
-    c = fourier_coefficients(np.asarray(sigma, float))
-    m = 1 + int(np.argmax(np.abs(c[1:])))
-    return L_x_m / m
+    """Deprecated: :func:`ringcore.analysis.prevalent_wavelength`."""
+    warn_once("ringcore.hydro.diagnostics.prevalent_wavelength", "ringcore.analysis.prevalent_wavelength")
+    return spectra.prevalent_wavelength(sigma, L_x_m)
 
 
 def growth_rate(t, amplitude) -> float:
-    """Slope of a least-squares line through log(amplitude) versus t (same time units as t)."""
-    return float(np.polyfit(np.asarray(t, float), np.log(np.asarray(amplitude, float)), 1)[0])
+    """Deprecated: :func:`ringcore.analysis.growth_rate` (returns a Fit; this returns its ``value``)."""
+    warn_once("ringcore.hydro.diagnostics.growth_rate", "ringcore.analysis.growth_rate(t, amplitude).value")
+    return rates.growth_rate(t, amplitude).value
 
 
 def lomb_frequency(t, y, f_lo: float, f_hi: float, nfreq: int = 20001) -> float:
-    """Angular frequency of the largest Lomb-Scargle peak of y(t) in [f_lo, f_hi].
-
-    Uses :func:`scipy.signal.lombscargle` on the mean-removed signal; the peak is refined
-    by a parabola through the three highest grid values.  Units: radians per unit of t.
-    """
-    t = np.asarray(t, float)
-    y = np.asarray(y, float) - np.mean(y)
-    w = np.linspace(f_lo, f_hi, nfreq)
-    P = lombscargle(t, y, w)
-    j = int(np.argmax(P))
-    if 0 < j < nfreq - 1:
-        a, b, c = P[j - 1], P[j], P[j + 1]
-        den = a - 2 * b + c
-        if den != 0:
-            return float(w[j] + 0.5 * (a - c) / den * (w[1] - w[0]))
-    return float(w[j])
+    """Deprecated: :func:`ringcore.analysis.lomb_frequency` (returns a Fit; this returns its ``value``)."""
+    warn_once("ringcore.hydro.diagnostics.lomb_frequency",
+              "ringcore.analysis.lomb_frequency(t, y, fmin, fmax, n).value")
+    return rates.lomb_frequency(t, y, f_lo, f_hi, n=nfreq).value
 
 
 FIELDS = ("sigma", "u", "v", "T")
@@ -108,9 +104,9 @@ class Recorder:
         self.t.append(t)
         self.dt.append(dt)
         self.steps.append(steps)
-        self.e_kin.append(e_kin(sigma, u, v))
+        self.e_kin.append(e_kin_dimless(sigma, u, v))
         cs = fourier_coefficients(sigma)
-        self.lambda_p.append(self.L_x_m / (1 + int(np.argmax(np.abs(cs[1:])))))
+        self.lambda_p.append(spectra.prevalent_wavelength(sigma, self.L_x_m))
         for name, f in zip(FIELDS, (sigma, u, v, T)):
             self.fmin[name].append(float(f.min()))
             self.fmax[name].append(float(f.max()))

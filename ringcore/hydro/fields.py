@@ -10,7 +10,6 @@ from __future__ import annotations
 import numpy as np
 
 from ..deprecation import warn_once
-from ..units import e_kin_rp
 
 
 class PhysicalFields:
@@ -72,12 +71,12 @@ class PhysicalFields:
         """Elapsed time [s] (``orbits`` in orbits, ``t`` dimensionless in 1/Omega)."""
         return self.t * self.params.scales.time
 
-    def e_kin_rp(self) -> float:
-        """Current mean kinetic energy density, Eq. (39), in the public unit sigma0 (R_p Omega)^2 with R_p = 1 m
-        (:data:`ringcore.units.E_KIN_UNIT`; :meth:`e_kin` gives it in sigma0 c0^2)."""
-        return float(e_kin_rp(self.e_kin(), self.params.scales.velocity, self.params.Omega))
-
     # ------------------------------------------------------------ deprecated names
+    def e_kin_rp(self) -> float:
+        """Deprecated: :meth:`e_kin` (the same value: e_kin is in :data:`ringcore.units.E_KIN_UNIT` everywhere)."""
+        warn_once("Hydro1D.e_kin_rp()", "Hydro1D.e_kin() (now in sigma0 (R_p Omega)^2, R_p = 1 m)")
+        return self.e_kin()
+
     @property
     def sigma(self) -> np.ndarray:
         """Deprecated: :attr:`sigma_dimless` (sigma/sigma0) or :attr:`sigma_kg_m2`."""

@@ -10,12 +10,13 @@ Files are written and read only through :mod:`ringcore.io` (``write_run(ds, path
 
 Layout: coordinates ``x`` [m], ``t`` [orbits] (samples), ``t_strobe``, ``t_spacetime``
 [orbits], ``mode`` (Fourier mode numbers), ``probe`` (probe x [m]), ``wavelength`` [m]
-(final PSD); the final state in physical units (``sigma`` kg/m^2, ``u``, ``v`` m/s,
-``T`` m^2/s^2); the time series (``e_kin``, ``lambda_p``, ``dt``, min/max of each field,
+(final PSD, :func:`ringcore.analysis.power_spectrum` normalised); the final state in physical units
+(``sigma`` kg/m^2, ``u``, ``v`` m/s, ``T`` m^2/s^2); the time series (``e_kin`` in sigma0 (R_p Omega)^2,
+:data:`ringcore.units.E_KIN_UNIT`, ``e_kin_si`` in J/m^2, ``lambda_p``, ``dt``, min/max of each field,
 mode amplitudes and phases, probes) in physical units, and the space-time arrays
 (``strobe_sigma``, ``spacetime_sigma``) as sigma/sigma0.  For a bit-exact continuation the file also holds
 the kernels' dimensionless conservative state (``state``), the recorder's raw series
-(``restart_series``, ``restart_t_strobe``, ``restart_t_spacetime``; the space-time rows are
+(``e_kin_dimless`` in sigma0 c0^2, ``restart_series``, ``restart_t_strobe``, ``restart_t_spacetime``; the space-time rows are
 stored as recorded, float32 sigma/sigma0) and the counters (attributes
 ``time_dimensionless``, ``steps``, ``k_sample``, ``dt_dimensionless``, ``floor_hits``,
 ``buffer_active``, ``buffer``, and ``step_path``: ``"one-call"`` or ``"reference"``, the step path of
@@ -28,14 +29,16 @@ import math
 
 import numpy as np
 
+from ..analysis.spectra import power_spectrum
 from ..engine import State
 from ..analysis.summary import summary
 from ..archive import with_archive
 from ..io import attrs_from_dict, dict_from_attrs, stamp_run, status_attrs, write_run
 from ..params import RingParams
-from ..units import e_kin_rp, time_to_orbits
+from ..io.ekin import LONG_NAME as EKIN_NAME
+from ..io.ekin import upgrade_e_kin
+from ..units import E_KIN_DIMLESS_UNIT, E_KIN_UNIT, e_kin_rp, time_to_orbits
 from .convert import cons_to_prim
-from .diagnostics import psd
 from .options import HydroOptions
 
 VAR_NAMES = ("sigma", "sigma_u", "sigma_v", "e")
@@ -74,7 +77,7 @@ def dataset_from_state(st: State):
     sig_unit = "kg m-2" if p.sigma0 > 0 else "sigma0"
     s_sig = p.sigma0 if p.sigma0 > 0 else 1.0
     sigma, u, v, T = cons_to_prim(U)
-    wl, P = psd(U[0], opt.L_x)
+    wl, P = power_spectrum(U[0], opt.L_x, normalise=True)
     e_si = a["e_kin"] * s_sig * sc.velocity ** 2
     nm, npr = len(opt.track_modes), len(opt.probes_m)
     coords = dict(
@@ -97,10 +100,9 @@ def dataset_from_state(st: State):
                                             "long_name": "conservative state (exact, for continuation)"}),
         beta=("x", np.array(st.arrays["beta"], float), {"long_name": "viscosity exponent per node"}),
         psd=("wavelength", P, {"long_name": "normalised PSD of sigma (final state)"}),
-        e_kin=("t", a["e_kin"], {"units": "sigma0 c0^2", "long_name": "mean kinetic energy density, eq. (ekin)"}),
+        e_kin=("t", e_kin_rp(a["e_kin"], sc.velocity, p.Omega), {"units": E_KIN_UNIT, "long_name": EKIN_NAME}),
+        e_kin_dimless=("t", a["e_kin"], {"units": E_KIN_DIMLESS_UNIT, "long_name": EKIN_NAME + ", exact (continuation)"}),
         e_kin_si=("t", e_si, {"units": "J m-2" if p.sigma0 > 0 else "sigma0 m2 s-2"}),
-        e_kin_rp=("t", e_kin_rp(a["e_kin"], sc.velocity, p.Omega),
-                  {"units": "sigma0 (R_p Omega)^2 with R_p = 1 m"}),
         lambda_p=("t", a["lambda_p"], {"units": "m", "long_name": "prevalent wavelength"}),
         dt=("t", time_to_orbits(a["dt"]), {"units": "orbits", "long_name": "last time step"}),
         steps=("t", a["steps"], {"long_name": "steps taken"}),
@@ -141,7 +143,7 @@ def _recorder_arrays(ds, n_modes, n_probes) -> dict:
     cols = {c: j for j, c in enumerate(_restart_columns(n_modes, n_probes))}
     n = R.shape[0]
     a = dict(t=R[:, cols["t"]].copy(), dt=R[:, cols["dt"]].copy(), steps=ds["steps"].values.astype(np.int64),
-             e_kin=ds["e_kin"].values.astype(float), lambda_p=ds["lambda_p"].values.astype(float))
+             e_kin=ds["e_kin_dimless"].values.astype(float), lambda_p=ds["lambda_p"].values.astype(float))
     for f in FIELDS:
         for w in ("min", "max"):
             a[f"{f}_{w}"] = R[:, cols[f"{f}_{w}"]].copy()
@@ -172,6 +174,7 @@ def _beta_of(ds, p: RingParams, opt: HydroOptions, buf) -> np.ndarray:
 
 def state_from_dataset(ds) -> State:
     """The :class:`ringcore.engine.State` saved by :func:`dataset_from_state` (a loaded Dataset)."""
+    ds = upgrade_e_kin(ds)  # an older file (e_kin in sigma0 c0^2) not read through ringcore.io.read_run
     p = RingParams(**dict_from_attrs(ds, "param"))
     opt = HydroOptions(**dict_from_attrs(ds, "option"))
     at = ds.attrs

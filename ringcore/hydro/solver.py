@@ -27,14 +27,16 @@ import math
 
 import numpy as np
 
+from ..analysis.spectra import power_spectrum, prevalent_wavelength
 from ..checks import check_int, check_real
 from ..analysis.summary import summary
+from ..deprecation import E_KIN_RP_KEY, DeprecatedKeys
 from ..engine import SampleHub
 from ..params import RingParams
 from ..units import e_kin_rp, time_to_orbits
 from . import kernels as K
 from .convert import cons_to_prim
-from .diagnostics import Recorder, e_kin, prevalent_wavelength, psd
+from .diagnostics import Recorder, e_kin_dimless
 from .fields import PhysicalFields
 from .gravity import SelfGravity
 from .initial import INITIAL_KINDS, amplitude_too_large, check_initial_arguments, make_initial
@@ -234,38 +236,56 @@ class Hydro1D(Stepping, StateIO, PhysicalFields):
         return cons_to_prim(self.U, self._par[K.P_T0])
 
     def e_kin(self) -> float:
-        """Current mean kinetic energy density [sigma0 c0^2], eq. (ekin)."""
-        return e_kin(self.U[0], self.u_dimless, self.v_dimless)
+        """Current mean kinetic energy density, eq. (ekin), in :data:`ringcore.units.E_KIN_UNIT`,
+        sigma0 (R_p Omega)^2 with R_p = 1 m (the unit of the N-body box, the command line, run files and app)."""
+        return float(self._e_kin_public(self.e_kin_dimless()))
+
+    def e_kin_dimless(self) -> float:
+        """Current mean kinetic energy density, eq. (ekin), in the kernels' unit sigma0 c0^2 (dimensionless)."""
+        return e_kin_dimless(self.U[0], self.u_dimless, self.v_dimless)
+
+    def _e_kin_public(self, e_kin_dimless):
+        return e_kin_rp(e_kin_dimless, self.params.scales.velocity, self.params.Omega)
 
     def psd(self):
-        """(wavelength_m, normalised PSD of sigma) of the current state."""
-        return psd(self.U[0], self.options.L_x)
+        """(wavelength [m], PSD of sigma normalised to a maximum of 1) of the current state, by
+        :func:`ringcore.analysis.power_spectrum` (its Nyquist convention)."""
+        return power_spectrum(self.U[0], self.options.L_x, normalise=True)
 
     def prevalent_wavelength(self) -> float:
-        """Current lambda_p [m] (largest Fourier amplitude of sigma)."""
+        """Current lambda_p [m] (:func:`ringcore.analysis.prevalent_wavelength` of sigma; the ``"instantaneous"``
+        method of :func:`ringcore.analysis.lambda_p`)."""
         return prevalent_wavelength(self.U[0], self.options.L_x)
 
     # ------------------------------------------------------------------ output
     def diagnostics(self) -> dict:
-        """Current scalars: ``orbit``, ``steps``, ``dt_orbits``, ``e_kin`` [sigma0 c0^2] and ``e_kin_rp``
-        [sigma0 (R_p Omega)^2, the public unit], ``lambda_p_m`` [m] (instantaneous),
-        ``sigma_min``/``sigma_max`` [sigma0], ``T_min``/``T_max`` [c0^2], ``floor_hits``."""
+        """Current scalars: ``orbit``, ``steps``, ``dt_orbits``, ``e_kin`` [sigma0 (R_p Omega)^2,
+        :data:`ringcore.units.E_KIN_UNIT`] and ``e_kin_dimless`` [sigma0 c0^2], ``lambda_p_m`` [m]
+        (instantaneous), ``sigma_min``/``sigma_max`` [sigma0], ``T_min``/``T_max`` [c0^2], ``floor_hits``.
+        The old key ``e_kin_rp`` (= ``e_kin``) still reads and warns once."""
         sig, u, v, T = self.primitives()
-        out = dict(orbit=self.orbits, steps=self._steps, dt_orbits=self.dt_orbits, e_kin=e_kin(sig, u, v),
+        e = e_kin_dimless(sig, u, v)
+        out = dict(orbit=self.orbits, steps=self._steps, dt_orbits=self.dt_orbits,
+                   e_kin=float(self._e_kin_public(e)), e_kin_dimless=e,
                    lambda_p_m=prevalent_wavelength(sig, self.options.L_x), sigma_min=float(sig.min()),
                    sigma_max=float(sig.max()), T_min=float(T.min()), T_max=float(T.max()),
                    floor_hits=self.floor_hits)
-        out["e_kin_rp"] = float(e_kin_rp(out["e_kin"], self.params.scales.velocity, self.params.Omega))
-        return out
+        out["e_kin_rp"] = out["e_kin"]
+        return DeprecatedKeys(out, E_KIN_RP_KEY)
 
     def series(self) -> dict:
-        """Recorded diagnostics as numpy arrays (dimensionless; see :meth:`to_dataset` for units)."""
-        return self.recorder.arrays()
+        """Recorded diagnostics as numpy arrays (dimensionless, see :meth:`to_dataset` for units) except ``e_kin``
+        [sigma0 (R_p Omega)^2, :data:`ringcore.units.E_KIN_UNIT`]; ``e_kin_dimless`` keeps it in sigma0 c0^2."""
+        a = self.recorder.arrays()
+        a["e_kin_dimless"] = a["e_kin"]
+        a["e_kin"] = self._e_kin_public(a["e_kin_dimless"])
+        return a
 
     def e_kin_series(self):
-        """(t [orbits], e_kin [sigma0 c0^2]) at the sample times."""
+        """(t [orbits], e_kin [sigma0 (R_p Omega)^2, :data:`ringcore.units.E_KIN_UNIT`]) at the sample times
+        (``series()["e_kin_dimless"]`` and :meth:`e_kin_dimless`: sigma0 c0^2)."""
         a = self.recorder.arrays()
-        return time_to_orbits(a["t"]), a["e_kin"]
+        return time_to_orbits(a["t"]), self._e_kin_public(a["e_kin"])
 
     def summary(self, last_fraction: float = 0.25) -> dict:
         """Saturation summary over the last ``last_fraction`` of the run (:func:`ringcore.analysis.summary.summary`)."""

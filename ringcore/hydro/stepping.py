@@ -15,9 +15,8 @@ import numpy as np
 
 from .. import ranges
 from ..checks import check_real
-from ..deprecation import warn_once
+from ..deprecation import E_KIN_RP_KEY, DeprecatedKeys, warn_once
 from ..engine import BlowUp
-from ..units import e_kin_rp
 from . import kernels as K
 from .convert import cons_to_prim
 from .stepper import ssprk_step
@@ -221,7 +220,8 @@ class Stepping:
     def on_sample(self, fn) -> int:
         """Call ``fn(sim, sample)`` after every recorded sample; returns a handle for
         :meth:`remove_callback`.  ``sample``: ``orbit``, ``t`` [1/Omega], ``steps``, ``dt_orbits``,
-        ``e_kin`` [sigma0 c0^2] and ``e_kin_rp`` [sigma0 (R_p Omega)^2, the public unit], ``lambda_p_m`` [m],
+        ``e_kin`` [sigma0 (R_p Omega)^2, :data:`ringcore.units.E_KIN_UNIT`] and ``e_kin_dimless`` [sigma0 c0^2]
+        (the old key ``e_kin_rp`` = ``e_kin`` warns once), ``lambda_p_m`` [m],
         ``strobe_row`` and ``spacetime_row`` (the
         float32 sigma/sigma0 row just added, or None)."""
         return self._hub.add(fn)
@@ -245,7 +245,8 @@ class Stepping:
         st_row = rec.add_spacetime(self.t, sig) if r and k % (S // r) == 0 else None
         self._k_sample = k + 1
         if self._hub:
-            self._hub.emit(self, dict(orbit=self.orbits, t=self.t, steps=self._steps, dt_orbits=self.dt_orbits,
-                                      e_kin=rec.e_kin[-1], lambda_p_m=rec.lambda_p[-1], strobe_row=strobe,
-                                      spacetime_row=st_row, e_kin_rp=e_kin_rp(rec.e_kin[-1], self.params.c0,
-                                                                              self.params.Omega)))
+            e = float(self._e_kin_public(rec.e_kin[-1]))
+            self._hub.emit(self, DeprecatedKeys(dict(
+                orbit=self.orbits, t=self.t, steps=self._steps, dt_orbits=self.dt_orbits, e_kin=e,
+                e_kin_dimless=rec.e_kin[-1], e_kin_rp=e, lambda_p_m=rec.lambda_p[-1], strobe_row=strobe,
+                spacetime_row=st_row), E_KIN_RP_KEY))

@@ -17,6 +17,7 @@ import xarray as xr
 from .schema import SCHEMA, RunFileError
 from .validate import LAYOUTS, validate_run
 from ..experiments.sweep_grid import LAYOUT, as_runs
+from .ekin import upgrade_e_kin
 
 PROVENANCE = ("ringcore_version", "ringcore_commit", "created", "written_on", "command")
 
@@ -118,6 +119,10 @@ def describe(path) -> dict:
            "provenance": {k: _plain(a.get(k)) for k in PROVENANCE}}
     if a.get("schema") == SCHEMA:
         kind = str(a.get("kind", "?"))
+        checksum = _checksum(ds, kind, str(path))  # of the file as written, before the e_kin unit is read
+        if kind == "hydro" and checksum.startswith(("ok", "absent")):
+            ds = upgrade_e_kin(ds)  # an older file's e_kin (sigma0 c0^2) shown in the one public unit
+        a = ds.attrs
         summary = {k: _plain(v) for k, v in _json_attr(ds, "summary_json").items()}
         out.update(kind=kind, schema_version=_plain(a.get("schema_version")),
                    complete=bool(a["complete"]) if "complete" in a else None,
@@ -125,9 +130,11 @@ def describe(path) -> dict:
                    {k[6:]: _plain(v) for k, v in a.items() if k.startswith("param_")},
                    options=_json_attr(ds, "options_json"),
                    grid={d: int(n) for d, n in ds.sizes.items()}, orbits=_orbits(ds, summary),
-                   checksum=_checksum(ds, kind, str(path)), summary=summary)
+                   checksum=checksum, summary=summary)
     elif a.get("sweep_layout") or ("run" in ds.dims and "sigma0" in ds.variables and "lambda_p_m" in ds):
         out["kind"] = "sweep"
+        if "run" in ds.dims:  # an older flat file: its e_kin read in the one public unit
+            ds = as_runs(ds)
         _sweep(ds, out)
     else:
         out.update(kind="netcdf", grid={d: int(n) for d, n in ds.sizes.items()},

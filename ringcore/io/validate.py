@@ -27,6 +27,7 @@ import numpy as np
 from .schema import MIGRATIONS as _MIGRATIONS
 from .schema import SCHEMA, SCHEMA_VERSION, RunFileError
 from ..params import RingParams
+from .ekin import upgrade_e_kin
 
 # name -> (dims, dtype kinds, required); required variables are what a restore reads.
 _F, _I, _S = "f", "iu", "OUS"
@@ -39,6 +40,7 @@ LAYOUTS: dict = {
         "sigma": (("x",), _F, True), "u": (("x",), _F, True), "v": (("x",), _F, True), "T": (("x",), _F, True),
         "state": (("var", "x"), _F, True), "beta": (("x",), _F, False), "psd": (("wavelength",), _F, False),
         "e_kin": (("t",), _F, True), "e_kin_si": (("t",), _F, False), "e_kin_rp": (("t",), _F, False),
+        "e_kin_dimless": (("t",), _F, False),
         "lambda_p": (("t",), _F, True), "dt": (("t",), _F, False), "steps": (("t",), _I, True),
         **{f"{q}_{part}": (("t", "mode"), _F, False) for q in ("mode_sigma", "mode_u") for part in ("amp", "phase")},
         "probe_sigma": (("t", "probe"), _F, False), "probe_u": (("t", "probe"), _F, False),
@@ -71,7 +73,7 @@ CHECKSUM_ATTRS = {"hydro": ("params_json", "options_json", "time_dimensionless",
 STATE_ARRAYS = {"hydro": ("state",), "nbody": ("state_pos", "state_vel")}
 # recorded series that a run always writes finite (summaries average them): NaN or inf there is damage.
 # (N-body lambda_p is nan while no wave stands out, so it is not listed.)
-FINITE_SERIES = {"hydro": ("t", "e_kin", "e_kin_si", "e_kin_rp", "lambda_p", "dt", "t_strobe", "t_spacetime",
+FINITE_SERIES = {"hydro": ("t", "e_kin", "e_kin_si", "e_kin_rp", "e_kin_dimless", "lambda_p", "dt", "t_strobe", "t_spacetime",
                            "restart_series", "restart_t_strobe", "restart_t_spacetime"),
                  "nbody": ("time", "time_profile", "ekin", "c_mean", "T", "collision_frequency")}
 
@@ -305,4 +307,9 @@ def validate_run(ds, kind: str | None = None, source: str = "<dataset>"):
                 _fail(source, f"variable {name!r} has non-finite values (first {float(a[tuple(bad)])!r} at index "
                               f"{tuple(int(i) for i in bad)}): a run writes it finite (damaged or edited file)")
     (_check_hydro if kind == "hydro" else _check_nbody)(ds, source)
+    if kind == "hydro":  # an older file's e_kin in sigma0 c0^2: read in the one public unit
+        up = upgrade_e_kin(ds)
+        if up is not ds and "state_sha256" in up.attrs:  # checked as written; the conversion is ringcore's own
+            up.attrs.update(checksum_attrs(up, "hydro"))
+        ds = up
     return ds

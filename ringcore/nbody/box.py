@@ -21,7 +21,9 @@ import math
 import numpy as np
 
 from .. import ranges
+from ..analysis.spectra import power_spectrum
 from ..checks import check_int, check_real
+from ..deprecation import E_KIN_RP_KEY, DeprecatedKeys
 from ..archive import ArchiveMixin
 from ..engine import SampleHub, State
 from ..params import RingParams
@@ -216,7 +218,7 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
     def on_sample(self, fn) -> int:
         """Call ``fn(box, sample)`` after every recorded box mean; returns a handle.
 
-        ``sample`` keys: ``orbit``, ``steps``, ``e_kin`` (also ``e_kin_rp``) [sigma0 (R_p Omega)^2], ``lambda_p_m`` [m],
+        ``sample`` keys: ``orbit``, ``steps``, ``e_kin`` [sigma0 (R_p Omega)^2] (the old key ``e_kin_rp`` warns once), ``lambda_p_m`` [m],
         ``c_mean`` [m/s], ``T`` [m^2/s^2], ``collision_frequency`` [1/orbit], ``unresolved``,
         ``crossings``, and ``profile`` (dict ``sigma``, ``u``, ``v``, ``c`` [m/s] zone rows) when a
         profile was recorded too.
@@ -269,6 +271,15 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
         n = self.options.zones if n_zones is None else check_int("n_zones", n_zones, 1, 10**6)
         return D.profiles_si(self.pos, self.vel, self.L_x, n, self.R_p, self.Omega)
 
+    def psd(self):
+        """(wavelength [m], PSD of sigma/sigma0 normalised to a maximum of 1) of the current zones, by
+        :func:`ringcore.analysis.power_spectrum` (as :meth:`ringcore.hydro.Hydro1D.psd`)."""
+        return power_spectrum(self.profiles().sigma, self.options.L_x, normalise=True)
+
+    def prevalent_wavelength(self) -> float:
+        """Current lambda_p [m] of sigma/sigma0 (the ``"instantaneous"`` method of :func:`ringcore.analysis.lambda_p`)."""
+        return D.prevalent_wavelength_m(D.tabulate(self.pos, self.vel, self.L_x, self.options.zones), self.L_x, self.R_p)
+
     def transport(self) -> dict:
         """Ground-state transport averaged since the last :meth:`reset_accumulators` (SI units).
 
@@ -281,16 +292,16 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
         return D.transport_si(self.acc, self.N, self.R_p, self.Omega)
 
     def diagnostics(self) -> dict:
-        """Current box means (SI): ``ekin`` (also ``e_kin``) [sigma0 (R_p Omega)^2], ``c_mean`` [m/s],
+        """Current box means (SI): ``ekin`` (also ``e_kin``; the old key ``e_kin_rp`` warns once) [sigma0 (R_p Omega)^2, :data:`ringcore.units.E_KIN_UNIT`], ``c_mean`` [m/s],
         ``lambda_p`` (also ``lambda_p_m``) [m], ``z_rms`` [m], ``orbit``, ``steps``, ``N``, ``tau``, plus :meth:`transport` of the current averaging interval."""
         p = D.tabulate(self.pos, self.vel, self.L_x, self.options.zones)
         out = dict(orbit=self.orbits, N=self.N, tau=self.tau, ekin=D.e_kin(p),
-                   c_mean=D.mean_dispersion(p) * self.v_unit, lambda_p=D.psd(p, self.L_x)[2] * self.R_p,
+                   c_mean=D.mean_dispersion(p) * self.v_unit, lambda_p=D.prevalent_wavelength_m(p, self.L_x, self.R_p),
                    z_rms=float(np.sqrt(np.mean(self.pos[:, 2] ** 2))) * self.R_p, steps=self._steps)
         out.update(e_kin=out["ekin"], e_kin_rp=out["ekin"], lambda_p_m=out["lambda_p"])  # the contract's names (as the hydro engine)
         if self.acc[K.A_TIME] > 0:
             out.update(self.transport())
-        return out
+        return DeprecatedKeys(out, E_KIN_RP_KEY)
 
     def to_dataset(self):
         """The run as an :class:`xarray.Dataset` (see :func:`ringcore.nbody.store.to_dataset`)."""

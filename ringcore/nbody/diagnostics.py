@@ -5,8 +5,9 @@ extent: sigma/sigma0 (counts over the mean count), u(x), v(x) (mean radial and a
 velocity relative to the Keplerian shear), the diagonal of the velocity dispersion tensor
 C_xx, C_yy, C_zz (variances about the zone means, C_ij = <w_i w_j>), the velocity
 dispersion c = [(C_xx + C_yy + C_zz)/3]^(1/2) = T^(1/2), and the vertical extent (rms z).
-Box means: e_kin, eq. (ekin), <c>, the PSD of sigma/sigma0 and its prevalent wavelength
-lambda_p; ground-state transport from the accumulators of :mod:`ringcore.nbody.kernels`.
+Box means: e_kin, eq. (ekin), <c>, the prevalent wavelength lambda_p of sigma/sigma0 (its PSD and
+lambda_p by :mod:`ringcore.analysis.spectra`, the one convention of both engines; ``psd`` here is a
+deprecated alias); ground-state transport from the accumulators of :mod:`ringcore.nbody.kernels`.
 
 Functions take kernel units (R_p, 1/Omega) and return kernel units, except :func:`profiles_si` and
 :func:`transport_si` (the SI values the box and its run files report).
@@ -17,8 +18,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import periodogram
 
+from ..analysis import spectra
+from ..deprecation import warn_once
 from . import kernels as K
 
 
@@ -69,21 +71,29 @@ def mean_dispersion(prof: Profiles) -> float:
     return float(np.sum(prof.sigma[ok] * prof.c[ok]) / np.sum(prof.sigma[ok]))
 
 
-def psd(prof: Profiles, L_x: float):
-    """Normalised power spectral density of sigma/sigma0 and the prevalent wavelength.
+def prevalent_wavelength_m(prof: Profiles, L_x: float, R_p: float) -> float:
+    """lambda_p [m] of the profile's sigma/sigma0: the mode of :func:`ringcore.analysis.prevalent_mode` (the
+    one spectral convention); ``L_x`` the box's radial size [R_p], ``R_p`` [m].
 
-    Returns ``(wavelength, power, lambda_p)``: wavelengths L_x / m (m = 1 .. n/2) in kernel
-    length units, the periodogram (scipy.signal.periodogram, mean removed) normalised to a
-    maximum of 1, and lambda_p = the wavelength of the maximum (nan for a flat profile).
-    """
+    The wavelength L_x/m is computed as 1/f_m with the zones' frequency grid f_m = m / (n (L_x/n)) (as
+    ``numpy.fft.rfftfreq``; the box has always recorded it so): it can differ from L_x/m in the last bit,
+    and keeping it keeps the recorded lambda_p histories (part of the state) bit for bit."""
     n = prof.sigma.size
-    f, p = periodogram(prof.sigma, fs=n / L_x, detrend="constant", scaling="spectrum")
-    f, p = f[1:], p[1:]
-    lam = 1.0 / f
-    pmax = p.max() if p.size else 0.0
-    if pmax <= 0:
+    m = spectra.prevalent_mode(prof.sigma)
+    return (1.0 / (m * (1.0 / (n * (1.0 / (n / L_x)))))) * R_p
+
+
+def psd(prof: Profiles, L_x: float):
+    """Deprecated: :func:`ringcore.analysis.power_spectrum` (``normalise=True``) and
+    :func:`ringcore.analysis.prevalent_wavelength` of ``prof.sigma`` (same convention as this function had:
+    the variance per mode, Nyquist mode once).  Returns ``(wavelength, power, lambda_p)`` in the units of
+    ``L_x``; lambda_p is nan for a flat profile."""
+    warn_once("ringcore.nbody.diagnostics.psd", "ringcore.analysis.power_spectrum(prof.sigma, L_x, normalise=True) "
+              "and ringcore.analysis.prevalent_wavelength(prof.sigma, L_x)")
+    lam, p = spectra.power_spectrum(prof.sigma, L_x, normalise=True)
+    if not p.size or p.max() <= 0:
         return lam, p, math.nan
-    return lam, p / pmax, float(lam[np.argmax(p)])
+    return lam, p, float(lam[np.argmax(p)])
 
 
 def transport(acc, n_particles: int) -> dict:

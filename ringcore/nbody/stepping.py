@@ -17,7 +17,7 @@ from tqdm.auto import tqdm
 
 from .. import ranges
 from ..checks import check_int, check_real
-from ..deprecation import warn_once
+from ..deprecation import E_KIN_RP_KEY, DeprecatedKeys, warn_once
 from ..engine import BlowUp
 from . import diagnostics as D
 from . import integrator as I
@@ -161,16 +161,18 @@ class Stepping:
         row = dict(time=self.orbits, ekin=D.e_kin(prof), c_mean=D.mean_dispersion(prof) * self.v_unit,
                    T=float(np.nanmean(prof.c**2)) * self.v_unit**2,
                    collision_frequency=2.0 * d[K.A_NCOLL] / self.N / dorb if dorb > 0 else math.nan,
-                   lambda_p=D.psd(prof, self.L_x)[2] * self.R_p, unresolved=d[K.A_NUNRES], crossings=d[K.A_CROSS])
+                   lambda_p=D.prevalent_wavelength_m(prof, self.L_x, self.R_p), unresolved=d[K.A_NUNRES],
+                   crossings=d[K.A_CROSS])
         prow = None
         if profiles:
             prow = {k: getattr(prof, k) * (1.0 if k == "sigma" else self.v_unit) for k in ("sigma", "u", "v", "c")}
             prow["time"] = self.orbits
         self._rec.append(row, prow)
         if self._hub:
-            sample = dict(orbit=row["time"], steps=self._steps, e_kin=row["ekin"], e_kin_rp=row["ekin"],
-                          lambda_p_m=row["lambda_p"],
-                          **{k: row[k] for k in ("c_mean", "T", "collision_frequency", "unresolved", "crossings")})
+            sample = DeprecatedKeys(dict(orbit=row["time"], steps=self._steps, e_kin=row["ekin"], e_kin_rp=row["ekin"],
+                                         lambda_p_m=row["lambda_p"],
+                                         **{k: row[k] for k in ("c_mean", "T", "collision_frequency", "unresolved",
+                                                                "crossings")}), E_KIN_RP_KEY)
             if prow is not None:
                 sample["profile"] = {k: prow[k] for k in ("sigma", "u", "v", "c")}
             self._hub.emit(self, sample)

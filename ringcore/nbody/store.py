@@ -25,14 +25,16 @@ from ..archive import resume_archive, with_archive
 from ..checks import check_bool
 from ..io import attrs_from_dict, dict_from_attrs, read_run, stamp_run, status_attrs, validate_run, write_run
 from ..engine import State
+from ..deprecation import E_KIN_RP_KEY, DeprecatedKeys
 from ..params import RingParams
+from ..units import E_KIN_UNIT
 from . import diagnostics as D
 from . import initial
 from . import kernels as K
 from .options import NBodyOptions
 from .recorder import PROFILE_SERIES, SERIES
 
-_HIST_UNITS = dict(ekin="sigma0 (R_p Omega)^2", c_mean="m/s", T="m^2/s^2", collision_frequency="1/orbit",
+_HIST_UNITS = dict(ekin=E_KIN_UNIT, c_mean="m/s", T="m^2/s^2", collision_frequency="1/orbit",
                    lambda_p="m", unresolved="1", crossings="1")
 
 
@@ -95,7 +97,7 @@ def to_dataset(src) -> xr.Dataset:
                  t_s=t / p.Omega, t_kernel=t, t0_kernel=m["t0"], step_count=m["steps"],
                  t_orbit=orbits, N=n_part, tau_box=tau,
                  kernel_units="lengths R_p, times 1/Omega, velocities R_p Omega",
-                 ekin_units="sigma0 (R_p Omega)^2", engine="ringcore.nbody")
+                 ekin_units=E_KIN_UNIT, engine="ringcore.nbody")
     if a["acc"][K.A_TIME] > 0:
         for k, v in D.transport_si(a["acc"], n_part, o.R_p, p.Omega).items():
             attrs[f"transport_{k}"] = float(v)
@@ -165,7 +167,7 @@ def summary(src, last_fraction: float = 0.25) -> dict:
     recorded box means.
 
     Keys: ``lambda_p_m`` (also ``lambda_p_most_frequent_m``) most frequent recorded prevalent wavelength [m]; ``lambda_p_mean_m``
-    [m]; ``e_kin`` mean [sigma0 (R_p Omega)^2] (also ``e_kin_rp``); ``c_mean`` mean velocity
+    [m]; ``e_kin`` mean [sigma0 (R_p Omega)^2, :data:`ringcore.units.E_KIN_UNIT`] (the old key ``e_kin_rp`` warns once); ``c_mean`` mean velocity
     dispersion [m/s]; ``orbits``; ``N``.
     """
     last_fraction = ranges.check("last_fraction", last_fraction)
@@ -188,12 +190,12 @@ def summary(src, last_fraction: float = 0.25) -> dict:
     else:  # nothing recorded yet: the current box means (as ShearingBox.diagnostics)
         L_x = o.L_x / o.R_p
         prof = D.tabulate(a["pos"], a["vel"], L_x, o.zones)
-        lam_p = D.psd(prof, L_x)[2] * o.R_p
+        lam_p = D.prevalent_wavelength_m(prof, L_x, o.R_p)
         out.update(lambda_p_m=float(lam_p), lambda_p_mean_m=float(lam_p), e_kin=float(D.e_kin(prof)),
                    c_mean=float(D.mean_dispersion(prof) * (o.R_p * st.params.Omega)))
     out["e_kin_rp"] = out["e_kin"]
     out["lambda_p_most_frequent_m"] = out["lambda_p_m"]  # the name of its method (ringcore.analysis.prevalent)
-    return out
+    return DeprecatedKeys(out, E_KIN_RP_KEY)
 
 
 def save(src, path, *, complete: bool = True, archive_of=None, **attrs):

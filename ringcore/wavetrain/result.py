@@ -6,6 +6,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..params import RingParams
+from ..units import E_KIN_UNIT, e_kin_rp
 
 FIELDS = ("sigma", "u", "v", "T")
 
@@ -84,15 +85,21 @@ class WaveTrain:
         return 0.5 * float(self.w[1].max() - self.w[1].min()) * self.params.c0
 
     @property
-    def e_kin(self) -> float:
+    def e_kin_dimless(self) -> float:
         """Mean kinetic energy density <sigma (u^2 + v^2)/2>, eq. (ekin) [sigma0 c0^2] (dimensionless)."""
         s, u, v = self.w[0], self.w[1], self.w[2]
         return float(np.mean(0.5 * s * (u * u + v * v)))
 
     @property
+    def e_kin(self) -> float:
+        """Mean kinetic energy density, eq. (ekin), in :data:`ringcore.units.E_KIN_UNIT` (sigma0 (R_p Omega)^2,
+        R_p = 1 m), the unit of the engines' e_kin."""
+        return float(e_kin_rp(self.e_kin_dimless, self.params.c0, self.params.Omega))
+
+    @property
     def e_kin_si(self) -> float:
-        """Mean kinetic energy density [J/m^2] (sigma0 c0^2 e_kin; 0 if sigma0 = 0)."""
-        return self.e_kin * self.params.sigma0 * self.params.c0**2
+        """Mean kinetic energy density [J/m^2] (sigma0 c0^2 e_kin_dimless; 0 if sigma0 = 0)."""
+        return self.e_kin_dimless * self.params.sigma0 * self.params.c0**2
 
     @property
     def spectral_tail(self) -> float:
@@ -125,8 +132,8 @@ class WaveTrain:
         ds.attrs.update(dict(
             wavelength_m=self.wavelength_m, phase_speed_m_s=self.phase_speed_m_s,
             frequency_Omega=self.frequency, frequency_per_s=self.frequency_per_s, amplitude=self.amplitude,
-            e_kin=self.e_kin, newton_residual=self.residual, n_fourier=self.N, spectral_tail=self.spectral_tail,
-            model=p.model, **{f"param_{k}": (str(v) if isinstance(v, (bool, str)) else v)
+            e_kin=self.e_kin, e_kin_units=E_KIN_UNIT, newton_residual=self.residual, n_fourier=self.N,
+            spectral_tail=self.spectral_tail, model=p.model, **{f"param_{k}": (str(v) if isinstance(v, (bool, str)) else v)
                               for k, v in p.as_dict().items()}))
         return ds
 
@@ -135,5 +142,5 @@ class WaveTrain:
         return dict(wavelength_m=self.wavelength_m, phase_speed_m_s=self.phase_speed_m_s,
                     frequency_Omega=self.frequency, frequency_per_s=self.frequency_per_s,
                     amplitude_sigma=self.amplitude, amplitude_u_m_s=self.u_amplitude_m_s,
-                    e_kin=self.e_kin, newton_residual=self.residual, n_fourier=self.N,
+                    e_kin=self.e_kin, e_kin_units=E_KIN_UNIT, newton_residual=self.residual, n_fourier=self.N,
                     spectral_tail=self.spectral_tail)

@@ -11,14 +11,15 @@ from ringcore.units import e_kin_rp
 
 from ringlab.live.compare import CompareRunner
 from ringlab.model.compare_presets import PRESETS
-from ringlab.model.units import ekin_unit
 from ringlab.tabs.compare.view import CompareView
 
 
 def test_one_e_kin_unit_from_ringcore():
     r = CompareRunner(preset="engine")
-    p = r.a.sim.params
-    assert ekin_unit(p) == pytest.approx(float(e_kin_rp(1.0, p.c0, p.Omega)), rel=1e-12)
+    sim = r.a.sim
+    p = sim.params
+    a, _ = r.sides()  # the hydro side shows the engine's e_kin, already in sigma0 (R_p Omega)^2
+    assert a["e_kin"][-1] == pytest.approx(float(e_kin_rp(sim.e_kin_dimless(), p.c0, p.Omega)), rel=1e-12)
     r.close()
 
 

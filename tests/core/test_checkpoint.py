@@ -121,7 +121,7 @@ def test_checkpointed_run_writes_complete_file_with_summary(tmp_path):
     assert summ == pytest.approx({k: v for k, v in s.items()})
     with xr.open_dataset(tmp_path / "h.nc", engine="h5netcdf") as f:  # plain xarray: named, with units
         assert f["x"].attrs["units"] == "m" and f["t_strobe"].attrs["units"] == "orbits"
-        assert f["sigma"].attrs["units"] == "kg m-2" and f["e_kin"].attrs["units"] == "sigma0 c0^2"
+        assert f["sigma"].attrs["units"] == "kg m-2" and f["e_kin"].attrs["units"] == "sigma0 (R_p Omega)^2"
         assert f.attrs["option_L_x"] == 500 and f.attrs["param_sigma0"] == 400 and "options_json" in f.attrs
         assert f.attrs["ringcore_version"] and f.attrs["kind"] == "hydro"
 

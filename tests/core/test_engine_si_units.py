@@ -68,29 +68,35 @@ def test_nbody_particles_are_si():
 
 
 def test_one_e_kin_unit_on_both_engines(sim, capsys, tmp_path):
-    """e_kin_rp is sigma0 (R_p Omega)^2 (R_p = 1 m) on both engines, their summaries, run files and the CLI."""
+    """e_kin is sigma0 (R_p Omega)^2 (R_p = 1 m) on both engines, their summaries, samples, run files and the CLI;
+    e_kin_dimless keeps the hydro kernels' sigma0 c0^2; the old key and method e_kin_rp warn once."""
     from ringcore.cli.main import main
     from ringcore.units import E_KIN_UNIT, e_kin_rp
 
     p = sim.params
     d = sim.diagnostics()
     assert E_KIN_UNIT == "sigma0 (R_p Omega)^2"
-    assert d["e_kin_rp"] == pytest.approx(d["e_kin"] * (p.c0 / p.Omega) ** 2, rel=1e-14)  # R_p = 1 m
-    assert sim.e_kin_rp() == d["e_kin_rp"] == e_kin_rp(d["e_kin"], p.c0, p.Omega)
+    assert d["e_kin"] == pytest.approx(d["e_kin_dimless"] * (p.c0 / p.Omega) ** 2, rel=1e-14)  # R_p = 1 m
+    assert sim.e_kin() == d["e_kin"] == e_kin_rp(d["e_kin_dimless"], p.c0, p.Omega)
     ds = sim.to_dataset()
-    assert np.allclose(ds["e_kin_rp"].values, ds["e_kin"].values * (p.c0 / p.Omega) ** 2, rtol=1e-14)
+    assert np.allclose(ds["e_kin"].values, ds["e_kin_dimless"].values * (p.c0 / p.Omega) ** 2, rtol=1e-14)
     s = sim.summary()
-    assert s["e_kin_rp"] == pytest.approx(s["e_kin"] * (p.c0 / p.Omega) ** 2, rel=1e-14)
+    assert s["e_kin"] == pytest.approx(s["e_kin_dimless"] * (p.c0 / p.Omega) ** 2, rel=1e-14)
+    deprecation._WARNED.clear()
+    with pytest.warns(DeprecationWarning, match="'e_kin_rp' is deprecated: use the key 'e_kin'"):
+        assert d["e_kin_rp"] == d["e_kin"] and s.get("e_kin_rp") == s["e_kin"]
+    with pytest.warns(DeprecationWarning, match=r"Hydro1D.e_kin_rp\(\) is deprecated: use Hydro1D.e_kin\(\)"):
+        assert sim.e_kin_rp() == sim.e_kin()
     seen = []
     h = sim.on_sample(lambda eng, smp: seen.append(smp))
     sim.advance(orbits=0.05)
     sim.remove_callback(h)
-    assert seen and all(smp["e_kin_rp"] == e_kin_rp(smp["e_kin"], p.c0, p.Omega) for smp in seen)
+    assert seen and all(smp["e_kin"] == e_kin_rp(smp["e_kin_dimless"], p.c0, p.Omega) for smp in seen)
     box = ShearingBox(params.get("tau15", sigma0=300), NBodyOptions(L_x=30, L_y=12, record_every=0.05), seed=1)
     got = []
     box.on_sample(lambda eng, smp: got.append(smp))
     box.advance(orbits=0.05)
-    assert box.diagnostics()["e_kin_rp"] == box.diagnostics()["ekin"] and "e_kin_rp" in box.summary()
-    assert got and all(smp["e_kin_rp"] == smp["e_kin"] for smp in got)
+    assert box.diagnostics()["e_kin"] == box.diagnostics()["ekin"] and "e_kin" in box.summary()
+    assert got and got[-1]["e_kin"] == box.history["ekin"][-1]
     assert main(["hydro", "--lx", "200", "--orbits", "0.1", "--out", str(tmp_path / "h.nc"), "--no-progress"]) == 0
     assert f"{E_KIN_UNIT}" in capsys.readouterr().out

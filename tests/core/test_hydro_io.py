@@ -7,7 +7,9 @@ import xarray as xr
 
 from ringcore import params
 from ringcore.cli.main import main
-from ringcore.hydro import Hydro1D, HydroOptions, prevalent_wavelength, psd
+from ringcore.analysis import power_spectrum, prevalent_wavelength
+from ringcore.hydro import Hydro1D, HydroOptions
+from ringcore.units import E_KIN_UNIT
 
 
 @pytest.fixture(scope="module")
@@ -31,11 +33,13 @@ def test_dataset_content(run_and_file):
         assert ds["sigma"].attrs["units"] == "kg m-2" and abs(float(ds["sigma"].mean()) - 400) < 1e-9
         assert ds.attrs["param_name"] == "tau15" and ds.attrs["option_gravity"] == "mode"
         assert ds.attrs["buffer_active"] == 1 and ds.attrs["time_orbits"] == pytest.approx(1.2)
-        # e_kin in three unit systems
+        # e_kin in the public unit, in J/m^2 and (exact, for continuation) in the kernels' sigma0 c0^2
         c0, Om = sim.params.c0, sim.params.Omega
-        assert np.allclose(ds["e_kin_si"], ds["e_kin"] * 400 * c0**2)
-        assert np.allclose(ds["e_kin_rp"], ds["e_kin"] * (c0 / Om) ** 2)
-        assert ds["e_kin"].values[-1] == pytest.approx(sim.e_kin())
+        assert ds["e_kin"].attrs["units"] == E_KIN_UNIT and ds["e_kin_dimless"].attrs["units"] == "sigma0 c0^2"
+        assert np.allclose(ds["e_kin_si"], ds["e_kin_dimless"] * 400 * c0**2)
+        assert np.allclose(ds["e_kin"], ds["e_kin_dimless"] * (c0 / (1.0 * Om)) ** 2, rtol=1e-14, atol=0)
+        assert "e_kin_rp" not in ds
+        assert ds["e_kin"].values[-1] == pytest.approx(sim.e_kin(), rel=1e-14)
 
 
 def test_restore_continues_bit_exactly(run_and_file):
@@ -54,7 +58,7 @@ def test_psd_and_prevalent_wavelength():
     L = 1000.0
     x = -L / 2 + np.arange(400) * 2.5
     s = 1 + 0.1 * np.cos(2 * np.pi * x / 125.0) + 0.02 * np.cos(2 * np.pi * x / 250.0)
-    wl, P = psd(s, L)
+    wl, P = power_spectrum(s, L, normalise=True)
     assert prevalent_wavelength(s, L) == 125.0 and P.max() == 1.0 and wl[np.argmax(P)] == 125.0
     assert P[np.argmin(np.abs(wl - 250.0))] == pytest.approx(0.04)
 

@@ -107,10 +107,16 @@ def test_second_sweep_into_the_same_folder_is_refused(tmp_path, threads_client):
 
 
 def test_old_flat_sweep_files_read_alike():
-    """The shipped files (flat layout, dimension run) go through as_runs unchanged; sweep_points reads them."""
+    """The shipped files (flat layout, dimension run) go through as_runs with their runs unchanged and e_kin read in
+    the one unit (their e_kin_rp; their e_kin was sigma0 c0^2); sweep_points reads them."""
     path = Path(__file__).resolve().parents[2] / "app" / "data" / "saturation_sweep.nc"
     with xr.open_dataset(path, engine="h5netcdf") as ds:
-        assert "run" in ds.dims and as_runs(ds) is ds
+        flat = as_runs(ds)
+        assert "run" in ds.dims and flat.sizes == ds.sizes and ds.e_kin.attrs["units"].startswith("sigma0 c0^2")
+        assert flat.e_kin.attrs["units"] == E_KIN_UNITS and "e_kin_rp" not in flat
+        assert np.array_equal(flat.e_kin.values, ds.e_kin_rp.values, equal_nan=True)
+        assert np.array_equal(flat.lambda_p_m.values, ds.lambda_p_m.values, equal_nan=True)
+        assert as_runs(flat) is flat
         pts = sweep_points(ds)
         assert len(pts) == int(np.isfinite(ds.lambda_p_m.values).sum()) > 5
 
@@ -149,10 +155,12 @@ def test_sweep_finishes_after_a_worker_is_killed(tmp_path, capsys):
     assert len(res.rows) == 3 and not res.failed, res.failed
     ds = res.dataset
     assert list(ds.sigma0.values) == [300.0, 500.0, 700.0] and np.all(ds.orbits.values == pytest.approx(6.0))
-    for t in tasks:  # e_kin in one unit: the hydro summary's e_kin_rp, not its sigma0 c0^2 value
-        summ = json.loads(read_run(tmp_path / f"{task_name(t)}.nc", kind="hydro").attrs["summary_json"])
-        assert ds.e_kin.sel(sigma0=t["sigma0"]).item() == pytest.approx(summ["e_kin_rp"], rel=1e-12)
-        assert summ["e_kin_rp"] != pytest.approx(summ["e_kin"])
+    for t in tasks:  # e_kin in one unit: the hydro summary's e_kin in sigma0 (R_p Omega)^2, not its sigma0 c0^2 value
+        f = read_run(tmp_path / f"{task_name(t)}.nc", kind="hydro")
+        summ = json.loads(f.attrs["summary_json"])
+        assert ds.e_kin.sel(sigma0=t["sigma0"]).item() == pytest.approx(summ["e_kin"], rel=1e-12)
+        scale = (f.attrs["c0_m_s"] / (1.0 * f.attrs["Omega_per_s"])) ** 2  # R_p = 1 m
+        assert summ["e_kin"] == pytest.approx(summ["e_kin_dimless"] * scale, rel=1e-12) and scale > 10
     # the readers of the shipped (flat) files read the grid alike: the app's points, Figure 20's plot
     pts = sweep_points(xr.load_dataset(tmp_path / "sweep.nc", engine="h5netcdf"))
     assert [p["sigma0"] for p in pts] == [300.0, 500.0, 700.0] and all(p["engine"] == "hydro" for p in pts)

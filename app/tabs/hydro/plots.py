@@ -19,7 +19,6 @@ from bokeh.palettes import Viridis256
 from ringcore.analysis.saturation import C_EMPIRICAL
 
 from ringlab.model.connect import allowed_wavelengths, slope_line, theory_mode
-from ringlab.model.units import ekin_unit
 from ringlab.ui.cite import publish
 from ringlab.ui.figures import follow_time, log_ticks, new_figure, time_range, wavelength_markers
 from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
@@ -165,7 +164,7 @@ class HydroPlots:
                                         u=(sim.u_dimless * vel).astype(f32), v=(sim.v_dimless * vel).astype(f32),
                                         T=(sim.T_dimless * vel ** 2).astype(f32))
         s = runner.series
-        e = s.get("e_kin") * ekin_unit(sim.params)  # sigma0 c0^2 -> sigma0 (R_p Omega)^2
+        e = np.array(s.get("e_kin"), float)  # [sigma0 (R_p Omega)^2]: the engine's e_kin (ringcore.units.E_KIN_UNIT)
         e[e <= 0] = np.nan
         t = s.get("t")
         self.series_source.data = dict(t=t.astype(f32), e_kin=e.astype(f32), lambda_p=s.get("lambda_p").astype(f32))

@@ -20,6 +20,7 @@ import param
 
 from ringcore.checks import check_real
 from ringcore.experiments.longruns import LONG_RUNS, check_compact
+from ringcore.io.ekin import e_kin_of
 
 from ringlab.paths import LONGRUNS_DIR
 
@@ -43,7 +44,7 @@ def _load(path: str, mtime: float) -> dict:
     strobe = ds["strobe"].values.astype(np.float32)
     step = max(1, math.ceil(strobe.shape[1] / MAX_IMAGE_COLS))
     lo, hi = np.percentile(strobe, [1, 99])
-    run = dict(attrs=dict(ds.attrs), t=ds["t"].values.astype(float), e_kin=ds["e_kin"].values.astype(float),
+    run = dict(attrs=dict(ds.attrs), t=ds["t"].values.astype(float), e_kin=e_kin_of(ds),
                lambda_p=ds["lambda_p"].values.astype(float), t_strobe=ds["t_strobe"].values.astype(float),
                x=ds["x"].values.astype(float), strobe=strobe, image=np.ascontiguousarray(strobe[:, ::step]),
                image_x=ds["x"].values[::step].astype(float),

@@ -14,7 +14,8 @@ import json
 import numpy as np
 
 from ringcore import linear, paperrefs, params
-from ringcore.hydro import Hydro1D, HydroOptions, growth_rate, lomb_frequency
+from ringcore.analysis import growth_rate, lomb_frequency
+from ringcore.hydro import Hydro1D, HydroOptions
 
 WAVELENGTHS = [50, 64, 80, 100, 128, 160, 200, 250, 400, 500, 800, 1000]
 
@@ -27,8 +28,8 @@ def measure(p, lam, gravity="mode", nwave=1, orbits=5.0):
     sim.advance(orbits=orbits)
     a = sim.series()
     t = a["t"]
-    gr = growth_rate(t, np.abs(a["mode_sigma"][:, 0]))
-    fr = lomb_frequency(t, a["probe_u"][:, 0] * np.exp(-gr * t), 0.5, 1.5)
+    gr = growth_rate(t, np.abs(a["mode_sigma"][:, 0])).value
+    fr = lomb_frequency(t, a["probe_u"][:, 0] * np.exp(-gr * t), 0.5, 1.5, n=20001).value
     return gr, fr
 
 
