@@ -1,10 +1,9 @@
 """Growth rate and frequency of a seeded linear mode (Section "Growth Rates and Oscillation Frequencies").
 
 The complex Fourier amplitude of the radial velocity field, U_m(t) = (2/N) sum_i v_x,i
-exp(-i k_m x_i), is sampled while the box runs. The oscillation frequency is first taken
-from the Lomb normalised periodogram of Re U_m and Im U_m (scipy.signal.lombscargle, as in
-the paper), then growth rate and frequency are refined by a least-squares fit of
-Re U, Im U = exp(omega_R t) (A cos omega_I t + B sin omega_I t) (scipy.optimize.curve_fit).
+exp(-i k_m x_i), is sampled while the box runs. Growth rate and
+frequency come from :func:`ringcore.analysis.rates.complex_mode_fit` (the Lomb normalised periodogram of
+Re U_m and Im U_m, as in the paper, refined by a least-squares fit of a growing rotating mode).
 Units: omega_R, omega_I in Omega; times in 1/Omega (kernel units).
 """
 from __future__ import annotations
@@ -13,9 +12,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import curve_fit
-from scipy.signal import lombscargle
 
+from ..analysis.rates import complex_mode_fit
 from ..checks import check_int, check_real
 
 
@@ -41,35 +39,6 @@ def velocity_mode(pos, vel, L_x: float, m: int) -> complex:
     return complex(2.0 * np.mean(vel[:, 0] * np.exp(-1j * k * pos[:, 0])))
 
 
-def _model(t, g, w, a, b, c, d):
-    e = np.exp(g * t)
-    n = t.size // 2
-    tt = t[:n]
-    e = e[:n]
-    re = e * (a * np.cos(w * tt) + b * np.sin(w * tt))
-    im = e * (c * np.cos(w * tt) + d * np.sin(w * tt))
-    return np.concatenate([re, im])
-
-
-def fit_mode(t, U, w_lo: float = 0.7, w_hi: float = 1.5) -> tuple:
-    """(omega_R, omega_I, omega_I from Lomb, err_R, err_I) of samples U(t) (t in 1/Omega)."""
-    t = np.asarray(t, float)
-    U = np.asarray(U, complex)
-    t0 = t - t[0]
-    w = np.linspace(w_lo, w_hi, 2000)
-    env = np.polyfit(t0, np.log(np.abs(U) + 1e-300), 1)[0]
-    damp = np.exp(-env * t0)
-    p = lombscargle(t0, (U.real * damp) - np.mean(U.real * damp), w, normalize=True) + lombscargle(
-        t0, (U.imag * damp) - np.mean(U.imag * damp), w, normalize=True)
-    w_lomb = float(w[np.argmax(p)])
-    tt = np.concatenate([t0, t0])
-    y = np.concatenate([U.real, U.imag])
-    a0 = np.abs(U[0])
-    popt, pcov = curve_fit(_model, tt, y, p0=[env, w_lomb, U[0].real, 0.0, U[0].imag, 0.0 * a0], maxfev=20000)
-    err = np.sqrt(np.diag(pcov))
-    return float(popt[0]), abs(float(popt[1])), w_lomb, float(err[0]), float(err[1])
-
-
 def measure(box, m: int, orbits: float, sample_every: float = 0.05, skip: float = 2.0) -> ModeGrowth:
     """Run ``box`` for ``orbits`` sampling U_m every ``sample_every`` orbits; fit after ``skip`` orbits."""
     m = check_int("m", m, 1, 10**6)
@@ -84,6 +53,6 @@ def measure(box, m: int, orbits: float, sample_every: float = 0.05, skip: float 
         box._advance_steps(nstep)
         t[j], U[j] = box.t, velocity_mode(box.pos, box.vel, box.L_x, m)
     use = (t - t[0]) >= skip * 2.0 * math.pi
-    g, w, wl, eg, ew = fit_mode(t[use], U[use])
+    g, w, wl, eg, ew = complex_mode_fit(t[use], U[use])
     return ModeGrowth(m=m, wavelength_m=box.options.L_x / m, growth_rate=g, frequency=w, frequency_lomb=wl,
                       growth_rate_err=eg, frequency_err=ew, t=t[use], amplitude=U[use])

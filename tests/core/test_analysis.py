@@ -27,6 +27,19 @@ def test_lomb_frequency_uneven_sampling():
         analysis.lomb_frequency(t, y, -1, 1)
 
 
+def test_complex_mode_fit_recovers_growth_and_rotation():
+    """A growing mode rotating at omega_I (the N-body box's U_m(t)), unevenly sampled with 1 % noise."""
+    rng = np.random.default_rng(3)
+    t = 5.0 + np.sort(rng.uniform(0, 80, 400))
+    U = 1e-3 * np.exp((0.0123 - 1j * 1.0874) * t + 0.4j)
+    U = U * (1 + 0.01 * (rng.standard_normal(t.size) + 1j * rng.standard_normal(t.size)))
+    g, w, w_lomb, eg, ew = analysis.complex_mode_fit(t, U)
+    assert g == pytest.approx(0.0123, abs=max(4 * eg, 2e-4))
+    assert w == pytest.approx(1.0874, abs=max(4 * ew, 1e-4))
+    assert w_lomb == pytest.approx(1.0874, abs=2e-3)  # the periodogram's grid: 0.8 / 2000 Omega
+    assert 0 < eg < 1e-3 and 0 < ew < 1e-3
+
+
 def test_fourier_amplitudes_and_prevalent_wavelength():
     L = 5000.0
     x = np.arange(2000) * L / 2000
