@@ -10,7 +10,7 @@ Chromium (Playwright) and reports, as JSON on stdout and in ``test-artifacts/soa
   left streaming for 0.5-4 s and then navigated away, reloaded or closed, over and over, two
   at a time; afterwards every session must have been freed (one "freed" log line each);
 * the server log, grepped for "Traceback", "Task exception", "Error" and "Failed sending"
-  (``log_counts``: all must be 0 for issue 14);
+  (``log_counts``: all must be 0);
 * a long hydro phase (isothermal with a buffer zone, a setting ringcore integrates for hundreds
   of orbits; blown-up runs are reset and restarted) and an N-body phase: orbits per second,
   updates per second of the line plots and of the space-time image / particle view counted

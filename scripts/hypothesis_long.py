@@ -1,4 +1,4 @@
-"""Long property-based run of the command line (issue 11): the "long" Hypothesis profile.
+"""Long property-based run of the command line: the "long" Hypothesis profile.
 
     python scripts/hypothesis_long.py [--examples N] [-k EXPR] [--inputs]
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python
-"""Issue 12: CPU time per orbit of the app's default live hydro run (tau15, sigma0 = 400, L_x = 2 km, h = 2.5 m, noise 1e-4,
+"""CPU time per orbit of the app's default live hydro run (tau15, sigma0 = 400, L_x = 2 km, h = 2.5 m, noise 1e-4,
 20 samples/orbit, T floor 0.01), linear (orbits 5-55) and nonlinear (orbits 400-450) phases, in-process.
 
 usage: .venv/bin/python scripts/live_run_cost.py   (prints one JSON object; run on an idle machine)

@@ -1,4 +1,4 @@
-"""Measure how fast ``ringcore`` stops on SIGINT / SIGTERM (issue 11: "within 2 s whatever the state").
+"""Measure how fast ``ringcore`` stops on SIGINT / SIGTERM (the promise: "within 2 s whatever the state").
 
     python scripts/measure_signal_stop.py [--quick] [--only hydro-stepping,...]
 

@@ -1,4 +1,4 @@
-"""The app shows the paper's published equation and figure numbers, never its LaTeX labels (issue 13, item 6).
+"""The app shows the paper's published equation and figure numbers, never its LaTeX labels.
 
 Walks every tab of a freshly built session (Markdown/HTML panes, Bokeh figure titles, legend labels,
 widget tooltips) and fails on any ``eq. (label)`` or ``Figure "label"`` left with a LaTeX label."""

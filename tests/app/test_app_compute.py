@@ -96,7 +96,7 @@ def test_chunks_compute_in_workers_and_frames_arrive_on_the_loop(pool1):
 
 
 def test_after_pause_the_shown_state_is_the_kept_state(pool1):
-    """Issue 14 item 2: the last frame after Pause shows the engine's own orbit."""
+    """The last frame after Pause shows the engine's own orbit."""
     doc = FakeDoc()
     with set_curdoc(doc):
         r = HydroRunner()

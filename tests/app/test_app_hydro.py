@@ -259,7 +259,7 @@ def test_frame_gate_paces_frames():
 
 
 def test_setup_change_keeps_the_previous_run_restorable():
-    """Issue 14, item 3: a setup change starts a new run but the old one comes back with one click."""
+    """A setup change starts a new run but the old one comes back with one click."""
     v = HydroView(runner=HydroRunner(**SMALL))
     r = v.runner
     r.sigma0 = 300.0  # nothing has run yet: nothing to keep
@@ -292,7 +292,7 @@ def test_group_titles_say_what_restarts():
 
 
 def test_out_of_range_input_says_why():
-    """Issue 14, item 4: L_x = 50 m is not silently replaced by the old value."""
+    """L_x = 50 m is not silently replaced by the old value."""
     v = HydroView(runner=HydroRunner(**SMALL))
     r, grid = v.runner, v.checked["grid"]
     w = grid.widgets["L_x"]
@@ -311,7 +311,7 @@ def test_out_of_range_input_says_why():
 
 
 def test_blow_up_disables_step_and_start_and_names_the_floor():
-    """Issue 14, item 5: after a blow-up only Reset goes on; the advice names the temperature floor."""
+    """After a blow-up only Reset goes on; the advice names the temperature floor."""
     v = HydroView(runner=HydroRunner(T_floor=0.0, **SMALL))
     r = v.runner
     s, u, vv, T = r.sim.primitives()
@@ -328,7 +328,7 @@ def test_blow_up_disables_step_and_start_and_names_the_floor():
 
 
 def test_orbits_per_second_is_the_measured_figure():
-    """Issue 14, item 9: the readout is this run's measured speed (kept when paused), not a fixed number."""
+    """The readout is this run's measured speed (kept when paused), not a fixed number."""
     v = HydroView(runner=HydroRunner(**SMALL))
     r = v.runner
     r.start()
@@ -345,7 +345,7 @@ def test_orbits_per_second_is_the_measured_figure():
 
 
 def test_isothermal_only_set_switches_the_model():
-    """Issue 14, item 4: choosing st99 switches to the isothermal model with a note, no error."""
+    """Choosing st99 switches to the isothermal model with a note, no error."""
     v = HydroView(runner=HydroRunner(**SMALL))
     r = v.runner
     r.param_set = "st99"

@@ -143,7 +143,7 @@ def test_invalid_settings_show_message_and_keep_last_plot(view):
     c, m = view.controls, view.model
     c.param.update(param_set="tau15", sigma0=400.0, isothermal=False)
     assert not view.message.visible and not view.note.visible
-    c.param_set = "st99"  # isothermal only: the model is switched for the user, with a note (issue 14, item 4)
+    c.param_set = "st99"  # isothermal only: the model is switched for the user, with a note
     assert c.isothermal and m.error == "" and "st99" in m.model_label and "isothermal model" in m.model_label
     assert view.note.visible and "switched on for you" in view.note.object and not view.message.visible
     numbers, curves = m.numbers, m.curves
@@ -198,7 +198,7 @@ def test_app_assembles_tabs():
 
 
 def test_compare_field_applies_typed_list(view):
-    """Issue 14, item 1: the typed list reaches the model (in a server through a locked next-tick
+    """The typed list reaches the model (in a server through a locked next-tick
     callback, see LinearView._compare_input; outside a server at once)."""
     c, m = view.controls, view.model
     c.param.update(param_set="tau15", sigma0=400.0, isothermal=False)
@@ -210,7 +210,7 @@ def test_compare_field_applies_typed_list(view):
 
 
 def test_plot_titles_name_the_exact_relation(view):
-    """Issue 14, item 9: the curves solve Det M = 0 exactly; eqs. (21), (22) are long-wave limits."""
+    """The curves solve Det M = 0 exactly; eqs. (21), (22) are long-wave limits."""
     from ringlab.tabs.linear.view import PLOTS
     titles = {key: view.figures[key].title.text for key, *_ in PLOTS}
     assert "eq. (16)" in titles["growth_rate"] and "eq. (21)" not in titles["growth_rate"]

@@ -145,7 +145,7 @@ def test_view_fills_plots_and_marks_linear_wavelengths():
 
 
 def test_setup_change_keeps_the_box_restorable_and_blow_up_disables_step():
-    """Issue 14, items 3 and 5: a setup change keeps the old box restorable; after a blow-up only Reset."""
+    """A setup change keeps the old box restorable; after a blow-up only Reset."""
     v = NBodyView(runner=NBodyRunner(**SMALL))
     r = v.runner
     r.step_once()

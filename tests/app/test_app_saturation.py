@@ -58,7 +58,7 @@ def test_sweep_file_missing_present_and_damaged(tmp_path, monkeypatch):
 def test_invalid_model_gives_a_message_and_keeps_the_curves():
     v = SaturationView()
     before = v.curve_source.data
-    v.param_set = "st99"  # isothermal only: switched for the user with a note (issue 14, item 4)
+    v.param_set = "st99"  # isothermal only: switched for the user with a note
     assert v.isothermal and not v.model_error.visible and v.curve_source.data is not before
     assert v.model_note.visible and "switched on for you" in v.model_note.object
     before = v.curve_source.data
@@ -70,7 +70,7 @@ def test_invalid_model_gives_a_message_and_keeps_the_curves():
 
 
 def test_user_runs_of_another_set_are_greyed():
-    """Issue 14, item 9: switching to tau20 greys the user's tau15 run like the tau15 sweep points."""
+    """Switching to tau20 greys the user's tau15 run like the tau15 sweep points."""
     runs = SessionRuns()
     v = SaturationView(runs=runs)
     runs.points = [dict(sigma0=400.0, lambda_p_m=180.0, orbits=50.0, isothermal=False, set="tau15", label="a"),

@@ -1,4 +1,4 @@
-"""Headless tests of "connect what the student sees" (issue 13, item 5; item 7's tutorial links).
+"""Headless tests of "connect what the student sees".
 
 Settings carried from the Linear tab to the runners exactly (and the replaced run kept restorable);
 the e_kin slope overlay equal to 2 omega_R of the fastest mode the box allows (checked against the

@@ -1,4 +1,4 @@
-"""The paper's long runs (issue 13 item 3): compact files, the "Paper results" tab, the recipes.
+"""The paper's long runs: compact files, the "Paper results" tab, the recipes.
 
 Headless: the shipped files load and validate and hold what the view promises (independent checks: the
 settings equal the recipe's, lambda_p_final is the PSD's maximum, the quantised diagram reproduces a

@@ -1,4 +1,4 @@
-"""ringlab.server.socket_guard, headless: a websocket that is reset in the middle of a message (issue 14, item 6).
+"""ringlab.server.socket_guard, headless: a websocket that is reset in the middle of a message.
 
 A fake Tornado connection plays what a page that navigates away does to the server: the first
 frame written meets a connection reset, Tornado closes the stream at once (``is_closing()``) and

@@ -1,4 +1,4 @@
-"""The app's settings upload (app/export.py) checks the whole file before applying anything (issue 11):
+"""The app's settings upload (app/export.py) checks the whole file before applying anything:
 bad JSON, wrong kind, unknown keys, wrong types, out-of-range values and physics the command line's
 resolver (:func:`ringcore.spec.resolve`) refuses give ONE line naming the key, the value and what is
 allowed, and leave the runner unchanged.  Headless (no browser): the upload handler is called directly.

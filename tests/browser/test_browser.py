@@ -57,7 +57,7 @@ def test_linear_tab_in_browser(app_server, browser_page):
     assert page.locator("#ro-lambda-zero .ro-value").inner_text().strip() == "—"
     assert page.locator("#ro-q0 .ro-value").inner_text().strip() == "∞"
 
-    # st99 exists only as an isothermal model: choosing it switches the model, with a note (issue 14, item 4)
+    # st99 exists only as an isothermal model: choosing it switches the model, with a note
     select = page.locator("select").first
     select.select_option(value=select.locator("option", has_text="st99").get_attribute("value"))
     note = page.locator("#linear-note")

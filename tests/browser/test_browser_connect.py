@@ -1,4 +1,4 @@
-"""Browser test of "connect what the student sees" (issue 13, items 5 and 7) in headless Debian Chromium.
+"""Browser test of "connect what the student sees" in headless Debian Chromium.
 
 Sets σ₀ = 0 and the isothermal model in the Linear tab, clicks "Run this in Hydrodynamics", sees
 the Hydrodynamics tab with those settings, runs it into the nonlinear phase (e_kin with the

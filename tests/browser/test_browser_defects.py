@@ -1,4 +1,4 @@
-"""Browser tests of the defects of issue 14 that only a real page shows (headless Debian Chromium).
+"""Browser tests of the app's defects that only a real page shows (headless Debian Chromium).
 
 * Enter in "Compare with σ₀" applies the list and the server logs no ``_pending_writes`` traceback;
 * the page loads nothing from any host but the app server (offline classroom);

@@ -1,4 +1,4 @@
-"""Browser tests of issue 14, items 2 and 6, in headless Debian Chromium against a real ``panel serve``.
+"""Browser tests of what Pause shows and of closed pages, in headless Debian Chromium against a real ``panel serve``.
 
 * item 2 ("Pause shows an old state"): after Pause the orbit on screen is the state kept: the run
   file downloaded then is at that orbit, and "Step 1 orbit" shows exactly one orbit more;

@@ -1,4 +1,4 @@
-"""Browser test of the "Paper results" tab (issue 13 item 3) in headless Debian Chromium.
+"""Browser test of the "Paper results" tab in headless Debian Chromium.
 
 Opens ``?tab=paper``, checks that the shipped long run is shown with the paper's number, the computed
 one and the recompute command, presses Play and sees the orbit shown advance (frames from the stored

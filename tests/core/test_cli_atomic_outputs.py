@@ -1,4 +1,4 @@
-"""Outputs are written atomically and never replaced unasked (issue 11, item 1): figures, recipe data,
+"""Outputs are written atomically and never replaced unasked: figures, recipe data,
 run files and the sweep summary all go through :mod:`ringcore.io.atomic`."""
 from __future__ import annotations
 

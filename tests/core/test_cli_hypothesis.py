@@ -1,4 +1,4 @@
-"""Property-based tests of the command line (issue 11): generated argument vectors, in-process.
+"""Property-based tests of the command line: generated argument vectors, in-process.
 
 For every command (linear, hydro, nbody, reproduce, resume, sweep) Hypothesis generates argument
 vectors mixing valid and invalid values, unknown flags, contradictory combinations, existing

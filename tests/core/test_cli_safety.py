@@ -1,4 +1,4 @@
-"""The command line never loses a result, never shows a traceback, refuses contradictions (issue 11).
+"""The command line never loses a result, never shows a traceback, refuses contradictions.
 
 One test per class of bad input; each was written against the old code and failed there.
 All runs are in-process through ``ringcore.cli.main.main`` and tiny.

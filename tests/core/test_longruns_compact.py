@@ -1,4 +1,4 @@
-"""campaigns/longruns/compact.py: thinned, browsable copies of the long hydro runs (issue 13 item 3)."""
+"""campaigns/longruns/compact.py: thinned, browsable copies of the long hydro runs."""
 import importlib.util
 from pathlib import Path
 

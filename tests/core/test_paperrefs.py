@@ -1,4 +1,4 @@
-"""Published numbers of the paper's labels (ringcore.paperrefs, issue 13 item 6)."""
+"""Published numbers of the paper's labels (ringcore.paperrefs)."""
 import os
 from pathlib import Path
 

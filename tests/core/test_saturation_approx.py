@@ -1,4 +1,4 @@
-"""eq. (lambdasigmaap) against the exact linear theory (issue 13 item 4).
+"""eq. (lambdasigmaap) against the exact linear theory.
 
 The paper prints lambda_p ~ 2 C (p_s - F2) lambda_J; eq. (osfreq) gives lambda_zero ~ 2 (p_s + F2) lambda_J
 for Q0 >> 1.  Independent answer: the exact lambda_zero (zero of the group velocity of eq. (evp)) from
@@ -52,7 +52,7 @@ def test_printed_minus_form_is_off(name):
 
 
 def test_issue_numbers_tau15_Q0_32():
-    """Issue 13's example: tau15 at Q0 = 32: exact 1,891 m, "+" 1,890 m, "-" 2,386 m (+-2 m)."""
+    """The worked example: tau15 at Q0 = 32: exact 1,891 m, "+" 1,890 m, "-" 2,386 m (+-2 m)."""
     p = at_Q0("tau15", 32.0)
     exact = linear.summary(p).lambda_zero_m
     assert exact == pytest.approx(1891, abs=2)

@@ -1,5 +1,5 @@
 """SIGINT / SIGTERM stop a run within 2 s whatever its state, keep the last good state (which validates
-and resumes) and never show a traceback (issue 11, item 4).
+and resumes) and never show a traceback.
 
 The time limit is :data:`STOP_LIMIT_S` = 2 s, multiplied on a loaded machine by the load per core (the
 kernel call being finished runs that much slower), at most 4 (``limit()``).  What is timed: from the
