@@ -17,7 +17,7 @@ the server's process tree with psutil (and over the Dask workers with ``--dask``
 server with ``RINGLAB_COMPUTE=processes`` (its own LocalCluster, one worker per core);
 ``--dask`` starts a LocalCluster of 2 single-threaded worker processes here and points the
 server at it with ``RINGLAB_DASK_SCHEDULER``.  ``--shared``: every student opens the same lesson step
-(``/main?lesson=2&step=1``) and presses its "Set up this step" (the page opens on the Linear tab; the
+(``/main?lesson=3&step=2``, the default box at sigma0 = 400) and presses its "Set up this step" (the page opens on the Linear tab; the
 preset builds the Hydrodynamics tab and starts the run).  ``--join-together``: all students open their
 page at the same moment (:mod:`ringlab.cli.loadtest_join`).  Either way ``pages_ready_s`` (median, max)
 is the time from opening a page until its document holds the Hydrodynamics tab's Start button,
@@ -45,7 +45,7 @@ from ringlab.cli.loadtest_join import join_together, stop_all
 from ringlab.paths import PACKAGE_DIR
 
 START_TIMEOUT_S = 300.0  # a loaded 2-core machine needs more than 2 minutes for `panel serve --warm`
-SHARED_STEP = (2, 1)  # --shared: lesson 2, step 1 (a fresh hydro run, started by its "Set up this step")
+SHARED_STEP = (3, 2)  # --shared: lesson 3, step 2 (the default box at sigma0 = 400, started by "Set up this step"; 400 orbits)
 
 
 def free_port() -> int:

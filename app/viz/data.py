@@ -20,7 +20,6 @@ from ringcore.checks import check_choice
 from ringcore.experiments.longruns import LONG_RUNS, check_compact
 from ringcore.experiments.sweep_grid import as_runs
 from ringcore.io import read_run
-from ringcore.units import e_kin_rp
 
 from ringlab.paths import LONGRUNS_DIR
 
@@ -38,7 +37,7 @@ DEFAULT_ROWS = {"hydro": "strobe", "nbody": "all", COMPACT: "strobe"}
 PROFILES = {"hydro": {"sigma": "sigma", "u": "u", "v": "v", "T": "T"},
             "nbody": {"sigma": "sigma_x", "u": "u_x", "v": "v_x", "c": "c_x", "z_rms": "z_rms_x"}}
 # time series per kind: quantity -> (variable, time coordinate)
-SERIES = {"hydro": {"e_kin": ("e_kin_rp", "t"), "lambda_p": ("lambda_p", "t")},
+SERIES = {"hydro": {"e_kin": ("e_kin", "t"), "lambda_p": ("lambda_p", "t")},
           "nbody": {"e_kin": ("ekin", "time"), "lambda_p": ("lambda_p", "time")},
           COMPACT: {"e_kin": ("e_kin", "t"), "lambda_p": ("lambda_p", "t")}}
 PSD_KINDS = ("hydro", COMPACT)
@@ -124,10 +123,7 @@ def series(ds: xr.Dataset, quantity: str) -> tuple[np.ndarray, np.ndarray]:
     1 m; ``"lambda_p"`` [m]) of the run ``ds``."""
     kind = run_kind(ds)
     var, tname = SERIES[kind][check_choice("quantity", quantity, ("e_kin", "lambda_p"))]
-    if kind == "hydro" and var == "e_kin_rp" and var not in ds:  # files without the public unit's series
-        vals = e_kin_rp(ds["e_kin"].values, float(ds.attrs["c0_m_s"]), float(ds.attrs["Omega_per_s"]))
-    else:
-        vals = ds[var].values
+    vals = ds[var].values  # ringcore.io.read_run gives an older hydro file's e_kin in the public unit too
     if ds.sizes[tname] < 1:
         raise ValueError(f"run: this {kind} run has no samples of {quantity} yet")
     return ds[tname].values.astype(float), np.asarray(vals, float)

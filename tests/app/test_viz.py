@@ -142,9 +142,11 @@ def test_series_and_spectrum_of_a_run_file(run_file):
     assert fig.yaxis[0].axis_label == f"e_kin ({E_KIN_UNIT})" and isinstance(fig.y_scale, LogScale)
     d = line_data(fig, "e_kin")
     np.testing.assert_allclose(d["t"], ds["t"].values)
-    np.testing.assert_allclose(d["e_kin"], ds["e_kin_rp"].values)
+    # the public unit sigma0 (R_p Omega)^2 from the kernels' sigma0 c0^2, the scale written out (R_p = 1 m)
+    rp_omega2 = ds.attrs["c0_m_s"] ** 2 / (1.0 * ds.attrs["Omega_per_s"]) ** 2
+    np.testing.assert_allclose(d["e_kin"], ds["e_kin_dimless"].values * rp_omega2, rtol=1e-12)
     in_memory = line_data(render(viz.e_kin(Hydro1D.load(run_file))), "e_kin")  # an engine: its to_dataset()
-    np.testing.assert_allclose(in_memory["e_kin"], ds["e_kin_rp"].values)
+    np.testing.assert_allclose(in_memory["e_kin"], ds["e_kin"].values)
     fig = render(viz.lambda_p(ds))
     assert fig.yaxis[0].axis_label == "prevalent wavelength λ_p (m)"
     steps = line_data(fig, "lambda_p")["lambda_p"]  # drawn as steps: every value twice but the last

@@ -106,10 +106,10 @@ def test_signal_while_stepping_stops_fast_saves_and_resumes(tmp_path, capfd, arg
 @pytest.mark.parametrize("argv", [HYDRO, NBODY], ids=["hydro", "nbody"])
 def test_signal_during_checkpoint_save_stops_without_stepping_again(tmp_path, capfd, argv, monkeypatch):
     """A signal while a checkpoint is being written: no further step, the saved state is that checkpoint."""
-    import ringcore.io.atomic as atomic
+    import ringcore.io.runfile as runfile  # the writer of every run file (and so of each checkpoint)
 
     out = tmp_path / "run.nc"
-    real, sent = atomic.netcdf_bytes, {}
+    real, sent = runfile.netcdf_bytes, {}
 
     def serialise_then_signal(ds):  # the first save (a checkpoint) is in progress when the signal comes
         if not sent:
@@ -117,7 +117,7 @@ def test_signal_during_checkpoint_save_stops_without_stepping_again(tmp_path, ca
             os.kill(os.getpid(), signal.SIGTERM)
         return real(ds)
 
-    monkeypatch.setattr(atomic, "netcdf_bytes", serialise_then_signal)
+    monkeypatch.setattr(runfile, "netcdf_bytes", serialise_then_signal)
     rc = main([str(a) for a in argv + ["--out", out]])
     err = capfd.readouterr().err
     assert rc == 130 and sent, err
