@@ -37,6 +37,8 @@ import json
 import logging
 import weakref
 
+from ringlab.server.fast_patch import patch_doc_message
+
 _INSTALLED: dict[str, bool] = {}
 ORIGINALS: dict = {}  # the library functions replaced (for tests)
 
@@ -85,7 +87,7 @@ def _guard_panel_dispatch() -> bool:
         if msg is None:
             if not events:
                 return []
-            msg = conn.protocol.create("PATCH-DOC", events)
+            msg = patch_doc_message(conn.protocol, events)  # Bokeh's message, its reference table kept
         frames = [(msg.header_json, False), (msg.metadata_json, False), (msg.content_json, False)]
         for buffer in msg._buffers:
             frames += [(json.dumps(buffer.ref), False), (buffer.to_bytes(), True)]

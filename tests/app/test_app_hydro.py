@@ -353,3 +353,47 @@ def test_isothermal_only_set_switches_the_model():
     assert v.model_note.visible and "switched on for you" in v.model_note.object
     r.isothermal = False  # unticked by hand: the message beside the controls, the run stays
     assert "isothermal" in r.problems["model"] and r.sim.params.name == "st99"
+
+
+def test_served_frames_stream_the_series_and_skip_unchanged_images(monkeypatch):
+    """In a server session the series go out as streams of their new points: the page's copy must equal
+    the buffer after every frame, also across the buffer's thinning (whole replacement then); an image
+    that did not change is not sent again; the readout cards are re-rendered at most every
+    READOUT_PERIOD_S but always on the final frame."""
+    import ringlab.tabs.hydro.view as view_module
+
+    clock = [100.0]
+    monkeypatch.setattr(view_module, "_served", lambda: True)
+    monkeypatch.setattr(view_module.time, "perf_counter", lambda: clock[0])
+    v = HydroView(runner=HydroRunner(**SMALL))
+    r, p = v.runner, v.plots
+    r.start()
+    r.series = SeriesBuffer(("e_kin", "lambda_p"), max_points=16)  # thins after 16 points
+    streamed, replaced = [], []
+    p.series_source.on_change("data", lambda attr, old, new: replaced.append(1))
+    from bokeh.models import ColumnDataSource
+    orig_stream = ColumnDataSource.stream
+    monkeypatch.setattr(ColumnDataSource, "stream",
+                        lambda src, d, *a: (streamed.append(len(d["t"])), orig_stream(src, d, *a)))
+    image_sends = []
+    orig_update_image = p.update_image
+    monkeypatch.setattr(p, "update_image", lambda runner: (image_sends.append(1), orig_update_image(runner)))
+    readouts = []
+    v.readouts.param.watch(lambda e: readouts.append(1), "object")
+    strides = set()
+    for i in range(60):
+        r.sim.advance(until=r.sim.orbits + 0.15)
+        clock[0] += 0.2
+        r.frame += 1
+        strides.add(r.series.stride)
+        got = np.asarray(p.series_source.data["t"])
+        assert np.array_equal(got, r.series.get("t").astype(np.float32)), (i, got.size, r.series.size)
+        assert np.array_equal(np.asarray(p.series_source.data["lambda_p"]),
+                              r.series.get("lambda_p").astype(np.float32))
+    assert len(strides) >= 3 and streamed and replaced  # thinned twice; streamed between
+    assert len(image_sends) < 60  # 0.15 orbits per frame: a strobe row every ~7 frames
+    assert 10 <= len(readouts) <= 35  # 60 frames 0.2 s apart, at most every 0.5 s
+    n = len(readouts)
+    r.pause()
+    assert len(readouts) == n + 1 and f"{r.sim.orbits:.2f}" in v.readouts.object
+    r.close()

@@ -30,6 +30,7 @@ names => {
       if (src && !window.__counts[name]) {
         window.__counts[name] = 0;
         src.properties.data.change.connect(() => { window.__counts[name] += 1; });
+        src.streaming.connect(() => { window.__counts[name] += 1; });  // the served series arrive as streams
       }
     }
   }
@@ -133,6 +134,7 @@ def test_live_tabs_in_browser(warm_server, browser_page):
     # targets on an idle machine: >= 5 line and >= 2 image updates/s (see the report); the page paces the
     # frames (FrameGate), so a machine shared with other jobs gets fewer: only require that both keep coming
     assert m["line_updates_per_s"] >= 2.0 and m["image_updates_per_s"] >= 1.0, m
+    assert m["series_updates_per_s"] >= 1.0, m  # streamed (new points only) with the lines
     page.screenshot(path=str(ARTIFACTS / "hydro-running-buffer.png"), full_page=True)
     page.locator(".bk-btn", has_text="orbit-resolved").click()
     page.wait_for_timeout(1500)

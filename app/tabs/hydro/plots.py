@@ -109,6 +109,7 @@ class HydroPlots:
     def _psd_figure(self):
         self.psd_source = ColumnDataSource(dict(wavelength=[], power=[]), name="hydro-psd-source")
         self.allowed_lp = None  # lambda_p the allowed-wavelength marks were drawn for
+        self._series_sent = None  # (series buffer, its stride, points) as last sent to the page
         self.psd_markers = ColumnDataSource(dict(x=[], color=[], dash=[], label=[]))
         fig = new_figure(publish("Power spectrum of σ, eq. (fourier)", html_out=False), "wavelength λ [m]", "PSD",
                          height=260, x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
@@ -140,6 +141,7 @@ class HydroPlots:
             "linear theory, " + ("seeded wave" if runner.initial == "mode" else "box's fastest wave")
             + f" λ = {m['wavelength_m']:.4g} m")  # short: the legend must fit a 390 px phone
         self.allowed_lp = None
+        self._series_sent = None
         self.update_buffer(runner)
 
     def update_buffer(self, runner) -> None:
@@ -154,8 +156,10 @@ class HydroPlots:
                                       label=[f"buffer β = {e[1]:g}" if e[1] is not None else "buffer off"
                                              for e in ev])
 
-    def update_lines(self, runner) -> None:
-        """Profiles, series and PSD (cheap; every frame)."""
+    def update_lines(self, runner, stream: bool = False) -> None:
+        """Profiles, series and PSD (cheap; every frame).  With ``stream`` (a server session) only the new
+        points of the series are sent (a notebook's document never connected to a page keeps every
+        stream event it is sent, while whole replacements are compacted)."""
         sim = runner.sim
         sc = sim.params.scales
         vel = sc.velocity * 1e3  # [mm/s]
@@ -167,7 +171,7 @@ class HydroPlots:
         e = np.array(s.get("e_kin"), float)  # [sigma0 (R_p Omega)^2]: the engine's e_kin (ringcore.units.E_KIN_UNIT)
         e[e <= 0] = np.nan
         t = s.get("t")
-        self.series_source.data = dict(t=t.astype(f32), e_kin=e.astype(f32), lambda_p=s.get("lambda_p").astype(f32))
+        self._send_series(s, t, e, stream)
         follow_time(self.t_range, t)
         if self.mode is not None:
             line = slope_line(t, e, self.mode["slope_per_orbit"])
@@ -180,8 +184,26 @@ class HydroPlots:
             self.allowed_lp = lp
             lam = s.get("lambda_p")
             marks = allowed_wavelengths(sim.options.L_x, lp, span=lam[t >= min(1.0, t[-1])] if t.size else ())
-            self.allowed_source.data = dict(y=[w for _, w in marks], n=[k for k, _ in marks])
+            data = dict(y=[w for _, w in marks], n=[k for k, _ in marks])
+            if data != self.allowed_source.data:  # lambda_p moves every frame, the marks seldom
+                self.allowed_source.data = data
         self.psd_markers.data = wavelength_markers(runner.numbers, [(lp, LP_COLOR, "solid", "λ_p now")])
+
+    def _send_series(self, s, t, e, stream: bool) -> None:
+        """e_kin(t) and lambda_p(t) to the page: only the points added since the last frame (a stream of a
+        few points instead of up to 4000 per frame and column), the whole series after it was thinned or
+        restarted."""
+        f32 = np.float32
+        sent = self._series_sent
+        if stream and sent is not None and sent[0] is s and sent[1] == s.stride and sent[2] <= s.size:
+            n0 = sent[2]
+            if s.size > n0:
+                self.series_source.stream(dict(t=t[n0:].astype(f32), e_kin=e[n0:].astype(f32),
+                                               lambda_p=s.get("lambda_p")[n0:].astype(f32)))
+        else:
+            self.series_source.data = dict(t=t.astype(f32), e_kin=e.astype(f32),
+                                           lambda_p=s.get("lambda_p").astype(f32))
+        self._series_sent = (s, s.stride, s.size)
 
     def update_image(self, runner) -> None:
         """The space-time diagram (stroboscopic or orbit-resolved, as set)."""

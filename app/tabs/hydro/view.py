@@ -36,6 +36,8 @@ from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
 from ringlab.ui.style import CSS, EXPLANATION_FONT
 
 IMAGE_PERIOD_S = 0.25  # the space-time image is sent at most 4 times per second
+READOUT_PERIOD_S = 0.5  # readout cards and the lambda_p note (HTML panes, ~2-5 ms of server CPU per update) at most
+#                        twice per second
 
 EXPLANATION = publish("""
 ### What am I looking at?
@@ -62,6 +64,12 @@ If the scheme fails (a "blow-up": a density or temperature turns negative), the 
 """)
 
 
+def _served() -> bool:
+    """True in a server session (where every student's frames share the app process's CPU)."""
+    doc = pn.state.curdoc
+    return doc is not None and doc.session_context is not None
+
+
 class HydroView(pn.viewable.Viewer):
     """The "Hydrodynamics" tab of one session."""
 
@@ -82,6 +90,8 @@ class HydroView(pn.viewable.Viewer):
                                     max_in_flight=1)
         self._shown_sim = None
         self._buffer_shown = None
+        self._image_sent = None  # (image buffer, its version) last sent
+        self._readouts_sent = -math.inf  # time.perf_counter() of the last readout cards sent
         self.header = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.status = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.readouts = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
@@ -225,7 +235,9 @@ class HydroView(pn.viewable.Viewer):
         now = time.perf_counter()
         force = r.sim is not self._shown_sim or not r.running
         lines = force or self.line_gate.ready(now)
-        image = force or self.image_gate.ready(now)
+        img = r.strobe_image if r.spacetime == "stroboscopic" else r.orbit_image
+        # an unchanged image is not sent again (it is the largest part of a frame: up to 500 x 500 float32)
+        image = force or ((img, img.version) != self._image_sent and self.image_gate.ready(now))
         if not (lines or image):
             return  # the page is still drawing the previous frame: skip this one
         with pn.io.hold():
@@ -238,22 +250,28 @@ class HydroView(pn.viewable.Viewer):
                 self.plots.update_buffer(r)
                 self._buffer_shown = buf
             if lines:
-                self.plots.update_lines(r)
-                self.readouts.object = readout_cards(self._readout_rows(), "hydro-readouts")
-                self._note_allowed()
+                self.plots.update_lines(r, stream=_served())
+                if force or now - self._readouts_sent >= READOUT_PERIOD_S or not _served():
+                    self.readouts.object = readout_cards(self._readout_rows(), "hydro-readouts")
+                    self._note_allowed()
+                    self._readouts_sent = now
                 self.line_gate.mark_sent(now)
             if image:
                 self.plots.update_image(r)
+                self._image_sent = (img, img.version)
                 self.image_gate.mark_sent(now)
 
     def _note_allowed(self) -> None:
         """One line under the λ_p plot: why λ_p jumps between the grey marks (only when λ_p changed)."""
         sim = self.runner.sim
         lp = sim.prevalent_wavelength()
-        if lp == self._lp_noted:
-            return
-        self._lp_noted = lp
         near = [f"{w:.4g}" for k, w in allowed_wavelengths(sim.options.L_x, lp, each_side=1)]
+        # lambda_p moves a little with every frame; the note changes only when the wavelengths it names do
+        # (re-rendering this HTML pane cost ~4 ms of server CPU per frame)
+        key = (sim.options.L_x, tuple(near))
+        if key == self._lp_noted:
+            return
+        self._lp_noted = key
         self.lp_note.object = (
             f'<div class="buttons-note" id="hydro-lp-note">Grey dotted lines in the λ<sub>p</sub> plot: the only '
             f'wavelengths a periodic box of L<sub>x</sub> = {sim.options.L_x:g} m can hold, L<sub>x</sub>/n for a '
@@ -264,7 +282,10 @@ class HydroView(pn.viewable.Viewer):
 
     def _on_mode(self, *_):
         if self.runner.sim is not None:
-            self.plots.update_image(self.runner)
+            r = self.runner
+            img = r.strobe_image if r.spacetime == "stroboscopic" else r.orbit_image
+            self.plots.update_image(r)
+            self._image_sent = (img, img.version)
             self.image_gate.mark_sent(time.perf_counter())
 
     def _readout_rows(self):
