@@ -76,7 +76,10 @@ class EngineHost:
             advanced = self.sim.advance(orbits, until=until, max_wall_s=max_wall_s)
         except BlowUp as exc:
             blowup = (exc.fields(), str(exc))
-        return dict(advanced=advanced, light=light_snapshot(self.sim), samples=self.samples, blowup=blowup)
+        # the drawn quantities of a hydro run go with the state: the app draws them without rebuilding the engine
+        frame = self.sim.frame() if self.sim.kind == "hydro" else None
+        return dict(advanced=advanced, light=light_snapshot(self.sim), samples=self.samples, blowup=blowup,
+                    frame=frame)
 
     def call(self, name: str, *args):
         """Apply a state change (``set_buffer``, ``clear_buffer``); returns the new light state."""

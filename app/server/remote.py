@@ -86,7 +86,12 @@ class RemoteSim:
         self._backend = backend
         self._callbacks = {}
         self._lock = threading.Lock()
+        self._frame = None  # the worker's frame of the shown state (hydro), None when not known
         self.kind = engine.kind
+        # fixed for the whole run: read here, not from a local engine restored from the newest state
+        self.options, self.params = engine.options, engine.params
+        if self.kind == "hydro":
+            self.n = engine.n
 
     # ---------------------------------------------------------------- reads
     @property
@@ -121,6 +126,14 @@ class RemoteSim:
     @property
     def U(self):
         return self.view.U
+
+    def frame(self):
+        """The drawn quantities of the shown state (:meth:`ringcore.hydro.Hydro1D.frame`): the worker's,
+        computed with its chunk, while the worker holds the run; otherwise the local engine's."""
+        f = self._frame
+        if f is not None and self._actor is not None:
+            return f
+        return (self._local or self.view).frame()
 
     # ---------------------------------------------------------------- the contract
     def on_sample(self, fn) -> int:
@@ -178,6 +191,7 @@ class RemoteSim:
         """Show a chunk's result: light state, samples to the callbacks; its blow-up (returned, or
         kept for the next :meth:`advance` with ``stash``)."""
         self._set_light(res["light"])
+        self._frame = res.get("frame")
         for s in res["samples"]:
             for fn in list(self._callbacks.values()):
                 fn(self, s)
@@ -241,6 +255,7 @@ class RemoteSim:
         else:
             self.settle()
             self._set_light(self._actor.call(name, *args).result())
+            self._frame = None  # the worker's frame is of the state before the change
 
 
 class DaskBackend:

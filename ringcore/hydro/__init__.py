@@ -14,7 +14,8 @@ layout), :mod:`.state_kernels` (ghosts, state check, temperature floor),
 :mod:`.gravity` (FFT self-gravity), :mod:`.timestep` (SSPRK(5,4), dt criteria),
 :mod:`.convert` (conservative <-> primitive), :mod:`.initial`, :mod:`.options`, :mod:`.solver`, :mod:`.stepping` (the step and ``advance``),
 :mod:`.state_io` (State in and out), :mod:`.diagnostics`, :mod:`.runfile` (State <-> run file), :mod:`.bench`,
-:mod:`.mp5` (MP5 reconstruction), :mod:`.stepper` (a whole step in one compiled call), :mod:`.cachestamp`
+:mod:`.mp5` (MP5 reconstruction), :mod:`.stepper` (a whole step in one compiled call), :mod:`.frame` (what a
+live view draws, as one value), :mod:`.cachestamp`
 (one numba cache stamp for all hydro kernels).
 """
 from . import cachestamp  # noqa: F401  (first: the package-wide numba cache stamp, before any kernel)

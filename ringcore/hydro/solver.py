@@ -37,6 +37,7 @@ from ..units import e_kin_rp, time_to_orbits
 from . import kernels as K
 from .convert import cons_to_prim
 from .diagnostics import Recorder, e_kin_dimless
+from .frame import HydroFrame, hydro_frame
 from .fields import PhysicalFields
 from .gravity import SelfGravity
 from .initial import INITIAL_KINDS, amplitude_too_large, check_initial_arguments, make_initial
@@ -258,6 +259,11 @@ class Hydro1D(Stepping, StateIO, PhysicalFields):
         return prevalent_wavelength(self.U[0], self.options.L_x)
 
     # ------------------------------------------------------------------ output
+    def frame(self) -> HydroFrame:
+        """The quantities a live view draws now (:class:`ringcore.hydro.frame.HydroFrame`: float32 profiles in
+        the units a page shows, the spectrum, lambda_p, the time step, the buffer zone); reads the state only."""
+        return hydro_frame(self)
+
     def diagnostics(self) -> dict:
         """Current scalars: ``orbit``, ``steps``, ``dt_orbits``, ``e_kin`` [sigma0 (R_p Omega)^2,
         :data:`ringcore.units.E_KIN_UNIT`] and ``e_kin_dimless`` [sigma0 c0^2], ``lambda_p_m`` [m]

@@ -6,6 +6,7 @@ the SHA-256 of the complete state (kernel state and every recorded sample).
 """
 from __future__ import annotations
 
+import dataclasses
 import time
 
 import numpy as np
@@ -81,6 +82,14 @@ def test_worker_run_is_bit_identical_to_in_process(backend):
     assert r.sim.orbits == ref.sim.orbits == 2.0 and r.sim.steps == ref.sim.steps > 0
     assert r.sim.snapshot().checksum() == ref.sim.snapshot().checksum()  # kernel state and every sample
     np.testing.assert_array_equal(r.sim.sigma, ref.sim.sigma)  # what the page draws
+    wf, lf = r.sim.frame(), ref.sim.frame()
+    assert wf is r.sim._frame  # computed on the worker with the chunk, not rebuilt here
+    for field in dataclasses.fields(wf):
+        a, b = getattr(wf, field.name), getattr(lf, field.name)
+        if isinstance(a, np.ndarray):
+            np.testing.assert_array_equal(a, b)
+        else:
+            assert a == b or (a != a and b != b), field.name  # equal, or both nan
     for name in ("t", "e_kin", "lambda_p"):
         np.testing.assert_array_equal(r.series.get(name), ref.series.get(name))
     np.testing.assert_array_equal(r.orbit_image.image(), ref.orbit_image.image())

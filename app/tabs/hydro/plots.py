@@ -156,17 +156,14 @@ class HydroPlots:
                                       label=[f"buffer β = {e[1]:g}" if e[1] is not None else "buffer off"
                                              for e in ev])
 
-    def update_lines(self, runner, stream: bool = False) -> None:
+    def update_lines(self, runner, fr=None, stream: bool = False) -> None:
         """Profiles, series and PSD (cheap; every frame).  With ``stream`` (a server session) only the new
         points of the series are sent (a notebook's document never connected to a page keeps every
         stream event it is sent, while whole replacements are compacted)."""
         sim = runner.sim
-        sc = sim.params.scales
-        vel = sc.velocity * 1e3  # [mm/s]
+        fr = sim.frame() if fr is None else fr  # ringcore.hydro.frame.HydroFrame: float32, the page's units
         f32 = np.float32
-        self.profile_source.data = dict(x=sim.x_m.astype(f32), sigma=sim.sigma_dimless.astype(f32),
-                                        u=(sim.u_dimless * vel).astype(f32), v=(sim.v_dimless * vel).astype(f32),
-                                        T=(sim.T_dimless * vel ** 2).astype(f32))
+        self.profile_source.data = dict(x=fr.x_m, sigma=fr.sigma, u=fr.u_mm_s, v=fr.v_mm_s, T=fr.T_mm2_s2)
         s = runner.series
         e = np.array(s.get("e_kin"), float)  # [sigma0 (R_p Omega)^2]: the engine's e_kin (ringcore.units.E_KIN_UNIT)
         e[e <= 0] = np.nan
@@ -176,10 +173,8 @@ class HydroPlots:
         if self.mode is not None:
             line = slope_line(t, e, self.mode["slope_per_orbit"])
             self.slope_source.data = dict(t=line["t"], e_kin=line["e_kin"])
-        wl, P = sim.psd()
-        P = np.maximum(P, 1e-12)
-        self.psd_source.data = dict(wavelength=wl.astype(f32), power=P.astype(f32))
-        lp = sim.prevalent_wavelength()
+        self.psd_source.data = dict(wavelength=fr.psd_wavelength_m, power=np.maximum(fr.psd, f32(1e-12)))
+        lp = fr.lambda_p_m
         if lp != self.allowed_lp:
             self.allowed_lp = lp
             lam = s.get("lambda_p")

@@ -240,20 +240,21 @@ class HydroView(pn.viewable.Viewer):
         image = force or ((img, img.version) != self._image_sent and self.image_gate.ready(now))
         if not (lines or image):
             return  # the page is still drawing the previous frame: skip this one
+        fr = r.sim.frame()  # computed beside the engine (a worker's, with its chunk): no local rebuild
         with pn.io.hold():
             if r.sim is not self._shown_sim:
                 self.plots.set_run(r)
                 self._shown_sim = r.sim
                 self.header.object = f'<div class="model-label" id="hydro-run-label">{r.run_label}</div>'
-            buf = (r.sim.buffer_active, r.sim.buffer if r.sim.buffer_active else None, len(r.buffer_events))
+            buf = (fr.buffer is not None, fr.buffer, len(r.buffer_events))
             if buf != self._buffer_shown:
                 self.plots.update_buffer(r)
                 self._buffer_shown = buf
             if lines:
-                self.plots.update_lines(r, stream=_served())
+                self.plots.update_lines(r, fr, stream=_served())
                 if force or now - self._readouts_sent >= READOUT_PERIOD_S or not _served():
-                    self.readouts.object = readout_cards(self._readout_rows(), "hydro-readouts")
-                    self._note_allowed()
+                    self.readouts.object = readout_cards(self._readout_rows(fr), "hydro-readouts")
+                    self._note_allowed(fr)
                     self._readouts_sent = now
                 self.line_gate.mark_sent(now)
             if image:
@@ -261,10 +262,10 @@ class HydroView(pn.viewable.Viewer):
                 self._image_sent = (img, img.version)
                 self.image_gate.mark_sent(now)
 
-    def _note_allowed(self) -> None:
+    def _note_allowed(self, fr=None) -> None:
         """One line under the λ_p plot: why λ_p jumps between the grey marks (only when λ_p changed)."""
         sim = self.runner.sim
-        lp = sim.prevalent_wavelength()
+        lp = (sim.frame() if fr is None else fr).lambda_p_m
         near = [f"{w:.4g}" for k, w in allowed_wavelengths(sim.options.L_x, lp, each_side=1)]
         # lambda_p moves a little with every frame; the note changes only when the wavelengths it names do
         # (re-rendering this HTML pane cost ~4 ms of server CPU per frame)
@@ -288,9 +289,9 @@ class HydroView(pn.viewable.Viewer):
             self._image_sent = (img, img.version)
             self.image_gate.mark_sent(time.perf_counter())
 
-    def _readout_rows(self):
+    def _readout_rows(self, fr=None):
         r = self.runner
-        sim = r.sim
+        fr = r.sim.frame() if fr is None else fr
         if r.running:
             self._last_rate = r.rates()
         steps_s, orb_s = self._last_rate
@@ -299,17 +300,17 @@ class HydroView(pn.viewable.Viewer):
         when = "now, of wall-clock time" if r.running else "when last running"
         n = r.numbers
         return [
-            ("hydro-orbits", "Orbits elapsed", f"{sim.orbits:.2f}", f"{sim.steps} steps"),
+            ("hydro-orbits", "Orbits elapsed", f"{fr.orbits:.2f}", f"{fr.steps} steps"),
             ("hydro-orbits-per-s", "Orbits per second", fmt(orb_s, ".1f"), when),
-            ("hydro-steps-per-s", "Steps per second", fmt(steps_s, ".0f"), f"{sim.n} cells"),
-            ("hydro-dt", "Time step", fmt(r.typical_dt_orbits(), ".2g", "orbits"),
+            ("hydro-steps-per-s", "Steps per second", fmt(steps_s, ".0f"), f"{fr.n} cells"),
+            ("hydro-dt", "Time step", fmt(fr.stable_dt_orbits, ".2g", "orbits"),
              publish("the paper's rule, eq. (timestep)") if r.timestep == "paper" else "fast rule"),
-            ("hydro-lambda-p", "λ<sub>p</sub> now", fmt(sim.prevalent_wavelength(), ".4g", "m"),
+            ("hydro-lambda-p", "λ<sub>p</sub> now", fmt(fr.lambda_p_m, ".4g", "m"),
              f"fastest growth {fmt(n.get('lambda_max_growth_m', math.nan), '.4g', 'm')}"),
             ("hydro-lambda-zero", "λ<sub>zero</sub>", fmt(n.get("lambda_zero_m", math.nan), ".4g", "m"),
              f"1.4 λ<sub>zero</sub> = {fmt(1.4 * n.get('lambda_zero_m', math.nan), '.4g', 'm')}"),
-            ("hydro-buffer", "Buffer zone", f"β = {sim.buffer[2]:g}" if sim.buffer_active else "off",
-             f"{sim.buffer[0]:g} .. {sim.buffer[1]:g} m" if sim.buffer_active else "β = β of the set everywhere"),
+            ("hydro-buffer", "Buffer zone", f"β = {fr.buffer[2]:g}" if fr.buffer else "off",
+             f"{fr.buffer[0]:g} .. {fr.buffer[1]:g} m" if fr.buffer else "β = β of the set everywhere"),
         ]
 
     def _on_problems(self, *_):
