@@ -244,6 +244,11 @@ class HydroRunner(LiveLoop, HydroSettings):
         sim = self.sim
         return sim.stable_dt() / (2.0 * math.pi) if sim is not None and sim.steps > 0 else math.nan
 
+    @property
+    def shown_image(self):
+        """The space-time image buffer the view shows: stroboscopic or orbit-resolved, as set."""
+        return self.strobe_image if self.spacetime == "stroboscopic" else self.orbit_image
+
     def saturated_lambda_p(self, last_fraction: float = 0.25) -> float:
         """Median lambda_p [m] over the last ``last_fraction`` of the run (nan before 1 orbit)."""
         s = self.series

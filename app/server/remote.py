@@ -133,7 +133,7 @@ class RemoteSim:
         f = self._frame
         if f is not None and self._actor is not None:
             return f
-        return (self._local or self.view).frame()
+        return (self._local if self._local is not None else self.view).frame()
 
     # ---------------------------------------------------------------- the contract
     def on_sample(self, fn) -> int:

@@ -194,7 +194,7 @@ class HydroPlots:
             n0 = sent[2]
             if s.size > n0:
                 self.series_source.stream(dict(t=t[n0:].astype(f32), e_kin=e[n0:].astype(f32),
-                                               lambda_p=s.get("lambda_p")[n0:].astype(f32)))
+                                               lambda_p=s.arrays["lambda_p"][n0:s.size].astype(f32)))
         else:
             self.series_source.data = dict(t=t.astype(f32), e_kin=e.astype(f32),
                                            lambda_p=s.get("lambda_p").astype(f32))
@@ -203,7 +203,7 @@ class HydroPlots:
     def update_image(self, runner) -> None:
         """The space-time diagram (stroboscopic or orbit-resolved, as set)."""
         strobe = runner.spacetime == "stroboscopic"
-        img = runner.strobe_image if strobe else runner.orbit_image
+        img = runner.shown_image
         title = ("Space-time diagram of σ/σ₀, stroboscopic (one row per orbit)" if strobe else
                  f"Space-time diagram of σ/σ₀, orbit-resolved (last {img.max_rows * img.interval:g} orbits)")
         if self.spacetime_fig.title.text != title:

@@ -235,7 +235,7 @@ class HydroView(pn.viewable.Viewer):
         now = time.perf_counter()
         force = r.sim is not self._shown_sim or not r.running
         lines = force or self.line_gate.ready(now)
-        img = r.strobe_image if r.spacetime == "stroboscopic" else r.orbit_image
+        img = r.shown_image
         # an unchanged image is not sent again (it is the largest part of a frame: up to 500 x 500 float32)
         image = force or ((img, img.version) != self._image_sent and self.image_gate.ready(now))
         if not (lines or image):
@@ -284,7 +284,7 @@ class HydroView(pn.viewable.Viewer):
     def _on_mode(self, *_):
         if self.runner.sim is not None:
             r = self.runner
-            img = r.strobe_image if r.spacetime == "stroboscopic" else r.orbit_image
+            img = r.shown_image
             self.plots.update_image(r)
             self._image_sent = (img, img.version)
             self.image_gate.mark_sent(time.perf_counter())
