@@ -1,7 +1,7 @@
 """``ringlab loadtest``: K simulated students on one ringlab server (how many a machine carries; not a CI test).
 
-    ringlab loadtest --students K --seconds S [--shared] [--join-together] [--compute auto|threads|processes]
-                     [--dask] [--num-procs N] --json
+    ringlab loadtest --students K --seconds S [--shared | --different] [--join-together] [--no-share]
+                     [--compute auto|threads|processes] [--dask] [--num-procs N] --json
 
 Starts ``panel serve <package>/main.py`` (subprocess, loopback, free port) and opens K real Panel
 sessions without a browser (Bokeh client sessions on one event loop).  Each student opens
@@ -19,7 +19,10 @@ server with ``RINGLAB_COMPUTE=processes`` (its own LocalCluster, one worker per 
 server at it with ``RINGLAB_DASK_SCHEDULER``.  ``--shared``: every student opens the same lesson step
 (``/main?lesson=3&step=2``, the default box at sigma0 = 400) and presses its "Set up this step" (the page opens on the Linear tab; the
 preset builds the Hydrodynamics tab and starts the run).  ``--join-together``: all students open their
-page at the same moment (:mod:`ringlab.cli.loadtest_join`).  Either way ``pages_ready_s`` (median, max)
+page at the same moment (:mod:`ringlab.cli.loadtest_join`).  The class start link and ``--shared`` start
+identical runs, which the server computes once (:mod:`ringlab.server.shared`); ``--different`` gives
+each student its own sigma0 (nothing to share) and ``--no-share`` makes the server compute every run
+alone (``RINGLAB_SHARE_RUNS=0``).  Either way ``pages_ready_s`` (median, max)
 is the time from opening a page until its document holds the Hydrodynamics tab's Start button,
 ``page_server_cpu_s`` the app process's CPU seconds per page while they opened (building them, and
 their first frames), ``frames_per_s`` the frames each student received per second (measured window)
@@ -98,6 +101,7 @@ def cpu_rss(procs) -> tuple[float, float]:
 def run(args) -> dict:
     env = dict(os.environ)
     env["RINGLAB_COMPUTE"] = args.compute if not args.dask else "dask"
+    env["RINGLAB_SHARE_RUNS"] = "0" if args.no_share else "1"
     cluster = None
     if args.dask:
         from dask.distributed import LocalCluster  # deferred on purpose: only --dask starts a cluster here
@@ -165,6 +169,7 @@ def run(args) -> dict:
                    hooked=[len(st.hooked) for st in students], load_average=[round(x, 2) for x in os.getloadavg()],
                    setup_s=round(marks["t0"] - t_start, 1))
         out.update(joined, shared=bool(args.shared), join_together=bool(args.join_together),
+                   different=bool(args.different), share_runs=not args.no_share,
                    frames_per_s=[round(st.frame_rate(marks["t0"], t1), 2) for st in students],
                    app_process_cores_per_student=round(out["server_process_cores"] / max(1, len(students)), 3))
         out["rss_mb_every_30s"] = rss_series
@@ -201,14 +206,17 @@ def run(args) -> dict:
             cluster.close()
 
 
-def student_query(args) -> tuple[dict, str | None]:
-    """The page address's query of every student and the button each presses once the page is open:
-    the class start link (``tab=hydro&autostart=1``), or with ``--shared`` the same lesson step
-    (``lesson=L&step=S``, a hydro step that starts its run) and its "Set up this step"."""
+def student_query(args) -> tuple[list, str | None]:
+    """The page address's query of each student and the button each presses once the page is open:
+    the class start link (``tab=hydro&autostart=1``), with ``--different`` its own sigma0 for each
+    (``hydro_sigma0`` = 400, 401, ... kg/m^2: no two runs alike), or with ``--shared`` the same lesson
+    step (``lesson=L&step=S``, a hydro step that starts its run) and its "Set up this step"."""
     if args.shared:
         lesson, step = SHARED_STEP
-        return dict(lesson=str(lesson), step=str(step)), "lesson-setup"
-    return dict(tab="hydro", autostart="1"), None
+        return [dict(lesson=str(lesson), step=str(step))] * args.students, "lesson-setup"
+    if args.different:
+        return [dict(tab="hydro", autostart="1", hydro_sigma0=str(400 + i)) for i in range(args.students)], None
+    return [dict(tab="hydro", autostart="1")] * args.students, None
 
 
 def open_students(args, url: str, loop, server_pid: int) -> tuple[list, list, list, dict]:
@@ -228,7 +236,7 @@ def open_students(args, url: str, loop, server_pid: int) -> tuple[list, list, li
         threads, students, sessions, opened, errors = [], [], [], [], []
         for _ in range(args.students):
             opened.append(time.perf_counter())
-            sessions.append(connect(url, loop, query))
+            sessions.append(connect(url, loop, query[len(sessions)]))
             students.append(Student(sessions[-1]))
             if button:
                 press(sessions[-1], button)
@@ -265,6 +273,10 @@ def add_parser(sub) -> None:
                     help="RINGLAB_COMPUTE of the server (auto, the app's default: worker processes on >= 2 cores)")
     ap.add_argument("--shared", action="store_true",
                     help="every student opens the same lesson step (lesson %d, step %d) and sets it up" % SHARED_STEP)
+    ap.add_argument("--different", action="store_true",
+                    help="each student's run has its own sigma0 (400, 401, ... kg/m^2): nothing to share")
+    ap.add_argument("--no-share", action="store_true",
+                    help="the server computes every session's run alone (RINGLAB_SHARE_RUNS=0), for an A/B")
     ap.add_argument("--join-together", action="store_true",
                     help="all students open their page at the same moment (reports pages_ready_s)")
     ap.add_argument("--json", action="store_true", help="print one JSON object (the default output)")
@@ -278,6 +290,8 @@ def run_command(args) -> int:
     if not (args.seconds > 0 and args.warmup >= 0):
         raise ValueError(f"--seconds = {args.seconds} / --warmup = {args.warmup} are not valid: allowed "
                          "seconds > 0 and warmup >= 0")
+    if args.shared and args.different:
+        raise ValueError("--shared and --different are not valid together: allowed one of them")
     if not 1 <= args.num_procs <= 64:
         raise ValueError(f"--num-procs = {args.num_procs} is not valid: allowed 1 to 64")
     print(json.dumps(run(args)))

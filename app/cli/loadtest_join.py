@@ -74,12 +74,13 @@ class JoiningStudent(threading.Thread):
         return self.error is not None or (self.student is not None and self.student.ready_at is not None)
 
 
-def join_together(url: str, arguments: dict, setup_button: str | None, students: int,
+def join_together(url: str, arguments: dict | list, setup_button: str | None, students: int,
                   timeout_s: float = 300.0) -> tuple[list, float, float]:
     """Open ``students`` pages at the same moment; returns (the threads, the release time, the time all
     pages were ready or ``timeout_s`` had passed), times from ``time.perf_counter``."""
     barrier = threading.Barrier(students + 1)
-    threads = [JoiningStudent(url, arguments, setup_button, barrier) for _ in range(students)]
+    threads = [JoiningStudent(url, arguments[i] if isinstance(arguments, list) else arguments, setup_button, barrier)
+               for i in range(students)]
     for th in threads:
         th.start()
     barrier.wait()

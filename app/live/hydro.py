@@ -38,7 +38,8 @@ from ringlab.live.loop import RATE_SAMPLES, LiveLoop
 from ringlab.live.revert import reset_status, revert, snapshot
 from ringlab.model.hydro_settings import BUFFER_PARAMS, HydroSettings, SETUP_PARAMS
 from ringlab.model.linear import characteristic_numbers
-from ringlab.server import remote
+from ringlab.server import remote, shared
+from ringlab.server.shared_sim import SharedSim
 
 BUDGET_S = 0.06  # compute time per tick
 MAX_RECORD_SAMPLES = 5000  # solver recorder samples kept (older ones thinned by 2; ~1 KB each)
@@ -91,8 +92,8 @@ class HydroRunner(LiveLoop, HydroSettings):
               dict(amplitude=self.amplitude, wavelength=self.wavelength) if self.initial == "mode" else {})
         max_rows = max(100, int(MAX_STROBE_BYTES / (4 * opt.n)))
         old = self.sim
-        if isinstance(old, remote.RemoteSim):
-            old.detach()  # [cluster] the previous run may be kept (RunKeeper): bring it back, free the worker
+        if hasattr(old, "detach"):
+            old.detach()  # the previous run may be kept (RunKeeper): bring it back, free a worker or a shared run
         sim = Hydro1D(p, opt, initial=self.initial, max_samples=MAX_RECORD_SAMPLES, max_rows=max_rows, **kw)
         self.numbers = characteristic_numbers(self.settings())
         self.strobe_image = SpaceTimeImage(sim.n, 1.0)
@@ -101,7 +102,8 @@ class HydroRunner(LiveLoop, HydroSettings):
         d = sim.diagnostics()  # the sample at t = 0 was recorded before the callback existed
         self._on_sample(sim, dict(orbit=d["orbit"], e_kin=d["e_kin"], lambda_p_m=d["lambda_p_m"], dt_orbits=0.0,
                                   strobe_row=sim.sigma_dimless.astype(np.float32) if opt.strobe else None))
-        self.sim = sim = remote.wrap(sim)  # [cluster] chunks on Dask workers (RINGLAB_COMPUTE / _DASK_SCHEDULER)
+        # identical runs of several sessions share one computation; chunks on Dask workers (RINGLAB_COMPUTE)
+        self.sim = sim = SharedSim(sim) if shared.enabled() else remote.wrap(sim)
         sim.on_sample(self._on_sample)
         self.blowup = ""
         self.buffer_events = []
@@ -297,7 +299,7 @@ class HydroRunner(LiveLoop, HydroSettings):
         self.pause()
         if self.sim is not None and self.sim.orbits > 0:  # one line per run freed; none if it never ran
             pn.state.log(f"hydro run of a closed session freed at orbit {self.sim.orbits:.2f}")
-            if isinstance(self.sim, remote.RemoteSim):
-                self.sim.release()  # [cluster] the worker drops its copy
+        if hasattr(self.sim, "release"):
+            self.sim.release()  # a worker drops its copy; a shared computation loses a follower
         self.sim = None
         self.status = "Closed."

@@ -194,7 +194,8 @@ class LiveLoop:
 
         def done(result, error, wait_s, compute_s):  # worker thread: only schedule
             try:
-                doc.add_next_tick_callback(functools.partial(self._delivered, doc, then, error, wait_s))
+                doc.add_next_tick_callback(functools.partial(self._delivered, doc, then, error, wait_s,
+                                                             time.perf_counter()))
             except Exception:  # the document is gone
                 self._inflight = False
                 self._closed = True
@@ -203,7 +204,9 @@ class LiveLoop:
         if busy and self.running and not self.blowup and self.status in ("Running.", WAITING):
             self.status = WAITING
 
-    def _delivered(self, doc, then, error, wait_s) -> None:
+    def _delivered(self, doc, then, error, wait_s, t_done=None) -> None:
+        if t_done is not None:
+            compute.note_loop_lag(time.perf_counter() - t_done)  # the pacing of shared runs follows the loop
         self._inflight = False
         if self._closed:
             return

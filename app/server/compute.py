@@ -34,6 +34,9 @@ from concurrent.futures import ThreadPoolExecutor
 from ringlab.server import remote
 
 ENV_MAX = "RINGLAB_MAX_COMPUTE"
+LAG_TARGET_S = 0.1  # [s] event-loop delay of a finished chunk's callback the pacing of shared runs aims at
+MAX_SLOWDOWN = 20.0
+_SLOWDOWN = 1.0  # see note_loop_lag
 REMOTE_THREADS = 256  # waiting threads when the chunks compute on Dask workers
 
 
@@ -59,13 +62,14 @@ class ComputePool:
     workers : int
         Chunks computing at once (the threads, unless ``threads`` is given).
     threads : int, optional
-        Threads when the chunks compute elsewhere (:mod:`ringlab.server.remote`); ``busy`` still counts
-        ``workers`` slots.
+        Threads when the chunks compute elsewhere (:mod:`ringlab.server.remote`); ``busy`` counts the
+        threads.
     """
 
     def __init__(self, workers: int, threads: int | None = None):
         self.workers = int(workers)
-        self._executor = ThreadPoolExecutor(threads or self.workers, thread_name_prefix="ringlab-compute")
+        self.threads = int(threads or self.workers)
+        self._executor = ThreadPoolExecutor(self.threads, thread_name_prefix="ringlab-compute")
         self._lock = threading.Lock()
         self.queued = 0  # submitted, not yet started
         self.active = 0  # computing now
@@ -99,12 +103,33 @@ class ComputePool:
         return self._executor.submit(job)
 
     def busy(self) -> bool:
-        """True if a newly submitted chunk would have to wait for a free core."""
+        """True if a newly submitted chunk would have to wait for a free thread of this pool (chunks computed
+        on Dask workers, with one waiting thread per session, never do: a session's status then stays
+        "Running." instead of flipping, and redrawing, with every frame)."""
         with self._lock:
-            return self.active + self.queued >= self.workers
+            return self.active + self.queued >= self.threads
 
     def shutdown(self) -> None:
         self._executor.shutdown(wait=True, cancel_futures=True)
+
+
+def note_loop_lag(seconds: float) -> None:
+    """Record how long a finished chunk waited for the event loop [s]: the slowdown of :func:`loop_load`
+    grows by 5 % while the delays exceed :data:`LAG_TARGET_S` and shrinks by 2 % while they do not (so the
+    delay settles near the target whatever the number of sessions)."""
+    global _SLOWDOWN
+    if seconds > LAG_TARGET_S:
+        _SLOWDOWN = min(MAX_SLOWDOWN, _SLOWDOWN * 1.05)
+    else:
+        _SLOWDOWN = max(1.0, _SLOWDOWN * 0.98)
+
+
+def loop_load() -> float:
+    """How much less often than at rest sessions following a shared run take new chunks (1 to :data:`MAX_SLOWDOWN`).
+
+    All sessions alike: a busy server slows every session's frames the same, and keeps room on the event
+    loop for clicks and sliders."""
+    return _SLOWDOWN
 
 
 _POOL: ComputePool | None = None

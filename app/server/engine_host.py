@@ -56,11 +56,12 @@ def lower_worker_priority() -> int:
 class EngineHost:
     """One session's engine on a Dask worker (an actor: ``client.submit(EngineHost, state, actor=True)``)."""
 
-    def __init__(self, state):
-        lower_worker_priority()
+    def __init__(self, state, renice: bool = True):
+        if renice:  # a worker process; the app server's own threads (threads backend) keep their priority
+            lower_worker_priority()
         self.sim = engine_class(state.kind).restore(state)
         self.samples = []
-        self.sim.on_sample(self._on_sample)
+        self.handle = self.sim.on_sample(self._on_sample)
 
     def _on_sample(self, sim, sample):
         s = dict(sample)

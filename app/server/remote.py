@@ -93,6 +93,18 @@ class RemoteSim:
         if self.kind == "hydro":
             self.n = engine.n
 
+    @classmethod
+    def adopt(cls, backend, actor, worker, key, last) -> "RemoteSim":
+        """A run whose engine a worker already holds (an :class:`EngineHost` actor placed by ``backend()``
+        as ``key`` on ``worker``), showing ``last``, the newest result of its ``advance``."""
+        self = cls(engine_class(last["light"].kind).restore(last["light"]), backend)
+        self._local = None
+        self._actor, self._worker, self._key = actor, worker, key
+        self._fin = weakref.finalize(self, backend().forget, worker)
+        self._set_light(last["light"])
+        self._frame = last["frame"]
+        return self
+
     # ---------------------------------------------------------------- reads
     @property
     def on_worker(self) -> bool:

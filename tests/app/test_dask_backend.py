@@ -172,3 +172,35 @@ def test_own_cluster_and_its_dashboard_listen_on_this_machine_only():
         assert all(urlparse(w).hostname == "127.0.0.1" for w in b.workers())
     finally:
         b.close()
+
+
+def test_two_sessions_share_one_worker_engine_and_one_detaches_bit_identically(backend):
+    from ringlab.server import shared
+    shared.set_enabled(True)
+    try:
+        a, b = HydroRunner(**SMALL), HydroRunner(**SMALL)
+        for r in (a, b):
+            r.running, r.pause_at = True, 400.0
+        a.tick()
+        b.tick()  # a chunk on a worker is ~0.1 s: tens of orbits of this small box
+        assert a.sim.computation is b.sim.computation and a.sim.on_worker
+        assert wait_engines(backend, 1) == 1  # one engine on the workers for both sessions
+        b.pause()
+        b._settle()  # Pause: b continues on its own copy
+        assert not b.sim.following and b.sim.orbits < 300.0
+        b.running = True  # Start again
+        for r in (a, b):
+            while r.sim.orbits < 400.0 - 1e-9:
+                r.tick()
+        assert wait_engines(backend, 2) == 2 and a.sim.following and b.sim.on_worker
+    finally:
+        shared.set_enabled(None)
+    ref = in_process(400.0, **SMALL)
+    for r in (a, b):
+        assert r.sim.steps == ref.sim.steps
+        for name in ("t", "e_kin", "lambda_p"):
+            np.testing.assert_array_equal(r.series.get(name), ref.series.get(name))
+        np.testing.assert_array_equal(r.strobe_image.image(), ref.strobe_image.image())
+        assert r.sim.snapshot().checksum() == ref.sim.snapshot().checksum()
+        r.close()
+    assert wait_engines(backend, 0) == 0

@@ -1,0 +1,153 @@
+"""Sessions that start the same run share one computation (ringlab.server.shared); a session that
+pauses, steps or changes a setting continues alone, bit-identically.
+
+Independent answer: the same run computed by one runner alone (sharing off), compared with the
+SHA-256 of the complete state (kernel state and every recorded sample) and the live buffers.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from ringlab.live.hydro import HydroRunner
+from ringlab.server import remote, shared
+from ringlab.server.shared_sim import SharedSim
+
+SMALL = dict(L_x=500.0, h=2.5)  # 200 cells
+END = 30.0  # orbits: the lesson-like end time every run stops at
+
+
+@pytest.fixture
+def sharing():
+    b, remote._BACKEND = remote._BACKEND, None  # threads: the chunks compute in this process
+    shared.set_enabled(True)
+    yield
+    shared.set_enabled(None)
+    remote._BACKEND = b
+
+
+def alone(**settings) -> HydroRunner:
+    shared.set_enabled(False)
+    try:
+        r = HydroRunner(**settings)
+    finally:
+        shared.set_enabled(True)
+    assert not isinstance(r.sim, SharedSim)
+    r.running, r.pause_at = True, END
+    while r.sim.orbits < END - 1e-9:
+        r.tick()
+    return r
+
+
+def runner(**settings) -> HydroRunner:
+    r = HydroRunner(**settings)
+    assert isinstance(r.sim, SharedSim)
+    r.running, r.pause_at = True, END
+    return r
+
+
+def assert_same_run(r, ref):
+    for name in ("t", "e_kin", "lambda_p"):
+        np.testing.assert_array_equal(r.series.get(name), ref.series.get(name))
+    np.testing.assert_array_equal(r.orbit_image.image(), ref.orbit_image.image())
+    np.testing.assert_array_equal(r.strobe_image.image(), ref.strobe_image.image())
+    assert r.sim.snapshot().checksum() == ref.sim.snapshot().checksum()  # kernel state and every sample
+
+
+def test_two_sessions_share_one_computation_and_one_detaches_bit_identically(sharing):
+    a, b = runner(**SMALL), runner(**SMALL)
+    for _ in range(4):
+        a.tick()
+        b.tick()
+    comp = a.sim.computation
+    assert comp is not None and comp is b.sim.computation and comp.followers == 2
+    assert a.sim.orbits == b.sim.orbits > 0 and a.sim.frame() is b.sim.frame()  # the same chunk, drawn once
+    chunks = comp.chunks
+    assert chunks <= 5  # one computation: not one per session
+
+    # b pauses (the page's Pause settles the run), steps, changes nothing else and runs on alone
+    b.pause()
+    b._settle()
+    assert not b.sim.following and comp.followers == 1 and b.sim.orbits < END - 2.0
+    b.step_once()
+    b.running = True
+    while b.sim.orbits < END - 1e-9:
+        b.tick()
+    while a.sim.orbits < END - 1e-9:
+        a.tick()
+    assert a.sim.following and comp.followers == 1
+    ref = alone(**SMALL)
+    assert a.sim.steps == b.sim.steps == ref.sim.steps and a.sim.orbits == pytest.approx(END, abs=1e-12)
+    assert_same_run(a, ref)
+    assert_same_run(b, ref)
+    assert not a.sim.following and comp.followers == 0 and comp.host is None  # the export made it its own
+    assert shared.computations() == []
+
+
+def test_a_late_session_takes_every_chunk_computed_so_far(sharing):
+    a = runner(**SMALL)
+    for _ in range(3):
+        a.tick()
+    late = runner(**SMALL)
+    late.tick()  # takes everything at once (and perhaps a new chunk)
+    assert late.sim.computation is a.sim.computation and late.sim.orbits >= a.sim.orbits
+    while late.sim.orbits < END - 1e-9:
+        late.tick()
+    ref = alone(**SMALL)
+    assert_same_run(late, ref)
+    a.close()
+
+
+def test_different_settings_or_end_times_never_share(sharing):
+    a, b = runner(**SMALL), runner(**dict(SMALL, sigma0=300.0))
+    c = runner(**SMALL)
+    c.pause_at = 3.0
+    for r in (a, b, c):
+        r.tick()
+    comps = {id(r.sim.computation) for r in (a, b, c)}
+    assert len(comps) == 3
+    # a setting change starts a new run; the other follower keeps the old computation
+    d = runner(**SMALL)
+    d.tick()
+    assert d.sim.computation is a.sim.computation
+    d.seed = 99
+    assert a.sim.following and a.sim.computation.followers == 1
+    for r in (a, b, c, d):
+        r.close()
+    assert shared.computations() == []
+
+
+def test_closing_every_session_frees_the_computation(sharing):
+    rs = [runner(**SMALL) for _ in range(3)]
+    for r in rs:
+        r.tick()
+    comp = rs[0].sim.computation
+    assert comp.followers == 3
+    for r in rs:
+        r.close()
+    assert comp.followers == 0 and comp.host is None and shared.computations() == []
+
+
+def test_sharing_switch_from_the_environment(monkeypatch):
+    monkeypatch.setenv(shared.ENV_SHARE, "0")
+    assert not shared.enabled(in_server=True)
+    monkeypatch.setenv(shared.ENV_SHARE, "1")
+    assert shared.enabled(in_server=True) and not shared.enabled(in_server=False)
+    monkeypatch.setenv(shared.ENV_SHARE, "maybe")
+    with pytest.raises(ValueError, match="RINGLAB_SHARE_RUNS = 'maybe' is not valid"):
+        shared.enabled(in_server=True)
+
+
+def test_following_pages_slow_down_alike_while_the_event_loop_is_late(monkeypatch):
+    from ringlab.server import compute
+    monkeypatch.setattr(compute, "_SLOWDOWN", 1.0)
+    for _ in range(200):
+        compute.note_loop_lag(0.5)  # callbacks 10x later than the target
+    assert compute.loop_load() == compute.MAX_SLOWDOWN
+    assert shared.FOLLOW_PERIOD_S * compute.loop_load() >= shared.MAX_FOLLOW_PERIOD_S
+    for _ in range(50):
+        compute.note_loop_lag(0.0)
+    assert 1.0 < compute.loop_load() < compute.MAX_SLOWDOWN  # recovers gradually ...
+    for _ in range(500):
+        compute.note_loop_lag(0.0)
+    assert compute.loop_load() == 1.0  # ... to the full frame rate
