@@ -162,6 +162,11 @@ class LiveLoop:
     # ------------------------------------------------------------------ worker side
     def compute_chunk(self):
         """One chunk of work (runs in a worker thread, never touches the document)."""
+        pace = getattr(getattr(self, "sim", None), "pace_s", None)
+        if pace is not None and self.running:
+            wait = pace()  # a run following a shared computation waits here, not holding compute_lock
+            if wait > 0:
+                time.sleep(wait)
         with self.compute_lock:
             if self.running and not self._closed:
                 self.advance(self.budget_s, until=self.pause_at)

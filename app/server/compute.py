@@ -34,9 +34,9 @@ from concurrent.futures import ThreadPoolExecutor
 from ringlab.server import remote
 
 ENV_MAX = "RINGLAB_MAX_COMPUTE"
-LAG_TARGET_S = 0.1  # [s] event-loop delay of a finished chunk's callback the pacing of shared runs aims at
-MAX_SLOWDOWN = 20.0
-_SLOWDOWN = 1.0  # see note_loop_lag
+LAG_TARGET_S = 0.05  # [s] event-loop delay of a finished chunk's callback the pacing of shared runs aims at
+MAX_SLOWDOWN = 10.0
+_LAG_S = 0.0  # smoothed delay [s] (see note_loop_lag)
 REMOTE_THREADS = 256  # waiting threads when the chunks compute on Dask workers
 
 
@@ -114,22 +114,18 @@ class ComputePool:
 
 
 def note_loop_lag(seconds: float) -> None:
-    """Record how long a finished chunk waited for the event loop [s]: the slowdown of :func:`loop_load`
-    grows by 5 % while the delays exceed :data:`LAG_TARGET_S` and shrinks by 2 % while they do not (so the
-    delay settles near the target whatever the number of sessions)."""
-    global _SLOWDOWN
-    if seconds > LAG_TARGET_S:
-        _SLOWDOWN = min(MAX_SLOWDOWN, _SLOWDOWN * 1.05)
-    else:
-        _SLOWDOWN = max(1.0, _SLOWDOWN * 0.98)
+    """Record how long a finished chunk waited for the event loop [s] (smoothed over ~10 chunks)."""
+    global _LAG_S
+    _LAG_S = 0.9 * _LAG_S + 0.1 * max(0.0, float(seconds))
 
 
 def loop_load() -> float:
-    """How much less often than at rest sessions following a shared run take new chunks (1 to :data:`MAX_SLOWDOWN`).
+    """How busy the event loop is: the smoothed delay of chunk callbacks over :data:`LAG_TARGET_S`, 1 to
+    :data:`MAX_SLOWDOWN`.
 
-    All sessions alike: a busy server slows every session's frames the same, and keeps room on the event
-    loop for clicks and sliders."""
-    return _SLOWDOWN
+    Sessions following a shared run take new chunks this many times less often, all alike: a busy
+    server slows every session's frames the same, and keeps room for clicks and sliders."""
+    return min(MAX_SLOWDOWN, max(1.0, _LAG_S / LAG_TARGET_S))
 
 
 _POOL: ComputePool | None = None

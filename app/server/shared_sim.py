@@ -133,20 +133,28 @@ class SharedSim:
             backend = remote.backend() if remote.active() else None
             self._comp, self._fid = shared.follow(self._local.snapshot(), orbits, until, max_wall_s, backend)
             self._local = None
-        period = None
-        if self._comp.host is not None and self._comp.host.remote:
-            # a page needs no more than ~5 frames/s, and fewer, for every session alike, while the event loop
-            # is busy (compute.loop_load); the worker computes chunks of this length ahead meanwhile (no thread
-            # of this process computes: the wait costs nothing, and each session's frames cost the event loop)
-            period = min(shared.MAX_FOLLOW_PERIOD_S, shared.FOLLOW_PERIOD_S * compute.loop_load())
-            wait = self._taken_at + period - time.monotonic()
-            if wait > 0:
-                time.sleep(wait)
+        period = self._period()
         advanced, exc = self._show(self._comp.take(self._fid, period))
         self._taken_at = time.monotonic()
         if exc is not None:
             raise exc
         return advanced
+
+    def _period(self):
+        """Seconds between this page's takes of a shared run on a worker (None: in this process, no pacing).
+
+        A page needs no more than ~8 frames/s, and fewer, for every session alike, while the event loop is
+        busy (:func:`ringlab.server.compute.loop_load`); the worker computes chunks of this length ahead
+        meanwhile, so the run does not slow down with the frames."""
+        comp = self._comp
+        if comp is None or comp.host is None or not comp.host.remote:
+            return None
+        return min(shared.MAX_FOLLOW_PERIOD_S, shared.FOLLOW_PERIOD_S * compute.loop_load())
+
+    def pace_s(self) -> float:
+        """Seconds to wait before the next chunk is taken (the runner waits outside its compute lock)."""
+        period = self._period()
+        return 0.0 if period is None else max(0.0, self._taken_at + period - time.monotonic())
 
     def _show(self, results):
         """Show chunk results: light state, frame, samples to the callbacks; (orbits advanced, blow-up)."""
