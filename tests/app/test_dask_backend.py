@@ -176,6 +176,7 @@ def test_own_cluster_and_its_dashboard_listen_on_this_machine_only():
 
 def test_two_sessions_share_one_worker_engine_and_one_detaches_bit_identically(backend):
     from ringlab.server import shared
+    shared._REGISTRY.clear()  # no computation of another test to join
     shared.set_enabled(True)
     try:
         a, b = HydroRunner(**SMALL), HydroRunner(**SMALL)
@@ -195,6 +196,7 @@ def test_two_sessions_share_one_worker_engine_and_one_detaches_bit_identically(b
         assert wait_engines(backend, 2) == 2 and a.sim.following and b.sim.on_worker
     finally:
         shared.set_enabled(None)
+        shared._REGISTRY.clear()
     ref = in_process(400.0, **SMALL)
     for r in (a, b):
         assert r.sim.steps == ref.sim.steps

@@ -14,15 +14,17 @@ from ringlab.server import remote, shared
 from ringlab.server.shared_sim import SharedSim
 
 SMALL = dict(L_x=500.0, h=2.5)  # 200 cells
-END = 30.0  # orbits: the lesson-like end time every run stops at
+END = 200.0  # orbits: the lesson-like end time every run stops at (far beyond a few chunks on any machine)
 
 
 @pytest.fixture
 def sharing():
     b, remote._BACKEND = remote._BACKEND, None  # threads: the chunks compute in this process
+    shared._REGISTRY.clear()  # no computation of another test to join
     shared.set_enabled(True)
     yield
     shared.set_enabled(None)
+    shared._REGISTRY.clear()
     remote._BACKEND = b
 
 
@@ -56,14 +58,14 @@ def assert_same_run(r, ref):
 
 def test_two_sessions_share_one_computation_and_one_detaches_bit_identically(sharing):
     a, b = runner(**SMALL), runner(**SMALL)
-    for _ in range(4):
+    for _ in range(2):
         a.tick()
         b.tick()
     comp = a.sim.computation
     assert comp is not None and comp is b.sim.computation and comp.followers == 2
     assert a.sim.orbits == b.sim.orbits > 0 and a.sim.frame() is b.sim.frame()  # the same chunk, drawn once
     chunks = comp.chunks
-    assert chunks <= 5  # one computation: not one per session
+    assert chunks <= 3  # one computation: not one per session
     assert a.sim.pace_s() == 0.0  # computed in this process: no pacing (only a worker computes ahead)
 
     # b pauses (the page's Pause settles the run), steps, changes nothing else and runs on alone
