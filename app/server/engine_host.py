@@ -8,8 +8,11 @@ loop take a core before the simulations do.
 from __future__ import annotations
 
 import os
+import threading
 
 from ringcore.engine import BlowUp, engine_class
+from ringcore.hydro import HydroBlowUp
+from ringcore.nbody import NBodyBlowUp
 
 
 def light(state):
@@ -23,6 +26,42 @@ def light_snapshot(engine):
     if engine.kind == "hydro":
         return engine.snapshot(records=False)
     return light(engine.snapshot())
+
+
+def blowup(fields: dict, message: str) -> BlowUp:
+    """A worker's blow-up (``exc.fields()``, ``str(exc)``) as the engine's own exception class (same message
+    and fields)."""
+    cls = next((c for c in (HydroBlowUp, NBodyBlowUp) if c.engine == fields.get("engine")), BlowUp)
+    exc = cls(fields["what"], fields["where_m"], fields["orbit"], fields["step"], fields["value"])
+    exc.args = (message,)
+    return exc
+
+
+class LightView:
+    """What the app shows of a run computed elsewhere: the newest light state, restored into a local engine
+    on the first read after it arrived (``engine()``), and its metadata (``meta``: counters, time)."""
+
+    def __init__(self, engine):
+        self._engine, self._light, self.meta = engine, None, None
+        self._lock = threading.Lock()
+
+    def show(self, state) -> None:
+        """Show the light ``state`` (restored on the next read)."""
+        with self._lock:
+            self._light, self.meta = state, state.meta
+
+    def reset(self, engine) -> None:
+        """Show the complete local ``engine`` itself."""
+        with self._lock:
+            self._engine, self._light, self.meta = engine, None, None
+
+    def engine(self):
+        """A local engine in exactly the shown state."""
+        with self._lock:
+            if self._light is not None:
+                self._engine = engine_class(self._light.kind).restore(self._light)
+                self._light = None
+            return self._engine
 
 
 WORKER_NICE = 5  # niceness of worker processes that hold live runs (RINGLAB_WORKER_NICE; 0 leaves them)

@@ -33,25 +33,15 @@ import os
 import threading
 import weakref
 
-from ringcore.engine import BlowUp, engine_class
-from ringcore.hydro import HydroBlowUp
-from ringcore.nbody import NBodyBlowUp
+from ringcore.engine import engine_class
 
-from ringlab.server.engine_host import EngineHost, light, light_snapshot  # noqa: F401  (the worker side; re-exported)
+from ringlab.server.engine_host import EngineHost, LightView, blowup, light, light_snapshot  # noqa: F401  (the worker side; re-exported)
 
 ENV_MODE = "RINGLAB_COMPUTE"
 ENV_SCHEDULER = "RINGLAB_DASK_SCHEDULER"
 ENV_WORKERS = "RINGLAB_WORKERS"
 MODES = ("auto", "threads", "processes", "dask")
 MIN_CHUNK_S = 0.1  # wall budget of a chunk on a worker at least [s]: amortises the ~10 ms round trip
-
-
-def _blowup(fields: dict, message: str) -> BlowUp:
-    """The worker's blow-up as the engine's own exception class (same message and fields)."""
-    cls = next((c for c in (HydroBlowUp, NBodyBlowUp) if c.engine == fields.get("engine")), BlowUp)
-    exc = cls(fields["what"], fields["where_m"], fields["orbit"], fields["step"], fields["value"])
-    exc.args = (message,)
-    return exc
 
 
 LOOPBACK = "127.0.0.1"  # the own LocalCluster listens here only (scheduler, workers, dashboard)
@@ -75,9 +65,7 @@ class RemoteSim:
 
     def __init__(self, engine, backend):
         self._local = engine  # complete engine, authoritative while no worker holds the run
-        self._view_engine = engine
-        self._light = None  # newest light state, restored into _view_engine on the next read
-        self._meta = None
+        self._shown = LightView(engine)  # the newest light state, restored on the next read
         self._actor = None
         self._worker = self._key = None
         self._fin = None
@@ -85,7 +73,6 @@ class RemoteSim:
         self._blowup_stash = None
         self._backend = backend
         self._callbacks = {}
-        self._lock = threading.Lock()
         self._frame = None  # the worker's frame of the shown state (hydro), None when not known
         self.kind = engine.kind
         # fixed for the whole run: read here, not from a local engine restored from the newest state
@@ -114,11 +101,7 @@ class RemoteSim:
     @property
     def view(self):
         """A local engine in exactly the kept state (its recorder series are not kept here)."""
-        with self._lock:
-            if self._light is not None:
-                self._view_engine = engine_class(self.kind).restore(self._light)
-                self._light = None
-            return self._view_engine
+        return self._shown.engine()
 
     def __getattr__(self, name):
         if name.startswith("_"):
@@ -127,12 +110,12 @@ class RemoteSim:
 
     @property
     def orbits(self) -> float:
-        m = self._meta
+        m = self._shown.meta
         return self.view.orbits if m is None else m["t"] / (2.0 * math.pi)
 
     @property
     def steps(self) -> int:
-        m = self._meta
+        m = self._shown.meta
         return self.view.steps if m is None else int(m["steps"])
 
     @property
@@ -207,7 +190,7 @@ class RemoteSim:
         for s in res["samples"]:
             for fn in list(self._callbacks.values()):
                 fn(self, s)
-        exc = _blowup(*res["blowup"]) if res["blowup"] is not None else None
+        exc = blowup(*res["blowup"]) if res["blowup"] is not None else None
         if stash and exc is not None:
             self._blowup_stash = exc
         return exc
@@ -237,8 +220,7 @@ class RemoteSim:
         self._local = engine_class(self.kind).restore(self._actor.snapshot().result())
         for fn in self._callbacks.values():
             self._local.on_sample(fn)
-        with self._lock:
-            self._view_engine, self._light, self._meta = self._local, None, None
+        self._shown.reset(self._local)
         self.release()
 
     def release(self) -> None:
@@ -258,8 +240,7 @@ class RemoteSim:
         self._local = None
 
     def _set_light(self, state) -> None:
-        with self._lock:
-            self._light, self._meta = state, state.meta
+        self._shown.show(state)
 
     def _change(self, name, *args) -> None:
         if self._actor is None:

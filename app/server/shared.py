@@ -35,12 +35,11 @@ import time
 from ringcore.engine import engine_class
 
 from ringlab.server.engine_host import EngineHost
-from ringlab.server.remote import RemoteSim
+from ringlab.server.remote import MIN_CHUNK_S, RemoteSim
 
 ENV_SHARE = "RINGLAB_SHARE_RUNS"
 JOIN_WINDOW_S = 180.0  # [s] wall time after its start during which a computation accepts new followers
 JOIN_MAX_BYTES = 256e6  # chunks kept from the start at most [bytes] (then no more joining)
-MIN_CHUNK_S = 0.1  # wall budget of a chunk on a worker at least [s] (as ringlab.server.remote)
 WAIT_S = 30.0  # longest wait for another session's chunk before checking again [s]
 AHEAD = 2  # chunks a worker computes ahead of the sessions following its run
 MAX_AHEAD_WALL_S = 0.5  # [s] longest of those chunks (a session leaving waits for them: Pause, a setting change)

@@ -16,12 +16,12 @@ goes through three stages:
 from __future__ import annotations
 
 import math
-import threading
 import time
 
 from ringcore.engine import engine_class
 
 from ringlab.server import compute, remote, shared
+from ringlab.server.engine_host import LightView, blowup
 
 
 class SharedSim:
@@ -37,12 +37,11 @@ class SharedSim:
         self._local = engine  # set up: authoritative until the first chunk
         self._comp = self._fid = None  # following
         self._own = None  # own copy (a Hydro1D, or a RemoteSim on a worker)
-        self._view_engine, self._light, self._meta, self._frame = engine, None, None, None
+        self._shown, self._frame = LightView(engine), None  # the newest light state, restored on the next read
         self._callbacks = {}
         self._blowup_stash = None
         self._last = None  # the newest chunk result shown
         self._taken_at = -1e9  # time.monotonic() of the last chunks taken
-        self._lock = threading.Lock()
         self.kind, self.options, self.params = engine.kind, engine.options, engine.params
         self.n = engine.n
 
@@ -70,11 +69,7 @@ class SharedSim:
         """A local engine in exactly the shown state."""
         if self._own is not None:
             return getattr(self._own, "view", self._own)
-        with self._lock:
-            if self._light is not None:
-                self._view_engine = engine_class(self.kind).restore(self._light)
-                self._light = None
-            return self._view_engine
+        return self._shown.engine()
 
     def __getattr__(self, name):
         if name.startswith("_"):
@@ -85,14 +80,14 @@ class SharedSim:
     def orbits(self) -> float:
         if self._own is not None:
             return self._own.orbits
-        m = self._meta
+        m = self._shown.meta
         return self.view.orbits if m is None else m["t"] / (2.0 * math.pi)
 
     @property
     def steps(self) -> int:
         if self._own is not None:
             return self._own.steps
-        m = self._meta
+        m = self._shown.meta
         return self.view.steps if m is None else int(m["steps"])
 
     @property
@@ -160,15 +155,14 @@ class SharedSim:
         """Show chunk results: light state, frame, samples to the callbacks; (orbits advanced, blow-up)."""
         advanced, exc = 0.0, None
         for res in results:
-            with self._lock:
-                self._light, self._meta = res["light"], res["light"].meta
+            self._shown.show(res["light"])
             self._frame, self._last = res["frame"], res
             advanced += res["advanced"]
             for s in res["samples"]:
                 for fn in list(self._callbacks.values()):
                     fn(self, s)
             if res["blowup"] is not None:
-                exc = remote._blowup(*res["blowup"])
+                exc = blowup(*res["blowup"])
         return advanced, exc
 
     def settle(self) -> None:

@@ -135,7 +135,7 @@ def test_a_blow_up_on_a_worker_reaches_the_runner_as_the_engines_exception():
     import pickle
     from ringcore.hydro import HydroBlowUp
     exc = HydroBlowUp("T", 12.5, 3.25, 812, float("nan"), detail="at the left edge")
-    back = remote._blowup(*pickle.loads(pickle.dumps((exc.fields(), str(exc)))))
+    back = remote.blowup(*pickle.loads(pickle.dumps((exc.fields(), str(exc)))))
     assert type(back) is HydroBlowUp and str(back) == str(exc)
     assert (back.what, back.where_m, back.orbit, back.step) == ("T", 12.5, 3.25, 812)
 
