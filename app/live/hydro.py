@@ -36,6 +36,7 @@ from ringlab.live.buffers import RollingImage, SeriesBuffer, SpaceTimeImage
 from ringlab.live.export import run_file_bytes
 from ringlab.live.loop import RATE_SAMPLES, LiveLoop
 from ringlab.live.revert import reset_status, revert, snapshot
+from ringlab.live.run import HydroRun
 from ringlab.model.hydro_settings import BUFFER_PARAMS, HydroSettings, SETUP_PARAMS
 from ringlab.model.linear import characteristic_numbers
 from ringlab.server import remote, shared
@@ -62,14 +63,46 @@ class HydroRunner(LiveLoop, HydroSettings):
 
     def __init__(self, **params):
         super().__init__(**params)
-        self.sim = None
+        self.live: HydroRun | None = None  # the run shown (replaced, never changed, by a setup change)
         self._callback = None
         self._rates = collections.deque(maxlen=RATE_SAMPLES)  # (wall, orbits, steps) at ticks
-        self.buffer_events = []  # (orbit, beta or None)
         self._reverting = False
-        self._valid_setup = snapshot(self, SETUP_PARAMS)  # settings of the last run built (Reset's fallback)
+        self._first_setup = snapshot(self, SETUP_PARAMS)  # Reset's fallback before any run was built
         self._valid_buffer = snapshot(self, BUFFER_PARAMS)
         self._rebuild()
+
+    # ------------------------------------------------------------------ the run shown
+    @property
+    def sim(self):
+        """The simulation of the run shown (None if the settings never allowed one)."""
+        return None if self.live is None else self.live.engine
+
+    @property
+    def series(self) -> SeriesBuffer:
+        """e_kin(t) and lambda_p(t) of the run shown."""
+        return self.live.series
+
+    @property
+    def numbers(self) -> dict:
+        """Characteristic numbers of the run shown."""
+        return self.live.numbers
+
+    @property
+    def strobe_image(self) -> SpaceTimeImage:
+        return self.live.strobe_image
+
+    @property
+    def orbit_image(self) -> RollingImage:
+        return self.live.orbit_image
+
+    @property
+    def buffer_events(self) -> list:
+        """(orbit, beta or None) of the run shown: buffer zones switched on, changed or off."""
+        return [] if self.live is None else self.live.buffer_events
+
+    @property
+    def _valid_setup(self) -> dict:
+        return self._first_setup if self.live is None else self.live.setup
 
     # ------------------------------------------------------------------ building
     @param.depends(*SETUP_PARAMS, watch=True)
@@ -95,24 +128,23 @@ class HydroRunner(LiveLoop, HydroSettings):
         if hasattr(old, "detach"):
             old.detach()  # the previous run may be kept (RunKeeper): bring it back, free a worker or a shared run
         sim = Hydro1D(p, opt, initial=self.initial, max_samples=MAX_RECORD_SAMPLES, max_rows=max_rows, **kw)
-        self.numbers = characteristic_numbers(self.settings())
-        self.strobe_image = SpaceTimeImage(sim.n, 1.0)
-        self.orbit_image = RollingImage(sim.n, 1.0 / opt.samples_per_orbit)  # last 25 orbits
-        self.series = SeriesBuffer(("e_kin", "lambda_p"))
+        model = "isothermal" if p.isothermal else "non-isothermal"
+        label = (f"{p.name}, {model}, σ₀ = {p.sigma0:g} kg/m², p_s = {p.p_s:.3g}, L_x = {opt.L_x:g} m, "
+                 f"h = {opt.h:g} m ({sim.n} cells), {self._initial_name()}")
+        self.live = HydroRun(engine=sim, series=SeriesBuffer(("e_kin", "lambda_p")),
+                             numbers=characteristic_numbers(self.settings()), label=label,
+                             setup=snapshot(self, SETUP_PARAMS), strobe_image=SpaceTimeImage(sim.n, 1.0),
+                             orbit_image=RollingImage(sim.n, 1.0 / opt.samples_per_orbit))  # last 25 orbits
         d = sim.diagnostics()  # the sample at t = 0 was recorded before the callback existed
         self._on_sample(sim, dict(orbit=d["orbit"], e_kin=d["e_kin"], lambda_p_m=d["lambda_p_m"], dt_orbits=0.0,
                                   strobe_row=sim.sigma_dimless.astype(np.float32) if opt.strobe else None))
         # identical runs of several sessions share one computation; chunks on Dask workers (RINGLAB_COMPUTE)
-        self.sim = sim = SharedSim(sim) if shared.enabled() else remote.wrap(sim)
+        self.live.engine = sim = SharedSim(sim) if shared.enabled() else remote.wrap(sim)
         sim.on_sample(self._on_sample)
         self.blowup = ""
-        self.buffer_events = []
         self._rates.clear()
-        self._valid_setup = snapshot(self, SETUP_PARAMS)
         self._apply_buffer()
-        model = "isothermal" if p.isothermal else "non-isothermal"
-        self.run_label = (f"{p.name}, {model}, σ₀ = {p.sigma0:g} kg/m², p_s = {p.p_s:.3g}, L_x = {opt.L_x:g} m, "
-                          f"h = {opt.h:g} m ({sim.n} cells), {self._initial_name()}")
+        self.run_label = label
         self.status = "Running." if self.running else "Ready: press Start."
         self.frame += 1
         return True
@@ -165,11 +197,11 @@ class HydroRunner(LiveLoop, HydroSettings):
         if want:
             lo, hi = self.buffer_bounds()
             sim.set_buffer(lo, hi, self.buffer_beta)
-            self.buffer_events.append((sim.orbits, self.buffer_beta))
+            self.live.buffer_events.append((sim.orbits, self.buffer_beta))
         elif sim.buffer_active:
             sim.clear_buffer()
-            self.buffer_events.append((sim.orbits, None))
-        del self.buffer_events[:-50]
+            self.live.buffer_events.append((sim.orbits, None))
+        del self.live.buffer_events[:-50]
 
     # ------------------------------------------------------------------ running
     def start(self, *_):
@@ -301,5 +333,5 @@ class HydroRunner(LiveLoop, HydroSettings):
             pn.state.log(f"hydro run of a closed session freed at orbit {self.sim.orbits:.2f}")
         if hasattr(self.sim, "release"):
             self.sim.release()  # a worker drops its copy; a shared computation loses a follower
-        self.sim = None
+        self.live = None
         self.status = "Closed."

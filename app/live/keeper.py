@@ -1,32 +1,29 @@
 """Keep the run a setup change replaced, restorable with one click.
 
 A live runner (:class:`ringlab.live.hydro.HydroRunner`, :class:`ringlab.live.nbody.NBodyRunner`)
-starts a new simulation at t = 0 whenever a setup control changes.  :class:`RunKeeper` takes
-a snapshot of the runner just before that happens (a param watcher of lower precedence
-than the runner's own ``@param.depends``) and keeps it if the runner really replaced its
-simulation and the old one had run.  :meth:`RunKeeper.restore` puts the settings back and
-re-attaches the old simulation with its plot buffers, so nothing is lost; the run it
-replaces is kept in turn (a second click swaps back).
+starts a new run at t = 0 whenever a setup control changes: it puts a new
+:class:`ringlab.live.run.LiveRun` in ``runner.live``.  :class:`RunKeeper` notes the run shown and
+the settings just before that happens (a param watcher of lower precedence than the runner's own
+``@param.depends``) and keeps them if the runner really replaced its run and the old one had run.
+:meth:`RunKeeper.restore` puts the settings back and the old run in its place, so nothing is
+lost; the run it replaces is kept in turn (a second click swaps back).
 
-The kept run is the old simulation object itself (the runner only replaces it, never mutates
-it after a rebuild).  :func:`ringlab.tabs.shared.restore_widgets` gives a tab the note and the button that show it.
+The kept run is one reference: a runner replaces its ``LiveRun``, never changes a replaced one.
+:func:`ringlab.tabs.shared.restore_widgets` gives a tab the note and the button that show it.
 """
 from __future__ import annotations
 
 import param
 
-_NOT_KEPT = ("_param__private", "_callback", "_rates", "compute_lock", "_inflight", "_closed", "_doc",
-             "_had_connection", "chunk_waits", "pause_at")  # param internals, the session's callback, compute loop state
-
 
 class RunKeeper(param.Parameterized):
-    """One kept previous run of ``runner`` (attribute ``sim_attr`` is its simulation)."""
+    """One kept previous run of ``runner`` (its ``live`` run and the settings it ran with)."""
 
     kept_label = param.String(default="", doc="Description of the kept run ('' if none).")
 
-    def __init__(self, runner, setup_params, settings_params, sim_attr: str = "sim", **params):
+    def __init__(self, runner, setup_params, settings_params, **params):
         super().__init__(**params)
-        self.runner, self.sim_attr = runner, sim_attr
+        self.runner = runner
         self.settings_params = tuple(settings_params)
         self._kept = None
         self._pending = None
@@ -34,9 +31,6 @@ class RunKeeper(param.Parameterized):
         # precedence -2: before the runner's own @param.depends watchers (precedence -1) rebuild
         runner.param._watch(self._before_change, list(setup_params), precedence=-2)
         runner.param.watch(self._after_change, list(setup_params), precedence=10)
-
-    def _sim(self):
-        return getattr(self.runner, self.sim_attr, None)
 
     def _before_change(self, *events):
         # watchers run after the assignment: the settings' old values come from the events
@@ -49,21 +43,21 @@ class RunKeeper(param.Parameterized):
         snap, self._pending = self._pending, None
         if self._restoring or snap is None:
             return
-        if self._sim() is not snap["attrs"].get(self.sim_attr) and snap["orbits"] > 0:
+        if self.runner.live is not snap["run"] and snap["orbits"] > 0:
             self._keep(snap)
 
     def snapshot(self) -> dict | None:
-        """The runner's simulation, buffers and settings (None if there is no simulation)."""
-        r, sim = self.runner, self._sim()
-        if sim is None:
+        """The run shown and the runner's settings (None if there is no run)."""
+        r = self.runner
+        live = r.live
+        if live is None:
             return None
-        attrs = {k: v for k, v in vars(r).items() if k not in _NOT_KEPT}
         values = {k: getattr(r, k) for k in self.settings_params}
-        return dict(attrs=attrs, values=values, orbits=float(sim.orbits), run_label=r.run_label, blowup=r.blowup)
+        return dict(run=live, values=values, orbits=live.orbits, blowup=r.blowup)
 
     def _keep(self, snap: dict) -> None:
         self._kept = snap
-        self.kept_label = f"{snap['run_label']}, at orbit {snap['orbits']:.2f}"
+        self.kept_label = f"{snap['run'].label}, at orbit {snap['orbits']:.2f}"
 
     def restore(self, *_) -> bool:
         """Go back to the kept run (its settings, state and plots); the current run is kept instead."""
@@ -79,9 +73,8 @@ class RunKeeper(param.Parameterized):
         finally:
             self._restoring = False
             self._pending = None
-        for k, v in snap["attrs"].items():
-            setattr(r, k, v)
-        updates = dict(run_label=snap["run_label"], blowup=snap["blowup"],
+        r.live = snap["run"]
+        updates = dict(run_label=snap["run"].label, blowup=snap["blowup"],
                        status=f"Restored the previous run at orbit {snap['orbits']:.2f}.")
         if "problems" in r.param:
             updates["problems"] = r.find_problems()

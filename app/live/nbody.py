@@ -31,6 +31,7 @@ from ringlab.live.buffers import SeriesBuffer
 from ringlab.live.export import run_file_bytes
 from ringlab.live.loop import RATE_SAMPLES, LiveLoop
 from ringlab.live.revert import reset_status, revert, snapshot
+from ringlab.live.run import NBodyRun
 from ringlab.model.controls import SIGMA0_MAX
 from ringlab.model.linear import characteristic_numbers
 from ringlab.ui.cite import publish
@@ -83,11 +84,36 @@ class NBodyRunner(LiveLoop, param.Parameterized):
 
     def __init__(self, **params):
         super().__init__(**params)
-        self.box = None
+        self.live: NBodyRun | None = None  # the run shown (replaced, never changed, by a setup change)
         self._callback = None
         self._rates = collections.deque(maxlen=RATE_SAMPLES)
-        self.thinned = False
         self._rebuild()
+
+    # ------------------------------------------------------------------ the run shown
+    @property
+    def box(self):
+        """The particle box of the run shown (None if the settings never allowed one)."""
+        return None if self.live is None else self.live.engine
+
+    @property
+    def series(self) -> SeriesBuffer:
+        """Box means of the run shown, one point per recorded sample."""
+        return self.live.series
+
+    @property
+    def numbers(self) -> dict:
+        """Characteristic numbers of the run shown (hydrodynamic parameters of its set)."""
+        return self.live.numbers
+
+    @property
+    def transport(self) -> dict:
+        """Viscosity and pressure of the run's last complete averaging window ({} before the first)."""
+        return {} if self.live is None else self.live.transport
+
+    @property
+    def thinned(self) -> bool:
+        """True once the box's bounded history dropped older samples."""
+        return self.live is not None and self.live.thinned
 
     # ------------------------------------------------------------------ building
     def ring_params(self):
@@ -122,19 +148,18 @@ class NBodyRunner(LiveLoop, param.Parameterized):
             self.status = "Settings not applied: see the message beside the controls."
             return False
         p = self.ring_params()
-        self.box = box = ShearingBox(p, self.options(), seed=self.seed)
-        self._valid_setup = snapshot(self, SETUP_PARAMS)  # Reset's fallback
-        self.numbers = characteristic_numbers((p.name, p.sigma0, p.isothermal, 1.0, p.p_s if p.isothermal else 1.0))
-        self.series = SeriesBuffer(("ekin", "c_mean", "collision_frequency", "lambda_p"))
+        box = ShearingBox(p, self.options(), seed=self.seed)
+        label = (f"{p.name}: τ = {p.tau:g}, Ω_z/Ω = {p.omega_z:g}, σ₀ = {p.sigma0:g} kg/m², "
+                 f"{box.N} particles of R_p = {box.options.R_p:g} m in {self.L_x:g} m × {self.L_y:g} m")
+        self.live = NBodyRun(engine=box, series=SeriesBuffer(("ekin", "c_mean", "collision_frequency", "lambda_p")),
+                             numbers=characteristic_numbers((p.name, p.sigma0, p.isothermal, 1.0,
+                                                             p.p_s if p.isothermal else 1.0)),
+                             label=label, setup=snapshot(self, SETUP_PARAMS))  # setup: Reset's fallback
         box.history_limit = MAX_HISTORY
         box.on_sample(self._on_sample)
-        self.transport = {}
-        self._window_start = 0.0
         self.blowup = ""
-        self.thinned = False
         self._rates.clear()
-        self.run_label = (f"{p.name}: τ = {p.tau:g}, Ω_z/Ω = {p.omega_z:g}, σ₀ = {p.sigma0:g} kg/m², "
-                          f"{box.N} particles of R_p = {box.options.R_p:g} m in {self.L_x:g} m × {self.L_y:g} m")
+        self.run_label = label
         self.status = "Running." if self.running else "Ready: press Start."
         self.frame += 1
         return True
@@ -144,10 +169,10 @@ class NBodyRunner(LiveLoop, param.Parameterized):
         built first and named in ``status`` (with ``field_notes`` about input fields the page put back)."""
         with self.compute_lock:  # [classroom]
             put_back = list(field_notes)
-            if self.find_problem() and getattr(self, "_valid_setup", None):
+            if self.find_problem() and self.live is not None:
                 self._reverting = True
                 try:
-                    put_back += revert(self, self._valid_setup)
+                    put_back += revert(self, self.live.setup)
                 finally:
                     self._reverting = False
             self._rebuild()
@@ -197,17 +222,18 @@ class NBodyRunner(LiveLoop, param.Parameterized):
             self.pause()
             self.status = "Blown up: paused at the last good state."
         self._rates.append((time.perf_counter(), box.orbits, box.steps))
-        self.thinned = box.history_thinned
+        self.live.thinned = box.history_thinned
         return box.orbits - o0
 
     def _on_sample(self, box, s: dict) -> None:
         """Called by the box after every recorded box mean: live series and transport windows."""
         self.series.add(s["orbit"], ekin=s["e_kin"], c_mean=s["c_mean"],
                         collision_frequency=s["collision_frequency"], lambda_p=s["lambda_p_m"])
-        if box.orbits - self._window_start >= TRANSPORT_WINDOW - 1e-9:
-            self.transport = box.transport()
+        live = self.live
+        if box.orbits - live.window_start >= TRANSPORT_WINDOW - 1e-9:
+            live.transport = box.transport()
             box.reset_accumulators()
-            self._window_start = box.orbits
+            live.window_start = box.orbits
 
     # ------------------------------------------------------------------ readouts
     def particles(self, max_n: int = MAX_PARTICLES):
@@ -253,5 +279,5 @@ class NBodyRunner(LiveLoop, param.Parameterized):
         self.pause()
         if self.box is not None and self.box.orbits > 0:  # one line per closed session unless N-body ran
             pn.state.log(f"N-body box of a closed session freed at orbit {self.box.orbits:.2f}")
-        self.box = None
+        self.live = None
         self.status = "Closed."

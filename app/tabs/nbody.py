@@ -90,7 +90,7 @@ class NBodyView(pn.viewable.Viewer):
             self.buttons[key].on_click(fn)
             self.buttons[key].param.update(width=120, sizing_mode="fixed")
         self.export = ExportPanel(r, "nbody")
-        self.keeper = RunKeeper(r, SETUP_PARAMS, SETUP_PARAMS, sim_attr="box")
+        self.keeper = RunKeeper(r, SETUP_PARAMS, SETUP_PARAMS)
         self.kept, self.restore_button = restore_widgets(self.keeper, "nbody", CSS)
         self._layout = self._build_layout()
         r.param.watch(self._on_frame, "frame")

@@ -43,15 +43,18 @@ class RegistryError(ImportError):
     """A subcommand or recipe module failed to import (never skipped silently)."""
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The full parser; a subcommand module that fails to import raises :class:`RegistryError`."""
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The parser of every subcommand, or with ``only`` of that one subcommand (the others' modules are not
+    imported: they import the engines, xarray, SciPy and Matplotlib, 4-5 s of start-up together, while one
+    command needs its own part of that).  A subcommand module that fails to import raises
+    :class:`RegistryError`."""
     parser = _Parser(prog="ringcore", description="Viscous overstability in dense planetary rings "
                      "(Lehmann, Schmidt & Salo 2017).")
     parser.add_argument("--version", action="version", version=f"ringcore {__version__}")
     parser.add_argument("--debug", action="store_true",
                         help="show the full traceback of an error (for developers; any position)")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=_Parser)
-    for name in SUBCOMMAND_MODULES:
+    for name in SUBCOMMAND_MODULES if only is None else (only,):
         modname = f"ringcore.cli.{name}_cmd"
         try:
             mod = importlib.import_module(modname)
@@ -59,6 +62,15 @@ def build_parser() -> argparse.ArgumentParser:
             raise RegistryError(f"command module {modname} failed to import: {type(exc).__name__}: {exc}") from exc
         mod.register(sub)
     return parser
+
+
+def command_named(argv: list) -> str | None:
+    """The subcommand ``argv`` names, or None (no command, or one that does not exist).  The top-level options
+    (``--version``, ``--debug``, ``-h``) take no values, so the first other argument is the command."""
+    for a in argv:
+        if not a.startswith("-"):
+            return a if a in SUBCOMMAND_MODULES else None
+    return None
 
 
 def _given_dests(parser: argparse.ArgumentParser, argv: list) -> set:
@@ -106,7 +118,11 @@ def main(argv=None) -> int:
 def _run(argv: list, debug: bool) -> int:
     command = "ringcore"
     try:
-        parser = build_parser()
+        if argv == ["--version"]:  # no command module needed
+            sys.stdout.write(f"ringcore {__version__}\n")
+            return 0
+        only = command_named(argv)  # the whole parser for the top-level help or a mistyped command
+        parser = build_parser(only)
         try:
             args = parser.parse_args(argv)
         except SystemExit as exc:  # argparse: --help/--version (0) or one-line usage error (2)
@@ -116,7 +132,7 @@ def _run(argv: list, debug: bool) -> int:
             return 2
         command = f"ringcore {args.command}"
         _STATE["command"] = args.command
-        args._given = _given_dests(build_parser(), argv)
+        args._given = _given_dests(build_parser(only), argv)
         args._argv = list(argv)  # the command line as given (provenance of output files)
         return int(args.func(args) or 0)
     except KeyboardInterrupt as exc:

@@ -285,6 +285,35 @@ def test_setup_change_keeps_the_previous_run_restorable():
     assert r.sim is old and old.orbits > t  # and it goes on
 
 
+def test_the_kept_run_is_one_unchanged_value_with_all_its_buffers():
+    """The keeper holds the replaced ``LiveRun`` itself: restoring puts back that object, with its engine,
+    series, images, buffer events, numbers and the settings Reset falls back to; the new run never wrote
+    into it."""
+    v = HydroView(runner=HydroRunner(**SMALL))
+    r = v.runner
+    r.start()
+    r.buffer_on = True  # a buffer event in the first run
+    for _ in range(3):
+        r.tick()
+    old = r.live
+    parts = dict(engine=old.engine, series=old.series, strobe=old.strobe_image, orbit=old.orbit_image,
+                 numbers=old.numbers, setup=dict(old.setup))
+    sizes = (old.series.size, len(old.buffer_events), old.orbit_image.version)
+    r.sigma0 = 250.0
+    r.buffer_on = False  # a buffer event in the new run only
+    r.tick()
+    assert r.live is not old and r.series is not parts["series"] and r.numbers is not parts["numbers"]
+    assert (old.series.size, len(old.buffer_events), old.orbit_image.version) == sizes  # untouched meanwhile
+    v.restore_button.clicks += 1
+    assert r.live is old and r.sim is parts["engine"] and r.series is parts["series"]
+    assert r.strobe_image is parts["strobe"] and r.orbit_image is parts["orbit"] and r.numbers is parts["numbers"]
+    assert r.buffer_events == old.buffer_events and len(r.buffer_events) == sizes[1] == 1
+    assert r.live.setup == parts["setup"] and r.live.setup["sigma0"] == SMALL.get("sigma0", 400.0)
+    r.h = 10.0  # invalid; Reset puts it back to the restored run's setting
+    r.reset()
+    assert r.h == parts["setup"]["h"]
+
+
 def test_group_titles_say_what_restarts():
     v = HydroView(runner=HydroRunner(**SMALL))
     html = " ".join(o.object for o in v._layout.select(pn.pane.HTML) if isinstance(o.object, str))
@@ -368,7 +397,7 @@ def test_served_frames_stream_the_series_and_skip_unchanged_images(monkeypatch):
     v = HydroView(runner=HydroRunner(**SMALL))
     r, p = v.runner, v.plots
     r.start()
-    r.series = SeriesBuffer(("e_kin", "lambda_p"), max_points=16)  # thins after 16 points
+    r.live.series = SeriesBuffer(("e_kin", "lambda_p"), max_points=16)  # thins after 16 points
     streamed, replaced = [], []
     p.series_source.on_change("data", lambda attr, old, new: replaced.append(1))
     from bokeh.models import ColumnDataSource

@@ -57,3 +57,17 @@ def test_bad_input_one_line_exit_2(args, word):
     assert r.returncode == 2
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and "Traceback" not in r.stderr and word in lines[0], r.stderr
+
+
+def test_one_command_imports_only_its_own_module():
+    """``ringcore linear`` starts without the engines, SciPy's signal tools and Matplotlib (the other
+    commands' imports: 4-5 s of start-up together on this machine)."""
+    code = ("import sys, contextlib, io\n"
+            "from ringcore.cli.main import main\n"
+            "with contextlib.redirect_stdout(io.StringIO()):\n"
+            "    rc = main(['linear', '--set', 'tau15'])\n"
+            "heavy = [m for m in ('ringcore.hydro', 'ringcore.nbody', 'matplotlib', 'ringcore.cli.sweep_cmd')"
+            " if m in sys.modules]\n"
+            "print(rc, heavy)\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+    assert out.stdout.strip() == "0 []", out.stdout + out.stderr

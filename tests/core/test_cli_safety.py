@@ -219,9 +219,11 @@ def test_registry_fails_loudly(monkeypatch, capsys):
             raise ImportError("No module named 'dask'")
         return real(name, *a, **k)
     monkeypatch.setattr("ringcore.cli.main.importlib.import_module", fake)
-    rc = main(["linear", "--sigma0", "0"])
-    err = capsys.readouterr().err
-    assert rc == 1 and "ringcore.cli.sweep_cmd" in err and "Traceback" not in err
+    for argv in (["sweep", "--help"], ["--help"], ["swep"]):  # the command itself, the overview, a typo
+        rc = main(argv)
+        err = capsys.readouterr().err
+        assert rc == 1 and "ringcore.cli.sweep_cmd" in err and "Traceback" not in err, argv
+    assert main(["linear", "--sigma0", "0"]) == 0  # another command does not import the broken module
     from ringcore.experiments import registry
 
     monkeypatch.setattr("ringcore.experiments.registry.importlib.import_module",
