@@ -26,6 +26,7 @@ and the workers share their cores between the sessions.
 """
 from __future__ import annotations
 
+import collections
 import os
 import threading
 import time
@@ -36,7 +37,8 @@ from ringlab.server import remote
 ENV_MAX = "RINGLAB_MAX_COMPUTE"
 LAG_TARGET_S = 0.05  # [s] event-loop delay of a finished chunk's callback the pacing of shared runs aims at
 MAX_SLOWDOWN = 10.0
-_LAG_S = 0.0  # smoothed delay [s] (see note_loop_lag)
+LAG_WINDOW_S = 3.0  # [s] the pacing follows the median delay of the callbacks in this last stretch of time
+_LAGS: collections.deque = collections.deque(maxlen=512)  # (time.monotonic(), delay [s]) of recent callbacks
 REMOTE_THREADS = 256  # waiting threads when the chunks compute on Dask workers
 
 
@@ -113,19 +115,24 @@ class ComputePool:
         self._executor.shutdown(wait=True, cancel_futures=True)
 
 
-def note_loop_lag(seconds: float) -> None:
-    """Record how long a finished chunk waited for the event loop [s] (smoothed over ~10 chunks)."""
-    global _LAG_S
-    _LAG_S = 0.9 * _LAG_S + 0.1 * max(0.0, float(seconds))
+def note_loop_lag(seconds: float, now: float | None = None) -> None:
+    """Record how long a finished chunk waited for the event loop [s] (at ``now``, time.monotonic())."""
+    _LAGS.append((time.monotonic() if now is None else now, max(0.0, float(seconds))))
 
 
-def loop_load() -> float:
-    """How busy the event loop is: the smoothed delay of chunk callbacks over :data:`LAG_TARGET_S`, 1 to
-    :data:`MAX_SLOWDOWN`.
+def loop_load(now: float | None = None) -> float:
+    """How busy the event loop is: the median delay of the chunk callbacks of the last :data:`LAG_WINDOW_S`
+    over :data:`LAG_TARGET_S`, 1 to :data:`MAX_SLOWDOWN` (1 without callbacks in that time).
 
     Sessions following a shared run take new chunks this many times less often, all alike: a busy
-    server slows every session's frames the same, and keeps room for clicks and sliders."""
-    return min(MAX_SLOWDOWN, max(1.0, _LAG_S / LAG_TARGET_S))
+    server slows every session's frames the same, and keeps room for clicks and sliders.  The median,
+    not a mean: one stall of the loop (a session rebuilding its run after a setting change, up to ~1 s)
+    delays every callback queued meanwhile, and a mean of those slowed every page for seconds after it."""
+    t = time.monotonic() if now is None else now
+    recent = sorted(lag for when, lag in tuple(_LAGS) if t - when <= LAG_WINDOW_S)
+    if not recent:
+        return 1.0
+    return min(MAX_SLOWDOWN, max(1.0, recent[len(recent) // 2] / LAG_TARGET_S))
 
 
 _POOL: ComputePool | None = None

@@ -426,3 +426,33 @@ def test_served_frames_stream_the_series_and_skip_unchanged_images(monkeypatch):
     r.pause()
     assert len(readouts) == n + 1 and f"{r.sim.orbits:.2f}" in v.readouts.object
     r.close()
+
+
+def test_a_frame_sends_the_psd_markers_only_when_lambda_p_moved_and_shares_the_slope_line(monkeypatch):
+    """Per-frame work of the app process: the PSD's markers are made again only when lambda_p or the run
+    changed; the linear-theory line of a series is computed once and is exactly the direct one."""
+    from ringlab.model.connect import slope_line
+    from ringlab.tabs.hydro import plots as plots_module
+
+    v = HydroView(runner=HydroRunner(**SMALL))
+    r, p = v.runner, v.plots
+    r.start()
+    for _ in range(3):
+        r.tick()
+    made = []
+    real = plots_module.wavelength_markers
+    monkeypatch.setattr(plots_module, "wavelength_markers", lambda *a: made.append(1) or real(*a))
+    p.update_lines(r)
+    p.update_lines(r)  # the same frame again: lambda_p unchanged
+    assert made == []
+    p._psd_marked = (p._psd_marked[0] * 2, p._psd_marked[1])  # as if lambda_p had moved
+    p.update_lines(r)
+    assert made == [1]
+    t, e = r.series.get("t"), np.array(r.series.get("e_kin"), float)
+    slope = p.mode["slope_per_orbit"]
+    first = plots_module._slope_line(t, e, slope)
+    assert plots_module._slope_line(t.copy(), e.copy(), slope) is first  # an equal series: remembered
+    assert first == slope_line(t, e, slope) and first["t"]
+    e2 = e.copy()
+    e2[-1] *= 1.5
+    assert plots_module._slope_line(t, e2, slope) == slope_line(t, e2, slope)  # another series: computed

@@ -143,15 +143,22 @@ def test_sharing_switch_from_the_environment(monkeypatch):
 
 def test_following_pages_slow_down_alike_while_the_event_loop_is_late(monkeypatch):
     from ringlab.server import compute
-    monkeypatch.setattr(compute, "_LAG_S", 0.0)
-    assert compute.loop_load() == 1.0
-    for _ in range(200):
-        compute.note_loop_lag(2.0)  # callbacks far later than the target
-    assert compute.loop_load() == compute.MAX_SLOWDOWN
-    assert shared.FOLLOW_PERIOD_S * compute.loop_load() >= shared.MAX_FOLLOW_PERIOD_S
-    for _ in range(30):
-        compute.note_loop_lag(0.0)
-    assert 1.0 < compute.loop_load() < compute.MAX_SLOWDOWN  # recovers gradually ...
-    for _ in range(200):
-        compute.note_loop_lag(0.0)
-    assert compute.loop_load() == 1.0  # ... to the full frame rate
+    monkeypatch.setattr(compute, "_LAGS", compute.collections.deque(maxlen=512))
+    assert compute.loop_load(now=0.0) == 1.0
+    for i in range(100):  # 40 callbacks/s, all far later than the target: the loop is overloaded
+        compute.note_loop_lag(2.0, now=i / 40)
+    assert compute.loop_load(now=2.5) == compute.MAX_SLOWDOWN
+    assert shared.FOLLOW_PERIOD_S * compute.loop_load(now=2.5) >= shared.MAX_FOLLOW_PERIOD_S
+    for i in range(100, 400):  # the loop keeps up again
+        compute.note_loop_lag(0.01, now=i / 40)
+    assert compute.loop_load(now=10.0) == 1.0  # full frame rate
+    for i in range(400, 420):  # one stall of half a second: the callbacks queued meanwhile are late ...
+        compute.note_loop_lag(0.5 - (i - 400) / 40, now=10.0 + (i - 400) / 40)
+    assert compute.loop_load(now=10.5) == 1.0
+    for i in range(420, 460):
+        compute.note_loop_lag(0.02, now=10.5 + (i - 420) / 40)
+    assert compute.loop_load(now=11.5) == 1.0  # ... but the pages do not slow down for it
+    for i in range(460, 600):  # late most of the time: 3 x the target
+        compute.note_loop_lag(3 * compute.LAG_TARGET_S, now=11.5 + (i - 460) / 40)
+    assert compute.loop_load(now=15.0) == pytest.approx(3.0)
+    assert compute.loop_load(now=100.0) == 1.0  # no callbacks at all for a while: nothing is late
