@@ -84,7 +84,7 @@ def create_app(args: dict | None = None) -> pn.Column:
     holder = {}
     lazy = LazyTabs([t for t, _ in TABS], [lambda f=f: _make(f, runs) for _, f in TABS],
                     first=TAB_KEYS.get(_query_value(args, "tab"), 0),
-                    on_built=lambda lazy, i, view: _built(holder.get("app"), lazy.tabs, view),
+                    on_built=lambda lazy, i, view: _built(holder.get("app"), lazy.tabs, i, view),
                     # beside the 340 px lessons panel from a 1000 px window on (a 1024 px projector keeps the
                     # question in view)
                     sizing_mode="stretch_width", stylesheets=TABS_CSS, styles={"flex": "1 1 620px", "min-width": "0"})
@@ -115,11 +115,15 @@ def create_app(args: dict | None = None) -> pn.Column:
     return app
 
 
-def _built(app, tabs, view) -> None:
-    """A tab was just built: [connect] the Linear tab's "Run this in ..." buttons show the other tabs, and
-    presentation mode (if on) applies to its figures too."""
+def _built(app, tabs, index: int, view) -> None:
+    """A tab was just built: [connect] the Linear tab's "Run this in ..." buttons show the other tabs, a live
+    tab draws its frames only while it is the tab shown, and presentation mode (if on) applies to its figures
+    too."""
     if "tabs" in getattr(view, "param", ()):
         view.tabs = tabs
+    if "shown" in getattr(view, "param", ()):
+        view.shown = tabs.active == index
+        tabs.param.watch(lambda e: setattr(view, "shown", e.new == index), "active")
     if app is not None and app.present.value:
         _present_view(view, True)
 

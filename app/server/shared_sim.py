@@ -24,6 +24,9 @@ from ringlab.server import compute, remote, shared
 from ringlab.server.engine_host import LightView, blowup
 
 
+STAGGER = 0.6180339887498949  # successive followers' phases within the period differ by this fraction of it
+
+
 class SharedSim:
     """A runner's engine that shares the computation of identical runs (see the module docstring).
 
@@ -124,13 +127,19 @@ class SharedSim:
             self._go_own()  # a Step or another end time: this run's own way from here
         if self._own is not None:
             return self._own.advance(orbits, until=until, max_wall_s=max_wall_s)
-        if self._comp is None:
+        first = self._comp is None
+        if first:
             backend = remote.backend() if remote.active() else None
             self._comp, self._fid = shared.follow(self._local.snapshot(), orbits, until, max_wall_s, backend)
             self._local = None
         period = self._period()
         advanced, exc = self._show(self._comp.take(self._fid, period))
         self._taken_at = time.monotonic()
+        if first and period is not None:
+            # the followers of one computation spread their takes over the period (golden-ratio phases) instead
+            # of all taking each chunk the moment it is ready: 30 frames in one burst held a slider change
+            # behind all of them
+            self._taken_at += period * ((self._fid * STAGGER) % 1.0)
         if exc is not None:
             raise exc
         return advanced

@@ -62,6 +62,8 @@ class NBodyView(pn.viewable.Viewer):
     runner = param.ClassSelector(class_=NBodyRunner)
     runs = param.Parameter(default=None, doc="The session's ringlab.live.session.SessionRuns (the runner is "
                                                  "registered there for the lessons).")
+    shown = param.Boolean(default=True, doc="False while the tab is hidden: no frames are drawn (nothing is sent "
+                                            "to the page); the newest state is drawn when it is shown again.")
 
     def __init__(self, **params):
         super().__init__(**params)
@@ -95,6 +97,7 @@ class NBodyView(pn.viewable.Viewer):
         self._layout = self._build_layout()
         r.param.watch(self._on_frame, "frame")
         r.param.watch(self._on_state, ["running", "status", "problem", "blowup"])
+        self.param.watch(lambda e: e.new and self._on_frame(force=True), "shown")
         self._on_frame()
         self._on_state()
         on_session_end(r.close)
@@ -192,13 +195,13 @@ class NBodyView(pn.viewable.Viewer):
         return f'<div class="key" id="nbody-key">Markers: {html}</div>'
 
     # ---------------------------------------------------------------- updating
-    def _on_frame(self, *_):
+    def _on_frame(self, *_, force: bool = False):
         r = self.runner
         box = r.box
-        if box is None:
+        if box is None or not self.shown:
             return
         now = time.perf_counter()
-        force = box is not self._shown_box or not r.running
+        force = force or box is not self._shown_box or not r.running
         lines = force or self.line_gate.ready(now)
         particles = force or self.particle_gate.ready(now)
         if not (lines or particles):

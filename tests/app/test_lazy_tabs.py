@@ -106,3 +106,30 @@ def test_every_preset_sets_up_its_tab_on_a_fresh_page(name):
         runner = t.peek(kind)
         if runner is not None and runner.running:
             runner.pause()
+
+
+@pytest.mark.parametrize("kind", ["hydro", "nbody"])
+def test_a_hidden_live_tab_draws_nothing_and_the_newest_state_when_shown(kind):
+    """Frames of a run whose tab is hidden are not drawn (nothing goes to the page); showing the tab draws
+    the state the run has reached."""
+    app = create_app({"tab": [kind.encode()]})
+    view = app.views[TAB_KEYS[kind]]
+    r = view.runner
+    source = view.plots.profile_source if kind == "hydro" else view.profile_source  # drawn every frame
+    assert view.shown
+    sent = []
+    source.on_change("data", lambda attr, old, new: sent.append(1))
+    r.start()
+    r.tick()
+    assert sent, "a shown tab draws its frames"
+    app.tabs.active = 0  # the Linear tab: the live tab is hidden, its run goes on
+    assert not view.shown
+    sent.clear()
+    for _ in range(3):
+        r.tick()
+    assert sent == []
+    app.tabs.active = TAB_KEYS[kind]
+    assert view.shown and sent
+    if kind == "hydro":  # the profiles drawn are those of the newest state
+        np.testing.assert_allclose(source.data["sigma"], r.sim.frame().sigma)
+    r.pause()

@@ -75,6 +75,8 @@ class HydroView(pn.viewable.Viewer):
 
     runner = param.ClassSelector(class_=HydroRunner)
     runs = param.Parameter(default=None, doc="The session's shared run log (ringlab.live.session.SessionRuns).")
+    shown = param.Boolean(default=True, doc="False while the tab is hidden: no frames are drawn (nothing is sent "
+                                            "to the page); the newest state is drawn when it is shown again.")
 
     def __init__(self, **params):
         super().__init__(**params)
@@ -113,6 +115,7 @@ class HydroView(pn.viewable.Viewer):
         r.param.watch(self._on_problems, ["problems", "blowup"])
         r.param.watch(self._on_running, ["running", "status", "blowup"])
         r.param.watch(self._on_mode, "spacetime")
+        self.param.watch(lambda e: e.new and self._on_frame(force=True), "shown")
         self._on_frame()
         self._on_problems()
         self._on_running()
@@ -228,12 +231,12 @@ class HydroView(pn.viewable.Viewer):
                               f"{', '.join(sorted(values))}.")
 
     # ---------------------------------------------------------------- updating
-    def _on_frame(self, *_):
+    def _on_frame(self, *_, force: bool = False):
         r = self.runner
-        if r.sim is None:
+        if r.sim is None or not self.shown:
             return
         now = time.perf_counter()
-        force = r.sim is not self._shown_sim or not r.running
+        force = force or r.sim is not self._shown_sim or not r.running
         lines = force or self.line_gate.ready(now)
         img = r.shown_image
         # an unchanged image is not sent again (it is the largest part of a frame: up to 500 x 500 float32)
