@@ -36,7 +36,7 @@ from ringlab.live.buffers import RollingImage, SeriesBuffer, SpaceTimeImage
 from ringlab.live.export import run_file_bytes
 from ringlab.live.loop import RATE_SAMPLES, LiveLoop
 from ringlab.live.revert import reset_status, revert, snapshot
-from ringlab.live.run import HydroRun
+from ringlab.live.run import HydroRun, part
 from ringlab.model.hydro_settings import BUFFER_PARAMS, HydroSettings, SETUP_PARAMS
 from ringlab.model.linear import characteristic_numbers
 from ringlab.server import remote, shared
@@ -72,33 +72,13 @@ class HydroRunner(LiveLoop, HydroSettings):
         self._rebuild()
 
     # ------------------------------------------------------------------ the run shown
-    @property
-    def sim(self):
-        """The simulation of the run shown (None if the settings never allowed one)."""
-        return None if self.live is None else self.live.engine
-
-    @property
-    def series(self) -> SeriesBuffer:
-        """e_kin(t) and lambda_p(t) of the run shown."""
-        return self.live.series
-
-    @property
-    def numbers(self) -> dict:
-        """Characteristic numbers of the run shown."""
-        return self.live.numbers
-
-    @property
-    def strobe_image(self) -> SpaceTimeImage:
-        return self.live.strobe_image
-
-    @property
-    def orbit_image(self) -> RollingImage:
-        return self.live.orbit_image
-
-    @property
-    def buffer_events(self) -> list:
-        """(orbit, beta or None) of the run shown: buffer zones switched on, changed or off."""
-        return [] if self.live is None else self.live.buffer_events
+    sim = part("engine", "The simulation of the run shown (None if the settings never allowed one).")
+    series = part("series", "e_kin(t) and lambda_p(t) of the run shown.")
+    numbers = part("numbers", "Characteristic numbers of the run shown.")
+    strobe_image = part("strobe_image", "The stroboscopic space-time image of the run shown.")
+    orbit_image = part("orbit_image", "The orbit-resolved space-time image of the run shown.")
+    buffer_events = part("buffer_events", "(orbit, beta or None) of the run shown: buffer zones switched on, "
+                                          "changed or off.", empty=())
 
     @property
     def _valid_setup(self) -> dict:

@@ -31,7 +31,7 @@ from ringlab.live.buffers import SeriesBuffer
 from ringlab.live.export import run_file_bytes
 from ringlab.live.loop import RATE_SAMPLES, LiveLoop
 from ringlab.live.revert import reset_status, revert, snapshot
-from ringlab.live.run import NBodyRun
+from ringlab.live.run import NO_TRANSPORT, NBodyRun, part
 from ringlab.model.controls import SIGMA0_MAX
 from ringlab.model.linear import characteristic_numbers
 from ringlab.ui.cite import publish
@@ -90,30 +90,12 @@ class NBodyRunner(LiveLoop, param.Parameterized):
         self._rebuild()
 
     # ------------------------------------------------------------------ the run shown
-    @property
-    def box(self):
-        """The particle box of the run shown (None if the settings never allowed one)."""
-        return None if self.live is None else self.live.engine
-
-    @property
-    def series(self) -> SeriesBuffer:
-        """Box means of the run shown, one point per recorded sample."""
-        return self.live.series
-
-    @property
-    def numbers(self) -> dict:
-        """Characteristic numbers of the run shown (hydrodynamic parameters of its set)."""
-        return self.live.numbers
-
-    @property
-    def transport(self) -> dict:
-        """Viscosity and pressure of the run's last complete averaging window ({} before the first)."""
-        return {} if self.live is None else self.live.transport
-
-    @property
-    def thinned(self) -> bool:
-        """True once the box's bounded history dropped older samples."""
-        return self.live is not None and self.live.thinned
+    box = part("engine", "The particle box of the run shown (None if the settings never allowed one).")
+    series = part("series", "Box means of the run shown, one point per recorded sample.")
+    numbers = part("numbers", "Characteristic numbers of the run shown (hydrodynamic parameters of its set).")
+    transport = part("transport", "Viscosity and pressure of the run's last complete averaging window (empty "
+                                  "before the first).", empty=NO_TRANSPORT)
+    thinned = part("thinned", "True once the box's bounded history dropped older samples.", empty=False)
 
     # ------------------------------------------------------------------ building
     def ring_params(self):

@@ -9,9 +9,22 @@ reference and restore it by putting it back, with nothing copied and nothing lef
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import Any
 
 from ringlab.live.buffers import RollingImage, SeriesBuffer, SpaceTimeImage
+
+
+NO_TRANSPORT = MappingProxyType({})  # what a runner without a run (or before a window closed) reads as transport
+
+
+def part(name: str, doc: str, empty=None) -> property:
+    """A runner's read-only attribute for ``runner.live.<name>``, the part of the run shown (``empty`` while
+    the runner has no run: its settings never allowed one, or it was closed)."""
+    def get(runner):
+        live = runner.live
+        return empty if live is None else getattr(live, name)
+    return property(get, doc=doc)
 
 
 @dataclass(eq=False)
