@@ -95,7 +95,11 @@ class NBodyRunner(LiveLoop, param.Parameterized):
     numbers = part("numbers", "Characteristic numbers of the run shown (hydrodynamic parameters of its set).")
     transport = part("transport", "Viscosity and pressure of the run's last complete averaging window (empty "
                                   "before the first).", empty=NO_TRANSPORT)
-    thinned = part("thinned", "True once the box's bounded history dropped older samples.", empty=False)
+
+    @property
+    def thinned(self) -> bool:
+        """True once the box's bounded history dropped older samples."""
+        return self.box is not None and self.box.history_thinned
 
     # ------------------------------------------------------------------ building
     def ring_params(self):
@@ -204,7 +208,6 @@ class NBodyRunner(LiveLoop, param.Parameterized):
             self.pause()
             self.status = "Blown up: paused at the last good state."
         self._rates.append((time.perf_counter(), box.orbits, box.steps))
-        self.live.thinned = box.history_thinned
         return box.orbits - o0
 
     def _on_sample(self, box, s: dict) -> None:

@@ -88,10 +88,7 @@ class NBodyRun(LiveRun):
         Viscosity and pressure of the last complete averaging window (``ShearingBox.transport()``).
     window_start : float
         Time [orbits] the current averaging window began.
-    thinned : bool
-        True once the box's bounded history dropped older samples.
     """
 
     transport: dict = field(default_factory=dict)
     window_start: float = 0.0
-    thinned: bool = False

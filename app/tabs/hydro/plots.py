@@ -111,8 +111,7 @@ class HydroPlots:
 
     def _psd_figure(self):
         self.psd_source = ColumnDataSource(dict(wavelength=[], power=[]), name="hydro-psd-source")
-        self.allowed_lp = None  # lambda_p the allowed-wavelength marks were drawn for
-        self._psd_marked = None  # (lambda_p, numbers) the PSD's markers were drawn for
+        self.allowed_lp = None  # lambda_p the allowed-wavelength marks and the PSD's markers were drawn for
         self._series_sent = None  # (series buffer, its stride, points) as last sent to the page
         self.psd_markers = ColumnDataSource(dict(x=[], color=[], dash=[], label=[]))
         fig = new_figure(publish("Power spectrum of σ, eq. (fourier)", html_out=False), "wavelength λ [m]", "PSD",
@@ -146,7 +145,6 @@ class HydroPlots:
             + f" λ = {m['wavelength_m']:.4g} m")  # short: the legend must fit a 390 px phone
         self.allowed_lp = None
         self._series_sent = None
-        self._psd_marked = None
         self.update_buffer(runner)
 
     def update_buffer(self, runner) -> None:
@@ -180,18 +178,14 @@ class HydroPlots:
             self.slope_source.data = dict(t=list(line["t"]), e_kin=list(line["e_kin"]))  # own lists per page
         self.psd_source.data = dict(wavelength=fr.psd_wavelength_m, power=np.maximum(fr.psd, f32(1e-12)))
         lp = fr.lambda_p_m
-        if lp != self.allowed_lp:
+        if lp != self.allowed_lp:  # lambda_p moves seldom: it takes one of the few wavelengths L_x/n the box holds
             self.allowed_lp = lp
             lam = s.get("lambda_p")
             marks = allowed_wavelengths(sim.options.L_x, lp, span=lam[t >= min(1.0, t[-1])] if t.size else ())
             data = dict(y=[w for _, w in marks], n=[k for k, _ in marks])
-            if data != self.allowed_source.data:  # lambda_p moves every frame, the marks seldom
+            if data != self.allowed_source.data:
                 self.allowed_source.data = data
-        marked = self._psd_marked
-        if marked is None or marked[0] != lp or marked[1] is not runner.numbers:  # lambda_p moves seldom: it
-            # takes one of the few wavelengths L_x/n the box holds
             self.psd_markers.data = wavelength_markers(runner.numbers, [(lp, LP_COLOR, "solid", "λ_p now")])
-            self._psd_marked = (lp, runner.numbers)
 
     def _send_series(self, s, t, e, stream: bool) -> None:
         """e_kin(t) and lambda_p(t) to the page: only the points added since the last frame (a stream of a
