@@ -18,7 +18,9 @@ server with ``RINGLAB_COMPUTE=processes`` (its own LocalCluster, one worker per 
 ``--dask`` starts a LocalCluster of 2 single-threaded worker processes here and points the
 server at it with ``RINGLAB_DASK_SCHEDULER``.  ``--shared``: every student opens the same lesson step
 (``/main?lesson=3&step=2``, the default box at sigma0 = 400) and presses its "Set up this step" (the page opens on the Linear tab; the
-preset builds the Hydrodynamics tab and starts the run).  ``--join-together``: all students open their
+preset builds the Hydrodynamics tab and starts the run); the server's lesson runs then never pause by
+themselves (``--classroom-length 0``, the default with ``--shared``), since the step's 400 orbits
+would end before the measurement.  ``--join-together``: all students open their
 page at the same moment (:mod:`ringlab.cli.loadtest_join`).  The class start link and ``--shared`` start
 identical runs, which the server computes once (:mod:`ringlab.server.shared`); ``--different`` gives
 each student its own sigma0 (nothing to share) and ``--no-share`` makes the server compute every run
@@ -41,14 +43,16 @@ import time
 import urllib.request
 
 import psutil
+from ringcore.checks import check_real
 from tornado.ioloop import IOLoop, PeriodicCallback
 
 from ringlab.cli.loadtest_clients import Prober, Student, connect, press, pump
 from ringlab.cli.loadtest_join import join_together, stop_all
+from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.paths import PACKAGE_DIR
 
 START_TIMEOUT_S = 300.0  # a loaded 2-core machine needs more than 2 minutes for `panel serve --warm`
-SHARED_STEP = (3, 2)  # --shared: lesson 3, step 2 (the default box at sigma0 = 400, started by "Set up this step"; 400 orbits)
+SHARED_STEP = (3, 2)  # --shared: lesson 3, step 2 (the default box at sigma0 = 400, started by "Set up this step")
 
 
 def free_port() -> int:
@@ -102,6 +106,9 @@ def run(args) -> dict:
     env = dict(os.environ)
     env["RINGLAB_COMPUTE"] = args.compute if not args.dask else "dask"
     env["RINGLAB_SHARE_RUNS"] = "0" if args.no_share else "1"
+    length = classroom_length(args)
+    if length is not None:
+        env[LENGTH_ENV] = repr(length)
     cluster = None
     if args.dask:
         from dask.distributed import LocalCluster  # deferred on purpose: only --dask starts a cluster here
@@ -161,14 +168,15 @@ def run(args) -> dict:
                    min_max_ratio=round(max(rates) / min(rates), 2) if min(rates) > 0 else None,
                    server_cores=round((cpu1 + wcpu1 - scpu0) / (t1 - marks["t0"]), 2),
                    server_rss_mb=round(rss, 0), control_latency_s=dict(
-                       median=round(statistics.median(lat), 3), max=round(max(lat), 3), n=len(probe.latencies)),
+                       median=round(statistics.median(lat), 3), max=round(max(lat), 3), n=len(probe.latencies),
+                       slowest=slowest_moves(probe, marks["t0"])),
                    server_main_thread_cores=round((main_thread_cpu(server.pid) - marks["main0"]) / (t1 - marks["t0"]), 2),
                    never_opened_tab_s=tab_probe.tab_latency_s,
                    client_cores=round((time.process_time() - marks["client0"]) / (t1 - marks["t0"]), 2),
                    acks=[st.acks for st in students], started=[st.started for st in students],
                    hooked=[len(st.hooked) for st in students], load_average=[round(x, 2) for x in os.getloadavg()],
                    setup_s=round(marks["t0"] - t_start, 1))
-        out.update(joined, shared=bool(args.shared), join_together=bool(args.join_together),
+        out.update(joined, shared=bool(args.shared), join_together=bool(args.join_together), classroom_length=length,
                    different=bool(args.different), share_runs=not args.no_share,
                    frames_per_s=[round(st.frame_rate(marks["t0"], t1), 2) for st in students],
                    app_process_cores_per_student=round(out["server_process_cores"] / max(1, len(students)), 3))
@@ -253,6 +261,22 @@ def open_students(args, url: str, loop, server_pid: int) -> tuple[list, list, li
     return students, sessions, threads, joined
 
 
+def classroom_length(args) -> float | None:
+    """The factor on the lessons' classroom lengths the server gets (None: its default).  ``--shared``
+    defaults to 0: the lesson step's run (400 orbits, about a minute at 30 students) would pause by
+    itself before the measurement starts."""
+    if args.classroom_length is not None:
+        return check_real("--classroom-length", args.classroom_length, 0.0, 1000.0)
+    return 0.0 if args.shared else None
+
+
+def slowest_moves(probe, t0: float, n: int = 3) -> list:
+    """The ``n`` slowest answered slider moves as [s after the measurement started, latency s]: when in
+    the run the page waited (a tab opened, a set-up, a burst of frames)."""
+    moves = sorted(zip(probe.latencies, probe.sent_at), reverse=True)[:n]
+    return [[round(t - t0, 1), round(lat, 3)] for lat, t in moves]
+
+
 def worker_procs(cluster) -> list:
     if cluster is None:
         return []
@@ -279,6 +303,9 @@ def add_parser(sub) -> None:
                     help="the server computes every session's run alone (RINGLAB_SHARE_RUNS=0), for an A/B")
     ap.add_argument("--join-together", action="store_true",
                     help="all students open their page at the same moment (reports pages_ready_s)")
+    ap.add_argument("--classroom-length", type=float, default=None, metavar="FACTOR",
+                    help="the server's factor on the lessons' classroom lengths (0-1000; default: 0 with --shared, "
+                         "so that the lesson step's run outlasts warm-up and measurement; else the server's default)")
     ap.add_argument("--json", action="store_true", help="print one JSON object (the default output)")
     ap.set_defaults(run=run_command)
 
@@ -294,5 +321,6 @@ def run_command(args) -> int:
         raise ValueError("--shared and --different are not valid together: allowed one of them")
     if not 1 <= args.num_procs <= 64:
         raise ValueError(f"--num-procs = {args.num_procs} is not valid: allowed 1 to 64")
+    classroom_length(args)  # checked before a server starts
     print(json.dumps(run(args)))
     return 0

@@ -149,6 +149,7 @@ class Prober:
                             and "text" in m.properties() and 'id="linear-readouts"' in html.unescape(m.text or ""))
         self.t_sent = None
         self.latencies = []
+        self.sent_at = []  # time.perf_counter() of each move, as latencies
         self.values = [300.0, 500.0]
 
     def move(self):
@@ -156,6 +157,7 @@ class Prober:
             return  # still waiting for the last one
         if self.t_sent is not None:
             self.latencies.append(10.0)  # lost (counted as 10 s)
+            self.sent_at.append(self.t_sent)
         v = self.values[len(self.latencies) % 2]
         self.t_sent = time.perf_counter()
         from bokeh.document.events import ModelChangedEvent
@@ -181,6 +183,7 @@ class Prober:
             if (ev.get("model") or {}).get("id") == self.readout.id and ev.get("attr") == "text":
                 if self.t_sent is not None:
                     self.latencies.append(time.perf_counter() - self.t_sent)
+                    self.sent_at.append(self.t_sent)
                     self.t_sent = None
 
 

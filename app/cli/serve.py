@@ -5,7 +5,7 @@ The server listens on the loopback address unless asked otherwise: ``--class`` (
 ``--address``) binds the network so that students' machines reach it, and then accepts pages from
 this machine's names and addresses (or the ``--allow-websocket-origin`` ones).  The compute options
 set the environment the app reads (``RINGLAB_COMPUTE``, ``RINGLAB_WORKERS``, ``RINGLAB_MAX_COMPUTE``,
-``RINGLAB_DASK_SCHEDULER``) before anything starts, so forked server processes (``--num-procs``)
+``RINGLAB_DASK_SCHEDULER``; ``--classroom-length`` sets ``RINGLAB_CLASSROOM_LENGTH``) before anything starts, so forked server processes (``--num-procs``)
 and their worker processes see the same.  The documentation site, when this install has one
 (:mod:`ringlab.lessons.tutorials`), is served at ``/docs``.
 """
@@ -16,8 +16,9 @@ import socket
 
 import panel as pn
 
-from ringcore.checks import check_int
+from ringcore.checks import check_int, check_real
 
+from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.lessons.tutorials import docs_dir, static_dirs
 from ringlab.main import TITLE, configure, create_app
 from ringlab.server.compute import ENV_MAX
@@ -51,6 +52,9 @@ def add_parser(sub) -> None:
                    help="the scheduler of an existing Dask cluster whose workers compute the runs")
     p.add_argument("--num-procs", type=int, default=1, help="app server processes (1-64; sessions stay in the "
                                                             "process that made them)")
+    p.add_argument("--classroom-length", type=float, default=None, metavar="FACTOR",
+                   help="a factor on the lessons' classroom lengths (runs a lesson starts pause by themselves "
+                        "after them; 0-1000, default 1; 0: never)")
     p.add_argument("--show", action="store_true", help="open the lab in this machine's browser")
     p.add_argument("--teacher-password", default=None, metavar="TEXT",
                    help=f"the key of the teacher's dashboard (/teacher?key=TEXT; at least {MIN_LENGTH} characters; "
@@ -59,7 +63,8 @@ def add_parser(sub) -> None:
 
 
 def compute_env(args) -> dict:
-    """The environment variables the compute options set (ValueError for an out-of-range option)."""
+    """The environment variables the compute options and ``--classroom-length`` set (ValueError for an
+    out-of-range option)."""
     env = {}
     if args.compute is not None:
         env[ENV_MODE] = args.compute
@@ -75,6 +80,8 @@ def compute_env(args) -> dict:
         env[ENV_SCHEDULER] = args.scheduler
     elif args.compute == "dask":
         raise ValueError("--compute = 'dask' needs --scheduler tcp://HOST:PORT (or use --compute processes)")
+    if getattr(args, "classroom_length", None) is not None:
+        env[LENGTH_ENV] = repr(check_real("--classroom-length", args.classroom_length, 0.0, 1000.0))
     return env
 
 

@@ -7,6 +7,7 @@ tab's settings, the hydro and N-body runners) and the main ``pn.Tabs``.
 """
 from __future__ import annotations
 
+import math
 import os
 import weakref
 
@@ -18,6 +19,8 @@ from ringlab.model.hydro_settings import SETUP_PARAMS as HYDRO_SETUP
 
 SCALE_ENV = "RINGLAB_LESSONS_SCALE"  # "classroom" (default) or "fast" (smaller boxes, for tests)
 SCALES = ("classroom", "fast")
+# a factor on every lesson's classroom length, e.g. 2 on a fast server, 0: lesson runs never pause by themselves
+LENGTH_ENV = "RINGLAB_CLASSROOM_LENGTH"
 
 
 def default_scale() -> str:
@@ -26,6 +29,22 @@ def default_scale() -> str:
     if s not in SCALES:
         raise ValueError(f"{SCALE_ENV} = {s!r} is not a preset scale: allowed {', '.join(SCALES)}")
     return s
+
+
+def length_factor() -> float:
+    """The factor on the lessons' classroom lengths from the environment variable RINGLAB_CLASSROOM_LENGTH
+    (default 1; 0: a run a lesson starts never pauses by itself; ValueError outside 0-1000)."""
+    text = os.environ.get(LENGTH_ENV, "").strip()
+    if not text:
+        return 1.0
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not 0.0 <= value <= 1000.0:
+        raise ValueError(f"{LENGTH_ENV} = {text!r} is not a classroom-length factor: allowed 0 to 1000 "
+                         "(1: the lessons' lengths, 0: lesson runs never pause by themselves)")
+    return value
 
 
 LESSON_KINDS = ("linear", "hydro", "nbody", "saturation")
@@ -109,7 +128,8 @@ def apply_preset(preset: Preset | str, targets: Targets, scale: str | None = Non
     Raises
     ------
     ValueError
-        For an unknown preset name or scale, or if the tab the preset needs is missing.
+        For an unknown preset name or scale, a bad RINGLAB_CLASSROOM_LENGTH, or if the tab the preset
+        needs is missing.
     """
     if isinstance(preset, str):
         if preset not in PRESETS:
@@ -118,6 +138,7 @@ def apply_preset(preset: Preset | str, targets: Targets, scale: str | None = Non
     scale = default_scale() if scale is None else scale
     if scale not in SCALES:
         raise ValueError(f"scale = {scale!r} is unknown: allowed {', '.join(SCALES)}")
+    factor = length_factor()  # a bad RINGLAB_CLASSROOM_LENGTH is refused before anything changes
     done = []
     lin = preset.values("linear", scale)
     if lin:
@@ -150,11 +171,12 @@ def apply_preset(preset: Preset | str, targets: Targets, scale: str | None = Non
         done.append(f"{kind} settings set" + (", run restarted at t = 0" if preset.fresh or restart else
                                                ", run continues"))
         if preset.start and preset.tab == kind:
-            length = preset.length(scale)
+            length = preset.length(scale) * factor
             if length > 0:
                 stop_after(runner, length)
                 done.append(f"{kind} run started for {length:g} orbits (it pauses itself; Start goes on)")
             else:
+                clear_stop(runner)  # an earlier step's length does not carry over
                 done.append(f"{kind} run started")
             runner.start()
     index = targets.tab_index
@@ -178,9 +200,7 @@ def stop_after(runner, orbits: float) -> float:
     i.e. inside the runner's own periodic callback).  Replaces an earlier target of the same runner;
     the target is dropped when reached, so Start afterwards runs on.  Returns the target orbit."""
     target = runner.sim.orbits + float(orbits)
-    old = _STOPS.pop(runner, None)
-    if old is not None:
-        runner.param.unwatch(old[0])
+    clear_stop(runner)
     runner.pause_at = target  # the chunks stop exactly there
 
     def check(*_):
@@ -198,6 +218,14 @@ def stop_after(runner, orbits: float) -> float:
 
     _STOPS[runner] = [runner.param.watch(check, "frame"), target]
     return target
+
+
+def clear_stop(runner) -> None:
+    """Drop ``runner``'s classroom-length target, if it has one (it then runs until paused)."""
+    old = _STOPS.pop(runner, None)
+    if old is not None:
+        runner.param.unwatch(old[0])
+        runner.pause_at = None
 
 
 def stop_target(runner) -> float | None:

@@ -11,6 +11,7 @@ for (t, y) series.  :func:`bin_columns` averages a profile down to the shown pix
 from __future__ import annotations
 
 import math
+import time
 
 import numpy as np
 
@@ -144,6 +145,7 @@ class SeriesBuffer:
         self.stride = 1
         self._skip = 0
         self.version = 0
+        self._writing = 0  # counts the starts and ends of changes (a sequence lock for columns)
 
     def add(self, t: float, **values) -> None:
         """Add one sample at time ``t`` (kept if it falls on the current stride)."""
@@ -151,6 +153,7 @@ class SeriesBuffer:
         if self._skip < self.stride:
             return
         self._skip = 0
+        self._writing += 1  # odd while arrays, size and stride change (see columns)
         if self.size == self.max_points:
             h = self.size // 2
             for a in self.arrays.values():
@@ -162,6 +165,23 @@ class SeriesBuffer:
             self.arrays[k][self.size] = values.get(k, math.nan)
         self.size += 1
         self.version += 1
+        self._writing += 1
+
+    def columns(self, names=None) -> tuple[dict, int]:
+        """({name: a copy of its stored values} for ``names`` (default ``"t"`` and all), stride): all of
+        one moment.  A run's chunk thread may add samples while the event loop draws them; the copies
+        are taken again if a sample was added (or the buffer thinned) meanwhile, so the columns always
+        have the same length and belong together."""
+        names = ("t",) + self.names if names is None else tuple(names)
+        for _ in range(1000):
+            before = self._writing
+            if before % 2 == 0:
+                size, stride = self.size, self.stride
+                out = {k: self.arrays[k][:size].copy() for k in names}
+                if self._writing == before:
+                    return out, stride
+            time.sleep(0)  # let the writing thread finish its sample
+        raise RuntimeError("SeriesBuffer.columns: the series kept changing while it was copied")
 
     def get(self, name: str) -> np.ndarray:
         """The stored values of ``name`` (or ``"t"``), a copy."""

@@ -28,8 +28,10 @@ from __future__ import annotations
 import contextlib
 import functools
 import math
+import os
 import threading
 import time
+import traceback
 
 import panel as pn
 from panel.io.state import set_curdoc
@@ -43,6 +45,13 @@ RATE_WINDOW_S = 5.0  # [s] wall time the orbits/s readout averages over (chunks 
 RATE_MIN_SPAN_S = 2.0  # [s] shorter spans (just started) give no rate yet
 RATE_SAMPLES = 400  # chunk records kept per runner (>= RATE_WINDOW_S / shortest chunk)
 WAITING = "Running; waiting for a free core (the server's compute slots are all busy)."
+
+
+def where(error: BaseException) -> str:
+    """`` at file:line in function`` of the innermost frames of ``error``'s traceback ('' without one): the
+    log line of a failed chunk says where it failed."""
+    frames = traceback.extract_tb(error.__traceback__)[-3:]
+    return "".join(f" at {os.path.basename(f.filename)}:{f.lineno} in {f.name}" for f in reversed(frames))
 
 
 def measured_rates(records, window_s: float = RATE_WINDOW_S, min_span_s: float = RATE_MIN_SPAN_S):
@@ -224,7 +233,7 @@ class LiveLoop:
             if error is not None:
                 self.running = False
                 self.status = f"Stopped: the computation failed ({type(error).__name__}: {error})."
-                pn.state.log(f"live run stopped by an error in a chunk: {error!r}")
+                pn.state.log(f"live run stopped by an error in a chunk: {error!r}{where(error)}")
             if then is not None:
                 then()
             self.frame += 1  # the views draw the new state (the final one after Pause)

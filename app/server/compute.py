@@ -39,6 +39,7 @@ LAG_TARGET_S = 0.05  # [s] event-loop delay of a finished chunk's callback the p
 MAX_SLOWDOWN = 10.0
 LAG_WINDOW_S = 3.0  # [s] the pacing follows the median delay of the callbacks in this last stretch of time
 _LAGS: collections.deque = collections.deque(maxlen=512)  # (time.monotonic(), delay [s]) of recent callbacks
+_LAGS_LOCK = threading.Lock()  # the event loop appends, the compute threads read
 REMOTE_THREADS = 256  # waiting threads when the chunks compute on Dask workers
 
 
@@ -117,7 +118,9 @@ class ComputePool:
 
 def note_loop_lag(seconds: float, now: float | None = None) -> None:
     """Record how long a finished chunk waited for the event loop [s] (at ``now``, time.monotonic())."""
-    _LAGS.append((time.monotonic() if now is None else now, max(0.0, float(seconds))))
+    entry = (time.monotonic() if now is None else now, max(0.0, float(seconds)))
+    with _LAGS_LOCK:
+        _LAGS.append(entry)
 
 
 def loop_load(now: float | None = None) -> float:
@@ -129,7 +132,9 @@ def loop_load(now: float | None = None) -> float:
     not a mean: one stall of the loop (a session rebuilding its run after a setting change, up to ~1 s)
     delays every callback queued meanwhile, and a mean of those slowed every page for seconds after it."""
     t = time.monotonic() if now is None else now
-    recent = sorted(lag for when, lag in tuple(_LAGS) if t - when <= LAG_WINDOW_S)
+    with _LAGS_LOCK:
+        lags = tuple(_LAGS)
+    recent = sorted(lag for when, lag in lags if t - when <= LAG_WINDOW_S)
     if not recent:
         return 1.0
     return min(MAX_SLOWDOWN, max(1.0, recent[len(recent) // 2] / LAG_TARGET_S))

@@ -37,6 +37,7 @@ import json
 import logging
 import weakref
 
+from ringlab.server import fast_patch
 from ringlab.server.fast_patch import patch_doc_message
 
 _INSTALLED: dict[str, bool] = {}
@@ -186,5 +187,7 @@ def install() -> dict:
     """Install the guards once per process; returns which are installed (name -> bool)."""
     if not _INSTALLED:
         _INSTALLED["panel_dispatch"] = _guard_panel_dispatch()
+        _INSTALLED["scheduled_writes"] = fast_patch.install_scheduled_writes()
+        _INSTALLED["fast_apply"] = fast_patch.install_fast_apply()
         _INSTALLED["bokeh_handler"] = _guard_bokeh_handler()
     return dict(_INSTALLED)

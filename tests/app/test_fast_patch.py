@@ -59,3 +59,81 @@ def test_messages_equal_bokehs_own():
         cached += doc.models in fast_patch._REFS
     assert compared >= 10 and cached == compared
     r.close()
+
+
+def test_scheduled_writes_make_the_same_message(monkeypatch):
+    """While a page's socket is busy, Panel schedules the frame's message (``schedule_write_events``);
+    the installed replacement makes it with the kept reference table, equal to Bokeh's."""
+    import panel.io.document as pdoc
+
+    assert fast_patch.install_scheduled_writes()
+    assert pdoc.schedule_write_events is not fast_patch.ORIGINAL["schedule_write_events"]
+    v = HydroView(runner=HydroRunner(L_x=500.0, h=2.5))
+    doc = Document()
+    doc.add_root(v.__panel__().get_root(doc))
+    doc.models.flush_synced()
+    events = []
+    doc.callbacks.on_change(lambda ev: events.append(ev))
+    r = v.runner
+    r.start()
+    r.sim.advance(until=r.sim.orbits + 0.5)
+    r.frame += 1
+    assert events
+
+    class Conn:
+        protocol = Protocol()
+
+    conn, dispatched = Conn(), []
+    monkeypatch.setattr(pdoc, "_dispatch_write_task", lambda d, fn, *a: dispatched.append((d, fn)))
+    try:
+        pdoc.schedule_write_events(doc, [conn], list(events))
+        [msg] = pdoc._WRITE_MSGS[doc][conn]
+        assert dispatched == [(doc, pdoc._dispatch_msgs)] and pdoc._WRITE_BLOCK[doc]
+        assert _normalised(msg) == _normalised(Conn.protocol.create("PATCH-DOC", list(events)))
+        assert doc.models in fast_patch._REFS  # made with the kept table
+    finally:
+        pdoc._WRITE_MSGS.pop(doc, None)
+        pdoc._WRITE_BLOCK.pop(doc, None)
+        r.close()
+
+
+def _page_patch(doc, model, attr, value):
+    """The PATCH-DOC content a page sends for ``model.attr = value`` (as BokehJS does: known models as
+    references, new ones in full)."""
+    from bokeh.core.serialization import Serializer
+    from bokeh.document.events import ModelChangedEvent
+
+    s = Serializer(references=list(doc.models))
+    content = s.encode([ModelChangedEvent(doc, model, attr, value)])
+    return {"events": content}
+
+
+def test_incoming_patches_apply_as_bokehs_own():
+    """The page's patches (acknowledgements, widget values) applied with the manager's reference table: the
+    same property values, the same change callbacks with the same setter, new models adopted and synced."""
+    from bokeh.models import Div, Title
+
+    assert fast_patch.install_fast_apply()
+    assert Document.apply_json_patch is fast_patch.apply_json_patch
+    original = fast_patch.ORIGINAL["apply_json_patch"]
+    assert fast_patch.source_sha256(original) == fast_patch.APPLY_SOURCE_SHA256
+    v = HydroView(runner=HydroRunner(L_x=500.0, h=2.5))
+    doc = Document()
+    doc.add_root(v.__panel__().get_root(doc))
+    doc.add_root(Div(text="a"))
+    doc.models.flush_synced()
+    fig = v.plots.spacetime_fig
+    seen = []
+    fig.on_change("tags", lambda attr, old, new: seen.append(new))
+    setter, events = object(), []
+    doc.callbacks.on_change(lambda ev: events.append(ev))
+    for apply, n in ((original, 1), (fast_patch.apply_json_patch, 2)):
+        events.clear()
+        apply(doc, _page_patch(doc, fig, "tags", [n]), setter=setter)
+        assert fig.tags == [n] and seen[-1] == [n]
+        assert [(type(e).__name__, e.attr, e.setter is setter) for e in events] == [("ModelChangedEvent", "tags", True)]
+        title = Title(text=f"t{n}")  # a model the document does not know yet comes in full
+        apply(doc, _page_patch(doc, fig, "title", title), setter=setter)
+        assert fig.title.text == f"t{n}" and fig.title.id in doc.models._models
+        assert fig.title not in doc.models._new_models  # the page has it: not sent back as new
+    v.runner.close()

@@ -3,6 +3,8 @@ frame costs the app process: the series streamed, unchanged images and PSD marke
 linear-theory line computed once per series (ringlab.tabs.hydro.plots)."""
 from __future__ import annotations
 
+import time
+
 import numpy as np
 
 from ringlab.live.buffers import SeriesBuffer
@@ -140,3 +142,34 @@ def test_a_frame_sends_the_psd_markers_only_when_lambda_p_moved_and_shares_the_s
     e2 = e.copy()
     e2[-1] *= 1.5
     assert plots_module._slope_line(t, e2, slope) == slope_line(t, e2, slope)  # another series: computed
+
+
+def test_series_columns_are_of_one_moment_while_a_thread_adds_samples():
+    """A run's chunk thread adds samples (and thins the buffer) while the event loop draws: every copy
+    ``columns`` gives has columns of one length that belong together (y = 2 t, z = 3 t exactly)."""
+    import threading
+
+    s = SeriesBuffer(("y", "z"), max_points=64)
+    stop = threading.Event()
+
+    def writer():
+        t = 0.0
+        while not stop.is_set():
+            t += 1.0
+            s.add(t, y=2.0 * t, z=3.0 * t)
+
+    th = threading.Thread(target=writer)
+    th.start()
+    try:
+        checked = 0
+        t_end = time.perf_counter() + 1.0
+        while time.perf_counter() < t_end:
+            cols, stride = s.columns()
+            assert cols["t"].size == cols["y"].size == cols["z"].size
+            assert np.array_equal(cols["y"], 2.0 * cols["t"]) and np.array_equal(cols["z"], 3.0 * cols["t"])
+            assert np.all(np.diff(cols["t"]) > 0) and stride >= 1
+            checked += 1
+    finally:
+        stop.set()
+        th.join()
+    assert checked > 100 and s.stride > 1  # the buffer was thinned meanwhile

@@ -16,7 +16,7 @@ import pytest
 from ringlab.lessons.glossary import TERMS, glossary_html
 from ringlab.lessons import LESSONS, PRESETS, cite, lesson
 from ringlab.lessons.checks import growth_fit, is_saturated, parse_number, run_check
-from ringlab.lessons.presets import Targets, apply_preset, stop_target
+from ringlab.lessons.presets import LENGTH_ENV, Targets, apply_preset, length_factor, stop_target
 from ringlab.lessons.refs import render
 from ringlab.lessons.view import LessonsPanel
 from ringlab.lessons.worksheets import stale, worksheet_html
@@ -318,3 +318,22 @@ def test_parse_number():
     assert parse_number("−0.5") == -0.5
     with pytest.raises(ValueError, match="not a number"):
         parse_number("abc")
+
+
+def test_the_classroom_length_factor_scales_every_lesson_run(panel_, monkeypatch):
+    """RINGLAB_CLASSROOM_LENGTH (ringlab serve --classroom-length) multiplies the lesson's length; 0: the
+    run never pauses by itself; anything else outside 0-1000 is refused, naming the variable."""
+    t = panel_.targets()
+    monkeypatch.setenv(LENGTH_ENV, "2.5")
+    apply_preset("hydro-nosg", t, FAST)
+    assert stop_target(t.hydro) == pytest.approx(t.hydro.sim.orbits + 250.0)
+    monkeypatch.setenv(LENGTH_ENV, "0")
+    apply_preset("hydro-nosg", t, FAST)
+    assert t.hydro.running and stop_target(t.hydro) is None and t.hydro.pause_at is None
+    t.hydro.pause()
+    for bad in ("-1", "abc", "1e9", "nan"):
+        monkeypatch.setenv(LENGTH_ENV, bad)
+        with pytest.raises(ValueError, match=LENGTH_ENV):
+            length_factor()
+    monkeypatch.delenv(LENGTH_ENV)
+    assert length_factor() == 1.0

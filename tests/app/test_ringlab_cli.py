@@ -13,7 +13,8 @@ from pathlib import Path
 
 import pytest
 
-from ringlab.cli import serve
+from ringlab.cli import loadtest, serve
+from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.cli.main import build_parser, main
 from ringlab.server.compute import ENV_MAX
 from ringlab.server.remote import ENV_MODE, ENV_SCHEDULER, ENV_WORKERS
@@ -46,12 +47,14 @@ def test_compute_options_set_the_environment_the_app_reads():
     assert plan("--compute", "threads", "--threads", "3")["env"] == {ENV_MODE: "threads", ENV_MAX: "3"}
     assert plan("--compute", "processes", "--workers", "4")["env"] == {ENV_MODE: "processes", ENV_WORKERS: "4"}
     assert plan("--scheduler", "tcp://host:8786")["env"] == {ENV_SCHEDULER: "tcp://host:8786"}
+    assert plan("--classroom-length", "0.5")["env"] == {LENGTH_ENV: "0.5"}
 
 
 @pytest.mark.parametrize("argv,word", [
     (["--port", "0"], "--port"), (["--port", "70000"], "--port"), (["--num-procs", "0"], "--num-procs"),
     (["--workers", "0"], "--workers"), (["--threads", "2000"], "--threads"), (["--compute", "dask"], "--scheduler"),
-    (["--scheduler", "host:8786"], "--scheduler"), (["--compute", "threads", "--scheduler", "tcp://h:1"], "--compute"),
+    (["--scheduler", "host:8786"], "--scheduler"), (["--classroom-length", "-1"], "--classroom-length"),
+    (["--classroom-length", "nan"], "--classroom-length"), (["--compute", "threads", "--scheduler", "tcp://h:1"], "--compute"),
 ])
 def test_bad_serve_options_one_line_exit_2(argv, word, capsys):
     assert main(["serve", *argv]) == 2
@@ -62,6 +65,17 @@ def test_bad_serve_options_one_line_exit_2(argv, word, capsys):
 def test_loadtest_refuses_bad_student_counts(capsys):
     assert main(["loadtest", "--students", "0"]) == 2
     assert "--students" in capsys.readouterr().err
+    assert main(["loadtest", "--classroom-length", "2000"]) == 2
+    assert "--classroom-length" in capsys.readouterr().err
+
+
+def test_loadtest_shared_lets_the_lesson_run_go_on():
+    """The lesson step's run would pause after 400 orbits, before the measurement: --shared serves with
+    classroom length 0 unless told otherwise."""
+    def length(*argv):
+        return loadtest.classroom_length(build_parser().parse_args(["loadtest", *argv]))
+
+    assert length("--shared") == 0.0 and length() is None and length("--shared", "--classroom-length", "3") == 3.0
 
 
 def test_ringlab_imports_from_any_folder_even_beside_a_users_app(tmp_path):

@@ -25,7 +25,7 @@ from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LINE_COLOR, LP_COLOR, MA
 
 SLOPE_COLOR = "#d84315"  # linear-theory growth of e_kin
 ALLOWED_COLOR = "#9e9e9e"  # wavelengths L_x/n the box can hold
-COLOR_SAMPLES = 40_000  # image values the colour scale's percentiles are taken from (an even stride through it)
+COLOR_SAMPLES = 10_000  # image values the colour scale's percentiles are taken from (an even stride through it)
 SLOPE_MEMO_SIZE = 16  # linear-theory lines remembered: the sessions following one shared run draw the same one
 _SLOPE_MEMO: dict = {}
 PROFILES = (  # key, y label, title
@@ -168,10 +168,11 @@ class HydroPlots:
         f32 = np.float32
         self.profile_source.data = dict(x=fr.x_m, sigma=fr.sigma, u=fr.u_mm_s, v=fr.v_mm_s, T=fr.T_mm2_s2)
         s = runner.series
-        e = np.array(s.get("e_kin"), float)  # [sigma0 (R_p Omega)^2]: the engine's e_kin (ringcore.units.E_KIN_UNIT)
+        cols, stride = s.columns(("t", "e_kin", "lambda_p"))  # of one moment: samples may arrive meanwhile
+        e = cols["e_kin"]  # [sigma0 (R_p Omega)^2]: the engine's e_kin (ringcore.units.E_KIN_UNIT)
         e[e <= 0] = np.nan
-        t = s.get("t")
-        self._send_series(s, t, e, stream)
+        t = cols["t"]
+        self._send_series(s, stride, cols, stream)
         follow_time(self.t_range, t)
         if self.mode is not None:
             line = _slope_line(t, e, self.mode["slope_per_orbit"])
@@ -180,28 +181,28 @@ class HydroPlots:
         lp = fr.lambda_p_m
         if lp != self.allowed_lp:  # lambda_p moves seldom: it takes one of the few wavelengths L_x/n the box holds
             self.allowed_lp = lp
-            lam = s.get("lambda_p")
+            lam = cols["lambda_p"]
             marks = allowed_wavelengths(sim.options.L_x, lp, span=lam[t >= min(1.0, t[-1])] if t.size else ())
             data = dict(y=[w for _, w in marks], n=[k for k, _ in marks])
             if data != self.allowed_source.data:
                 self.allowed_source.data = data
             self.psd_markers.data = wavelength_markers(runner.numbers, [(lp, LP_COLOR, "solid", "λ_p now")])
 
-    def _send_series(self, s, t, e, stream: bool) -> None:
+    def _send_series(self, s, stride: int, cols: dict, stream: bool) -> None:
         """e_kin(t) and lambda_p(t) to the page: only the points added since the last frame (a stream of a
         few points instead of up to 4000 per frame and column), the whole series after it was thinned or
         restarted."""
         f32 = np.float32
-        sent = self._series_sent
-        if stream and sent is not None and sent[0] is s and sent[1] == s.stride and sent[2] <= s.size:
+        t, e, lam = cols["t"], cols["e_kin"], cols["lambda_p"]
+        n, sent = t.size, self._series_sent
+        if stream and sent is not None and sent[0] is s and sent[1] == stride and sent[2] <= n:
             n0 = sent[2]
-            if s.size > n0:
+            if n > n0:
                 self.series_source.stream(dict(t=t[n0:].astype(f32), e_kin=e[n0:].astype(f32),
-                                               lambda_p=s.arrays["lambda_p"][n0:s.size].astype(f32)))
+                                               lambda_p=lam[n0:].astype(f32)))
         else:
-            self.series_source.data = dict(t=t.astype(f32), e_kin=e.astype(f32),
-                                           lambda_p=s.get("lambda_p").astype(f32))
-        self._series_sent = (s, s.stride, s.size)
+            self.series_source.data = dict(t=t.astype(f32), e_kin=e.astype(f32), lambda_p=lam.astype(f32))
+        self._series_sent = (s, stride, n)
 
     def update_image(self, runner) -> None:
         """The space-time diagram (stroboscopic or orbit-resolved, as set)."""
