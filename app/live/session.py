@@ -5,8 +5,9 @@ view registers its runner here, and the Saturation tab's "add my run" button sto
 run's (sigma0, lambda_p) as a point.  ``ringlab.main.create_app`` makes one per session and
 passes it to every tab factory that declares a ``runs`` parameter.  The tabs are built when first
 needed: :meth:`SessionRuns.tab` builds one by kind (a lesson preset, "Run this in ...").  Creating one also
-installs :mod:`ringlab.server.socket_guard` (a page that goes away mid-stream leaves no traceback) and
-:func:`show_app_log` (the app's own ``pn.state.log`` lines reach the server log).
+installs :mod:`ringlab.server.socket_guard` (a page that goes away mid-stream leaves no traceback),
+:mod:`ringlab.server.gc_policy` (garbage collection without pauses of seconds) and :func:`show_app_log`
+(the app's own ``pn.state.log`` lines reach the server log).
 """
 from __future__ import annotations
 
@@ -14,10 +15,12 @@ import logging
 import math
 import sys
 
+import panel as pn
 import param
 from panel.io.logging import panel_log_handler
+from tornado.ioloop import IOLoop
 
-from ringlab.server import remote, socket_guard
+from ringlab.server import gc_policy, remote, socket_guard
 
 MAX_POINTS = 200
 
@@ -64,6 +67,11 @@ class SessionRuns(param.Parameterized):
         socket_guard.install()  # once per server process (both idempotent)
         show_app_log()
         remote.warm()  # the worker processes start with the first page, not at the first Start
+        doc = pn.state.curdoc
+        if doc is not None and doc.session_context is not None:  # a served page (not a notebook or a test)
+            gc_policy.install(IOLoop.current())  # once per server process: no pauses of seconds with 30 pages
+            gc_policy.session_opened()
+            pn.state.on_session_destroyed(lambda ctx: gc_policy.session_closed())
 
     def register(self, kind: str, view, controller=None) -> None:
         """Register this session's tab ``view`` of ``kind`` and its controller (settings or runner)."""
