@@ -156,7 +156,7 @@ def _hydro_state(targets, min_orbits: float, need_saturated: bool = True):
     if t < min_orbits:
         return None, Result("wait", f"Your run has {t:.0f} orbits; this question needs at least {min_orbits:g} "
                                     "(let it run: press Start in the Hydrodynamics tab if it is paused).")
-    if need_saturated and not is_saturated(r.series.get("t"), r.series.get("e_kin")):
+    if need_saturated and not is_saturated(*r.series.columns(("t", "e_kin"))[0].values()):
         return None, Result("wait", f"e_kin is still growing at orbit {t:.0f}: wait until it is flat.")
     return r, None
 
@@ -168,7 +168,7 @@ def hydro_growth_rate(targets, answer, rel_tol: float = 0.3, unit: str = "", hin
     r, wait = _hydro_state(targets, 0.0)
     if wait:
         return wait
-    g = growth_fit(r.series.get("t"), r.series.get("e_kin"))
+    g = growth_fit(*r.series.columns(("t", "e_kin"))[0].values())  # t, e_kin of one moment
     if not math.isfinite(g):
         return Result("wait", "The linear phase of this run is too short to measure: press 'Set up this step' "
                               "for a fresh run.")
@@ -197,7 +197,7 @@ def hydro_lambda_p(targets, answer, rel_tol: float = 0.1, min_orbits: float = 60
         x = parse_number(answer, unit or "m")
     except AnswerError as exc:
         return Result("error", str(exc))
-    t, lam = r.series.get("t"), r.series.get("lambda_p")
+    t, lam = r.series.columns(("t", "lambda_p"))[0].values()
     recent = lam[t >= t[-1] - SETTLE_WINDOW]
     candidates = [r.sim.prevalent_wavelength(), r.saturated_lambda_p(), *recent.tolist()]
     candidates = [c for c in candidates if math.isfinite(c)]

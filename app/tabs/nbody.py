@@ -219,10 +219,11 @@ class NBodyView(pn.viewable.Viewer):
                 self.profile_source.data = dict(x=prof.x.astype(f32), sigma=prof.sigma.astype(f32),
                                                 u=(np.nan_to_num(prof.u) * 1e3).astype(f32))
                 s = r.series
-                self.series_source.data = dict(t=s.get("t").astype(f32), ekin=s.get("ekin").astype(f32),
-                                               c_mean=(s.get("c_mean") * 1e3).astype(f32),
-                                               collision_frequency=s.get("collision_frequency").astype(f32))
-                follow_time(self.t_range, s.get("t"))
+                cols, _ = s.columns(("t", "ekin", "c_mean", "collision_frequency"))  # of one moment
+                self.series_source.data = dict(t=cols["t"].astype(f32), ekin=cols["ekin"].astype(f32),
+                                               c_mean=(cols["c_mean"] * 1e3).astype(f32),
+                                               collision_frequency=cols["collision_frequency"].astype(f32))
+                follow_time(self.t_range, cols["t"])
                 self._update_psd(prof)
                 self.readouts.object = readout_cards(self._readout_rows(), "nbody-readouts")
                 self.line_gate.mark_sent(now)
