@@ -9,7 +9,7 @@ Mixed into a ``param.Parameterized`` runner that has the parameters ``running``,
 In a server session the chunks do not run on the Bokeh/Tornado event loop: each one is
 computed in the server's shared pool (:mod:`ringlab.server.compute`: a bounded number of worker
 threads, first in first out, so sessions take turns) while the runner holds
-``compute_lock``; the result reaches the document through ``doc.add_next_tick_callback``,
+``compute_lock``; the result reaches the document as a next-tick callback (:mod:`ringlab.server.handoff`),
 where the runner bumps ``frame`` (the views draw it, gated by the page's acknowledgements)
 and submits its next chunk.  Everything that reads or changes the simulation from the
 event loop either runs between chunks (frames) or takes ``compute_lock`` (setup changes,
@@ -38,7 +38,7 @@ from panel.io.state import set_curdoc
 
 from ringcore.checks import check_real
 
-from ringlab.server import compute, kernel, socket_guard
+from ringlab.server import compute, handoff, kernel, socket_guard
 
 PERIOD_MS = 100  # kept for callers; chunks are scheduled back to back now
 RATE_WINDOW_S = 5.0  # [s] wall time the orbits/s readout averages over (chunks arrive in bursts)
@@ -205,14 +205,15 @@ class LiveLoop:
         busy = pool.busy()
         fn = self.compute_chunk if work is None else functools.partial(self._run_locked, work)
         doc = self._doc
+        loop = handoff.running_loop()
 
-        def done(result, error, wait_s, compute_s):  # worker thread: only schedule
-            try:
-                doc.add_next_tick_callback(functools.partial(self._delivered, doc, then, error, wait_s,
-                                                             time.perf_counter()))
-            except Exception:  # the document is gone
-                self._inflight = False
-                self._closed = True
+        def gone():  # the document can take no more callbacks: its page has gone
+            self._inflight = False
+            self._closed = True
+
+        def done(result, error, wait_s, compute_s):  # worker thread: only hand over
+            handoff.hand_over(doc, functools.partial(self._delivered, doc, then, error, wait_s, time.perf_counter()),
+                              loop, gone)
 
         pool.submit(fn, done)
         if busy and self.running and not self.blowup and self.status in ("Running.", WAITING):

@@ -2,8 +2,8 @@
 
 :class:`WaveTrainJob` runs :func:`ringlab.model.wave_trains.compute_wave_train` (seconds of work) in the
 server's shared compute pool (:mod:`ringlab.server.compute`, the pool of the live runs), so the page stays
-responsive; progress and the result reach the session's document through
-``doc.add_next_tick_callback`` (Bokeh's rule for other threads).  Outside a server session (headless
+responsive; progress and the result reach the session's document as next-tick callbacks handed over
+through the event loop (:mod:`ringlab.server.handoff`).  Outside a server session (headless
 tests, a notebook) it computes inline.  One computation per session at a time.
 """
 from __future__ import annotations
@@ -15,7 +15,7 @@ import param
 from panel.io.state import set_curdoc
 
 from ringlab.model.wave_trains import check_wavelength, compute_wave_train
-from ringlab.server import compute
+from ringlab.server import compute, handoff
 
 
 class WaveTrainJob(param.Parameterized):
@@ -51,15 +51,16 @@ class WaveTrainJob(param.Parameterized):
         if pool.busy():
             self.status = "Waiting for a free core (the server's compute slots are busy) ..."
         last = [-1]
+        loop = handoff.running_loop()
 
         def progress(fraction, text):  # worker thread: only schedule, at most every 5 %
             pct = int(100 * fraction)
             if pct >= last[0] + 5 or fraction >= 1.0:
                 last[0] = pct
-                self._schedule(doc, functools.partial(self._set_progress, pct, text))
+                self._schedule(doc, loop, functools.partial(self._set_progress, pct, text))
 
         def done(result, error, wait_s, compute_s):  # worker thread
-            self._schedule(doc, functools.partial(self._finish, result, error))
+            self._schedule(doc, loop, functools.partial(self._finish, result, error))
 
         pool.submit(functools.partial(compute_wave_train, p, wavelength_m, progress=progress, **kw), done)
         return True
@@ -85,11 +86,8 @@ class WaveTrainJob(param.Parameterized):
         self.result = result
 
     @staticmethod
-    def _schedule(doc, fn) -> None:
+    def _schedule(doc, loop, fn) -> None:
         def run():
             with set_curdoc(doc):
                 fn()
-        try:
-            doc.add_next_tick_callback(run)
-        except Exception:  # the page has gone: nothing to show
-            pass
+        handoff.hand_over(doc, run, loop)  # a page that has gone: nothing to show

@@ -16,7 +16,7 @@ Rules (so that a class shares the cores fairly and the event loop stays free):
   budget, and the queue is first in, first out: sessions take turns (round robin) and none
   starves;
 * a chunk never touches the Bokeh document: its result is handed to the session's document
-  with ``doc.add_next_tick_callback`` (Bokeh's rule for other threads).
+  as a next-tick callback through the event loop (:func:`ringlab.server.handoff.hand_over`).
 
 With ``RINGLAB_COMPUTE=processes`` (a LocalCluster of one worker process per core, started by
 the app) or ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` (an existing Dask cluster) the chunks
@@ -81,7 +81,7 @@ class ComputePool:
     def submit(self, fn, done):
         """Run ``fn()`` in a worker; then call ``done(result, error, wait_s, compute_s)`` in that worker.
 
-        ``done`` must only schedule work on the event loop (``doc.add_next_tick_callback``).
+        ``done`` must only schedule work on the event loop (:func:`ringlab.server.handoff.hand_over`).
         """
         t_submit = time.perf_counter()
         with self._lock:

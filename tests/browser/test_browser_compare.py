@@ -65,6 +65,17 @@ ORBITS_JS = """
 """
 
 
+def wait_status(page, text: str, timeout_ms: int = 15_000) -> None:
+    """Wait for the status line to contain ``text``; on a timeout say what the page showed instead."""
+    try:
+        page.locator("#compare-status", has_text=text).wait_for(timeout=timeout_ms)
+    except Exception as exc:
+        shown = page.evaluate("() => document.querySelector('#compare-status')?.innerText")
+        log = (ARTIFACTS / "panel-serve-compare.log").read_text(errors="replace")[-2000:]
+        raise AssertionError(f"status {shown!r}, not {text!r}, after {timeout_ms} ms; orbits "
+                             f"{page.evaluate(ORBITS_JS)}; server log ends:\n{log}") from exc
+
+
 def orbit(page, k: str) -> float:
     text = page.locator(f"#compare-{k}-orbits .ro-value").inner_text().strip()
     return float(re.match(r"[\d.]+", text).group(0))
@@ -117,7 +128,7 @@ def test_two_live_runs_side_by_side(tmp_path):
                 page.screenshot(path=str(SHOTS / "compare-1280x720.png"))
                 phases["first_screenshot_s"] = time.perf_counter() - t0
                 page.locator(".compare-pause button").click()
-                page.locator("#compare-status", has_text="Paused: both runs at orbit").wait_for(timeout=15_000)
+                wait_status(page, "Paused: both runs at orbit")
                 page.wait_for_timeout(800)  # frames already queued are applied
                 a1, b1 = orbit(page, "a"), orbit(page, "b")
                 assert a1 == b1  # the run behind caught up with the common clock
@@ -131,12 +142,12 @@ def test_two_live_runs_side_by_side(tmp_path):
                 page.locator("#compare-differs", has_text="N-body").wait_for(timeout=30_000)
                 phases["preset_switched_s"] = time.perf_counter() - t0
                 page.locator(".compare-start button").click()
-                page.locator("#compare-status", has_text="Running").wait_for(timeout=15_000)
+                wait_status(page, "Running")
                 deadline = time.perf_counter() + 30
                 while time.perf_counter() < deadline and min(page.evaluate(ORBITS_JS).values()) < 1.1:
                     page.wait_for_timeout(250)
                 page.locator(".compare-pause button").click()
-                page.locator("#compare-status", has_text="Paused: both runs at orbit").wait_for(timeout=15_000)
+                wait_status(page, "Paused: both runs at orbit")
                 page.wait_for_timeout(800)
                 both = page.evaluate(ORBITS_JS)
                 assert both["a"] == both["b"] >= 1.1, both
