@@ -4,6 +4,8 @@ from __future__ import annotations
 import asyncio
 import threading
 
+import pytest
+
 from bokeh.document import Document
 
 from ringlab.server import handoff
@@ -82,3 +84,67 @@ def test_without_a_loop_or_a_server_session_the_document_is_called_directly():
     async def inside():
         return handoff.running_loop()
     assert asyncio.run(inside()) is not None
+
+
+class HeldDoc:
+    """A server document whose next-tick callbacks wait until the test runs them (Bokeh's queue)."""
+
+    def __init__(self):
+        self.session_context = type("Ctx", (), {"_session": type("S", (), {"destroyed": False})()})()
+        self.queue = []
+
+    def add_next_tick_callback(self, fn):
+        self.queue.append(fn)
+
+
+@pytest.fixture
+def empty_handoff():
+    handoff._WAITING.clear()
+    handoff._QUEUED.clear()
+    handoff._WATCHDOG.clear()
+    yield
+    handoff._WAITING.clear()
+    handoff._QUEUED.clear()
+
+
+def test_at_most_max_queued_callbacks_wait_in_bokehs_queue_the_rest_follow_in_order(empty_handoff):
+    ran = []
+
+    async def main():
+        loop = asyncio.get_running_loop()
+        docs = [HeldDoc() for _ in range(5)]
+        for i, d in enumerate(docs):
+            from_worker(lambda i=i, d=d: handoff.hand_over(d, lambda: ran.append(i), loop))
+        await asyncio.sleep(0.05)
+        queued = [len(d.queue) for d in docs]
+        assert sum(queued) == handoff.MAX_QUEUED and handoff.waiting() == 5 - handoff.MAX_QUEUED
+        while any(d.queue for d in docs):  # Bokeh runs what it was given; each run admits the next
+            for d in docs:
+                while d.queue:
+                    d.queue.pop(0)()
+            assert sum(len(d.queue) for d in docs) <= handoff.MAX_QUEUED
+        assert handoff.waiting() == 0
+    asyncio.run(main())
+    assert ran == [0, 1, 2, 3, 4]  # first in, first out
+
+
+def test_callbacks_of_a_destroyed_session_free_their_places(empty_handoff, monkeypatch):
+    monkeypatch.setattr(handoff, "WATCH_S", 0.05)
+    ran = []
+
+    async def main():
+        loop = asyncio.get_running_loop()
+        dead = [HeldDoc() for _ in range(handoff.MAX_QUEUED)]
+        for d in dead:
+            handoff.hand_over(d, lambda: ran.append("dead"), loop)
+        live = HeldDoc()
+        handoff.hand_over(live, lambda: ran.append("live"), loop)
+        await asyncio.sleep(0.02)
+        assert not live.queue  # the queue is full of the dead session's callbacks
+        for d in dead:
+            d.session_context._session.destroyed = True  # Bokeh discards them with the session
+        await asyncio.sleep(0.2)  # the watchdog looks again
+        assert len(live.queue) == 1
+        live.queue.pop()()
+    asyncio.run(main())
+    assert ran == ["live"]
