@@ -6,7 +6,8 @@ callbacks.  While the event loop holds the document (Panel holds it around every
 frame drawn in ``pn.io.hold()``), that event is appended to the document's list of held events *from the
 worker thread*, and the loop may copy and clear that list in the same instant (``pn.io.unlocked``): the
 event is dropped, the session never schedules the callback, and a live run waiting for its chunk's
-result stands still for good (seen under load as a Compare pair whose "Pause both" never settled).  Here
+result stands still for good (the likely cause of a Compare pair whose "Pause both" never settled in one
+CI run under load).  Here
 the worker thread only calls the loop's ``call_soon_threadsafe`` (asyncio's one thread-safe entry); the
 callback is added to the document on the loop's own thread, where no hold is released half-way.
 
