@@ -10,7 +10,7 @@ BIN     = $(VENV)/bin
 STAMP   = $(VENV)/.installed
 CHROMIUM ?= /usr/bin/chromium
 
-.PHONY: app test test-fast lint-imports install clean bench browser tutorials-html docs bench-record
+.PHONY: app test test-fast slow-list lint-imports install clean bench browser tutorials-html docs bench-record
 
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
@@ -64,8 +64,13 @@ test: $(STAMP) browser lint-imports
 	RINGLAB_DOCS_PID=$$docs_pid $(BIN)/python -m pytest tests/install; rc=$$?; \
 	wait $$docs_pid || { echo "make docs failed"; exit 1; }; exit $$rc
 
+# the developer's check: the core and app tiers without the `slow` tests (marked in their files, or listed in
+# tests/slow_tests.txt: 2 s or more each here; `make slow-list` re-measures and updates the list)
 test-fast: $(STAMP) lint-imports
 	$(BIN)/python -m pytest $(PYTEST_XDIST) -m "not slow" tests/core tests/app
+
+slow-list: $(STAMP)
+	$(BIN)/python tests/slow_list.py
 
 
 # the documentation site: Sphinx with warnings as errors (-W; broken cross-references fail, nitpicky), into

@@ -10,7 +10,8 @@ Tiers (folders; the marker is applied here, so ``-m core`` etc. select a tier):
 
 ``make test`` runs every tier on two pytest-xdist workers (``--dist loadgroup``: the browser tests share
 one group, so they run one after another in one worker: one app server and one Chromium at a time);
-``make test-fast`` runs the core and app tiers.
+``make test-fast`` runs the core and app tiers without the ``slow`` tests (marked in their files, or listed in
+``tests/slow_tests.txt``, which ``make slow-list`` regenerates).
 """
 import os
 from pathlib import Path
@@ -70,14 +71,17 @@ def pytest_report_header(config):
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items):
-    """Mark each test with its tier (its folder under tests/); browser tests share one xdist group.
+    """Mark each test with its tier (its folder under tests/) and the tests listed in tests/slow_tests.txt
+    ``slow``; browser tests share one xdist group.
 
     ``tryfirst``: xdist's worker plugin reads the ``xdist_group`` marks in its own hook of this name, so they are
     set before it runs.  xdist (3.8) groups by renaming ``item._nodeid``, which pytest 9 no longer reads (its
     ``nodeid`` comes from ``_id``): the test extra keeps pytest below 9, else the browser tests (module-scoped
     servers, one log file each) are spread over both workers."""
     import browser_support  # tests/browser_support.py (tests/ is on sys.path: this file's folder)
+    from slow_list import slow_set  # tests/slow_list.py: the tests listed in tests/slow_tests.txt
 
+    listed = slow_set()
     for item in items:
         try:
             tier = Path(item.fspath).resolve().relative_to(HERE).parts[0]
@@ -86,6 +90,8 @@ def pytest_collection_modifyitems(config, items):
         if tier not in TIERS:
             continue
         item.add_marker(getattr(pytest.mark, tier))
+        if item.nodeid.split("@")[0].split("[")[0] in listed:
+            item.add_marker(pytest.mark.slow)
         if tier == "browser":
             for mark in browser_support.pytestmark:
                 item.add_marker(mark)

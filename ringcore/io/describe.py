@@ -173,8 +173,11 @@ def format_info(info: dict) -> str:
     if info.get("e_kin_units"):
         lines.append(f"  e_kin       in {info['e_kin_units']}")
     prov = {k: v for k, v in info.get("provenance", {}).items() if v is not None}
+    if prov.get("ringcore_version"):  # in full on its own line: a development version is up to ~40 characters
+        lines.append(f"  version     ringcore {_short(prov['ringcore_version'], 100)}")
     lines.append("  provenance  " + (", ".join(f"{k}={_short(v, 24)}" for k, v in prov.items()
-                                               if k not in ("written_on", "command")) or "none recorded"))
+                                               if k not in ("written_on", "command", "ringcore_version"))
+                                     or "none recorded"))
     for k in ("command", "written_on"):
         if prov.get(k):
             lines.append(f"  {k:<11} {_short(prov[k], 100)}")
