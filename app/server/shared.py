@@ -94,8 +94,8 @@ class _LocalHost:
         self.host = EngineHost(state, renice=False)  # the app server's own threads keep their priority
         self.max_wall_s = max_wall_s
 
-    def next(self, orbits, until, wall_s=None):
-        return self.host.advance(orbits, until, self.max_wall_s)
+    def next(self, orbits, until, wall_s=None) -> list:
+        return [self.host.advance(orbits, until, self.max_wall_s)]
 
     def settle(self) -> list:
         return []
@@ -125,18 +125,21 @@ class _RemoteHost:
         self.max_wall_s = max(MIN_CHUNK_S, max_wall_s or MIN_CHUNK_S)
         self.pending = collections.deque()
 
-    def next(self, orbits, until, wall_s=None):
-        """The next chunk; queues the following ones, each of ``wall_s`` seconds (the followers' period
-        between takes: the worker stays busy however often they come)."""
+    def next(self, orbits, until, wall_s=None) -> list:
+        """The next chunk and every queued one already computed (in order); queues the following ones, each
+        of ``wall_s`` seconds (the followers' period between takes).  Taking all the finished ones keeps the
+        worker computing however seldom the pages take: the run's speed does not fall with the frame rate."""
         wall = max(self.max_wall_s, min(wall_s or 0.0, MAX_AHEAD_WALL_S))
         fut = self.pending.popleft() if self.pending else self.actor.advance(orbits, until, wall)
-        res = fut.result()
-        if res["blowup"] is not None or _reached(res, until):
+        out = [fut.result()]
+        while self.pending and self.pending[0].done() and not _last(out[-1], until):
+            out.append(self.pending.popleft().result())
+        if _last(out[-1], until):
             self.settle()  # nothing after the end (the queued chunks return without stepping)
         else:
             while len(self.pending) < AHEAD:
                 self.pending.append(self.actor.advance(orbits, until, wall))
-        return res
+        return out
 
     def settle(self) -> list:
         out = [f.result() for f in self.pending]
@@ -156,6 +159,11 @@ class _RemoteHost:
         showing ``last``, the newest chunk result."""
         b = self.backend
         return RemoteSim.adopt(lambda: b, self.actor, self.worker, self.key, last)
+
+
+def _last(res, until) -> bool:
+    """No chunk follows ``res``: the run blew up or reached its end time."""
+    return res["blowup"] is not None or _reached(res, until)
 
 
 def _reached(res, until) -> bool:
@@ -213,14 +221,14 @@ class Computation:
                     self.busy = True
                     break
                 self._cond.wait(WAIT_S)
-        res = None
+        results = None
         try:
-            res = self.host.next(self.orbits, self.until, wall_s)
+            results = self.host.next(self.orbits, self.until, wall_s)
         finally:
             with self._cond:
                 self.busy = False
-                if res is not None:
-                    self._append([res])
+                if results is not None:
+                    self._append(results)
                 self._cond.notify_all()
         return self.take(fid, wall_s)
 

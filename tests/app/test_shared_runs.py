@@ -162,3 +162,53 @@ def test_following_pages_slow_down_alike_while_the_event_loop_is_late(monkeypatc
         compute.note_loop_lag(3 * compute.LAG_TARGET_S, now=11.5 + (i - 460) / 40)
     assert compute.loop_load(now=15.0) == pytest.approx(3.0)
     assert compute.loop_load(now=100.0) == 1.0  # no callbacks at all for a while: nothing is late
+
+
+class _Future:
+    def __init__(self, res, done=True):
+        self.res, self._done = res, done
+
+    def done(self):
+        return self._done
+
+    def result(self):
+        return self.res
+
+
+class _Actor:
+    """A worker's engine host stand-in: chunk k reaches t = k orbits; ``ready`` chunks are finished at once."""
+
+    def __init__(self, ready):
+        self.k, self.ready = 0, ready
+
+    def advance(self, orbits, until, wall):
+        self.k += 1
+        light = type("Light", (), {"meta": {"t": 2.0 * np.pi * self.k}})()
+        return _Future(dict(light=light, blowup=None, k=self.k), done=self.k <= self.ready)
+
+
+class _Backend:
+    def __init__(self, actor):
+        self.actor = actor
+
+    def host(self, state):
+        return self.actor, "worker", "key"
+
+
+@pytest.mark.parametrize("ready, second", [(1, [2]), (2, [2]), (3, [2, 3]), (10, [2, 3])])
+def test_a_take_gets_every_chunk_the_worker_finished_so_it_never_idles(ready, second):
+    """The worker computes AHEAD chunks ahead; a take returns the awaited chunk and every queued one already
+    finished (in order, up to the first unfinished), then queues AHEAD more: however seldom the pages take,
+    the shared run is computed without pause (a take of one chunk left the worker idle between slow takes)."""
+    assert shared.AHEAD == 2
+    host = shared._RemoteHost(_Backend(_Actor(ready)), state=None, max_wall_s=0.1)
+    assert [r["k"] for r in host.next(1.0, None)] == [1]  # nothing queued yet; chunks 2 and 3 queued now
+    assert [r["k"] for r in host.next(1.0, None)] == second  # chunk 2, and 3 if it is finished
+    assert len(host.pending) == shared.AHEAD  # queued again: the worker has its next chunks
+
+
+def test_a_take_stops_at_the_end_time():
+    host = shared._RemoteHost(_Backend(_Actor(10)), state=None, max_wall_s=0.1)
+    assert [r["k"] for r in host.next(1.0, 2.0)] == [1]
+    assert [r["k"] for r in host.next(1.0, 2.0)] == [2]  # chunk 3 (after the end) is not taken ...
+    assert not host.pending  # ... and nothing is queued after the end
