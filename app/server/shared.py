@@ -271,7 +271,7 @@ class Computation:
             self.results.append(res)
             self.chunks += 1
             self.bytes += _size(res)
-            if res["blowup"] is not None or _reached(res, self.until):
+            if _last(res, self.until):
                 self.done = True
         if self.joinable and (self.bytes > JOIN_MAX_BYTES or time.monotonic() - self.started > JOIN_WINDOW_S):
             self.joinable = False
