@@ -94,8 +94,8 @@ class _LocalHost:
         self.host = EngineHost(state, renice=False)  # the app server's own threads keep their priority
         self.max_wall_s = max_wall_s
 
-    def next(self, orbits, until, wall_s=None) -> list:
-        return [self.host.advance(orbits, until, self.max_wall_s)]
+    def next(self, orbits, until, wall_s=None):
+        return self.host.advance(orbits, until, self.max_wall_s)
 
     def settle(self) -> list:
         return []
@@ -125,21 +125,18 @@ class _RemoteHost:
         self.max_wall_s = max(MIN_CHUNK_S, max_wall_s or MIN_CHUNK_S)
         self.pending = collections.deque()
 
-    def next(self, orbits, until, wall_s=None) -> list:
-        """The next chunk and every queued one already computed (in order); queues the following ones, each
-        of ``wall_s`` seconds (the followers' period between takes).  Taking all the finished ones keeps the
-        worker computing however seldom the pages take: the run's speed does not fall with the frame rate."""
+    def next(self, orbits, until, wall_s=None):
+        """The next chunk; queues the following ones, each of ``wall_s`` seconds (the followers' period
+        between takes: the worker stays busy however often they come)."""
         wall = max(self.max_wall_s, min(wall_s or 0.0, MAX_AHEAD_WALL_S))
         fut = self.pending.popleft() if self.pending else self.actor.advance(orbits, until, wall)
-        out = [fut.result()]
-        while self.pending and self.pending[0].done() and not _last(out[-1], until):
-            out.append(self.pending.popleft().result())
-        if _last(out[-1], until):
+        res = fut.result()
+        if res["blowup"] is not None or _reached(res, until):
             self.settle()  # nothing after the end (the queued chunks return without stepping)
         else:
             while len(self.pending) < AHEAD:
                 self.pending.append(self.actor.advance(orbits, until, wall))
-        return out
+        return res
 
     def settle(self) -> list:
         out = [f.result() for f in self.pending]
@@ -159,11 +156,6 @@ class _RemoteHost:
         showing ``last``, the newest chunk result."""
         b = self.backend
         return RemoteSim.adopt(lambda: b, self.actor, self.worker, self.key, last)
-
-
-def _last(res, until) -> bool:
-    """No chunk follows ``res``: the run blew up or reached its end time."""
-    return res["blowup"] is not None or _reached(res, until)
 
 
 def _reached(res, until) -> bool:
@@ -221,14 +213,14 @@ class Computation:
                     self.busy = True
                     break
                 self._cond.wait(WAIT_S)
-        results = None
+        res = None
         try:
-            results = self.host.next(self.orbits, self.until, wall_s)
+            res = self.host.next(self.orbits, self.until, wall_s)
         finally:
             with self._cond:
                 self.busy = False
-                if results is not None:
-                    self._append(results)
+                if res is not None:
+                    self._append([res])
                 self._cond.notify_all()
         return self.take(fid, wall_s)
 
@@ -271,7 +263,7 @@ class Computation:
             self.results.append(res)
             self.chunks += 1
             self.bytes += _size(res)
-            if _last(res, self.until):
+            if res["blowup"] is not None or _reached(res, self.until):
                 self.done = True
         if self.joinable and (self.bytes > JOIN_MAX_BYTES or time.monotonic() - self.started > JOIN_WINDOW_S):
             self.joinable = False
