@@ -101,6 +101,7 @@ class EngineHost:
         self.sim = engine_class(state.kind).restore(state)
         self.samples = []
         self.handle = self.sim.on_sample(self._on_sample)
+        self.chunk_no = 0  # chunks computed: calls queued back to back may reach the worker in any order
 
     def _on_sample(self, sim, sample):
         s = dict(sample)
@@ -109,8 +110,11 @@ class EngineHost:
         self.samples.append(s)
 
     def advance(self, orbits=None, until=None, max_wall_s=None) -> dict:
-        """One chunk: ``dict(advanced, light, samples, blowup)``; a blow-up keeps the last good state."""
+        """One chunk: ``dict(advanced, light, samples, blowup, frame, seq)``; a blow-up keeps the last good
+        state.  ``seq`` numbers the chunks 1, 2, ... in the order computed: each actor call travels on its own
+        connection, so two calls queued back to back may run in either order, and the caller reorders."""
         self.samples = []
+        self.chunk_no += 1
         advanced, blowup = 0.0, None
         try:
             advanced = self.sim.advance(orbits, until=until, max_wall_s=max_wall_s)
@@ -119,7 +123,7 @@ class EngineHost:
         # the drawn quantities of a hydro run go with the state: the app draws them without rebuilding the engine
         frame = self.sim.frame() if self.sim.kind == "hydro" else None
         return dict(advanced=advanced, light=light_snapshot(self.sim), samples=self.samples, blowup=blowup,
-                    frame=frame)
+                    frame=frame, seq=self.chunk_no)
 
     def call(self, name: str, *args):
         """Apply a state change (``set_buffer``, ``clear_buffer``); returns the new light state."""

@@ -94,8 +94,8 @@ class _LocalHost:
         self.host = EngineHost(state, renice=False)  # the app server's own threads keep their priority
         self.max_wall_s = max_wall_s
 
-    def next(self, orbits, until, wall_s=None):
-        return self.host.advance(orbits, until, self.max_wall_s)
+    def next(self, orbits, until, wall_s=None) -> list:
+        return [self.host.advance(orbits, until, self.max_wall_s)]
 
     def settle(self) -> list:
         return []
@@ -115,7 +115,12 @@ class _LocalHost:
 
 class _RemoteHost:
     """The shared engine as an :class:`EngineHost` actor on a Dask worker; the next :data:`AHEAD` chunks are
-    computed ahead (queued on the actor, which runs them in order) while the sessions draw this one."""
+    computed ahead (queued on the actor) while the sessions draw this one.
+
+    The worker runs an actor's calls one at a time, but each call travels on its own connection, so
+    two calls queued back to back may run in either order: the futures can hold each other's chunks.
+    Every chunk carries its number (``seq``), and the chunks are handed on in that order.
+    """
 
     remote = True
 
@@ -123,24 +128,51 @@ class _RemoteHost:
         self.backend = backend
         self.actor, self.worker, self.key = backend.host(state)
         self.max_wall_s = max(MIN_CHUNK_S, max_wall_s or MIN_CHUNK_S)
-        self.pending = collections.deque()
+        self.pending = collections.deque()  # queued calls, in the order sent
+        self.arrived = {}  # seq -> chunk result taken from a future but not yet handed on
+        self.expect = 1  # seq of the next chunk to hand on
 
-    def next(self, orbits, until, wall_s=None):
-        """The next chunk; queues the following ones, each of ``wall_s`` seconds (the followers' period
-        between takes: the worker stays busy however often they come)."""
+    def next(self, orbits, until, wall_s=None) -> list:
+        """The next chunk and every following one already computed (in order); queues the following ones,
+        each of ``wall_s`` seconds (the followers' period between takes).  Taking all the finished ones keeps
+        the worker computing however seldom the pages take: the run's speed does not fall with the frame rate."""
         wall = max(self.max_wall_s, min(wall_s or 0.0, MAX_AHEAD_WALL_S))
-        fut = self.pending.popleft() if self.pending else self.actor.advance(orbits, until, wall)
-        res = fut.result()
-        if res["blowup"] is not None or _reached(res, until):
+        if not self.pending and self.expect not in self.arrived:
+            self.pending.append(self.actor.advance(orbits, until, wall))
+        out = [self._ordered(wait=True)]
+        while not _last(out[-1], until):
+            res = self._ordered(wait=False)
+            if res is None:
+                break
+            out.append(res)
+        if _last(out[-1], until):
             self.settle()  # nothing after the end (the queued chunks return without stepping)
         else:
-            while len(self.pending) < AHEAD:
+            while len(self.pending) + len(self.arrived) < AHEAD:
                 self.pending.append(self.actor.advance(orbits, until, wall))
-        return res
+        return out
+
+    def _ordered(self, wait: bool):
+        """The chunk numbered :attr:`expect` (waiting for it with ``wait``; else None if not yet computed).
+
+        Chunks run one at a time, so the futures sent before one holding a later chunk are finished or
+        hold the awaited one."""
+        while self.expect not in self.arrived:
+            if not self.pending or not (wait or self.pending[0].done()):
+                return None
+            res = self.pending.popleft().result()
+            self.arrived[res["seq"]] = res
+        self.expect += 1
+        return self.arrived.pop(self.expect - 1)
 
     def settle(self) -> list:
-        out = [f.result() for f in self.pending]
+        """Every queued chunk, in order (the queue empty afterwards)."""
+        for fut in self.pending:
+            res = fut.result()
+            self.arrived[res["seq"]] = res
         self.pending.clear()
+        out = [self.arrived.pop(k) for k in sorted(self.arrived)]
+        self.expect += len(out)
         return out
 
     def snapshot(self):
@@ -156,6 +188,11 @@ class _RemoteHost:
         showing ``last``, the newest chunk result."""
         b = self.backend
         return RemoteSim.adopt(lambda: b, self.actor, self.worker, self.key, last)
+
+
+def _last(res, until) -> bool:
+    """No chunk follows ``res``: the run blew up or reached its end time."""
+    return res["blowup"] is not None or _reached(res, until)
 
 
 def _reached(res, until) -> bool:
@@ -213,14 +250,14 @@ class Computation:
                     self.busy = True
                     break
                 self._cond.wait(WAIT_S)
-        res = None
+        results = None
         try:
-            res = self.host.next(self.orbits, self.until, wall_s)
+            results = self.host.next(self.orbits, self.until, wall_s)
         finally:
             with self._cond:
                 self.busy = False
-                if res is not None:
-                    self._append([res])
+                if results is not None:
+                    self._append(results)
                 self._cond.notify_all()
         return self.take(fid, wall_s)
 
@@ -263,7 +300,7 @@ class Computation:
             self.results.append(res)
             self.chunks += 1
             self.bytes += _size(res)
-            if res["blowup"] is not None or _reached(res, self.until):
+            if _last(res, self.until):
                 self.done = True
         if self.joinable and (self.bytes > JOIN_MAX_BYTES or time.monotonic() - self.started > JOIN_WINDOW_S):
             self.joinable = False

@@ -162,3 +162,83 @@ def test_following_pages_slow_down_alike_while_the_event_loop_is_late(monkeypatc
         compute.note_loop_lag(3 * compute.LAG_TARGET_S, now=11.5 + (i - 460) / 40)
     assert compute.loop_load(now=15.0) == pytest.approx(3.0)
     assert compute.loop_load(now=100.0) == 1.0  # no callbacks at all for a while: nothing is late
+
+
+class _Future:
+    def __init__(self, actor, k):
+        self.actor, self.k = actor, k
+
+    def done(self):
+        return self.k <= self.actor.ready
+
+    def result(self):
+        seq = self.actor.order[self.k - 1]  # the chunk this call computed: calls may run out of order
+        light = type("Light", (), {"meta": {"t": 2.0 * np.pi * seq}})()
+        return dict(light=light, blowup=None, seq=seq)
+
+
+class _Actor:
+    """A worker's engine host stand-in: call k computes chunk ``order[k-1]`` (reaching t = that many orbits);
+    the first ``ready`` calls are finished at once."""
+
+    def __init__(self, ready, order=None):
+        self.k, self.ready, self.order = 0, ready, order or list(range(1, 100))
+
+    def advance(self, orbits, until, wall):
+        self.k += 1
+        return _Future(self, self.k)
+
+
+class _Backend:
+    def __init__(self, actor):
+        self.actor = actor
+
+    def host(self, state):
+        return self.actor, "worker", "key"
+
+
+def _seqs(results):
+    return [r["seq"] for r in results]
+
+
+@pytest.mark.parametrize("ready, second", [(1, [2]), (2, [2]), (3, [2, 3]), (10, [2, 3])])
+def test_a_take_gets_every_chunk_the_worker_finished_so_it_never_idles(ready, second):
+    """The worker computes AHEAD chunks ahead; a take returns the awaited chunk and every queued one already
+    finished (in order, up to the first unfinished), then queues AHEAD more: however seldom the pages take,
+    the shared run is computed without pause (a take of one chunk left the worker idle between slow takes)."""
+    assert shared.AHEAD == 2
+    host = shared._RemoteHost(_Backend(_Actor(ready)), state=None, max_wall_s=0.1)
+    assert _seqs(host.next(1.0, None)) == [1]  # nothing queued yet; chunks 2 and 3 queued now
+    assert _seqs(host.next(1.0, None)) == second  # chunk 2, and 3 if it is finished
+    assert len(host.pending) == shared.AHEAD  # queued again: the worker has its next chunks
+
+
+def test_a_take_stops_at_the_end_time():
+    host = shared._RemoteHost(_Backend(_Actor(10)), state=None, max_wall_s=0.1)
+    assert _seqs(host.next(1.0, 2.0)) == [1]
+    assert _seqs(host.next(1.0, 2.0)) == [2]  # chunk 3 (after the end) is not taken ...
+    assert not host.pending  # ... and nothing is queued after the end
+
+
+@pytest.mark.parametrize("ready", [1, 3, 10])
+def test_chunks_are_handed_on_in_the_order_computed_when_queued_calls_run_out_of_order(ready):
+    """Each actor call travels on its own connection: the second call queued may run first and its future
+    hold the earlier chunk.  Takes and a leaving session's settle hand the chunks on in order all the same
+    (a session's series came out of order in CI before the chunks were numbered)."""
+    order = [1, 3, 2, 5, 4, 6, 8, 7, 9, 10, 11]
+    host = shared._RemoteHost(_Backend(_Actor(ready, order)), state=None, max_wall_s=0.1)
+    got = []
+    for _ in range(4):
+        got += _seqs(host.next(1.0, None))
+    got += _seqs(host.settle())
+    assert got == list(range(1, len(got) + 1))
+    assert not host.pending and not host.arrived
+
+
+def test_a_chunk_that_arrived_early_is_handed_on_without_a_new_call():
+    """The awaited chunk already arrived (in a later future): the next take returns it without asking the worker."""
+    actor = _Actor(10, [1, 3, 2, 4, 5, 6])
+    host = shared._RemoteHost(_Backend(actor), state=None, max_wall_s=0.1)
+    host.next(1.0, None)  # chunk 1; calls 2 and 3 queued (holding chunks 3 and 2)
+    assert _seqs(host.next(1.0, None)) == [2, 3]
+    assert _seqs(host.next(1.0, None)) == [4, 5]
