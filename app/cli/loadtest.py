@@ -16,7 +16,8 @@ the server's process tree with psutil (and over the Dask workers with ``--dask``
 ``server_process_cores`` is the app server process alone.  ``--compute processes`` runs the
 server with ``RINGLAB_COMPUTE=processes`` (its own LocalCluster, one worker per core);
 ``--dask`` starts a LocalCluster of 2 single-threaded worker processes here and points the
-server at it with ``RINGLAB_DASK_SCHEDULER``.  ``--shared``: every student opens the same lesson step
+server at it with ``RINGLAB_DASK_SCHEDULER`` (also with ``--num-procs`` N > 1, unless ``--compute threads``:
+``ringlab serve --num-procs N`` starts one cluster for its server processes too).  ``--shared``: every student opens the same lesson step
 (``/main?lesson=3&step=2``, the default box at sigma0 = 400) and presses its "Set up this step" (the page opens on the Linear tab; the
 preset builds the Hydrodynamics tab and starts the run); the server's lesson runs then never pause by
 themselves (``--classroom-length 0``, the default with ``--shared``), since the step's 400 orbits
@@ -103,6 +104,8 @@ def cpu_rss(procs) -> tuple[float, float]:
 
 
 def run(args) -> dict:
+    if args.num_procs > 1 and args.compute != "threads":
+        args.dask = True  # one cluster for all server processes, as `ringlab serve --num-procs N` starts
     env = dict(os.environ)
     env["RINGLAB_COMPUTE"] = args.compute if not args.dask else "dask"
     env["RINGLAB_SHARE_RUNS"] = "0" if args.no_share else "1"

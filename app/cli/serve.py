@@ -21,6 +21,8 @@ from ringcore.checks import check_int, check_real
 from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.lessons.tutorials import docs_dir, static_dirs
 from ringlab.main import TITLE, configure, create_app
+from ringlab.server import remote
+from ringlab.server.cluster import LocalClusterProcess
 from ringlab.server.compute import ENV_MAX
 from ringlab.server.remote import ENV_MODE, ENV_SCHEDULER, ENV_WORKERS, MODES
 from ringlab.teacher.access import ENV_PASSWORD, MIN_LENGTH, choose_key
@@ -155,15 +157,34 @@ def link_lines(p: dict) -> list[str]:
     return lines
 
 
+def shared_cluster(num_procs: int) -> LocalClusterProcess | None:
+    """One local cluster for all app server processes when there are several and the runs compute on local
+    worker processes (the default on 2+ cores); None otherwise.  Sets ``RINGLAB_DASK_SCHEDULER`` to it."""
+    if num_procs < 2 or remote.mode(in_server=True) != "processes":
+        return None
+    cluster = LocalClusterProcess(remote.local_workers())
+    os.environ.update({ENV_SCHEDULER: cluster.address, ENV_MODE: "dask"})
+    return cluster
+
+
 def run(args) -> int:
     """Start the server (blocks until Ctrl-C)."""
     p = plan(args)
     os.environ.update(p["env"])  # read by the app when a session starts (ringlab.server.remote.mode)
     configure()
-    print("\n".join(link_lines(p)), flush=True)
+    cluster = shared_cluster(p["num_procs"])  # before the fork: every server process uses its workers
+    lines = link_lines(p)
+    if cluster is not None:
+        lines.append(f"  compute: one local Dask cluster of {remote.local_workers()} worker processes for the "
+                     f"{p['num_procs']} server processes ({cluster.address})")
+    print("\n".join(lines), flush=True)
     apps = {"main": create_app, "teacher": page_factory(p["key"])}
-    pn.serve(apps, port=p["port"], address=p["address"], websocket_origin=p["origins"],
-             num_procs=p["num_procs"], show=args.show, static_dirs=p["docs"],
-             title={"main": TITLE, "teacher": TEACHER_TITLE}, liveness=True,
-             start=True, threaded=False, verbose=False)
+    try:
+        pn.serve(apps, port=p["port"], address=p["address"], websocket_origin=p["origins"],
+                 num_procs=p["num_procs"], show=args.show, static_dirs=p["docs"],
+                 title={"main": TITLE, "teacher": TEACHER_TITLE}, liveness=True,
+                 start=True, threaded=False, verbose=False)
+    finally:
+        if cluster is not None:
+            cluster.close()
     return 0

@@ -35,16 +35,15 @@ import weakref
 
 from ringcore.engine import engine_class
 
+from ringlab.server.cluster import ENV_WORKERS, cores, local_workers  # noqa: F401  (ENV_WORKERS re-exported)
 from ringlab.server.engine_host import EngineHost, LightView, blowup, light, light_snapshot  # noqa: F401  (the worker side; re-exported)
 
 ENV_MODE = "RINGLAB_COMPUTE"
 ENV_SCHEDULER = "RINGLAB_DASK_SCHEDULER"
-ENV_WORKERS = "RINGLAB_WORKERS"
 MODES = ("auto", "threads", "processes", "dask")
 MIN_CHUNK_S = 0.1  # wall budget of a chunk on a worker at least [s]: amortises the ~10 ms round trip
-
-
 LOOPBACK = "127.0.0.1"  # the own LocalCluster listens here only (scheduler, workers, dashboard)
+
 
 class RemoteSim:
     """Stands for a runner's engine whose chunks compute on a Dask worker (see the module docstring).
@@ -260,7 +259,7 @@ class DaskBackend:
         if address:
             self.client = Client(address, timeout=30)
         else:
-            n = n_workers or _cores()
+            n = n_workers or cores()
             # scheduler, workers and the dashboard on this machine only, also when the lab serves a class on the
             # network: the dashboard has no login (a free port on the loopback address)
             self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host=LOOPBACK,
@@ -279,13 +278,20 @@ class DaskBackend:
 
     def host(self, state):
         """An :class:`EngineHost` actor holding ``state`` on the least-loaded worker: (actor, address, future)."""
+        held = self.engines_per_worker()
         with self._lock:
             ws = self.workers()
-            addr = min(ws, key=lambda w: (self._count.get(w, 0), w))
+            # the whole cluster's engines first: several app processes (--num-procs) place runs on one cluster
+            addr = min(ws, key=lambda w: (held.get(w, 0), self._count.get(w, 0), w))
             self._count[addr] = self._count.get(addr, 0) + 1
         fut = self.client.submit(EngineHost, state, actor=True, workers=[addr], allow_other_workers=False,
                                  pure=False)
         return fut.result(), addr, fut
+
+    def engines_per_worker(self) -> dict:
+        """Worker address -> engines (:class:`EngineHost` actors) it holds for any client of the cluster."""
+        held = self.client.has_what()  # one call to the scheduler
+        return {w: sum(str(k).startswith("EngineHost-") for k in keys) for w, keys in held.items()}
 
     def free(self, fut) -> None:
         """Drop the actor of ``fut`` from its worker now (whoever else still refers to it)."""
@@ -309,10 +315,6 @@ class DaskBackend:
             self.cluster.close()
 
 
-def _cores() -> int:
-    return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1))
-
-
 def _in_server() -> bool:
     import panel as pn
     doc = pn.state.curdoc
@@ -333,7 +335,7 @@ def mode(in_server: bool | None = None) -> str:
         return "dask"
     if raw in ("", "auto"):
         in_server = _in_server() if in_server is None else in_server
-        return "processes" if in_server and _cores() >= 2 else "threads"
+        return "processes" if in_server and cores() >= 2 else "threads"
     if raw not in MODES:
         raise ValueError(f"{ENV_MODE} = {raw!r} is not valid: allowed {', '.join(MODES)}")
     if raw == "dask":
@@ -358,8 +360,7 @@ def backend() -> DaskBackend | None:
             if m == "dask":
                 _BACKEND = DaskBackend(os.environ[ENV_SCHEDULER].strip())
             else:
-                raw = os.environ.get(ENV_WORKERS, "").strip()
-                _BACKEND = DaskBackend(None, int(raw) if raw else None)
+                _BACKEND = DaskBackend(None, local_workers())
             import logging
             where = "an existing Dask cluster" if m == "dask" else "a LocalCluster"
             logging.getLogger("panel.state").info(

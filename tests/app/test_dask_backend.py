@@ -144,7 +144,7 @@ def test_backend_choice_from_the_environment(monkeypatch):
     monkeypatch.delenv(remote.ENV_SCHEDULER, raising=False)
     monkeypatch.delenv(remote.ENV_MODE, raising=False)
     assert remote.mode() == "threads"  # headless (no server session): in this process
-    cores = remote._cores()
+    cores = remote.cores()
     assert remote.mode(in_server=True) == ("processes" if cores >= 2 else "threads")  # a class: every core
     monkeypatch.setenv(remote.ENV_MODE, "threads")
     assert remote.mode(in_server=True) == "threads"
