@@ -17,7 +17,7 @@ from ringlab.server import remote
 from browser_support import (ARTIFACTS, free_port, pytestmark, start_server,  # noqa: F401
                            stop_server)
 
-pytestmark = [*pytestmark, pytest.mark.skipif(remote._cores() < 2, reason="one core: the default is threads")]
+pytestmark = [*pytestmark, pytest.mark.skipif(remote.cores() < 2, reason="one core: the default is threads")]
 
 
 def orbits_shown(page) -> float:
