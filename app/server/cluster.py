@@ -33,6 +33,14 @@ def local_workers() -> int:
     return int(raw) if raw else cores()
 
 
+def local_cluster(n_workers: int):
+    """A ``distributed.LocalCluster`` of ``n_workers`` single-threaded worker processes on the loopback address
+    (scheduler, workers and dashboard: the dashboard has no login)."""
+    from dask.distributed import LocalCluster  # deferred on purpose: only the processes computing runs need it
+    return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, host=LOOPBACK,
+                        dashboard_address=f"{LOOPBACK}:0")
+
+
 class LocalClusterProcess:
     """A LocalCluster of ``n_workers`` single-threaded worker processes in a child process.
 
@@ -76,10 +84,7 @@ class LocalClusterProcess:
 
 def main(argv=None) -> int:
     """Run the cluster: print the scheduler's address, then wait for end of file on standard input."""
-    from dask.distributed import LocalCluster  # deferred on purpose: only this child process needs it
-    n = int((argv or sys.argv[1:])[0])
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host=LOOPBACK,
-                           dashboard_address=f"{LOOPBACK}:0")
+    cluster = local_cluster(int((argv or sys.argv[1:])[0]))
     try:
         print(cluster.scheduler_address, flush=True)
         sys.stdin.read()  # returns when every process holding the pipe's other end has exited

@@ -35,14 +35,13 @@ import weakref
 
 from ringcore.engine import engine_class
 
-from ringlab.server.cluster import ENV_WORKERS, cores, local_workers  # noqa: F401  (ENV_WORKERS re-exported)
+from ringlab.server.cluster import ENV_WORKERS, LOOPBACK, cores, local_cluster, local_workers  # noqa: F401  (re-exported)
 from ringlab.server.engine_host import EngineHost, LightView, blowup, light, light_snapshot  # noqa: F401  (the worker side; re-exported)
 
 ENV_MODE = "RINGLAB_COMPUTE"
 ENV_SCHEDULER = "RINGLAB_DASK_SCHEDULER"
 MODES = ("auto", "threads", "processes", "dask")
 MIN_CHUNK_S = 0.1  # wall budget of a chunk on a worker at least [s]: amortises the ~10 ms round trip
-LOOPBACK = "127.0.0.1"  # the own LocalCluster listens here only (scheduler, workers, dashboard)
 
 
 class RemoteSim:
@@ -254,7 +253,7 @@ class DaskBackend:
     """A Dask client (own LocalCluster or an existing scheduler) placing :class:`EngineHost` actors."""
 
     def __init__(self, address: str | None = None, n_workers: int | None = None):
-        from dask.distributed import Client, LocalCluster
+        from dask.distributed import Client
         self.cluster = None
         if address:
             self.client = Client(address, timeout=30)
@@ -262,8 +261,7 @@ class DaskBackend:
             n = n_workers or cores()
             # scheduler, workers and the dashboard on this machine only, also when the lab serves a class on the
             # network: the dashboard has no login (a free port on the loopback address)
-            self.cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, host=LOOPBACK,
-                                        dashboard_address=f"{LOOPBACK}:0")
+            self.cluster = local_cluster(n)
             self.client = Client(self.cluster)
         self._lock = threading.Lock()
         self._count = {}  # worker address -> engines placed there
