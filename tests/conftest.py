@@ -25,6 +25,14 @@ import pytest
 # processes explicitly.
 os.environ.setdefault("RINGLAB_COMPUTE", "threads")
 
+# One BLAS/OpenMP thread per process: the test run keeps both cores busy with its two workers, their servers,
+# kernels and subprocesses, and a BLAS that spreads one call over both cores then spins while waiting for the
+# other: the wave-train stability scan (dense eigenvalue problems) took 31.7 s of CPU with two OpenBLAS threads
+# against 16.9 s with one (15.9 against 16.9 s of wall time on an idle machine).  Set here, before the xdist
+# workers and the tests' subprocesses start (they inherit it); an explicit setting in the environment wins.
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
 TIERS = ("core", "app", "browser", "notebooks", "install")
 HERE = Path(__file__).resolve().parent
 

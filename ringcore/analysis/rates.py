@@ -8,10 +8,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import signal, stats
-from scipy.optimize import curve_fit
 
 from ..checks import check_int, check_real
+
+# scipy.signal, scipy.stats and scipy.optimize are imported in the functions that use them: together they are
+# ~1.5 s of import, paid by every process that imports the hydro engine (its diagnostics import this module)
+# although only the analyses call them.
 
 
 @dataclass(frozen=True)
@@ -63,6 +65,8 @@ def growth_rate(t, amplitude, window=None) -> Fit:
     t, a = _window(t, amplitude, window)
     if np.any(~np.isfinite(a)) or np.any(a <= 0):
         raise ValueError("amplitude must be finite and > 0 inside the window")
+    from scipy import stats  # deferred: see the module's imports
+
     r = stats.linregress(t, np.log(a))
     return Fit(float(r.slope), float(r.stderr))
 
@@ -93,6 +97,8 @@ def lomb_frequency(t, y, fmin: float, fmax: float, n: int = 20000) -> Fit:
     n = check_int("n", n, 3, 10**8)
     t, y = _window(t, y, None)
     w = np.linspace(fmin, fmax, int(n))
+    from scipy import signal  # deferred: see the module's imports
+
     P = signal.lombscargle(t, y - y.mean(), w, normalize=True)
     i = int(np.argmax(P))
     wi = w[i]
@@ -143,6 +149,9 @@ def complex_mode_fit(t, U, w_lo: float = 0.7, w_hi: float = 1.5) -> tuple:
     tuple
         (omega_R, omega_I, omega_I from the periodogram, 1-sigma error of omega_R, of omega_I), all in Omega.
     """
+    from scipy import signal  # deferred: see the module's imports
+    from scipy.optimize import curve_fit
+
     t = np.asarray(t, float)
     U = np.asarray(U, complex)
     t0 = t - t[0]

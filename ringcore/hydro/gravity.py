@@ -27,16 +27,35 @@ numba (:func:`ringcore.hydro.stepper.gravity_force`, rocket-fft) with the respon
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 
-try:  # pragma: no cover - exercised when pyfftw is installed
-    import pyfftw
 
-    HAVE_PYFFTW = True
-except ImportError:  # pragma: no cover
-    pyfftw = None
-    HAVE_PYFFTW = False
+def _import_pyfftw():
+    """``pyfftw``, or None when it is not installed.
+
+    pyfftw's package imports its dask interface whenever dask is installed (as it is with ringcore): that
+    imports ``dask.array``, about 1 s of start-up for every process that imports the hydro engine, for an
+    interface ringcore never uses (it calls :class:`pyfftw.FFTW` directly).  ``dask.array.fft`` is hidden for
+    that one import (an entry of None in ``sys.modules`` makes pyfftw's ``try: from dask.array.fft import ...``
+    fail at once) and restored right after; ``pyfftw.interfaces.dask_fft`` stays importable explicitly.
+    """
+    hide = "dask.array.fft" not in sys.modules
+    if hide:
+        sys.modules["dask.array.fft"] = None
+    try:
+        import pyfftw
+    except ImportError:  # pragma: no cover - pyfftw is a dependency
+        return None
+    finally:
+        if hide and sys.modules.get("dask.array.fft", 0) is None:
+            del sys.modules["dask.array.fft"]
+    return pyfftw
+
+
+pyfftw = _import_pyfftw()
+HAVE_PYFFTW = pyfftw is not None
 
 GRAVITY_METHODS = ("mode", "wire")
 

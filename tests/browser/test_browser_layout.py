@@ -76,6 +76,20 @@ def open_tab(page, url: str, key: str, start: str):
     page.wait_for_timeout(1500)  # let the plots settle at their final sizes
 
 
+def walk_tabs(page, url: str):
+    """Yield (title, key, start) for each tab of TABS shown in turn: the first opened by its link
+    (``?tab=``), the others by a click on their header (one page load per size), at the top of the page."""
+    for i, (tab, (key, start, _)) in enumerate(TABS.items()):
+        if i == 0:
+            open_tab(page, url, key, start)
+        else:
+            page.locator(".bk-tab", has_text=tab).first.click()
+            page.locator(start).first.wait_for(state="visible", timeout=LOAD_MS)
+            page.evaluate("() => window.scrollTo(0, 0)")
+            page.wait_for_timeout(1500)  # let the plots settle at their final sizes
+        yield tab, key, start
+
+
 def box(page, sel: str) -> dict:
     b = page.locator(sel).first.bounding_box()
     assert b is not None, f"{sel} not shown"
@@ -118,8 +132,7 @@ def test_run_controls_and_main_plots_in_the_first_screen(server, playwright, tmp
         page = ctx.new_page()
         errors = []
         page.on("pageerror", lambda exc: errors.append(str(exc)))
-        for tab, (key, start, _) in TABS.items():
-            open_tab(page, server, key, start)
+        for tab, key, _ in walk_tabs(page, server):
             pos = check_first_screen(page, tab, 1, height)
             print(f"{width}x{height} {tab}: " + ", ".join(f"{k} y={v['y']:.0f}..{v['y'] + v['height']:.0f}"
                                                           for k, v in pos.items()))
@@ -144,8 +157,7 @@ def test_phone_with_mobile_emulation_gets_one_column(server, playwright, tmp_pat
     height = device["viewport"]["height"]
     try:
         page = ctx.new_page()
-        for tab, (key, start, _) in TABS.items():
-            open_tab(page, server, key, start)
+        for tab, key, _ in walk_tabs(page, server):
             # the viewport tag: the page is laid out 390 CSS px wide, not as a shrunk 980 px desktop page
             assert page.evaluate("() => innerWidth") == 390
             pos = check_first_screen(page, tab, 2, height)

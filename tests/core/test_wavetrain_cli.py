@@ -1,4 +1,4 @@
-"""``ringcore wavetrain`` command and LO2009's lambda_st (check (c))."""
+"""``ringcore wavetrain`` command (LO2009's lambda_st, check (c), is in test_wavetrain_data.py)."""
 import json
 
 import pytest
@@ -37,8 +37,3 @@ def test_boundary_reports_none_with_reason():
     assert json.loads(json.dumps(r.to_json_dict()))["lambda_st_m"] is None
 
 
-@pytest.mark.slow
-def test_lambda_st_tau15_isothermal_matches_lo2009():
-    """(c) LO2009's lambda_st = 233 m (tau15, isothermal, no self-gravity; Figure 8) within 5 %."""
-    r = stability_boundary(params.get("tau15", isothermal=True), lam_max_m=320.0)
-    assert r.lambda_st_m == pytest.approx(233.0, rel=0.05)

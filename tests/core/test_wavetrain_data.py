@@ -56,7 +56,10 @@ def test_linear_columns_match_a_fresh_computation(table):
 
 
 @pytest.mark.slow
-def test_lambda_st_at_sigma0_zero_matches_a_fresh_computation(table):
-    """tau15 isothermal without self-gravity: the shipped value equals a fresh computation within 0.5 %."""
+def test_lambda_st_at_sigma0_zero_matches_a_fresh_computation_and_lo2009(table):
+    """tau15 isothermal without self-gravity: the shipped value equals a fresh computation within 0.5 %, and
+    the fresh value is LO2009's lambda_st = 233 m (their Figure 8) within 5 % (check (c) of the wave-train
+    work; one computation serves both: it is the slowest core test)."""
     r = stability_boundary(_params("tau15:iso", 0.0), lam_max_m=400.0)
     assert r.lambda_st_m == pytest.approx(float(table.lambda_st_m.sel(case="tau15:iso", sigma0=0.0)), rel=5e-3)
+    assert r.lambda_st_m == pytest.approx(233.0, rel=0.05)
