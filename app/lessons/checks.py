@@ -294,10 +294,8 @@ def buffer_amplitude(targets, answer, choices=(), min_orbits: float = 80.0, hint
 def travel_direction(rows: np.ndarray, dx_m: float, smooth_m: float = 150.0, smooth_rows: int = 5) -> np.ndarray:
     """Sign (+1 right, -1 left, 0 undecided) of the drift of the stripes in stroboscopic rows
     (one row per orbit; shape (rows, cells), x increasing), as in tutorial 02."""
-    # deferred: scipy.signal costs ~1 s of import in every app process, for this one check
     from scipy.ndimage import uniform_filter1d
-    from scipy.signal import hilbert
-
+    from scipy.signal import hilbert  # deferred: ~1 s of import in every app process, for this one check
     z = hilbert(rows - rows.mean(axis=1, keepdims=True), axis=1)
     prod = z[1:] * np.conj(z[:-1])
     w = max(1, int(round(smooth_m / dx_m)))
