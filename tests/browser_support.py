@@ -40,17 +40,29 @@ def free_port() -> int:
         return s.getsockname()[1]
 
 
-def start_server(port: int, log_path: Path, extra=(), compute: str | None = None) -> tuple[subprocess.Popen, float]:
+# The test servers' RINGLAB_MAX_FRAME_RATE: Chromium repaints every figure of a streaming page for each frame,
+# and at the app's default (10 per second) its main thread is busy all the time on this machine (0.92 of a core
+# at 6 frames/s, 0.51 at 2: scripts/measure_browser_cost.py), CPU taken from the other test worker.  The tests
+# check what the page shows, not how smoothly; tests/browser/test_browser_live.py measures the default's rates.
+TEST_FRAME_RATE = "2"
+
+
+def start_server(port: int, log_path: Path, extra=(), compute: str | None = None,
+                 max_frame_rate: str | None = TEST_FRAME_RATE) -> tuple[subprocess.Popen, float]:
     """Start ``panel serve app/main.py`` and wait for /liveness; returns (process, seconds to liveness).
 
     ``compute``: the server's ``RINGLAB_COMPUTE`` (default: the environment's, else ``threads``: the
     browser tests keep their runs in the server process; ``tests/browser/test_browser_backend.py`` runs the
-    app's own default, worker processes).
+    app's own default, worker processes).  ``max_frame_rate``: its ``RINGLAB_MAX_FRAME_RATE`` (None: the
+    app's default).
     """
     cmd = [sys.executable, "-m", "panel", "serve", "app/main.py", "--port", str(port), "--address", "127.0.0.1",
            "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness", *extra]
     env = dict(os.environ)
     env["RINGLAB_COMPUTE"] = compute if compute is not None else os.environ.get("RINGLAB_COMPUTE", "threads")
+    env.pop("RINGLAB_MAX_FRAME_RATE", None)
+    if max_frame_rate is not None:
+        env["RINGLAB_MAX_FRAME_RATE"] = max_frame_rate
     env["PYTHONUNBUFFERED"] = "1"  # tests read the log while the server runs: no line may wait in a buffer
     log = open(log_path, "w")
     t0 = time.perf_counter()
@@ -97,14 +109,15 @@ class ServedApp(NamedTuple):
 
 
 @contextmanager
-def served(log_name: str, extra=(), compute: str | None = None, check_log: bool = False, patterns=BAD_LOG_LINES):
+def served(log_name: str, extra=(), compute: str | None = None, check_log: bool = False, patterns=BAD_LOG_LINES,
+           max_frame_rate: str | None = TEST_FRAME_RATE):
     """An app server (:func:`start_server`) on a free port for the ``with`` block, logging to
     ``test-artifacts/<log_name>``; stopped afterwards, and then, with ``check_log``, its whole log must hold no
     line with any of ``patterns`` (a traceback or an error)."""
     ARTIFACTS.mkdir(exist_ok=True)
     port = free_port()
     log = ARTIFACTS / log_name
-    proc, t_live = start_server(port, log, extra, compute)
+    proc, t_live = start_server(port, log, extra, compute, max_frame_rate)
     try:
         yield ServedApp(f"http://127.0.0.1:{port}/main", port, log, proc, t_live)
     finally:

@@ -5,7 +5,8 @@ The server listens on the loopback address unless asked otherwise: ``--class`` (
 ``--address``) binds the network so that students' machines reach it, and then accepts pages from
 this machine's names and addresses (or the ``--allow-websocket-origin`` ones).  The compute options
 set the environment the app reads (``RINGLAB_COMPUTE``, ``RINGLAB_WORKERS``, ``RINGLAB_MAX_COMPUTE``,
-``RINGLAB_DASK_SCHEDULER``; ``--classroom-length`` sets ``RINGLAB_CLASSROOM_LENGTH``) before anything starts, so forked server processes (``--num-procs``)
+``RINGLAB_DASK_SCHEDULER``; ``--classroom-length`` sets ``RINGLAB_CLASSROOM_LENGTH``, ``--max-frame-rate``
+``RINGLAB_MAX_FRAME_RATE``) before anything starts, so forked server processes (``--num-procs``)
 and their worker processes see the same.  The documentation site, when this install has one
 (:mod:`ringlab.lessons.tutorials`), is served at ``/docs``.
 """
@@ -19,6 +20,7 @@ import panel as pn
 from ringcore.checks import check_int, check_real
 
 from ringlab.lessons.presets import LENGTH_ENV
+from ringlab.ui.frame_gate import DEFAULT_MAX_FRAME_RATE, FRAME_RATE_RANGE, RATE_ENV
 from ringlab.lessons.tutorials import docs_dir, static_dirs
 from ringlab.main import TITLE, configure, create_app
 from ringlab.server import remote
@@ -57,6 +59,10 @@ def add_parser(sub) -> None:
     p.add_argument("--classroom-length", type=float, default=None, metavar="FACTOR",
                    help="a factor on the lessons' classroom lengths (runs a lesson starts pause by themselves "
                         "after them; 0-1000, default 1; 0: never)")
+    p.add_argument("--max-frame-rate", type=float, default=None, metavar="RATE",
+                   help=f"updates per second at most of each live plot of a page ({FRAME_RATE_RANGE[0]:g}-"
+                        f"{FRAME_RATE_RANGE[1]:g}; default {DEFAULT_MAX_FRAME_RATE:g}: a page draws every frame it "
+                        "gets, so a lower rate spares the students' computers and the server)")
     p.add_argument("--show", action="store_true", help="open the lab in this machine's browser")
     p.add_argument("--teacher-password", default=None, metavar="TEXT",
                    help=f"the key of the teacher's dashboard (/teacher?key=TEXT; at least {MIN_LENGTH} characters; "
@@ -65,8 +71,8 @@ def add_parser(sub) -> None:
 
 
 def compute_env(args) -> dict:
-    """The environment variables the compute options and ``--classroom-length`` set (ValueError for an
-    out-of-range option)."""
+    """The environment variables the compute options, ``--classroom-length`` and ``--max-frame-rate`` set
+    (ValueError for an out-of-range option)."""
     env = {}
     if args.compute is not None:
         env[ENV_MODE] = args.compute
@@ -84,6 +90,8 @@ def compute_env(args) -> dict:
         raise ValueError("--compute = 'dask' needs --scheduler tcp://HOST:PORT (or use --compute processes)")
     if getattr(args, "classroom_length", None) is not None:
         env[LENGTH_ENV] = repr(check_real("--classroom-length", args.classroom_length, 0.0, 1000.0))
+    if getattr(args, "max_frame_rate", None) is not None:
+        env[RATE_ENV] = repr(check_real("--max-frame-rate", args.max_frame_rate, *FRAME_RATE_RANGE))
     return env
 
 

@@ -1,13 +1,37 @@
-"""Flow control of live plots: a frame is sent only when the page has applied the earlier ones."""
+"""Flow control of live plots: a frame is sent only when the page has applied the earlier ones, and not more
+often than the server's frame rate allows (``RINGLAB_MAX_FRAME_RATE``, :func:`max_frame_rate`)."""
 from __future__ import annotations
 
 import math
+import os
 import time
 
 import panel as pn
 from bokeh.models import CustomJS
 
 ACK_JS = "fig.tags = [(fig.tags.length ? fig.tags[0] : 0) + 1]"
+RATE_ENV = "RINGLAB_MAX_FRAME_RATE"
+# A browser repaints a whole figure (axes, grids, labels: ~10-20 ms of its main thread on the 2-core test
+# machine) for every frame, and a page that acknowledges frames as fast as it can keeps a core of the
+# student's computer busy while a run streams; ten updates a second look as smooth and cost less.
+DEFAULT_MAX_FRAME_RATE = 10.0
+FRAME_RATE_RANGE = (0.2, 60.0)
+
+
+def max_frame_rate() -> float:
+    """Updates per second at most of each live plot of a served page: ``RINGLAB_MAX_FRAME_RATE`` (0.2-60,
+    default 10; ``ringlab serve --max-frame-rate``).  ValueError, naming the variable, outside that range."""
+    text = os.environ.get(RATE_ENV, "").strip()
+    if not text:
+        return DEFAULT_MAX_FRAME_RATE
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    lo, hi = FRAME_RATE_RANGE
+    if not lo <= value <= hi:
+        raise ValueError(f"{RATE_ENV} = {text!r} is not a frame rate: allowed {lo:g} to {hi:g} updates per second")
+    return value
 
 
 class FrameGate:
@@ -19,13 +43,15 @@ class FrameGate:
     the guide's "wait for the page's acknowledgement": a slow page gets fewer frames
     instead of a growing backlog (``shared/guides/panel-live-app.md``).  Frames sent while
     the plot is not shown (hidden tab) are never acknowledged: after ``timeout_s`` the gate
-    resynchronises.  Outside a server session (headless tests) only ``min_period_s`` applies.
+    resynchronises.  In a server session frames are also at least ``1 / max_frame_rate()`` seconds apart;
+    outside one (headless tests, a notebook) only ``min_period_s`` applies.
     """
 
     def __init__(self, fig, source, min_period_s: float = 0.0, max_in_flight: int = 2, timeout_s: float = 1.5):
         source.js_on_change("data", CustomJS(args=dict(fig=fig), code=ACK_JS))
         fig.on_change("tags", self._ack)
         self.min_period_s, self.timeout_s = float(min_period_s), float(timeout_s)
+        self.served_period_s = max(self.min_period_s, 1.0 / max_frame_rate())
         self.max_in_flight = int(max_in_flight)
         self.t_sent = self.t_ack = -math.inf
         self.sent = self.acks = 0
@@ -36,10 +62,11 @@ class FrameGate:
 
     def ready(self, now: float) -> bool:
         """May a frame be sent at time ``now`` (time.perf_counter())?"""
-        if now - self.t_sent < self.min_period_s:
-            return False
         doc = pn.state.curdoc
-        if doc is None or doc.session_context is None or self.sent - self.acks < self.max_in_flight:
+        served = doc is not None and doc.session_context is not None
+        if now - self.t_sent < (self.served_period_s if served else self.min_period_s):
+            return False
+        if not served or self.sent - self.acks < self.max_in_flight:
             return True
         if now - max(self.t_ack, self.t_sent) > self.timeout_s:
             self.acks = self.sent  # frames lost (plot hidden) or the page stalled: start again

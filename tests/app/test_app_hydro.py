@@ -258,6 +258,38 @@ def test_frame_gate_paces_frames():
     assert gate.acks == gate.sent == 1
 
 
+def test_frame_gate_caps_the_frame_rate_of_a_served_page(monkeypatch):
+    """In a server session a plot gets at most RINGLAB_MAX_FRAME_RATE updates per second (default 10), even
+    when the page acknowledges every frame at once; a bad value names the variable and the allowed range."""
+    from types import SimpleNamespace
+
+    from bokeh.models import ColumnDataSource
+    from bokeh.plotting import figure
+
+    from ringlab.ui import frame_gate
+    from ringlab.ui.frame_gate import FrameGate, max_frame_rate
+
+    assert max_frame_rate() == frame_gate.DEFAULT_MAX_FRAME_RATE == 10.0
+    served = SimpleNamespace(session_context=object())
+    monkeypatch.setattr(type(pn.state), "curdoc", property(lambda self: served))
+    monkeypatch.setenv(frame_gate.RATE_ENV, "4")
+    gate = FrameGate(figure(), ColumnDataSource(dict(x=[])))
+    sent = 0
+    for i in range(200):  # 2 s in steps of 10 ms, every frame acknowledged at once
+        now = 100.0 + 0.01 * i
+        if gate.ready(now):
+            gate.mark_sent(now)
+            gate._ack("tags", [], [1])
+            sent += 1
+    assert sent == 8  # 4 per second
+    monkeypatch.setenv(frame_gate.RATE_ENV, "0.2")
+    assert FrameGate(figure(), ColumnDataSource(dict(x=[])), min_period_s=0.25).served_period_s == 5.0
+    for bad in ("0", "61", "fast", "nan"):
+        monkeypatch.setenv(frame_gate.RATE_ENV, bad)
+        with pytest.raises(ValueError, match=r"RINGLAB_MAX_FRAME_RATE = .* allowed 0.2 to 60"):
+            max_frame_rate()
+
+
 def test_group_titles_say_what_restarts():
     v = HydroView(runner=HydroRunner(**SMALL))
     html = " ".join(o.object for o in v._layout.select(pn.pane.HTML) if isinstance(o.object, str))

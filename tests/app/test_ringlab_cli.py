@@ -18,6 +18,7 @@ from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.cli.main import build_parser, main
 from ringlab.server.compute import ENV_MAX
 from ringlab.server.remote import ENV_MODE, ENV_SCHEDULER, ENV_WORKERS
+from ringlab.ui.frame_gate import RATE_ENV
 
 
 def plan(*argv):
@@ -48,6 +49,7 @@ def test_compute_options_set_the_environment_the_app_reads():
     assert plan("--compute", "processes", "--workers", "4")["env"] == {ENV_MODE: "processes", ENV_WORKERS: "4"}
     assert plan("--scheduler", "tcp://host:8786")["env"] == {ENV_SCHEDULER: "tcp://host:8786"}
     assert plan("--classroom-length", "0.5")["env"] == {LENGTH_ENV: "0.5"}
+    assert plan("--max-frame-rate", "4")["env"] == {RATE_ENV: "4.0"}
 
 
 @pytest.mark.parametrize("argv,word", [
@@ -55,6 +57,7 @@ def test_compute_options_set_the_environment_the_app_reads():
     (["--workers", "0"], "--workers"), (["--threads", "2000"], "--threads"), (["--compute", "dask"], "--scheduler"),
     (["--scheduler", "host:8786"], "--scheduler"), (["--classroom-length", "-1"], "--classroom-length"),
     (["--classroom-length", "nan"], "--classroom-length"), (["--compute", "threads", "--scheduler", "tcp://h:1"], "--compute"),
+    (["--max-frame-rate", "0"], "--max-frame-rate"), (["--max-frame-rate", "100"], "--max-frame-rate"),
 ])
 def test_bad_serve_options_one_line_exit_2(argv, word, capsys):
     assert main(["serve", *argv]) == 2

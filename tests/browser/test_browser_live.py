@@ -51,7 +51,7 @@ SOURCE_JS = """
 @pytest.fixture
 def warm_server():
     """URL of a freshly started ``panel serve --warm`` (terminated in teardown)."""
-    with served("panel-serve-live.log", extra=("--warm",)) as app:
+    with served("panel-serve-live.log", extra=("--warm",), max_frame_rate=None) as app:  # the app's default rate
         yield app.url, app.t_live, app.proc.pid
 
 

@@ -20,7 +20,7 @@ from urllib.parse import urlparse
 
 import pytest
 
-from browser_support import ARTIFACTS, free_port, stop_server
+from browser_support import ARTIFACTS, TEST_FRAME_RATE, free_port, stop_server
 from ringcore.paperlabels import raw_labels
 from ringlab.lessons.content import LESSONS
 
@@ -95,6 +95,7 @@ def ringlab_serve_url(tmp_path):
     the default compute backend: worker processes on 2+ cores)."""
     port = free_port()
     env = {k: v for k, v in os.environ.items() if k != "RINGLAB_COMPUTE"}
+    env["RINGLAB_MAX_FRAME_RATE"] = TEST_FRAME_RATE
     exe = Path(sys.executable).with_name("ringlab")
     cmd = [str(exe)] if exe.exists() else [sys.executable, "-m", "ringlab.cli.main"]
     ARTIFACTS.mkdir(exist_ok=True)

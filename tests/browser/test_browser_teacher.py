@@ -22,7 +22,7 @@ from pathlib import Path
 
 import pytest
 
-from browser_support import ARTIFACTS, CHROMIUM, FLAGS, free_port, stop_server, sync_playwright
+from browser_support import ARTIFACTS, CHROMIUM, FLAGS, TEST_FRAME_RATE, free_port, stop_server, sync_playwright
 
 SHOTS = Path("/tmp/shots/teacher")
 PASSWORD = "lecture-hall-B"
@@ -37,7 +37,7 @@ def class_server():
     log = open(log_path, "w")
     env = dict(os.environ, RINGLAB_COMPUTE="threads", RINGLAB_LESSONS_SCALE="fast")
     proc = subprocess.Popen([sys.executable, "-m", "ringlab.cli.main", "serve", "--port", str(port),
-                             "--teacher-password", PASSWORD], env=env, stdout=log, stderr=subprocess.STDOUT)
+                             "--teacher-password", PASSWORD, "--max-frame-rate", TEST_FRAME_RATE], env=env, stdout=log, stderr=subprocess.STDOUT)
     deadline = time.monotonic() + 120
     try:
         while True:
