@@ -20,7 +20,6 @@ import panel as pn
 from ringcore.checks import check_int, check_real
 
 from ringlab.lessons.presets import LENGTH_ENV
-from ringlab.ui.frame_gate import DEFAULT_MAX_FRAME_RATE, FRAME_RATE_RANGE, RATE_ENV
 from ringlab.lessons.tutorials import docs_dir, static_dirs
 from ringlab.main import TITLE, configure, create_app
 from ringlab.server import remote
@@ -29,6 +28,7 @@ from ringlab.server.compute import ENV_MAX
 from ringlab.server.remote import ENV_MODE, ENV_SCHEDULER, ENV_WORKERS, MODES
 from ringlab.teacher.access import ENV_PASSWORD, MIN_LENGTH, choose_key
 from ringlab.teacher.page import TITLE as TEACHER_TITLE, page_factory
+from ringlab.ui.frame_gate import DEFAULT_MAX_FRAME_RATE, FRAME_RATE_RANGE, RATE_ENV
 
 LOOPBACK = "127.0.0.1"
 NETWORK = "0.0.0.0"

@@ -9,6 +9,8 @@ import time
 import panel as pn
 from bokeh.models import CustomJS
 
+from ringcore.checks import check_real
+
 ACK_JS = "fig.tags = [(fig.tags.length ? fig.tags[0] : 0) + 1]"
 RATE_ENV = "RINGLAB_MAX_FRAME_RATE"
 # A browser repaints a whole figure (axes, grids, labels: ~10-20 ms of its main thread on the 2-core test
@@ -22,16 +24,7 @@ def max_frame_rate() -> float:
     """Updates per second at most of each live plot of a served page: ``RINGLAB_MAX_FRAME_RATE`` (0.2-60,
     default 10; ``ringlab serve --max-frame-rate``).  ValueError, naming the variable, outside that range."""
     text = os.environ.get(RATE_ENV, "").strip()
-    if not text:
-        return DEFAULT_MAX_FRAME_RATE
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    lo, hi = FRAME_RATE_RANGE
-    if not lo <= value <= hi:
-        raise ValueError(f"{RATE_ENV} = {text!r} is not a frame rate: allowed {lo:g} to {hi:g} updates per second")
-    return value
+    return check_real(RATE_ENV, text, *FRAME_RATE_RANGE) if text else DEFAULT_MAX_FRAME_RATE
 
 
 class FrameGate:
