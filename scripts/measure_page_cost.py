@@ -4,7 +4,7 @@
 
 For the default page (``/main``) and the teacher's link (``/main?tab=hydro&autostart=1``) this times, in
 this process, ``create_app()`` and ``app.get_root(doc)`` in a fresh ``bokeh.document.Document`` (what
-the server does for every new session), as CPU seconds of this thread (``time.thread_time``), after one
+the server does for every new session) and ``doc.to_json()`` (the document the server then sends the page), as CPU seconds of this thread (``time.thread_time``), after one
 warm-up page of each kind; prints the median, min and max of ``--repeats`` pages and the load average.
 The query of the page address is given to the app as a server session would (``pn.state.session_args``).
 Outside a server no location sync and no class roster are set up, so a served page costs a little more.
@@ -31,14 +31,18 @@ PAGES = {"main": {}, "hydro": {"tab": [b"hydro"], "autostart": [b"1"]}}
 
 
 def open_page(args: dict):
-    """One page with the query ``args``: returns (CPU s of create_app, CPU s of get_root, the app)."""
+    """One page with the query ``args``: returns (CPU s of create_app, of get_root, of serialising the document,
+    the app)."""
     with mock.patch.object(type(pn.state), "session_args", new=property(lambda self: args)):
         t0 = time.thread_time()
         app = main.create_app()
         t1 = time.thread_time()
-        app.get_root(Document())
+        doc = Document()
+        doc.add_root(app.get_root(doc))
         t2 = time.thread_time()
-    return t1 - t0, t2 - t1, app
+        doc.to_json()
+        t3 = time.thread_time()
+    return t1 - t0, t2 - t1, t3 - t2, app
 
 
 def close(app) -> None:
@@ -52,30 +56,31 @@ def close(app) -> None:
 
 def measure(repeats: int) -> dict:
     t_cold = time.thread_time()
-    close(open_page(PAGES["main"])[2])
+    close(open_page(PAGES["main"])[-1])
     cold = time.thread_time() - t_cold
     out = dict(first_page_cpu_s=round(cold, 3))
     for name, args in PAGES.items():
-        close(open_page(args)[2])  # warm-up
-        build, root = [], []
+        close(open_page(args)[-1])  # warm-up
+        build, root, send = [], [], []
         for _ in range(repeats):
-            b, r, app = open_page(args)
+            b, r, j, app = open_page(args)
             close(app)
             build.append(b)
             root.append(r)
-        total = [b + r for b, r in zip(build, root)]
+            send.append(j)
+        total = [b + r + j for b, r, j in zip(build, root, send)]
         out[name] = dict(create_app_s=round(statistics.median(build), 3), get_root_s=round(statistics.median(root), 3),
-                         total_median_s=round(statistics.median(total), 3), total_min_s=round(min(total), 3),
+                         to_json_s=round(statistics.median(send), 3), total_median_s=round(statistics.median(total), 3), total_min_s=round(min(total), 3),
                          total_max_s=round(max(total), 3), n=repeats)
     out["load_average"] = [round(x, 2) for x in os.getloadavg()]
     return out
 
 
 def profile(kind: str) -> None:
-    close(open_page(PAGES[kind])[2])  # warm-up
+    close(open_page(PAGES[kind])[-1])  # warm-up
     prof = cProfile.Profile()
     prof.enable()
-    app = open_page(PAGES[kind])[2]
+    app = open_page(PAGES[kind])[-1]
     prof.disable()
     close(app)
     pstats.Stats(prof, stream=sys.stdout).sort_stats("cumulative").print_stats(25)

@@ -13,8 +13,9 @@ session's own "Orbits elapsed" readout, i.e. what the page shows.  One more sess
 the Linear-theory tab and moves its sigma0 slider every 2 s: the control latency is the time
 until its linear-theory readout shows the new value.  CPU cores and memory are summed over
 the server's process tree with psutil (and over the Dask workers with ``--dask``);
-``server_process_cores`` is the app server process alone.  ``--compute processes`` runs the
-server with ``RINGLAB_COMPUTE=processes`` (its own LocalCluster, one worker per core);
+``server_process_cores`` is the app server processes alone (with ``--num-procs`` N, all N).
+``--compute processes`` runs the server with ``RINGLAB_COMPUTE=processes`` (its own LocalCluster, one
+worker per core);
 ``--dask`` starts a LocalCluster of 2 single-threaded worker processes here and points the
 server at it with ``RINGLAB_DASK_SCHEDULER`` (also with ``--num-procs`` N > 1, unless ``--compute threads``:
 ``ringlab serve --num-procs N`` starts one cluster for its server processes too).  ``--shared``: every student opens the same lesson step
@@ -26,8 +27,9 @@ page at the same moment (:mod:`ringlab.cli.loadtest_join`).  The class start lin
 identical runs, which the server computes once (:mod:`ringlab.server.shared`); ``--different`` gives
 each student its own sigma0 (nothing to share) and ``--no-share`` makes the server compute every run
 alone (``RINGLAB_SHARE_RUNS=0``).  Either way ``pages_ready_s`` (median, max)
-is the time from opening a page until its document holds the Hydrodynamics tab's Start button,
-``page_server_cpu_s`` the app process's CPU seconds per page while they opened (building them, and
+is the time from opening a page until a message brings it the Hydrodynamics tab's Start button (when a
+browser would show it; this client then builds the document's models, which the server does not pay for),
+``page_server_cpu_s`` the app processes' CPU seconds per page while they opened (building them, and
 their first frames), ``frames_per_s`` the frames each student received per second (measured window)
 and ``app_process_cores_per_student`` the app process's cores divided by the students.
 Prints one JSON object.
@@ -51,6 +53,7 @@ from ringlab.cli.loadtest_clients import Prober, Student, connect, press, pump
 from ringlab.cli.loadtest_join import join_together, stop_all
 from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.paths import PACKAGE_DIR
+from ringlab.server import accept, fast_defaults
 
 START_TIMEOUT_S = 300.0  # a loaded 2-core machine needs more than 2 minutes for `panel serve --warm`
 SHARED_STEP = (3, 2)  # --shared: lesson 3, step 2 (the default box at sigma0 = 400, started by "Set up this step")
@@ -65,6 +68,8 @@ def free_port() -> int:
 def start_server(port: int, num_procs: int, env: dict) -> subprocess.Popen:
     cmd = [sys.executable, "-m", "panel", "serve", str(PACKAGE_DIR / "main.py"), "--port", str(port), "--address", "127.0.0.1",
            "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness", "--warm", "--num-procs", str(num_procs)]
+    if num_procs > 1:
+        cmd += ["--setup", accept.__file__]  # as `ringlab serve --num-procs N`: a class joining at once is spread
     log = open(os.environ.get("RINGLAB_LOAD_LOG", "/tmp/classroom_load_server.log"), "w")
     proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT)
     t_end = time.time() + START_TIMEOUT_S
@@ -86,6 +91,14 @@ def main_thread_cpu(pid: int) -> float:
     return float("nan")
 
 
+def app_procs(server_pid: int) -> list:
+    """The app server processes: the one started and, with ``--num-procs`` N > 1, the N it forked (the same
+    command line; compute workers have their own)."""
+    p = psutil.Process(server_pid)
+    cmd = p.cmdline()
+    return [p] + [c for c in p.children() if c.cmdline() == cmd]
+
+
 def tree(proc_pid: int) -> list:
     p = psutil.Process(proc_pid)
     return [p] + p.children(recursive=True)
@@ -104,6 +117,7 @@ def cpu_rss(procs) -> tuple[float, float]:
 
 
 def run(args) -> dict:
+    fast_defaults.install()  # the simulated pages build their documents' Bokeh models in this process
     if args.num_procs > 1 and args.compute != "threads":
         args.dask = True  # one cluster for all server processes, as `ringlab serve --num-procs N` starts
     env = dict(os.environ)
@@ -141,7 +155,7 @@ def run(args) -> dict:
         def mark_start():
             marks["t0"] = time.perf_counter()
             marks["cpu0"], _ = cpu_rss(tree(server.pid) + worker_procs(cluster))
-            marks["own0"], _ = cpu_rss([psutil.Process(server.pid)])
+            marks["own0"], _ = cpu_rss(app_procs(server.pid))
             marks["client0"] = time.process_time()
             marks["main0"] = main_thread_cpu(server.pid)
         loop.call_later(args.warmup, mark_start)
@@ -151,7 +165,7 @@ def run(args) -> dict:
             if "t0" in marks:
                 rss_series.append((round(time.perf_counter() - marks["t0"], 1),
                                    round(cpu_rss(tree(server.pid) + worker_procs(cluster))[1], 0),
-                                   round(cpu_rss([psutil.Process(server.pid)])[1], 0)))
+                                   round(cpu_rss(app_procs(server.pid))[1], 0)))
         rss_cb = PeriodicCallback(sample_rss, 30_000)
         loop.call_later(args.warmup, rss_cb.start)
         loop.call_later(args.warmup + args.seconds, loop.stop)
@@ -163,7 +177,7 @@ def run(args) -> dict:
         scpu0 = marks["cpu0"]
         rates = [st.rate(marks["t0"], t1) for st in students]
         lat = probe.latencies or [float("nan")]
-        server_only = cpu_rss([psutil.Process(server.pid)])[0]
+        server_only = cpu_rss(app_procs(server.pid))[0]
         out = dict(students=args.students, seconds=round(t1 - marks["t0"], 1), num_procs=args.num_procs,
                    dask=bool(args.dask), compute=env["RINGLAB_COMPUTE"],
                    server_process_cores=round((server_only - marks["own0"]) / (t1 - marks["t0"]), 2), per_session_orbits_per_s=[round(r, 2) for r in rates],
@@ -235,8 +249,7 @@ def open_students(args, url: str, loop, server_pid: int) -> tuple[list, list, li
     each from its own thread).  Returns (the :class:`Student` readers, the sessions ``loop`` must read,
     the threads to stop, the join figures: ``pages_ready_s``, ``page_server_cpu_s``)."""
     query, button = student_query(args)
-    app = psutil.Process(server_pid)
-    cpu0 = app.cpu_times()
+    cpu0, _ = cpu_rss(app_procs(server_pid))
     t0 = time.perf_counter()
     if args.join_together:
         threads, t_open, t_done = join_together(url, query, button, args.students)
@@ -252,12 +265,12 @@ def open_students(args, url: str, loop, server_pid: int) -> tuple[list, list, li
             if button:
                 press(sessions[-1], button)
         t_done = time.perf_counter()
-    cpu1 = app.cpu_times()
+    cpu1, _ = cpu_rss(app_procs(server_pid))
     ready = [st.ready_at - t for st, t in zip(students, opened) if st.ready_at is not None]
     joined = dict(pages_ready_s=dict(median=round(statistics.median(ready), 2) if ready else None,
                                      max=round(max(ready), 2) if ready else None, n_ready=len(ready), n=args.students),
                   # the app process while the class opened its pages: building them (and their first frames)
-                  page_server_cpu_s=round((cpu1.user + cpu1.system - cpu0.user - cpu0.system) / args.students, 3),
+                  page_server_cpu_s=round((cpu1 - cpu0) / args.students, 3),
                   join_s=round(t_done - t0, 2))
     if errors:
         joined["page_errors"] = errors[:5]

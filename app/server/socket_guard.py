@@ -37,7 +37,7 @@ import json
 import logging
 import weakref
 
-from ringlab.server import fast_patch
+from ringlab.server import fast_defaults, fast_patch
 from ringlab.server.fast_patch import patch_doc_message
 
 _INSTALLED: dict[str, bool] = {}
@@ -184,10 +184,12 @@ def _page_left(doc) -> None:
 
 
 def install() -> dict:
-    """Install the guards once per process; returns which are installed (name -> bool)."""
+    """Install the guards (and Bokeh's defaults cached per model class, :mod:`ringlab.server.fast_defaults`) once
+    per process; returns which are installed (name -> bool)."""
     if not _INSTALLED:
         _INSTALLED["panel_dispatch"] = _guard_panel_dispatch()
         _INSTALLED["scheduled_writes"] = fast_patch.install_scheduled_writes()
         _INSTALLED["fast_apply"] = fast_patch.install_fast_apply()
         _INSTALLED["bokeh_handler"] = _guard_bokeh_handler()
+        _INSTALLED["fast_defaults"] = fast_defaults.install()
     return dict(_INSTALLED)
