@@ -53,7 +53,7 @@ from ringlab.cli.loadtest_clients import Prober, Student, connect, press, pump
 from ringlab.cli.loadtest_join import join_together, stop_all
 from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.paths import PACKAGE_DIR
-from ringlab.server import accept, fast_defaults
+from ringlab.server import fast_defaults, joining
 
 START_TIMEOUT_S = 300.0  # a loaded 2-core machine needs more than 2 minutes for `panel serve --warm`
 SHARED_STEP = (3, 2)  # --shared: lesson 3, step 2 (the default box at sigma0 = 400, started by "Set up this step")
@@ -69,7 +69,7 @@ def start_server(port: int, num_procs: int, env: dict) -> subprocess.Popen:
     cmd = [sys.executable, "-m", "panel", "serve", str(PACKAGE_DIR / "main.py"), "--port", str(port), "--address", "127.0.0.1",
            "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness", "--warm", "--num-procs", str(num_procs)]
     if num_procs > 1:
-        cmd += ["--setup", accept.__file__]  # as `ringlab serve --num-procs N`: a class joining at once is spread
+        cmd += ["--setup", joining.__file__]  # as `ringlab serve --num-procs N`: a class joining at once is spread
     log = open(os.environ.get("RINGLAB_LOAD_LOG", "/tmp/classroom_load_server.log"), "w")
     proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT)
     t_end = time.time() + START_TIMEOUT_S

@@ -22,7 +22,7 @@ from ringcore.checks import check_int, check_real
 from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.lessons.tutorials import docs_dir, static_dirs
 from ringlab.main import TITLE, configure, create_app
-from ringlab.server import accept, remote
+from ringlab.server import joining, remote
 from ringlab.server.cluster import LocalClusterProcess
 from ringlab.server.compute import ENV_MAX
 from ringlab.server.remote import ENV_MODE, ENV_SCHEDULER, ENV_WORKERS, MODES
@@ -182,7 +182,7 @@ def run(args) -> int:
     configure()
     cluster = shared_cluster(p["num_procs"])  # before the fork: every server process uses its workers
     if p["num_procs"] > 1:
-        accept.balance_accepts()  # before the fork: a class joining at once is spread over the processes
+        joining.balance_accepts()  # before the fork: a class joining at once is spread over the processes
     lines = link_lines(p)
     if cluster is not None:
         lines.append(f"  compute: one local Dask cluster of {remote.local_workers()} worker processes for the "

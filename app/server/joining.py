@@ -1,0 +1,100 @@
+"""A class that opens its pages at the same moment: spread over the server's processes, built one per turn.
+
+**Over the processes.** With ``--num-procs N`` the server's processes share one listening socket.  Tornado
+(6.x) accepts up to 128 waiting connections each time the socket becomes readable, so when thirty students
+open the link at once the first process to wake takes all of them and builds their pages one after the
+other, while the other processes stay idle.  :func:`balance_accepts` makes each process accept one
+connection per wake-up: a process busy building a page leaves the next connection to an idle one.  Measured
+on the 2-core machine with ``ringlab loadtest --students 30 --join-together --num-procs 2`` (29 November
+2026): the pages arrived after 48.0 s (median) and 49.4 s (last) with Tornado's default and after 22.5-30.7 s
+and 23.6-32.8 s (three runs) with one connection per wake-up.  The listen backlog (128) is unchanged: only
+the accept loop reads this value at run time.
+
+**One page built per turn of the event loop.**  Bokeh builds a session's page as soon as its connection
+asks for one, on the event loop.  When thirty connections arrive together, all thirty builds are queued
+before the first page can ask for its document, and the event loop runs them back to back: no page got its
+document before the last one was built (sampled every 2 s: the event loop busy for 45 s, then all
+documents sent together).  :func:`install_build_order` lets one new session be built at a time, and before
+each build lets the event loop answer what is waiting (a built page asking for its document, frames,
+clicks), so the first pages arrive while the others are still being built.  A page that is already built
+or being built is returned at once, as before.  Measured in the server (``scripts/measure_join_order.py``,
+30 class start link pages, one process): the first, median and last page were sent their documents after
+32.9, 35.5 and 38.4 s with Bokeh's order and after 2.4, 20.1 and 38.0 s with this one.
+
+``ringlab serve`` calls both before its processes start (the balance with ``--num-procs`` N > 1);
+``panel serve ... --setup <this file>`` runs this file as the server's setup script.
+"""
+from __future__ import annotations
+
+import asyncio
+import hashlib
+import inspect
+
+import tornado.netutil
+from bokeh.server.contexts import ApplicationContext
+
+ACCEPTS_PER_WAKEUP = 1
+YIELD_S = 0.05  # [s] before each page is built, the event loop first answers what is waiting this long
+ORIGINAL: dict = {}  # Bokeh's ApplicationContext.create_session_if_needed while install_build_order is installed
+# SHA-256 of the source of Bokeh 3.9.2's ApplicationContext.create_session_if_needed (what the wrapper assumes:
+# a session id in ``_sessions`` or ``_pending_sessions`` is returned without building)
+CREATE_SOURCE_SHA256 = "047e758c152be0f6262e0a7d9fe451dc9e1fd407fe93a63e74f79a7048e1006b"
+_BUILD_LOCKS: dict = {}  # event loop -> asyncio.Lock: one page built at a time on that loop
+
+
+def balance_accepts() -> bool:
+    """Accept at most :data:`ACCEPTS_PER_WAKEUP` connection each time the listening socket becomes readable
+    (in this process and the processes it forks); False if this Tornado has no such setting."""
+    if not isinstance(getattr(tornado.netutil, "_DEFAULT_BACKLOG", None), int):
+        return False
+    tornado.netutil._DEFAULT_BACKLOG = ACCEPTS_PER_WAKEUP
+    return True
+
+
+async def create_session_if_needed(self, session_id, request=None, token=None):
+    """Bokeh's ``ApplicationContext.create_session_if_needed``, one new page at a time per event loop."""
+    original = ORIGINAL["create_session_if_needed"]
+    if not session_id or session_id in self._sessions or session_id in self._pending_sessions:
+        return await original(self, session_id, request, token)
+    loop = asyncio.get_running_loop()
+    lock = _BUILD_LOCKS.get(loop)
+    if lock is None:
+        lock = _BUILD_LOCKS.setdefault(loop, asyncio.Lock())
+    async with lock:
+        await asyncio.sleep(YIELD_S)  # what waits on the loop (a built page asking for its document) goes first
+        return await original(self, session_id, request, token)
+
+
+def source_sha256(fn) -> str:
+    """SHA-256 of the source text of ``fn``."""
+    return hashlib.sha256(inspect.getsource(fn).encode()).hexdigest()
+
+
+def install_build_order() -> bool:
+    """Put :func:`create_session_if_needed` in place of Bokeh's if Bokeh's is the one it was written for;
+    returns True if installed."""
+    if ORIGINAL:
+        return True
+    original = ApplicationContext.create_session_if_needed
+    try:
+        same = source_sha256(original) == CREATE_SOURCE_SHA256
+    except (OSError, TypeError):  # no source (a frozen install): keep Bokeh's
+        same = False
+    if not same:
+        return False
+    ORIGINAL["create_session_if_needed"] = original
+    ApplicationContext.create_session_if_needed = create_session_if_needed
+    return True
+
+
+def uninstall_build_order() -> None:
+    """Put Bokeh's method back."""
+    if ORIGINAL:
+        ApplicationContext.create_session_if_needed = ORIGINAL.pop("create_session_if_needed")
+
+
+if __name__ != "ringlab.server.joining":  # run as `panel serve --setup` script: the package's module does it, so
+    from ringlab.server import joining  # that its state (the replaced method) is the one the server uses
+
+    joining.balance_accepts()
+    joining.install_build_order()

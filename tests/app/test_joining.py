@@ -1,0 +1,108 @@
+"""A class joining at once (ringlab.server.joining): spread over the server's processes, one page built per turn."""
+from __future__ import annotations
+
+import asyncio
+import inspect
+import runpy
+import socket
+import time
+import types
+
+import pytest
+import tornado.netutil
+from tornado.ioloop import IOLoop
+
+from ringlab.server import joining
+
+
+@pytest.fixture
+def tornado_default():
+    before = tornado.netutil._DEFAULT_BACKLOG
+    yield before
+    tornado.netutil._DEFAULT_BACKLOG = before
+
+
+def _accepted_per_wakeup() -> int:
+    """Connections Tornado's accept handler takes in one wake-up with three waiting."""
+    listener = tornado.netutil.bind_sockets(0, "127.0.0.1")[0]
+    clients = [socket.create_connection(listener.getsockname()) for _ in range(3)]
+    accepted = []
+
+    async def one_wakeup():  # nothing awaited: the loop never polls the socket itself
+        remove = tornado.netutil.add_accept_handler(listener, lambda conn, addr: accepted.append(conn))
+        handler = IOLoop.current().handlers[listener.fileno()][1]  # the accept handler Tornado registered
+        handler(listener, IOLoop.READ)
+        remove()
+
+    loop = IOLoop(make_current=False)
+    try:
+        loop.run_sync(one_wakeup)
+    finally:
+        loop.close()
+        for c in clients + [listener] + accepted:
+            c.close()
+    return len(accepted)
+
+
+def test_one_connection_per_wakeup(tornado_default):
+    assert tornado_default == 128 and _accepted_per_wakeup() == 3
+    assert joining.balance_accepts()
+    assert tornado.netutil._DEFAULT_BACKLOG == joining.ACCEPTS_PER_WAKEUP == 1
+    assert _accepted_per_wakeup() == 1
+    # the listen backlog of new sockets is Tornado's own
+    assert inspect.signature(tornado.netutil.bind_sockets).parameters["backlog"].default == 128
+
+
+def test_runs_as_a_panel_setup_script(tornado_default):
+    was = bool(joining.ORIGINAL)
+    joining.uninstall_build_order()
+    try:
+        runpy.run_path(joining.__file__, run_name="panel_setup_module")
+        assert tornado.netutil._DEFAULT_BACKLOG == 1
+        from bokeh.server.contexts import ApplicationContext
+        assert ApplicationContext.create_session_if_needed is joining.create_session_if_needed
+    finally:
+        joining.uninstall_build_order()
+        if was:
+            joining.install_build_order()
+
+
+def _joins(monkeypatch, wrapped: bool) -> list:
+    """Three pages connect at once; the first page asks for its document as soon as it is built.  Returns
+    the order of the builds (blocking, as Bokeh's) and of that request."""
+    order = []
+
+    async def bokeh_create(self, sid, request=None, token=None):
+        if sid not in self._sessions:
+            order.append(f"build {sid}")
+            time.sleep(0.02)  # building a page blocks the event loop
+            self._sessions[sid] = sid
+        return self._sessions[sid]
+
+    monkeypatch.setitem(joining.ORIGINAL, "create_session_if_needed", bokeh_create)
+    create = joining.create_session_if_needed if wrapped else bokeh_create
+    ctx = types.SimpleNamespace(_sessions={}, _pending_sessions={})
+
+    async def first_page_asks():
+        while "p0" not in ctx._sessions:
+            await asyncio.sleep(0)
+        order.append("p0 gets its document")
+
+    async def scenario():
+        joins = [asyncio.ensure_future(create(ctx, f"p{i}")) for i in range(3)]
+        await asyncio.gather(*joins, first_page_asks())
+        assert await create(ctx, "p0") == "p0"  # a built page is returned, not built again
+
+    asyncio.run(scenario())
+    return order
+
+
+def test_first_page_gets_its_document_before_the_others_are_built(monkeypatch):
+    assert _joins(monkeypatch, wrapped=False) == ["build p0", "build p1", "build p2", "p0 gets its document"]
+    assert _joins(monkeypatch, wrapped=True) == ["build p0", "p0 gets its document", "build p1", "build p2"]
+
+
+def test_installed_with_this_bokeh():
+    assert joining.install_build_order()
+    from bokeh.server.contexts import ApplicationContext
+    assert ApplicationContext.create_session_if_needed is joining.create_session_if_needed
