@@ -22,11 +22,11 @@ source); the classes are held weakly (Panel makes Bokeh model classes at run tim
 """
 from __future__ import annotations
 
-import hashlib
-import inspect
 import weakref
 
 from bokeh.core.property.descriptors import PropertyDescriptor
+
+from ringlab.server.library_patch import matches
 
 ORIGINAL: dict = {}  # the Bokeh methods replaced by install() (for tests and uninstall())
 # SHA-256 of the source of Bokeh 3.9.2's PropertyDescriptor._get_default and .has_unstable_default
@@ -74,21 +74,13 @@ def _get_default(self, obj):
         return value
 
 
-def source_sha256(fn) -> str:
-    """SHA-256 of the source text of ``fn``."""
-    return hashlib.sha256(inspect.getsource(fn).encode()).hexdigest()
-
-
 def install() -> bool:
     """Put the cached methods in place of Bokeh's if Bokeh's are the ones they were written for; returns
     True if installed.  Called once per process by :func:`ringlab.server.socket_guard.install`."""
     if ORIGINAL:
         return True
     originals = {name: getattr(PropertyDescriptor, name) for name in SOURCE_SHA256}
-    try:
-        same = all(source_sha256(fn) == SOURCE_SHA256[name] for name, fn in originals.items())
-    except (OSError, TypeError):  # no source (a frozen install): keep Bokeh's
-        same = False
+    same = all(matches(fn, SOURCE_SHA256[name]) for name, fn in originals.items())
     if not same:
         return False
     ORIGINAL.update(originals)

@@ -24,8 +24,6 @@ method line for line, and it is installed only if Bokeh's method is the one it w
 """
 from __future__ import annotations
 
-import hashlib
-import inspect
 import logging
 import weakref
 
@@ -35,6 +33,8 @@ from bokeh.document import Document
 from bokeh.document.events import DocumentPatchedEvent
 from bokeh.document.json import PatchJson
 from bokeh.protocol.messages.patch_doc import patch_doc
+
+from ringlab.server.library_patch import replace_if_unchanged
 
 ORIGINAL: dict = {}  # the library functions replaced by the install_* functions (for tests)
 # SHA-256 of the source of the Bokeh 3.9.2 Document.apply_json_patch that apply_json_patch below copies
@@ -122,24 +122,8 @@ def apply_json_patch(self, patch_json, *, setter=None) -> None:
     self.models.flush_synced(lambda model: not deserializer.has_ref(model))
 
 
-def source_sha256(fn) -> str:
-    """SHA-256 of the source text of ``fn``."""
-    return hashlib.sha256(inspect.getsource(fn).encode()).hexdigest()
-
-
 def install_fast_apply() -> bool:
     """Put :func:`apply_json_patch` in place of Bokeh's if Bokeh's is the copied one (its source's SHA-256
     is :data:`APPLY_SOURCE_SHA256`); returns True if installed.  Called once per process by
     :func:`ringlab.server.socket_guard.install`."""
-    if "apply_json_patch" in ORIGINAL:
-        return True
-    original = Document.apply_json_patch
-    try:
-        same = source_sha256(original) == APPLY_SOURCE_SHA256
-    except (OSError, TypeError):  # no source (a frozen install): keep Bokeh's
-        same = False
-    if not same:
-        return False
-    ORIGINAL["apply_json_patch"] = original
-    Document.apply_json_patch = apply_json_patch
-    return True
+    return replace_if_unchanged(Document, "apply_json_patch", apply_json_patch, APPLY_SOURCE_SHA256, ORIGINAL)

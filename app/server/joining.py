@@ -27,11 +27,11 @@ or being built is returned at once, as before.  Measured in the server (``script
 from __future__ import annotations
 
 import asyncio
-import hashlib
-import inspect
 
 import tornado.netutil
 from bokeh.server.contexts import ApplicationContext
+
+from ringlab.server.library_patch import replace_if_unchanged
 
 ACCEPTS_PER_WAKEUP = 1
 YIELD_S = 0.05  # [s] before each page is built, the event loop first answers what is waiting this long
@@ -65,26 +65,11 @@ async def create_session_if_needed(self, session_id, request=None, token=None):
         return await original(self, session_id, request, token)
 
 
-def source_sha256(fn) -> str:
-    """SHA-256 of the source text of ``fn``."""
-    return hashlib.sha256(inspect.getsource(fn).encode()).hexdigest()
-
-
 def install_build_order() -> bool:
     """Put :func:`create_session_if_needed` in place of Bokeh's if Bokeh's is the one it was written for;
     returns True if installed."""
-    if ORIGINAL:
-        return True
-    original = ApplicationContext.create_session_if_needed
-    try:
-        same = source_sha256(original) == CREATE_SOURCE_SHA256
-    except (OSError, TypeError):  # no source (a frozen install): keep Bokeh's
-        same = False
-    if not same:
-        return False
-    ORIGINAL["create_session_if_needed"] = original
-    ApplicationContext.create_session_if_needed = create_session_if_needed
-    return True
+    return replace_if_unchanged(ApplicationContext, "create_session_if_needed", create_session_if_needed,
+                                CREATE_SOURCE_SHA256, ORIGINAL)
 
 
 def uninstall_build_order() -> None:

@@ -15,7 +15,7 @@ from bokeh.models import Div
 from bokeh.protocol import Protocol
 
 from ringlab.live.hydro import HydroRunner
-from ringlab.server import fast_patch
+from ringlab.server import fast_patch, library_patch
 from ringlab.tabs.hydro.view import HydroView
 
 
@@ -116,7 +116,7 @@ def test_incoming_patches_apply_as_bokehs_own():
     assert fast_patch.install_fast_apply()
     assert Document.apply_json_patch is fast_patch.apply_json_patch
     original = fast_patch.ORIGINAL["apply_json_patch"]
-    assert fast_patch.source_sha256(original) == fast_patch.APPLY_SOURCE_SHA256
+    assert library_patch.source_sha256(original) == fast_patch.APPLY_SOURCE_SHA256
     v = HydroView(runner=HydroRunner(L_x=500.0, h=2.5))
     doc = Document()
     doc.add_root(v.__panel__().get_root(doc))
