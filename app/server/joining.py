@@ -27,6 +27,7 @@ or being built is returned at once, as before.  Measured in the server (``script
 from __future__ import annotations
 
 import asyncio
+import weakref
 
 import tornado.netutil
 from bokeh.server.contexts import ApplicationContext
@@ -39,7 +40,7 @@ ORIGINAL: dict = {}  # Bokeh's ApplicationContext.create_session_if_needed while
 # SHA-256 of the source of Bokeh 3.9.2's ApplicationContext.create_session_if_needed (what the wrapper assumes:
 # a session id in ``_sessions`` or ``_pending_sessions`` is returned without building)
 CREATE_SOURCE_SHA256 = "047e758c152be0f6262e0a7d9fe451dc9e1fd407fe93a63e74f79a7048e1006b"
-_BUILD_LOCKS: dict = {}  # event loop -> asyncio.Lock: one page built at a time on that loop
+_BUILD_LOCKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # event loop -> its build lock
 
 
 def balance_accepts() -> bool:
