@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import cProfile
+import gc
 import json
 import os
 import pstats
@@ -46,7 +47,11 @@ def open_page(args: dict):
 
 
 def close(app) -> None:
-    """Stop the page's runs (autostart started one)."""
+    """Stop the page's runs (autostart started one); then freeze the objects made so far out of the garbage
+    collector's scans, as the server does after each new page (``ringlab.server.gc_policy.page_built``): else
+    a full collection of this process's growing heap lands in every other page's figure (0.2 s and more)."""
+    gc.collect(1)
+    gc.freeze()
     views = getattr(app.views, "built", None)
     for view in (views() if callable(views) else app.views):
         runner = getattr(view, "runner", None)

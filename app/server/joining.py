@@ -32,6 +32,7 @@ import weakref
 import tornado.netutil
 from bokeh.server.contexts import ApplicationContext
 
+from ringlab.server import gc_policy
 from ringlab.server.library_patch import replace_if_unchanged
 
 ACCEPTS_PER_WAKEUP = 1
@@ -63,7 +64,9 @@ async def create_session_if_needed(self, session_id, request=None, token=None):
         lock = _BUILD_LOCKS.setdefault(loop, asyncio.Lock())
     async with lock:
         await asyncio.sleep(YIELD_S)  # what waits on the loop (a built page asking for its document) goes first
-        return await original(self, session_id, request, token)
+        session = await original(self, session_id, request, token)
+        gc_policy.page_built()  # the new page's objects out of the next pages' garbage collections
+        return session
 
 
 def install_build_order() -> bool:

@@ -134,7 +134,14 @@ class SharedSim:
             self._local = None
         period = self._period()
         advanced, exc = self._show(self._comp.take(self._fid, period))
-        self._taken_at = time.monotonic()
+        now = time.monotonic()
+        if not first and period is not None and compute.loop_load() <= 1.0:
+            # an idle event loop: takes on a grid of one period, so the time a take and its frame cost is not added
+            # to the period (that made "5 per second" 4.6); a take late by more than half a period starts the grid
+            # again.  A busy loop keeps the time of the take: its own delay then spaces the frames further.
+            self._taken_at = max(self._taken_at + period, now - 0.5 * period)
+        else:
+            self._taken_at = now
         if first and period is not None:
             # the followers of one computation spread their takes over the period (golden-ratio phases) instead
             # of all taking each chunk the moment it is ready: 30 frames in one burst held a slider change

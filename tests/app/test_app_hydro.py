@@ -246,6 +246,7 @@ def test_frame_gate_paces_frames():
     from bokeh.models import ColumnDataSource
     from bokeh.plotting import figure
 
+    from ringlab.ui import frame_gate
     from ringlab.ui.frame_gate import FrameGate
 
     fig, src = figure(), ColumnDataSource(dict(x=[]))
@@ -254,12 +255,14 @@ def test_frame_gate_paces_frames():
     assert gate.ready(10.0)
     gate.mark_sent(10.0)
     assert not gate.ready(10.1) and gate.ready(10.3)  # no server session: only the period applies
+    gate.mark_sent(10.1)  # a forced frame (a Pause) before the gate allowed one: the pacing starts again there
+    assert not gate.ready(10.2) and gate.ready(10.1 + 0.25 * (1 - frame_gate.EARLY_FRACTION))
     gate._ack("tags", [], [1])
-    assert gate.acks == gate.sent == 1
+    assert gate.acks == 1 and gate.sent == 2
 
 
 def test_frame_gate_caps_the_frame_rate_of_a_served_page(monkeypatch):
-    """In a server session a plot gets at most RINGLAB_MAX_FRAME_RATE updates per second (default 10), even
+    """In a server session a plot gets at most RINGLAB_MAX_FRAME_RATE updates per second (default 6), even
     when the page acknowledges every frame at once; a bad value names the variable and the allowed range."""
     from types import SimpleNamespace
 
@@ -269,25 +272,54 @@ def test_frame_gate_caps_the_frame_rate_of_a_served_page(monkeypatch):
     from ringlab.ui import frame_gate
     from ringlab.ui.frame_gate import FrameGate, max_frame_rate
 
-    assert max_frame_rate() == frame_gate.DEFAULT_MAX_FRAME_RATE == 10.0
+    assert max_frame_rate() == frame_gate.DEFAULT_MAX_FRAME_RATE == 6.0
     served = SimpleNamespace(session_context=object())
     monkeypatch.setattr(type(pn.state), "curdoc", property(lambda self: served))
     monkeypatch.setenv(frame_gate.RATE_ENV, "4")
     gate = FrameGate(figure(), ColumnDataSource(dict(x=[])))
     sent = 0
-    for i in range(200):  # 2 s in steps of 10 ms, every frame acknowledged at once
+    for i in range(1000):  # 10 s in steps of 10 ms, every frame acknowledged at once
         now = 100.0 + 0.01 * i
         if gate.ready(now):
             gate.mark_sent(now)
             gate._ack("tags", [], [1])
             sent += 1
-    assert sent == 8  # 4 per second
+    assert sent == 41  # 4 per second, and the first one early by half a period
     monkeypatch.setenv(frame_gate.RATE_ENV, "0.2")
     assert FrameGate(figure(), ColumnDataSource(dict(x=[])), min_period_s=0.25).served_period_s == 5.0
     for bad in ("0", "61", "fast", "nan"):
         monkeypatch.setenv(frame_gate.RATE_ENV, bad)
         with pytest.raises(ValueError, match=r"RINGLAB_MAX_FRAME_RATE = .* allowed 0.2 <= RINGLAB_MAX_FRAME_RATE <= 60"):
             max_frame_rate()
+
+
+def test_frame_gate_sends_jittered_frames_at_the_capped_rate(monkeypatch):
+    """Frames (chunks) arriving every 0.1 s give or take 10 ms at a cap of 10 per second: nearly every one is
+    sent (a strict minimum spacing of 0.1 s refused about a third of them), never more than 10 per second
+    on average."""
+    from types import SimpleNamespace
+
+    from bokeh.models import ColumnDataSource
+    from bokeh.plotting import figure
+
+    from ringlab.ui import frame_gate
+    from ringlab.ui.frame_gate import FrameGate
+
+    served = SimpleNamespace(session_context=object())
+    monkeypatch.setattr(type(pn.state), "curdoc", property(lambda self: served))
+    monkeypatch.setenv(frame_gate.RATE_ENV, "10")
+    rng = np.random.default_rng(3)
+    for centre in (0.1, 0.095, 0.05):
+        gate, now, sent, offered = FrameGate(figure(), ColumnDataSource(dict(x=[]))), 50.0, 0, 0
+        while now < 70.0:
+            offered += 1
+            if gate.ready(now):
+                gate.mark_sent(now)
+                gate._ack("tags", [], [1])
+                sent += 1
+            now += centre + rng.uniform(-0.01, 0.01)
+        assert sent <= 10 * (now - 50.0) + 1  # the cap holds on average
+        assert sent >= 0.95 * min(offered, 10 * (now - 50.0)), (centre, sent, offered)
 
 
 def test_group_titles_say_what_restarts():

@@ -50,3 +50,15 @@ def test_with_pages_open_a_closed_sessions_garbage_waits_at_most_the_full_period
     assert policy.tick(now=t_full + 30.0) == "freeze"  # nothing closed since
     assert policy.tick(now=t_full + policy.FULL_PERIOD_S - 1.0) == "freeze"
     assert policy.tick(now=t_full + policy.FULL_PERIOD_S) == "full"  # garbage frozen meanwhile is freed too
+
+
+def test_a_built_page_is_frozen_at_once_and_its_young_garbage_collected(policy):
+    page = Node()
+    page.self = page  # a new page's document and models: cycles that live as long as the page
+    waste = Node()
+    waste.self = waste  # garbage made while building it
+    ref = weakref.ref(waste)
+    del waste
+    policy.page_built()
+    assert ref() is None
+    assert gc.get_freeze_count() > 0 and not any(o is page for o in gc.get_objects())  # out of every scan
