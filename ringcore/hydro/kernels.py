@@ -34,7 +34,7 @@ from .layout import *  # noqa: F401,F403 (the layout constants, re-exported: ker
 from .layout import _FM, NG, P_BULK, P_DTFACTOR, P_DTMODE, P_GAMMA0, P_GRAVITY, P_GS, P_GT, P_H, P_KRATIO, \
     P_NT, P_NU0, P_PS, P_PT, P_T0, R_C, R_DIF, R_ETA, R_ETAX, R_FH, R_FM, R_FP, R_GAM, R_MP5, R_P, R_RATE, \
     R_SIG, R_T, R_TX, R_TXX, R_U, R_UX, R_UXX, R_V, R_VX, R_VXX
-from .mp5 import MP5_ALPHA, MP5_EPS, mp5, numerical_flux  # noqa: F401 (mp5 and its constants are re-exported)
+from .mp5 import MP5_ALPHA, MP5_EPS, NSCRATCH, mp5, numerical_flux, numerical_flux_full  # noqa: F401 (re-exported)
 from .state_kernels import apply_temperature_floor, check_state, fill_ghosts, to_conservative  # noqa: F401
 
 
@@ -184,8 +184,7 @@ def _numerical_flux(W, nv, n):
     Interfaces i = NG-1 .. NG+n-1 (:func:`ringcore.hydro.mp5.numerical_flux`).
     """
     for k in range(nv):
-        numerical_flux(W[R_FP + k], W[R_FM + k], W[R_FH + k], W[R_MP5], W[R_MP5 + 1], W[R_MP5 + 2], W[R_MP5 + 3],
-                       NG - 1, n + 1)
+        numerical_flux(W[R_FP + k], W[R_FM + k], W[R_FH + k], W[R_MP5:R_MP5 + NSCRATCH], NG - 1, n + 1)
 
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
