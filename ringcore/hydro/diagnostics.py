@@ -105,14 +105,15 @@ class Recorder:
         self.dt.append(dt)
         self.steps.append(steps)
         self.e_kin.append(e_kin_dimless(sigma, u, v))
-        cs = fourier_coefficients(sigma)
+        # no tracked modes (the app's default): no transform (it was a seventh of a sample's cost)
+        cs = fourier_coefficients(sigma) if self.track_modes.size else np.empty(0, complex)
         self.lambda_p.append(spectra.prevalent_wavelength(sigma, self.L_x_m))
         for name, f in zip(FIELDS, (sigma, u, v, T)):
             self.fmin[name].append(float(f.min()))
             self.fmax[name].append(float(f.max()))
         self.mode_sigma.append(cs[self.track_modes])
         # (an empty copy, not cs[:0]: a view would keep the whole spectrum of every sample alive, ~6 KB at n = 800)
-        self.mode_u.append(fourier_coefficients(u)[self.track_modes] if self.track_modes.size else np.empty(0, cs.dtype))
+        self.mode_u.append(fourier_coefficients(u)[self.track_modes] if self.track_modes.size else np.empty(0, complex))
         self.probe_sigma.append(sigma[self.probe_index])
         self.probe_u.append(u[self.probe_index])
         if self.max_samples is not None and len(self.t) > self.max_samples:

@@ -34,7 +34,7 @@ from .layout import *  # noqa: F401,F403 (the layout constants, re-exported: ker
 from .layout import _FM, NG, P_BULK, P_DTFACTOR, P_DTMODE, P_GAMMA0, P_GRAVITY, P_GS, P_GT, P_H, P_KRATIO, \
     P_NT, P_NU0, P_PS, P_PT, P_T0, R_C, R_DIF, R_ETA, R_ETAX, R_FH, R_FM, R_FP, R_GAM, R_MP5, R_P, R_RATE, \
     R_SIG, R_T, R_TX, R_TXX, R_U, R_UX, R_UXX, R_V, R_VX, R_VXX
-from .mp5 import MP5_ALPHA, MP5_EPS, mp5, numerical_flux  # noqa: F401 (mp5 and its constants are re-exported)
+from .mp5 import MP5_ALPHA, MP5_EPS, NSCRATCH, mp5, numerical_flux, numerical_flux_full  # noqa: F401 (re-exported)
 from .state_kernels import apply_temperature_floor, check_state, fill_ghosts, to_conservative  # noqa: F401
 
 
@@ -150,11 +150,10 @@ def _split_fluxes(U, W):
     s_, mx_, my_ = U[0], U[1], U[2]
     fp0, fp1, fp2, fp3 = W[R_FP], W[R_FP + 1], W[R_FP + 2], W[R_FP + 3]
     fm0, fm1, fm2, fm3 = W[R_FM], W[R_FM + 1], W[R_FM + 2], W[R_FM + 3]
-    iso = nv == 3
+    wpp, wpm = W[R_MP5], W[R_MP5 + 1]  # free scratch rows (MP5 comes later)
     for i in range(N):
         c = wc[i]
-        p = wp[i]
-        Mp, Mm, pp, pm = _mach_split(wu[i] / c, p)
+        Mp, Mm, pp, pm = _mach_split(wu[i] / c, wp[i])
         cp = Mp * c
         cm = Mm * c
         fp0[i] = cp * s_[i]
@@ -163,16 +162,19 @@ def _split_fluxes(U, W):
         fm1[i] = cm * mx_[i] + pm
         fp2[i] = cp * my_[i]
         fm2[i] = cm * my_[i]
-    if iso:
+        fp3[i] = cp  # M+- c and p+- for the energy loop (the rows are scratch if isothermal)
+        fm3[i] = cm
+        wpp[i] = pp
+        wpm[i] = pm
+    if nv == 3:
         return
+    # energy M+- c e + p+- u in a second loop (one loop with eight outputs vectorizes worse), from the
+    # M+- c and p+- stored above instead of dividing and splitting again: the same values, the same fluxes
     e_ = U[3]
-    for i in range(N):  # energy: M+- c e + p+- u (a separate loop keeps both loops vectorized)
-        c = wc[i]
-        p = wp[i]
+    for i in range(N):
         u = wu[i]
-        Mp, Mm, pp, pm = _mach_split(u / c, p)
-        fp3[i] = Mp * c * e_[i] + pp * u
-        fm3[i] = Mm * c * e_[i] + pm * u
+        fp3[i] = fp3[i] * e_[i] + wpp[i] * u
+        fm3[i] = fm3[i] * e_[i] + wpm[i] * u
 
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
@@ -182,8 +184,7 @@ def _numerical_flux(W, nv, n):
     Interfaces i = NG-1 .. NG+n-1 (:func:`ringcore.hydro.mp5.numerical_flux`).
     """
     for k in range(nv):
-        numerical_flux(W[R_FP + k], W[R_FM + k], W[R_FH + k], W[R_MP5], W[R_MP5 + 1], W[R_MP5 + 2], W[R_MP5 + 3],
-                       NG - 1, n + 1)
+        numerical_flux(W[R_FP + k], W[R_FM + k], W[R_FH + k], W[R_MP5:R_MP5 + NSCRATCH], NG - 1, n + 1)
 
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
@@ -329,21 +330,34 @@ def rk_stage(Uin, W, beta, g, par, L, Lprev, A, a0, B, a1, C, a2, b1, b2, dt, dt
     c1 = dt * b1
     c2 = dt * b2
     for k in range(nv):
-        o = out[k][NG:NG + n]
-        a = A[k][NG:NG + n]
-        ll = L[k][NG:NG + n]
+        _update(out[k][NG:NG + n], A[k][NG:NG + n], a0, L[k][NG:NG + n], c1, B[k][NG:NG + n], a1,
+                C[k][NG:NG + n], a2, Lprev[k][NG:NG + n], c2, b2 != 0.0)
+    return dt
+
+
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
+def _update(o, a, a0, ll, c1, bb, a1, cc, a2, lp, c2, use_lp):
+    """``o = a0 a + c1 ll [+ a1 bb] [+ a2 cc] [+ c2 lp]`` summed left to right, terms with a zero
+    coefficient (``use_lp`` False for the last) left out: one pass over the nodes instead of one per term."""
+    n = o.shape[0]
+    if a1 != 0.0 and a2 == 0.0 and not use_lp:
+        for i in range(n):
+            o[i] = a0 * a[i] + c1 * ll[i] + a1 * bb[i]
+    elif a1 == 0.0 and a2 == 0.0 and not use_lp:
+        for i in range(n):
+            o[i] = a0 * a[i] + c1 * ll[i]
+    elif a1 != 0.0 and a2 != 0.0 and use_lp:
+        for i in range(n):
+            o[i] = a0 * a[i] + c1 * ll[i] + a1 * bb[i] + a2 * cc[i] + c2 * lp[i]
+    else:  # the combinations the SSPRK(5,4) tableau does not use
         for i in range(n):
             o[i] = a0 * a[i] + c1 * ll[i]
         if a1 != 0.0:
-            bb = B[k][NG:NG + n]
             for i in range(n):
                 o[i] += a1 * bb[i]
         if a2 != 0.0:
-            cc = C[k][NG:NG + n]
             for i in range(n):
                 o[i] += a2 * cc[i]
-        if b2 != 0.0:
-            lp = Lprev[k][NG:NG + n]
+        if use_lp:
             for i in range(n):
                 o[i] += c2 * lp[i]
-    return dt
