@@ -36,7 +36,7 @@ from ringlab.server import remote
 
 ENV_MAX = "RINGLAB_MAX_COMPUTE"
 LAG_TARGET_S = 0.05  # [s] event-loop delay of a finished chunk's callback the pacing of shared runs aims at
-MAX_SLOWDOWN = 12.0  # the pages of a shared run then take chunks every 2 s (ringlab.server.shared)
+MAX_SLOWDOWN = 10.0
 LAG_WINDOW_S = 3.0  # [s] the pacing follows the median delay of the callbacks in this last stretch of time
 _LAGS: collections.deque = collections.deque(maxlen=512)  # (time.monotonic(), delay [s]) of recent callbacks
 _LAGS_LOCK = threading.Lock()  # the event loop appends, the compute threads read

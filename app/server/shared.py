@@ -43,7 +43,8 @@ JOIN_MAX_BYTES = 256e6  # chunks kept from the start at most [bytes] (then no mo
 WAIT_S = 30.0  # longest wait for another session's chunk before checking again [s]
 AHEAD = 2  # chunks a worker computes ahead of the sessions following its run
 MAX_AHEAD_WALL_S = 0.5  # [s] longest of those chunks (a session leaving waits for them: Pause, a setting change)
-FOLLOW_PERIOD_S = 1 / 6  # a following session takes new chunks at most this often [s] (6 frames/s) ...
+IDLE_FOLLOW_PERIOD_S = 1 / 6  # [s] while the event loop keeps up, a following session takes new chunks this often
+FOLLOW_PERIOD_S = 0.2  # ... and once it lags, this often times the lag factor [s] (5 frames/s and fewer) ...
 MAX_FOLLOW_PERIOD_S = 2.0  # ... and at least this often [s], however busy the event loop (compute.loop_load)
 
 _REGISTRY: dict = {}  # identity -> Computation that may be joined

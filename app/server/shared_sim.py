@@ -135,7 +135,7 @@ class SharedSim:
         period = self._period()
         advanced, exc = self._show(self._comp.take(self._fid, period))
         now = time.monotonic()
-        if not first and period is not None and compute.loop_load() <= 1.0:
+        if not first and period is not None and period <= shared.IDLE_FOLLOW_PERIOD_S:
             # an idle event loop: takes on a grid of one period, so the time a take and its frame cost is not added
             # to the period (that made "5 per second" 4.6); a take late by more than half a period starts the grid
             # again.  A busy loop keeps the time of the take: its own delay then spaces the frames further.
@@ -154,13 +154,16 @@ class SharedSim:
     def _period(self):
         """Seconds between this page's takes of a shared run on a worker (None: in this process, no pacing).
 
-        A page needs no more than ~8 frames/s, and fewer, for every session alike, while the event loop is
-        busy (:func:`ringlab.server.compute.loop_load`); the worker computes chunks of this length ahead
-        meanwhile, so the run does not slow down with the frames."""
+        A page needs no more than ~6 frames/s (``shared.IDLE_FOLLOW_PERIOD_S``), and fewer,
+        for every session alike, while the event loop is busy (:func:`ringlab.server.compute.loop_load`); the
+        worker computes chunks of this length ahead meanwhile, so the run does not slow down with the frames."""
         comp = self._comp
         if comp is None or comp.host is None or not comp.host.remote:
             return None
-        return min(shared.MAX_FOLLOW_PERIOD_S, shared.FOLLOW_PERIOD_S * compute.loop_load())
+        load = compute.loop_load()
+        if load <= 1.0:
+            return shared.IDLE_FOLLOW_PERIOD_S
+        return min(shared.MAX_FOLLOW_PERIOD_S, shared.FOLLOW_PERIOD_S * load)
 
     def pace_s(self) -> float:
         """Seconds to wait before the next chunk is taken (the runner waits outside its compute lock)."""
