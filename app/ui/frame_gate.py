@@ -19,10 +19,10 @@ RATE_ENV = "RINGLAB_MAX_FRAME_RATE"
 # the 2-core test machine draws at a whole core anyway, and are the pace of the pages following a shared run.
 DEFAULT_MAX_FRAME_RATE = 6.0
 FRAME_RATE_RANGE = (0.2, 60.0)
-# A frame may go out this fraction of a period early.  Chunks reach the event loop every ~0.1 s give or take
-# a few ms; a strict "at least one period since the last frame" then refused about every other chunk that came
-# a little early and halved the rate (4.6-4.75 frames/s at a cap of 10).  The cap holds on average: each frame
-# sent moves the next due time on by one period (the generic cell rate algorithm of network traffic shaping).
+# A frame may go out this fraction of a period early.  Chunks reach the event loop with a few ms of jitter; a
+# strict "at least one period since the last frame" refused every one that came a little early (a third of them
+# at 0.1 s +- 10 ms and a cap of 10/s, tests/app/test_app_hydro.py).  The cap holds on average: each frame sent
+# moves the next due time on by one period (the generic cell rate algorithm of network traffic shaping).
 EARLY_FRACTION = 0.5
 
 
@@ -31,6 +31,12 @@ def max_frame_rate() -> float:
     default 6; ``ringlab serve --max-frame-rate``).  ValueError, naming the variable, outside that range."""
     text = os.environ.get(RATE_ENV, "").strip()
     return check_real(RATE_ENV, text, *FRAME_RATE_RANGE) if text else DEFAULT_MAX_FRAME_RATE
+
+
+def served() -> bool:
+    """True in a server session (not in a headless test or a notebook)."""
+    doc = pn.state.curdoc
+    return doc is not None and doc.session_context is not None
 
 
 class FrameGate:
@@ -64,25 +70,23 @@ class FrameGate:
 
     def ready(self, now: float) -> bool:
         """May a frame be sent at time ``now`` (time.perf_counter())?"""
-        doc = pn.state.curdoc
-        served = doc is not None and doc.session_context is not None
-        if now < self.t_slot + (1.0 - EARLY_FRACTION) * self._period(served):
+        in_server = served()
+        if now < self.t_slot + (1.0 - EARLY_FRACTION) * self._period(in_server):
             return False
-        if not served or self.sent - self.acks < self.max_in_flight:
+        if not in_server or self.sent - self.acks < self.max_in_flight:
             return True
         if now - max(self.t_ack, self.t_sent) > self.timeout_s:
             self.acks = self.sent  # frames lost (plot hidden) or the page stalled: start again
             return True
         return False
 
-    def _period(self, served: bool) -> float:
-        return self.served_period_s if served else self.min_period_s
+    def _period(self, in_server: bool) -> float:
+        return self.served_period_s if in_server else self.min_period_s
 
     def mark_sent(self, now: float) -> None:
         """A frame was sent at ``now``: the next is due one period after this one was due (after ``now``, if
         this one was late or was sent without waiting for the gate: a forced frame starts the pacing again)."""
-        doc = pn.state.curdoc
-        period = self._period(doc is not None and doc.session_context is not None)
+        period = self._period(served())
         if now < self.t_slot + (1.0 - EARLY_FRACTION) * period:
             self.t_slot = now
         else:

@@ -78,7 +78,7 @@ def test_served_frames_stream_the_series_and_skip_unchanged_images(monkeypatch):
     import ringlab.tabs.hydro.view as view_module
 
     clock = [100.0]
-    monkeypatch.setattr(view_module, "_served", lambda: True)
+    monkeypatch.setattr(view_module, "served", lambda: True)
     monkeypatch.setattr(view_module.time, "perf_counter", lambda: clock[0])
     v = HydroView(runner=HydroRunner(**SMALL))
     r, p = v.runner, v.plots

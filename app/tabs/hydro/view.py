@@ -29,7 +29,7 @@ from ringlab.tabs.hydro.plots import HydroPlots
 from ringlab.tabs.shared import ExportPanel, restore_widgets
 from ringlab.ui.checked_input import CheckedInputs
 from ringlab.ui.cite import publish
-from ringlab.ui.frame_gate import FrameGate
+from ringlab.ui.frame_gate import FrameGate, served
 from ringlab.ui.layout import responsive_grid, run_first, wrap_row
 from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
@@ -62,12 +62,6 @@ and radial self-gravity), in a periodic box of radial size L<sub>x</sub>, with t
 The run goes on while you look at other tabs (press Pause to stop it); closing the browser tab stops it.
 If the scheme fails (a "blow-up": a density or temperature turns negative), the run pauses at the last good state.
 """)
-
-
-def _served() -> bool:
-    """True in a server session (where every student's frames share the app process's CPU)."""
-    doc = pn.state.curdoc
-    return doc is not None and doc.session_context is not None
 
 
 class HydroView(pn.viewable.Viewer):
@@ -254,8 +248,8 @@ class HydroView(pn.viewable.Viewer):
                 self.plots.update_buffer(r)
                 self._buffer_shown = buf
             if lines:
-                self.plots.update_lines(r, fr, stream=_served())
-                if force or now - self._readouts_sent >= READOUT_PERIOD_S or not _served():
+                self.plots.update_lines(r, fr, stream=served())
+                if force or now - self._readouts_sent >= READOUT_PERIOD_S or not served():
                     self.readouts.object = readout_cards(self._readout_rows(fr), "hydro-readouts")
                     self._note_allowed(fr)
                     self._readouts_sent = now
