@@ -1,6 +1,10 @@
 """Projector-first layout: at 1024x768, 1280x720, 1366x768 and 1920x1080 (and on a 390 px phone with
 mobile emulation) Start and the main plot of the Hydrodynamics, N-body and Compare tabs lie in the first
 screen (the phone: within the first two) and no two panels overlap; presentation mode; the viewport tag.
+At every size, the plots of the Hydrodynamics and Linear theory tabs are neither cut off at the side nor
+squashed nor overlapping and keep their sizes while the page is idle (over 3 s at 1024x768, 1280x720 and on the
+phone, 1 s at the other sizes: a layout that keeps resizing changes within a second), and every tab's header is
+reachable without scrolling the tab bar.
 
 Screenshots go to test-artifacts/layout/ (1280x720, 1024x768, presentation mode, phone).
 """
@@ -11,6 +15,7 @@ import time
 import pytest
 
 from browser_support import ARTIFACTS, CHROMIUM, FLAGS, free_port, start_server, stop_server, sync_playwright
+from ringlab.main import TABS as TABS_ALL
 
 pytestmark = [pytest.mark.slow]
 
@@ -90,6 +95,58 @@ def walk_tabs(page, url: str):
         yield tab, key, start
 
 
+# every Bokeh plot canvas shown (non-zero size), also inside shadow roots: [x, y, width, height]
+CANVAS_BOXES_JS = """
+() => {
+  const out = [];
+  const walk = (root) => {
+    for (const el of root.querySelectorAll('*')) {
+      if (el.classList && el.classList.contains('bk-Canvas')) {
+        const r = el.getBoundingClientRect();
+        if (r.width > 0 && r.height > 0) out.push([r.left + scrollX, r.top + scrollY, r.width, r.height]);
+      }
+      if (el.shadowRoot) walk(el.shadowRoot);
+    }
+  };
+  walk(document);
+  return out;
+}
+"""
+
+
+def check_plots(page, name: str, width: int, min_w: float, min_h: float, stable: bool = True) -> list:
+    """Every plot shown lies within the page's width, is at least ``min_w`` x ``min_h`` px and overlaps no other
+    plot; with ``stable``, no plot changes size over 3 s of an idle page (else over 1 s).  Returns the boxes."""
+    sizes = []
+    for _ in range(3 if stable else 1):
+        sizes.append(sorted(tuple(round(v) for v in b[2:]) for b in page.evaluate(CANVAS_BOXES_JS)))
+        page.wait_for_timeout(1000)
+    boxes = page.evaluate(CANVAS_BOXES_JS)
+    sizes.append(sorted(tuple(round(v) for v in b[2:]) for b in boxes))
+    assert boxes, f"{name}: no plot shown"
+    for x, _, w, _ in boxes:
+        assert x >= -1 and x + w <= width + 1, f"{name}: a plot is cut off at the side ({x:.0f} + {w:.0f} px)"
+    assert min(b[2] for b in boxes) >= min_w and min(b[3] for b in boxes) >= min_h, f"{name}: squashed {boxes}"
+    bad = overlaps([("plot", *b) for b in boxes])
+    assert not bad, f"{name}: overlapping plots {bad[:3]}"
+    assert all(sz == sizes[0] for sz in sizes), f"{name}: plot sizes change while idle: {sizes}"
+    return boxes
+
+
+def check_linear_tab_and_tab_bar(page, width: int, stable: bool = True) -> None:
+    """The Linear theory tab's plots (side by side, at most two per row, on a screen of 1024 px or more) and every
+    tab's header within the page's width."""
+    page.locator(".bk-tab", has_text="Linear theory").first.click()
+    page.locator("#ro-lambda-zero .ro-value").wait_for(timeout=LOAD_MS)
+    page.evaluate("() => window.scrollTo(0, 0)")
+    page.wait_for_timeout(1500)
+    wide = width >= 1024
+    check_plots(page, f"linear {width}", width, 380 if wide else 0, 250 if wide else 0, stable)
+    for title, _ in TABS_ALL:  # the headers wrap on a phone
+        b = page.locator(".bk-tab", has_text=title).first.bounding_box()
+        assert b is not None and b["x"] >= 0 and b["x"] + b["width"] <= width + 1, (title, b)
+
+
 def box(page, sel: str) -> dict:
     b = page.locator(sel).first.bounding_box()
     assert b is not None, f"{sel} not shown"
@@ -136,6 +193,8 @@ def test_run_controls_and_main_plots_in_the_first_screen(server, playwright, tmp
             pos = check_first_screen(page, tab, 1, height)
             print(f"{width}x{height} {tab}: " + ", ".join(f"{k} y={v['y']:.0f}..{v['y'] + v['height']:.0f}"
                                                           for k, v in pos.items()))
+            if key == "hydro":  # profiles not squashed: every plot at least 280 px wide and 180 px high
+                check_plots(page, f"hydro {width}x{height}", width, 280, 180, (width, height) in SHOT_SIZES)
             # the lessons panel stands beside the tabs with its question in view
             q = box(page, "#lesson-question")
             assert q["x"] > pos["start"]["x"] and q["y"] + q["height"] <= height, q
@@ -145,6 +204,9 @@ def test_run_controls_and_main_plots_in_the_first_screen(server, playwright, tmp
         page.wait_for_timeout(500)
         q = box(page, "#lesson-question")
         assert 0 <= q["y"] and q["y"] + q["height"] <= height, f"question scrolled away: {q}"
+        check_linear_tab_and_tab_bar(page, width, (width, height) in SHOT_SIZES)
+        if (width, height) in SHOT_SIZES:
+            page.screenshot(path=str(SHOTS / f"linear-{width}x{height}.png"))
         assert not errors, errors
     finally:
         ctx.close()
@@ -163,6 +225,10 @@ def test_phone_with_mobile_emulation_gets_one_column(server, playwright, tmp_pat
             pos = check_first_screen(page, tab, 2, height)
             print(f"phone {tab}: " + ", ".join(f"{k} y={v['y']:.0f}" for k, v in pos.items()))
             page.screenshot(path=str(SHOTS / f"{key}-phone.png"))
+            if key == "hydro":
+                check_plots(page, "hydro phone", 390, 280, 180)
+        check_linear_tab_and_tab_bar(page, 390)
+        page.screenshot(path=str(SHOTS / "linear-phone.png"))
     finally:
         ctx.close()
 
