@@ -14,8 +14,8 @@ import weakref
 import param
 
 from ringlab.lessons.content import PRESETS, Preset
-from ringlab.live.nbody import SETUP_PARAMS as NBODY_SETUP
 from ringlab.model.hydro_settings import SETUP_PARAMS as HYDRO_SETUP
+from ringlab.model.nbody_settings import SETUP_PARAMS as NBODY_SETUP
 
 SCALE_ENV = "RINGLAB_LESSONS_SCALE"  # "classroom" (default) or "fast" (smaller boxes, for tests)
 SCALES = ("classroom", "fast")
@@ -164,8 +164,8 @@ def apply_preset(preset: Preset | str, targets: Targets, scale: str | None = Non
         runner = getattr(targets, kind)
         if runner is None:
             raise ValueError(f"preset {preset.name!r} needs the {kind} tab, which this session does not have")
-        restart = _needs_restart(runner, values, kind)
-        _update(runner, values)
+        restart = _needs_restart(runner.settings, values, kind)
+        _update(runner.settings, values)  # the runner's one setup watcher rebuilds once (a batch)
         if preset.fresh and not restart:
             runner.reset()
         done.append(f"{kind} settings set" + (", run restarted at t = 0" if preset.fresh or restart else
@@ -185,10 +185,11 @@ def apply_preset(preset: Preset | str, targets: Targets, scale: str | None = Non
     return done
 
 
-def _needs_restart(runner, values: dict, kind: str) -> bool:
-    """True if a setup setting (one that rebuilds the run at t = 0) differs from ``values``."""
+def _needs_restart(settings, values: dict, kind: str) -> bool:
+    """True if a setup setting of a runner's ``settings`` (one that rebuilds the run at t = 0) differs from
+    ``values``."""
     setup = HYDRO_SETUP if kind == "hydro" else NBODY_SETUP
-    return any(getattr(runner, k) != v for k, v in values.items() if k in setup)
+    return any(getattr(settings, k) != v for k, v in values.items() if k in setup)
 
 
 # ---------------------------------------------------------------- classroom length

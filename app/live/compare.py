@@ -27,14 +27,14 @@ from ringlab.live.buffers import SpaceTimeImage
 from ringlab.live.compare_data import matched_amplitude, run_side
 from ringlab.live.hydro import HydroRunner
 from ringlab.live.loop import RATE_SAMPLES, LiveLoop
-from ringlab.live.nbody import NBodyRunner, SETUP_PARAMS as NBODY_SETUP
+from ringlab.live.nbody import NBodyRunner
 from ringlab.model.compare_presets import PRESETS, SHARED_NBODY, SHORT
-from ringlab.model.hydro_settings import SETUP_PARAMS as HYDRO_SETUP
+from ringlab.model.hydro_settings import HydroSettings, SETUP_PARAMS as HYDRO_SETUP
+from ringlab.model.nbody_settings import NBodySettings, SETUP_PARAMS as NBODY_SETUP
 
 TOL = 1.1e-3  # [orbits] a run within this of the clock has reached it (N-body steps are 0.002 orbit)
 BUDGET_S = 0.12  # wall time of one chunk for both runs [s]
 CATCH_UP_S = 3.0  # at most this wall time [s] for the run behind to reach the clock after Pause
-
 
 
 def _orbits(r) -> float:
@@ -42,11 +42,11 @@ def _orbits(r) -> float:
     return sim.orbits if sim is not None else math.nan
 
 
-def _value_text(r, name: str) -> str:
-    v = getattr(r, name)
+def _value_text(settings, name: str) -> str:
+    v = getattr(settings, name)
     if isinstance(v, bool):
         return "yes" if v else "no"
-    objs = r.param[name].objects if hasattr(r.param[name], "objects") else None
+    objs = settings.param[name].objects if hasattr(settings.param[name], "objects") else None
     if isinstance(objs, dict):
         v = next((k for k, x in objs.items() if x == v), v)
     return f"{v:g}" if isinstance(v, float) else str(v)
@@ -85,12 +85,17 @@ class CompareRunner(LiveLoop, param.Parameterized):
     # ------------------------------------------------------------------ building
     def _make_runs(self) -> None:
         p = PRESETS[self.preset]
-        self.b = (HydroRunner if p.kind_b == "hydro" else NBodyRunner)(**p.b)
-        self.a = HydroRunner(**{**p.a, "amplitude": matched_amplitude(p.a, self.b)} if p.match_noise else p.a)
+        self.b = (HydroRunner(settings=HydroSettings(**p.b)) if p.kind_b == "hydro" else
+                  NBodyRunner(settings=NBodySettings(**p.b)))
+        a = {**p.a, "amplitude": matched_amplitude(p.a, self.b)} if p.match_noise else p.a
+        self.a = HydroRunner(settings=HydroSettings(**a))
         for r in (self.a, self.b):
             r.compute_lock = self.compute_lock  # one lock: no setting changes while a chunk computes
+            r.keeper.active = False  # a setting changed here restarts both runs; there is no restore button
             setup = HYDRO_SETUP if isinstance(r, HydroRunner) else NBODY_SETUP
-            r.param.watch(self._on_run_setup, list(setup))  # after the runner's own rebuild (precedence 0)
+            # added after the runner's own setup watcher (in its __init__): param calls watchers of equal
+            # precedence in the order they were added, so this one sees the rebuilt run
+            r.settings.param.watch(self._on_run_setup, list(setup))
         self._sims = (self.a.sim, self.b.sim)
         self._hook_nbody()
         self.orbits_per_frame = p.orbits_per_frame
@@ -247,9 +252,10 @@ class CompareRunner(LiveLoop, param.Parameterized):
         out = []
         if isinstance(b, NBodyRunner):
             out.append(("model", "Model", "hydrodynamics (a fluid)", "N-body (colliding particles)"))
+        sa, sb = a.settings, b.settings
         for k in (SHARED_NBODY if isinstance(b, NBodyRunner) else HYDRO_SETUP):
-            if getattr(a, k) != getattr(b, k):
-                out.append((k, a.param[k].label, _value_text(a, k), _value_text(b, k)))
+            if getattr(sa, k) != getattr(sb, k):
+                out.append((k, sa.param[k].label, _value_text(sa, k), _value_text(sb, k)))
         return out
 
     def tags(self) -> tuple[str, str]:
@@ -261,14 +267,14 @@ class CompareRunner(LiveLoop, param.Parameterized):
         if name == "model":
             return ("hydrodynamics", "N-body")
         if name == "isothermal":
-            return tuple("isothermal" if r.isothermal else "non-isothermal" for r in self.runs())
+            return tuple("isothermal" if r.settings.isothermal else "non-isothermal" for r in self.runs())
         s = SHORT.get(name, name)
         return (f"{s} = {ta}", f"{s} = {tb}")
 
     def common_settings(self) -> str:
         """The settings both runs share (one line)."""
-        a = self.a
-        p = a.sim.params if a.sim is not None else None
+        a = self.a.settings
+        p = self.a.sim.params if self.a.sim is not None else None
         if p is None:
             return ""
         diff = {d[0] for d in self.differences()}

@@ -15,6 +15,7 @@ from ringcore import ranges
 from ringcore.nbody.diagnostics import e_kin, tabulate
 
 from ringlab.live.hydro import HydroRunner
+from ringlab.model.hydro_settings import HydroSettings
 
 
 def run_side(r, nbody_image=None) -> dict | None:
@@ -57,7 +58,7 @@ def matched_amplitude(settings_a: dict, b) -> float:
     e_b = e_kin(tabulate(box.pos, box.vel, box.L_x, box.options.zones))
     amp = settings_a.get("amplitude", 1e-4)
     for _ in range(2):  # nonlinear terms (sigma u^2) make e_kin not exactly quadratic in the amplitude
-        probe = HydroRunner(**{**settings_a, "amplitude": amp})
+        probe = HydroRunner(settings=HydroSettings(**{**settings_a, "amplitude": amp}))
         e_a = probe.series.get("e_kin")[0]
         amp = min(amp * math.sqrt(e_b / e_a), ranges.RANGES["amplitude_noise"].hi)
     return float(f"{amp:.3g}")

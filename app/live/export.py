@@ -2,12 +2,12 @@
 
 ``run_file_bytes`` builds a dataset's run file (schema attributes, checksum) in memory with
 :func:`ringcore.io.run_bytes`, so a download never touches the server's disk.  :class:`ExportPanel` holds the download buttons and the settings
-upload of one runner; each plot can be saved as PNG with its own Bokeh "save" tool.
+upload of one runner's settings; each plot can be saved as PNG with its own Bokeh "save" tool.
 
 An uploaded settings file is checked completely by :func:`check_settings_upload` BEFORE anything
 is applied (size, UTF-8, JSON, the kind marker, unknown keys, each value's type and range from the
-runner's own parameter declarations, the physics through :func:`ringcore.spec.resolve` -- the
-command line's resolver -- and the runner's own cross-checks on the would-be settings); any
+settings' own parameter declarations, the physics through :func:`ringcore.spec.resolve` -- the
+command line's resolver -- and the settings' own cross-checks on a copy with the file applied); any
 failure is one line naming the key, the value and what is allowed, and nothing changes.
 """
 from __future__ import annotations
@@ -24,38 +24,13 @@ from ringcore.spec import RunSpec, resolve
 MAX_UPLOAD_BYTES = 64 * 1024  # a settings file is < 2 KiB; anything much larger is not one
 
 
-class _Would:
-    """The runner as it would be with ``values`` applied (for its own cross-checks; changes nothing)."""
-
-    def __init__(self, runner, values: dict):
-        object.__setattr__(self, "_runner", runner)
-        object.__setattr__(self, "_values", values)
-
-    def __getattr__(self, name):
-        if name in self._values:
-            return self._values[name]
-        attr = type(self._runner).__dict__.get(name)
-        if attr is None:
-            for klass in type(self._runner).__mro__[1:]:
-                if name in klass.__dict__:
-                    attr = klass.__dict__[name]
-                    break
-        if isinstance(attr, (property, staticmethod, classmethod)) or callable(attr) and \
-                not isinstance(attr, (type, param.Parameter)):
-            return attr.__get__(self, type(self._runner))
-        return getattr(self._runner, name)
-
-    def __setattr__(self, name, value):
-        raise AttributeError(f"read-only view: {name}")
-
-
 def _fmt(v) -> str:
     return f"{v:g}" if isinstance(v, float) else repr(v)
 
 
-def _check_value(runner, key: str, value):
+def _check_value(settings, key: str, value):
     """ValueError naming ``key``, ``value`` and what its parameter allows."""
-    p = runner.param[key]
+    p = settings.param[key]
     if isinstance(p, param.Boolean):
         if not isinstance(value, bool):
             raise ValueError(f"{key} = {value!r} is not valid: allowed true or false")
@@ -86,8 +61,8 @@ def _check_value(runner, key: str, value):
         raise ValueError(f"{key} = {value!r} is not valid: allowed a text")
 
 
-def check_settings_upload(data, kind: str, runner) -> dict:
-    """The settings of an uploaded file, fully validated against ``runner`` (nothing is applied).
+def check_settings_upload(data, kind: str, settings) -> dict:
+    """The settings of an uploaded file, fully validated against ``settings`` (nothing is applied).
 
     Parameters
     ----------
@@ -95,9 +70,10 @@ def check_settings_upload(data, kind: str, runner) -> dict:
         The file's content.
     kind : str
         "hydro" or "nbody": the ``ringlab_settings`` marker the file must carry.
-    runner
-        The live runner (its ``settings_json()`` keys are the allowed keys; its ``param`` declarations
-        give types and ranges; its ``find_problems()`` / ``find_problem()`` the cross-checks).
+    settings : HydroSettings or NBodySettings
+        A live runner's settings (``runner.settings``): its ``settings_json()`` keys are the allowed keys,
+        its ``param`` declarations give types and ranges, its ``find_problems()`` / ``find_problem()``
+        (on a copy with the file's values) the cross-checks.
 
     Returns
     -------
@@ -139,14 +115,14 @@ def check_settings_upload(data, kind: str, runner) -> dict:
         what = f"a {marker!r} settings file" if isinstance(marker, str) else "not a ringlab settings file"
         raise ValueError(f"settings file is {what}: this page takes ringlab_settings = {kind!r} "
                          f"(key 'ringlab_settings' {'wrong' if marker is not None else 'missing'})")
-    allowed = [k for k in json.loads(runner.settings_json()) if k != "ringlab_settings"]
+    allowed = [k for k in json.loads(settings.settings_json()) if k != "ringlab_settings"]
     unknown = sorted(map(str, set(d) - set(allowed)))
     if unknown:
         raise ValueError(f"settings file has unknown keys {unknown}: allowed {', '.join(allowed)}")
     for key in allowed:
         if key in d:
-            _check_value(runner, key, d[key])
-    merged = {k: getattr(runner, k) for k in allowed}
+            _check_value(settings, key, d[key])
+    merged = {k: getattr(settings, k) for k in allowed}
     merged.update(d)
     iso = bool(merged.get("isothermal", False))
     if kind == "hydro":  # the app's rule (ringlab.model.controls.build_params) through the command line's resolver
@@ -158,9 +134,9 @@ def check_settings_upload(data, kind: str, runner) -> dict:
         resolve(spec)
     except ValueError as exc:
         raise ValueError(f"settings file: {' '.join(str(exc).split())}") from None
-    would = _Would(runner, merged)
     try:
-        probs = would.find_problems() if hasattr(type(runner), "find_problems") else would.find_problem()
+        would = type(settings)(**merged)  # a copy with the file applied: no run watches it
+        probs = would.find_problems() if hasattr(would, "find_problems") else would.find_problem()
     except ValueError as exc:
         probs = str(exc)
     if isinstance(probs, dict):

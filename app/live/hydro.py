@@ -11,8 +11,12 @@ what the plots need into bounded buffers (:mod:`ringlab.live.buffers`).  The sol
 bounded by the core (``max_samples``, ``max_rows``: thinned by 2 when full), so a session that
 runs for hours keeps flat memory.
 
-Setup changes (parameters, grid, initial seed) rebuild the run at t = 0 (still running
-if it was); buffer-zone changes apply to the running state; invalid combinations leave
+The runner holds the student's settings in ``settings`` (a :class:`ringlab.model.hydro_settings.HydroSettings`,
+e.g. ``runner.settings.sigma0 = 500``) and resolves them once per rebuild into the frozen values of
+one run (:class:`ringlab.model.hydro_settings.HydroSetup`); the engine sees only those.  Setup changes
+(parameters, grid, initial seed) rebuild the run at t = 0 (still running if it was) through one
+watcher on the settings, and the runner's :class:`ringlab.live.keeper.RunKeeper` (``keeper``) keeps the
+replaced run restorable; buffer-zone changes apply to the running state; invalid combinations leave
 the run untouched and set ``problems``.  A :class:`ringcore.hydro.HydroBlowUp` pauses the
 run and keeps the last good state.
 
@@ -34,11 +38,11 @@ from ringcore.hydro import Hydro1D, HydroBlowUp
 
 from ringlab.live.buffers import RollingImage, SeriesBuffer, SpaceTimeImage
 from ringlab.live.export import run_file_bytes
+from ringlab.live.keeper import KeepsRuns
 from ringlab.live.loop import RATE_SAMPLES, LiveLoop
 from ringlab.live.revert import reset_status, revert, snapshot
 from ringlab.live.run import HydroRun, part
-from ringlab.model.hydro_settings import BUFFER_PARAMS, HydroSettings, SETUP_PARAMS
-from ringlab.model.linear import characteristic_numbers
+from ringlab.model.hydro_settings import BUFFER_PARAMS, HydroSettings, SETTINGS_PARAMS, SETUP_PARAMS
 from ringlab.server import remote, shared
 from ringlab.server.shared_sim import SharedSim
 
@@ -49,11 +53,22 @@ STEP_ORBITS = 1.0  # the "Step" button advances this many orbits (or STEP_MAX_S 
 STEP_MAX_S = 1.0
 
 
-class HydroRunner(LiveLoop, HydroSettings):
-    """Settings, simulation, live buffers and controls (start/pause/step/reset) of one session."""
+class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
+    """Simulation, live buffers and controls (start/pause/step/reset) of one session's hydro run.
+
+    Parameters
+    ----------
+    settings : HydroSettings, optional
+        The student's settings (a new ``HydroSettings()`` with the defaults if not given), e.g.
+        ``HydroRunner(settings=HydroSettings(sigma0=500))``.  Changing a setup setting there later
+        restarts the run at t = 0; the replaced run is kept in ``keeper``.
+    """
 
     budget_s = BUDGET_S  # one chunk of work (ringlab.live.loop)
+    settings_class = HydroSettings
 
+    settings = param.ClassSelector(class_=HydroSettings, constant=True,
+                                   doc="The student's settings of this run (set its values, not this object).")
     running = param.Boolean(default=False, doc="True while the periodic callback advances the run.")
     status = param.String(default="", doc="One-line state of the run for the page.")
     problems = param.Dict(default={}, doc="Messages for invalid settings, keyed by control group.")
@@ -62,13 +77,17 @@ class HydroRunner(LiveLoop, HydroSettings):
     run_label = param.String(default="", doc="The settings of the simulation that is running.")
 
     def __init__(self, **params):
+        if params.get("settings") is None:
+            params["settings"] = HydroSettings()
         super().__init__(**params)
         self.live: HydroRun | None = None  # the run shown (replaced, never changed, by a setup change)
         self._callback = None
         self._rates = collections.deque(maxlen=RATE_SAMPLES)  # (wall, orbits, steps) at ticks
-        self._reverting = False
-        self._first_setup = snapshot(self, SETUP_PARAMS)  # Reset's fallback before any run was built
-        self._valid_buffer = snapshot(self, BUFFER_PARAMS)
+        s = self.settings
+        self._first_setup = snapshot(s, SETUP_PARAMS)  # Reset's fallback before any run was built
+        self._valid_buffer = snapshot(s, BUFFER_PARAMS)
+        self._watch_settings(SETUP_PARAMS, SETTINGS_PARAMS)  # one watcher rebuilds; self.keeper keeps
+        s.param.watch(self._on_buffer, list(BUFFER_PARAMS))  # applies to the running state
         self._rebuild()
 
     # ------------------------------------------------------------------ the run shown
@@ -85,36 +104,21 @@ class HydroRunner(LiveLoop, HydroSettings):
         return self._first_setup if self.live is None else self.live.setup
 
     # ------------------------------------------------------------------ building
-    @param.depends(*SETUP_PARAMS, watch=True)
-    def _on_setup(self):
-        if self._reverting:  # Reset puts several settings back and rebuilds once itself
-            return
-        with self.compute_lock:  # [classroom] never while a chunk computes
-            self._rebuild()
-
     def _rebuild(self) -> bool:
         """Start a new simulation at t = 0 from the current settings (if they are valid)."""
-        probs = self.find_problems()
+        probs = self.settings.find_problems()
         self.problems = probs
         if any(k in probs for k in ("model", "grid", "initial")):
             self.status = "Settings not applied: see the message beside the controls."
             return False
-        p, opt = self.ring_params(), self.options()
-        # only the arguments of the chosen initial state (the engine warns about ones that do not apply)
-        kw = (dict(seed=self.seed, amplitude=self.amplitude) if self.initial == "noise" else
-              dict(amplitude=self.amplitude, wavelength=self.wavelength) if self.initial == "mode" else {})
+        setup = self.settings.resolve()  # the values of this run: the engine never reads the settings object
+        opt = setup.options
         max_rows = max(100, int(MAX_STROBE_BYTES / (4 * opt.n)))
-        old = self.sim
-        if hasattr(old, "detach"):
-            old.detach()  # the previous run may be kept (RunKeeper): bring it back, free a worker or a shared run
-        sim = Hydro1D(p, opt, initial=self.initial, max_samples=MAX_RECORD_SAMPLES, max_rows=max_rows, **kw)
-        model = "isothermal" if p.isothermal else "non-isothermal"
-        label = (f"{p.name}, {model}, σ₀ = {p.sigma0:g} kg/m², p_s = {p.p_s:.3g}, L_x = {opt.L_x:g} m, "
-                 f"h = {opt.h:g} m ({sim.n} cells), {self._initial_name()}")
-        self.live = HydroRun(engine=sim, series=SeriesBuffer(("e_kin", "lambda_p")),
-                             numbers=characteristic_numbers(self.settings()), label=label,
-                             setup=snapshot(self, SETUP_PARAMS), strobe_image=SpaceTimeImage(sim.n, 1.0),
-                             orbit_image=RollingImage(sim.n, 1.0 / opt.samples_per_orbit))  # last 25 orbits
+        sim = Hydro1D(setup.params, opt, initial=setup.initial, max_samples=MAX_RECORD_SAMPLES, max_rows=max_rows,
+                      **setup.initial_kw)
+        self.show_run(HydroRun(engine=sim, series=SeriesBuffer(("e_kin", "lambda_p")), numbers=setup.numbers,
+                               label=setup.label, setup=setup.setup, strobe_image=SpaceTimeImage(sim.n, 1.0),
+                               orbit_image=RollingImage(sim.n, 1.0 / opt.samples_per_orbit)))  # last 25 orbits
         d = sim.diagnostics()  # the sample at t = 0 was recorded before the callback existed
         self._on_sample(sim, dict(orbit=d["orbit"], e_kin=d["e_kin"], lambda_p_m=d["lambda_p_m"], dt_orbits=0.0,
                                   strobe_row=sim.sigma_dimless.astype(np.float32) if opt.strobe else None))
@@ -122,62 +126,67 @@ class HydroRunner(LiveLoop, HydroSettings):
         self.live.engine = sim = SharedSim(sim) if shared.enabled() else remote.wrap(sim)
         sim.on_sample(self._on_sample)
         self.blowup = ""
-        self._rates.clear()
         self._apply_buffer()
-        self.run_label = label
+        self.run_label = setup.label
         self.status = "Running." if self.running else "Ready: press Start."
         self.frame += 1
         return True
 
-    def _initial_name(self) -> str:
-        if self.initial == "noise":
-            return f"white noise (seed {self.seed})"
-        return f"mode λ = {self.wavelength:g} m"
+    def show_run(self, run: HydroRun) -> None:
+        """Show ``run`` in place of the run shown (a rebuild, or :meth:`RunKeeper.restore` putting a kept run
+        back); the replaced run is brought back from a worker or a shared computation, so it can be kept."""
+        old = self.sim
+        if hasattr(old, "detach"):
+            old.detach()
+        self.live = run
+        self._rates.clear()
+        if not self.settings.buffer_problem():  # Reset's fallback: the buffer settings this run has
+            self._valid_buffer = snapshot(self.settings, BUFFER_PARAMS)
 
     def reset(self, *_, field_notes=()):
         """Restart from t = 0 with the current settings; settings that make them invalid are put
         back to their last valid values first and named in ``status`` (with ``field_notes``, lines
         about input fields the page put back)."""
+        s = self.settings
         with self.compute_lock:  # [classroom]
             put_back = list(field_notes)
-            self._reverting = True
-            try:
-                if any(k in self.find_problems() for k in ("model", "grid", "initial")):
-                    put_back += revert(self, self._valid_setup)
-                if self.buffer_problem():
-                    put_back += revert(self, self._valid_buffer)
-            finally:
-                self._reverting = False
+            with self.restoring():  # several settings go back; one rebuild below
+                if any(k in s.find_problems() for k in ("model", "grid", "initial")):
+                    put_back += revert(s, self._valid_setup)
+                if s.buffer_problem():
+                    put_back += revert(s, self._valid_buffer)
             self._rebuild()
         if put_back:
             self.status = reset_status(put_back, self.running)
 
     # ------------------------------------------------------------------ buffer
-    @param.depends(*BUFFER_PARAMS, watch=True)
-    def _on_buffer(self):
+    def _on_buffer(self, *_):
+        if self._restoring:  # a kept run comes back with its own buffer zone; Reset rebuilds with the settings
+            return
         with self.compute_lock:  # [classroom]
             self.problems = self.problems_with_buffer()
             self._apply_buffer()
             self.frame += 1
 
     def problems_with_buffer(self) -> dict:
+        """``problems`` with the buffer zone's message of the current settings."""
         probs = {k: v for k, v in self.problems.items() if k != "buffer"}
-        msg = self.buffer_problem()
+        msg = self.settings.buffer_problem()
         if msg:
             probs["buffer"] = msg
         return probs
 
     def _apply_buffer(self) -> None:
-        sim = self.sim
+        sim, s = self.sim, self.settings
         if sim is None:
             return
-        want = self.buffer_on and not self.buffer_problem()
-        if not self.buffer_problem():
-            self._valid_buffer = snapshot(self, BUFFER_PARAMS)
+        want = s.buffer_on and not s.buffer_problem()
+        if not s.buffer_problem():
+            self._valid_buffer = snapshot(s, BUFFER_PARAMS)
         if want:
-            lo, hi = self.buffer_bounds()
-            sim.set_buffer(lo, hi, self.buffer_beta)
-            self.live.buffer_events.append((sim.orbits, self.buffer_beta))
+            lo, hi = s.buffer_bounds()
+            sim.set_buffer(lo, hi, s.buffer_beta)
+            self.live.buffer_events.append((sim.orbits, s.buffer_beta))
         elif sim.buffer_active:
             sim.clear_buffer()
             self.live.buffer_events.append((sim.orbits, None))
@@ -261,7 +270,7 @@ class HydroRunner(LiveLoop, HydroSettings):
     @property
     def shown_image(self):
         """The space-time image buffer the view shows: stroboscopic or orbit-resolved, as set."""
-        return self.strobe_image if self.spacetime == "stroboscopic" else self.orbit_image
+        return self.strobe_image if self.settings.spacetime == "stroboscopic" else self.orbit_image
 
     def saturated_lambda_p(self, last_fraction: float = 0.25) -> float:
         """Median lambda_p [m] over the last ``last_fraction`` of the run (nan before 1 orbit)."""
@@ -277,7 +286,7 @@ class HydroRunner(LiveLoop, HydroSettings):
         st = self.sim.snapshot()
         ds = state_to_dataset(st)
         thinned = st.meta["thinned"]
-        ds.attrs["app_settings_json"] = self.settings_json()
+        ds.attrs["app_settings_json"] = self.settings.settings_json()
         ds.attrs["app_recorder_thinned"] = int(thinned)
         if thinned:
             ds.attrs["app_note"] = ("older samples and stroboscopic rows were thinned to keep memory "
@@ -293,17 +302,9 @@ class HydroRunner(LiveLoop, HydroSettings):
         return run_file_bytes(ds, "hydro")
 
     def export_filename(self) -> str:
-        return f"hydro_{self.param_set}_s{self.sigma0:g}_t{self.sim.orbits:.0f}orb.nc"
-
-    def load_settings(self, text) -> str:
-        """Apply a settings file (JSON text or bytes); returns '' or the error message."""
-        try:
-            d = self.parse_settings(text.decode() if isinstance(text, bytes) else text)
-            with param.parameterized.batch_call_watchers(self):
-                self.param.update(**d)
-        except ValueError as exc:
-            return str(exc)
-        return ""
+        """File name of the run's download, e.g. ``hydro_tau15_s400_t12orb.nc``."""
+        s = self.settings
+        return f"hydro_{s.param_set}_s{s.sigma0:g}_t{self.sim.orbits:.0f}orb.nc"
 
     def close(self, *_):
         """Stop and free the simulation (the browser tab was closed)."""

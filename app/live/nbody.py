@@ -3,12 +3,18 @@
 Owns a :class:`ringcore.nbody.ShearingBox`; each chunk (computed in the server's shared
 worker pool off the event loop, :mod:`ringlab.live.loop`) advances the box for a wall-time budget
 (``ShearingBox.advance(max_wall_s=...)``), like :class:`ringlab.live.hydro.HydroRunner`; the box
-pushes every recorded box mean (every ``RECORD_EVERY`` orbits) to :meth:`NBodyRunner._on_sample`
+pushes every recorded box mean (every ``nbody_settings.RECORD_EVERY`` orbits) to :meth:`NBodyRunner._on_sample`
 and thins its own history.
 Transport coefficients (effective dispersion c_eff, viscosity nu) are averaged over
 windows of ``TRANSPORT_WINDOW`` orbits and compared with the parameter set's c0 and nu0,
 which the hydrodynamic model takes from N-body simulations of the same tau and
 Omega_z (Table "Hydrodynamic Parameters").
+
+The runner holds the student's settings in ``settings`` (a :class:`ringlab.model.nbody_settings.NBodySettings`,
+e.g. ``runner.settings.L_x = 200``) and resolves them once per rebuild
+(:class:`ringlab.model.nbody_settings.NBodySetup`); a setup change rebuilds the box at t = 0 through one
+watcher on the settings, and the runner's :class:`ringlab.live.keeper.RunKeeper` (``keeper``) keeps the
+replaced box restorable.
 
 References: Section "N-Body Simulations"; eqs. (hill), (bridges), (sgmodes), (ekin).
 """
@@ -16,38 +22,26 @@ from __future__ import annotations
 
 import collections
 import io
-import json
-import math
 import time
 
 import numpy as np
 import panel as pn
 import param
 
-from ringcore import params as ring_params
-from ringcore.nbody import NBodyBlowUp, NBodyOptions, ShearingBox
+from ringcore.nbody import NBodyBlowUp, ShearingBox
 
 from ringlab.live.buffers import SeriesBuffer
 from ringlab.live.export import run_file_bytes
+from ringlab.live.keeper import KeepsRuns
 from ringlab.live.loop import RATE_SAMPLES, LiveLoop
-from ringlab.live.revert import reset_status, revert, snapshot
+from ringlab.live.revert import reset_status, revert
 from ringlab.live.run import NO_TRANSPORT, NBodyRun, part
-from ringlab.model.controls import SIGMA0_MAX
 from ringlab.model.linear import characteristic_numbers
-from ringlab.ui.cite import publish
+from ringlab.model.nbody_settings import MAX_PARTICLES, NBodySettings, SETUP_PARAMS
 
 BUDGET_S = 0.08
-RECORD_EVERY = 0.05  # [orbits] box means recorded by ShearingBox.run
-DT_ORBIT = 2.0e-3  # [orbits] 500 steps per orbit
 TRANSPORT_WINDOW = 5.0  # [orbits]
-MAX_PARTICLES = 8000
 MAX_HISTORY = 20000
-SETUP_PARAMS = ("param_set", "sigma0", "L_x", "L_y", "restitution", "seed")
-
-
-def _set_names():
-    return {f"{n} (τ = {ring_params.get(n).tau:g}, Ω_z/Ω = {ring_params.get(n).omega_z:g})": n
-            for n in ring_params.SET_NAMES}
 
 
 def thin_history(box, max_len: int) -> bool:
@@ -55,26 +49,22 @@ def thin_history(box, max_len: int) -> bool:
     return box.thin_history(max_len)
 
 
-class NBodyRunner(LiveLoop, param.Parameterized):
-    """Settings, box, live series and controls of one session's N-body run."""
+class NBodyRunner(LiveLoop, KeepsRuns, param.Parameterized):
+    """Box, live series and controls (start/pause/step/reset) of one session's N-body run.
+
+    Parameters
+    ----------
+    settings : NBodySettings, optional
+        The student's settings (a new ``NBodySettings()`` with the defaults if not given), e.g.
+        ``NBodyRunner(settings=NBodySettings(L_x=60.0))``.  Changing one there later restarts the box at
+        t = 0; the replaced box is kept in ``keeper``.
+    """
 
     budget_s = BUDGET_S  # one chunk of work (ringlab.live.loop)
+    settings_class = NBodySettings
 
-    param_set = param.Selector(default="tau15", objects=_set_names(), label="Parameter set (τ, Ω_z)",
-                               doc="Optical depth τ and vertical frequency enhancement of the box (and the "
-                                   "hydrodynamic parameters used for the predictions).")
-    sigma0 = param.Number(default=400.0, bounds=(0.0, SIGMA0_MAX), step=10.0, label="Surface density σ₀ [kg/m²]",
-                          doc=publish("Sets the radial self-gravity, eq. (sgmodes); 0 switches it off.", html_out=False))
-    L_x = param.Number(default=140.0, bounds=(20.0, 500.0), step=5.0, label="Radial size L_x [m]",
-                       doc="Radial size of the particle box.")
-    L_y = param.Number(default=30.0, bounds=(10.0, 200.0), step=5.0, label="Azimuthal size L_y [m]",
-                       doc="Azimuthal size (along the orbit) of the particle box.")
-    restitution = param.Selector(default="bridges", objects={"Bridges et al. (velocity-dependent)": "bridges",
-                                                             "constant ε = 0.5": "constant"},
-                                 label="Coefficient of restitution", doc=publish("The velocity-dependent law of Bridges et al., eq. (bridges), or a constant 0.5.",
-                                             html_out=False))
-    seed = param.Integer(default=1, bounds=(0, 2**31 - 1), label="Random seed", doc="Seed of the initial state.")
-
+    settings = param.ClassSelector(class_=NBodySettings, constant=True,
+                                   doc="The student's settings of this box (set its values, not this object).")
     running = param.Boolean(default=False)
     status = param.String(default="")
     problem = param.String(default="", doc="Message for invalid settings ('' when valid).")
@@ -83,10 +73,13 @@ class NBodyRunner(LiveLoop, param.Parameterized):
     run_label = param.String(default="")
 
     def __init__(self, **params):
+        if params.get("settings") is None:
+            params["settings"] = NBodySettings()
         super().__init__(**params)
         self.live: NBodyRun | None = None  # the run shown (replaced, never changed, by a setup change)
         self._callback = None
         self._rates = collections.deque(maxlen=RATE_SAMPLES)
+        self._watch_settings(SETUP_PARAMS, SETUP_PARAMS)  # one watcher rebuilds; self.keeper keeps
         self._rebuild()
 
     # ------------------------------------------------------------------ the run shown
@@ -102,65 +95,43 @@ class NBodyRunner(LiveLoop, param.Parameterized):
         return self.box is not None and self.box.history_thinned
 
     # ------------------------------------------------------------------ building
-    def ring_params(self):
-        """RingParams for the box (st99 exists only in the isothermal model)."""
-        return ring_params.get(self.param_set, self.sigma0)
-
-    def options(self) -> NBodyOptions:
-        return NBodyOptions(L_x=self.L_x, L_y=self.L_y, restitution=self.restitution, dt_orbit=DT_ORBIT,
-                            record_every=RECORD_EVERY, profile_every=1.0)
-
-    def find_problem(self) -> str:
-        try:
-            p, opt = self.ring_params(), self.options()
-        except ValueError as exc:
-            return str(exc)
-        n = p.tau * opt.L_x * opt.L_y / (math.pi * opt.R_p**2)
-        if n > MAX_PARTICLES:
-            return (f"N = {n:.0f} particles is too many for a live run: allowed at most {MAX_PARTICLES} "
-                    f"(τ L_x L_y / (π R_p²); make the box smaller)")
-        return ""
-
-    @param.depends(*SETUP_PARAMS, watch=True)
-    def _on_setup(self):
-        if getattr(self, "_reverting", False):  # Reset puts several settings back and rebuilds once itself
-            return
-        with self.compute_lock:  # [classroom] never while a chunk computes
-            self._rebuild()
-
     def _rebuild(self) -> bool:
-        self.problem = self.find_problem()
+        """Start a new box at t = 0 from the current settings (if they are valid)."""
+        self.problem = self.settings.find_problem()
         if self.problem:
             self.status = "Settings not applied: see the message beside the controls."
             return False
-        p = self.ring_params()
-        box = ShearingBox(p, self.options(), seed=self.seed)
+        setup = self.settings.resolve()  # the values of this box: the engine never reads the settings object
+        p, opt = setup.params, setup.options
+        box = ShearingBox(p, opt, seed=setup.seed)
         label = (f"{p.name}: τ = {p.tau:g}, Ω_z/Ω = {p.omega_z:g}, σ₀ = {p.sigma0:g} kg/m², "
-                 f"{box.N} particles of R_p = {box.options.R_p:g} m in {self.L_x:g} m × {self.L_y:g} m")
-        self.live = NBodyRun(engine=box, series=SeriesBuffer(("ekin", "c_mean", "collision_frequency", "lambda_p")),
-                             numbers=characteristic_numbers((p.name, p.sigma0, p.isothermal, 1.0,
-                                                             p.p_s if p.isothermal else 1.0)),
-                             label=label, setup=snapshot(self, SETUP_PARAMS))  # setup: Reset's fallback
+                 f"{box.N} particles of R_p = {box.options.R_p:g} m in {opt.L_x:g} m × {opt.L_y:g} m")
+        self.show_run(NBodyRun(engine=box, series=SeriesBuffer(("ekin", "c_mean", "collision_frequency", "lambda_p")),
+                               numbers=characteristic_numbers((p.name, p.sigma0, p.isothermal, 1.0,
+                                                               p.p_s if p.isothermal else 1.0)),
+                               label=label, setup=setup.setup))  # setup: Reset's fallback
         box.history_limit = MAX_HISTORY
         box.on_sample(self._on_sample)
         self.blowup = ""
-        self._rates.clear()
         self.run_label = label
         self.status = "Running." if self.running else "Ready: press Start."
         self.frame += 1
         return True
+
+    def show_run(self, run: NBodyRun) -> None:
+        """Show ``run`` in place of the run shown (a rebuild, or :meth:`RunKeeper.restore` putting a kept
+        box back)."""
+        self.live = run
+        self._rates.clear()
 
     def reset(self, *_, field_notes=()):
         """Restart from t = 0; settings that make the box invalid are put back to those of the last box
         built first and named in ``status`` (with ``field_notes`` about input fields the page put back)."""
         with self.compute_lock:  # [classroom]
             put_back = list(field_notes)
-            if self.find_problem() and self.live is not None:
-                self._reverting = True
-                try:
-                    put_back += revert(self, self.live.setup)
-                finally:
-                    self._reverting = False
+            if self.settings.find_problem() and self.live is not None:
+                with self.restoring():  # several settings go back; one rebuild below
+                    put_back += revert(self.settings, self.live.setup)
             self._rebuild()
         if put_back:
             self.status = reset_status(put_back, self.running)
@@ -227,31 +198,18 @@ class NBodyRunner(LiveLoop, param.Parameterized):
         return pos[:, 0].astype(np.float32), pos[:, 1].astype(np.float32), pos[:, 2].astype(np.float32)
 
     # ------------------------------------------------------------------ export
-    def settings_json(self) -> str:
-        return json.dumps({"ringlab_settings": "nbody", **{k: getattr(self, k) for k in SETUP_PARAMS}}, indent=1)
-
-    def load_settings(self, text) -> str:
-        try:
-            d = json.loads(text.decode() if isinstance(text, bytes) else text)
-            if not isinstance(d, dict) or d.pop("ringlab_settings", None) != "nbody":
-                raise ValueError("settings file is not a ringlab N-body settings file")
-            unknown = sorted(set(d) - set(SETUP_PARAMS))
-            if unknown:
-                raise ValueError(f"settings file has unknown keys {unknown}: allowed {', '.join(SETUP_PARAMS)}")
-            self.param.update(**d)
-        except ValueError as exc:
-            return str(exc)
-        return ""
-
     def netcdf_bytes(self) -> io.BytesIO:
+        """The run file (``ringcore.io.write_run``, kind "nbody") as bytes for a download."""
         with self.compute_lock:  # [classroom] a consistent state, between chunks
             ds = self.box.to_dataset()
-        ds.attrs["app_settings_json"] = self.settings_json()
+        ds.attrs["app_settings_json"] = self.settings.settings_json()
         ds.attrs["app_history_thinned"] = int(self.thinned)
         return run_file_bytes(ds, "nbody")
 
     def export_filename(self) -> str:
-        return f"nbody_{self.param_set}_s{self.sigma0:g}_t{self.box.orbits:.0f}orb.nc"
+        """File name of the box's download, e.g. ``nbody_tau15_s400_t3orb.nc``."""
+        s = self.settings
+        return f"nbody_{s.param_set}_s{s.sigma0:g}_t{self.box.orbits:.0f}orb.nc"
 
     @property
     def sim(self):

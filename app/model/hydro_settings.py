@@ -4,7 +4,10 @@
 p_s, isothermal) with the grid, the initial seed, the time-step criterion and the buffer
 zone.  :meth:`HydroSettings.find_problems` checks a combination before it is used and returns
 messages keyed by the control group they belong to (shown beside that group), so bad
-input never reaches :class:`ringcore.hydro.Hydro1D` as an exception.
+input never reaches :class:`ringcore.hydro.Hydro1D` as an exception.  :meth:`HydroSettings.resolve`
+turns a valid combination into a frozen :class:`HydroSetup`, the values one run is built from: a
+:class:`ringlab.live.hydro.HydroRunner` holds a ``HydroSettings`` (``runner.settings``) and resolves
+it once per rebuild, so its engine never reads the settings object.
 
 References: eqs. (timestep), (shearvis); Table "Hydrodynamic Parameters";
 Section "Hydrodynamical Integrations with a Buffer-Zone".
@@ -13,11 +16,15 @@ from __future__ import annotations
 
 import json
 import math
+from dataclasses import dataclass
+from types import MappingProxyType
+from typing import Mapping
 
 import param
 
 from ringcore import ranges
 from ringcore.hydro import HydroOptions
+from ringcore.params import RingParams
 
 from ringlab.model.controls import RingControls
 from ringlab.model.linear import characteristic_numbers
@@ -42,6 +49,47 @@ def toomre_problem(p) -> str:
                 "gravitationally unstable (clumps, not waves) and the axisymmetric hydro scheme blows "
                 f"up; choose sigma0 below {p.sigma0 * p.Q0 / MIN_Q0:.0f} kg/m^2")
     return ""
+
+
+@dataclass(frozen=True)
+class HydroSetup:
+    """One valid combination of hydro settings resolved into the values a run is built from.
+
+    Attributes
+    ----------
+    params : RingParams
+        The ring's parameters (set, sigma0 [kg/m^2], model and p_s applied).
+    options : HydroOptions
+        Grid (L_x [m], h [m]), time-step rule, temperature floor and output options.
+    initial : str
+        Initial perturbation: "noise" or "mode".
+    initial_kw : Mapping
+        :class:`ringcore.hydro.Hydro1D`'s keyword arguments of that initial state only (seed and
+        amplitude for noise; amplitude and wavelength [m] for a mode): the engine warns about ones
+        that do not apply.
+    initial_label : str
+        The initial state in words, e.g. "white noise (seed 1)".
+    numbers : Mapping
+        Characteristic numbers of the parameters (:func:`ringlab.model.linear.characteristic_numbers`).
+    setup : Mapping
+        The setup settings (``SETUP_PARAMS``) resolved: Reset puts invalid settings back to these.
+    """
+
+    params: RingParams
+    options: HydroOptions
+    initial: str
+    initial_kw: Mapping
+    initial_label: str
+    numbers: Mapping
+    setup: Mapping
+
+    @property
+    def label(self) -> str:
+        """The run's settings in one line, as the page shows them."""
+        p, opt = self.params, self.options
+        model = "isothermal" if p.isothermal else "non-isothermal"
+        return (f"{p.name}, {model}, σ₀ = {p.sigma0:g} kg/m², p_s = {p.p_s:.3g}, L_x = {opt.L_x:g} m, "
+                f"h = {opt.h:g} m ({opt.n} cells), {self.initial_label}")
 
 
 class HydroSettings(RingControls):
@@ -94,6 +142,23 @@ class HydroSettings(RingControls):
         """Numerical options of the current settings (raises ValueError)."""
         return HydroOptions(L_x=self.L_x, h=self.h, timestep=self.timestep, T_floor=self.T_floor, samples_per_orbit=20,
                             spacetime_rows_per_orbit=0, strobe=True, probes_m=(0.0,))
+
+    def resolve(self) -> HydroSetup:
+        """The current settings as the values one run is built from (:class:`HydroSetup`).
+
+        Raises
+        ------
+        ValueError
+            For an impossible combination (:meth:`find_problems` names it beside its controls first).
+        """
+        if self.initial == "noise":
+            kw, label = dict(seed=self.seed, amplitude=self.amplitude), f"white noise (seed {self.seed})"
+        else:
+            kw, label = dict(amplitude=self.amplitude, wavelength=self.wavelength), f"mode λ = {self.wavelength:g} m"
+        return HydroSetup(params=self.ring_params(), options=self.options(), initial=self.initial,
+                          initial_kw=MappingProxyType(kw), initial_label=label,
+                          numbers=MappingProxyType(characteristic_numbers(self.settings())),
+                          setup=MappingProxyType({k: getattr(self, k) for k in SETUP_PARAMS}))
 
     def buffer_bounds(self) -> tuple[float, float]:
         """(x_min, x_max) [m] of the buffer zone."""
@@ -185,3 +250,14 @@ class HydroSettings(RingControls):
         if unknown:
             raise ValueError(f"settings file has unknown keys {unknown}: allowed {', '.join(SETTINGS_PARAMS)}")
         return d
+
+    def load_settings(self, text) -> str:
+        """Apply a settings file (JSON text or bytes) in one batch (one rebuild of a run); returns '' or the
+        error message (nothing is changed then)."""
+        try:
+            d = self.parse_settings(text.decode() if isinstance(text, bytes) else text)
+            with param.parameterized.batch_call_watchers(self):
+                self.param.update(**d)
+        except ValueError as exc:
+            return str(exc)
+        return ""

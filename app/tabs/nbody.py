@@ -21,8 +21,8 @@ from bokeh.models import ColumnDataSource, HoverTool, Range1d
 from ringcore.analysis import power_spectrum, prevalent_wavelength
 
 from ringlab.lessons.tutorials import tab_links
-from ringlab.live.keeper import RunKeeper
-from ringlab.live.nbody import NBodyRunner, SETUP_PARAMS
+from ringlab.live.nbody import NBodyRunner
+from ringlab.model.nbody_settings import SETUP_PARAMS
 from ringlab.server.session_end import on_session_end
 from ringlab.tabs.shared import ExportPanel, restore_widgets
 from ringlab.ui.checked_input import CheckedInputs
@@ -92,7 +92,7 @@ class NBodyView(pn.viewable.Viewer):
             self.buttons[key].on_click(fn)
             self.buttons[key].param.update(width=120, sizing_mode="fixed")
         self.export = ExportPanel(r, "nbody")
-        self.keeper = RunKeeper(r, SETUP_PARAMS, SETUP_PARAMS)
+        self.keeper = r.keeper  # the runner keeps the box a setup change replaced
         self.kept, self.restore_button = restore_widgets(self.keeper, "nbody", CSS)
         self._layout = self._build_layout()
         r.param.watch(self._on_frame, "frame")
@@ -103,7 +103,7 @@ class NBodyView(pn.viewable.Viewer):
         on_session_end(r.close)
         doc = pn.state.curdoc
         if pn.state.location is not None and doc is not None and doc.session_context is not None:
-            pn.state.location.sync(r, {k: f"nbody_{k}" for k in SETUP_PARAMS})
+            pn.state.location.sync(r.settings, {k: f"nbody_{k}" for k in SETUP_PARAMS})
 
     # ---------------------------------------------------------------- building
     def _figures(self):
@@ -153,11 +153,10 @@ class NBodyView(pn.viewable.Viewer):
         self.runner.reset(field_notes=self.checked.revert() if self.checked is not None else [])
 
     def _build_layout(self):
-        r = self.runner
-        p = r.param
+        p = self.runner.settings.param
         W = pn.widgets
         pane = lambda f: pn.pane.Bokeh(f, sizing_mode="stretch_width")  # noqa: E731
-        box = self.checked = CheckedInputs(r, "nbody-input-box")
+        box = self.checked = CheckedInputs(self.runner.settings, "nbody-input-box")
         widgets = pn.Column(
             pn.pane.HTML('<div class="group-title">Ring and box</div><div class="buttons-note">a change restarts '
                          'the box at orbit 0 (the old run stays restorable)</div>', stylesheets=[CSS],

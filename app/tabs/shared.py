@@ -15,8 +15,8 @@ from ringlab.live.keeper import RunKeeper
 class ExportPanel(pn.viewable.Viewer):
     """Download the run (NetCDF) and the settings (JSON); upload a settings file.
 
-    ``runner`` must provide ``netcdf_bytes()``, ``export_filename()``, ``settings_json()``,
-    ``load_settings(text) -> error message`` and a ``sim`` attribute (None: nothing to export).
+    ``runner`` must provide ``netcdf_bytes()``, ``export_filename()``, a ``sim`` attribute (None: nothing
+    to export) and ``settings`` with ``settings_json()`` and ``load_settings(text) -> error message``.
     """
 
     def __init__(self, runner, kind: str, **params):
@@ -48,15 +48,16 @@ class ExportPanel(pn.viewable.Viewer):
         return self.runner.netcdf_bytes()
 
     def _settings_file(self):
-        return io.StringIO(self.runner.settings_json())
+        return io.StringIO(self.runner.settings.settings_json())
 
     def _on_upload(self, event):
         """Validate the whole file first (:func:`check_settings_upload`); apply it only if it passes."""
         if event.new is None:
             return
         try:
-            d = check_settings_upload(event.new, self.kind, self.runner)
-            err = self.runner.load_settings(json.dumps({"ringlab_settings": self.kind, **d}))
+            settings = self.runner.settings
+            d = check_settings_upload(event.new, self.kind, settings)
+            err = settings.load_settings(json.dumps({"ringlab_settings": self.kind, **d}))
         except Exception as exc:  # never a traceback in the page: one line, nothing changed
             err = " ".join(str(exc).split()) or type(exc).__name__
         self.message.object = (f'<div class="msg-error" id="settings-message">Settings file not used: '

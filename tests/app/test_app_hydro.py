@@ -26,7 +26,7 @@ SMALL = dict(L_x=500.0, h=2.5)
 
 @pytest.fixture
 def runner():
-    return HydroRunner(**SMALL)
+    return HydroRunner(settings=HydroSettings(**SMALL))
 
 
 def test_defaults_match_the_issue():
@@ -41,25 +41,25 @@ def test_defaults_match_the_issue():
 
 def test_each_control_changes_the_model(runner):
     r = runner
-    r.sigma0 = 250.0
+    r.settings.sigma0 = 250.0
     assert r.sim.params.sigma0 == 250.0 and r.sim.orbits == 0.0
-    r.isothermal = True
+    r.settings.isothermal = True
     assert r.sim.isothermal and r.sim.nv == 3 and r.sim.params.p_s == 1.0
-    r.iso_p_s = 2.41
+    r.settings.iso_p_s = 2.41
     assert r.sim.params.p_s == 2.41
-    r.isothermal = False
-    r.ps_scale = 1.4
+    r.settings.isothermal = False
+    r.settings.ps_scale = 1.4
     assert r.sim.params.p_s == pytest.approx(1.4 * 2.41)
-    r.param.update(ps_scale=1.0, param_set="tau20")
+    r.settings.param.update(ps_scale=1.0, param_set="tau20")
     assert r.sim.params.name == "tau20"
-    r.param.update(L_x=400.0, h=2.0)
+    r.settings.param.update(L_x=400.0, h=2.0)
     assert r.sim.n == 200 and r.sim.x_m[0] == -200.0
-    r.timestep = "paper"
+    r.settings.timestep = "paper"
     assert r.sim.options.timestep == "paper"
     a = r.sim.sigma
-    r.seed = 7
+    r.settings.seed = 7
     assert not np.array_equal(a, r.sim.sigma)
-    r.param.update(initial="mode", wavelength=100.0, amplitude=0.01)
+    r.settings.param.update(initial="mode", wavelength=100.0, amplitude=0.01)
     ref = Hydro1D(params.get("tau20", 250.0), HydroOptions(L_x=400.0, h=2.0), initial="mode", wavelength=100.0,
                   amplitude=0.01)
     np.testing.assert_allclose(r.sim.sigma, ref.sigma, rtol=0, atol=1e-14)
@@ -98,20 +98,20 @@ def test_buffer_switched_on_while_running(runner):
     r = runner
     r.start()
     r.tick()
-    r.param.update(buffer_x=100.0, buffer_width=100.0, buffer_beta=-0.5, buffer_on=True)
+    r.settings.param.update(buffer_x=100.0, buffer_width=100.0, buffer_beta=-0.5, buffer_on=True)
     sim = r.sim
     assert sim.buffer_active and sim.buffer == (50.0, 150.0, -0.5)
     assert r.buffer_events[-1][1] == -0.5 and r.buffer_events[-1][0] == pytest.approx(sim.orbits)
     t = sim.orbits
     r.tick()
     assert r.sim is sim and sim.orbits > t  # the run went on, not restarted
-    r.buffer_beta = 0.0
+    r.settings.buffer_beta = 0.0
     assert sim.buffer[2] == 0.0
-    r.buffer_x = 240.0  # 190 .. 290 m: outside the 500 m box
+    r.settings.buffer_x = 240.0  # 190 .. 290 m: outside the 500 m box
     assert "outside the box" in r.problems["buffer"] and not sim.buffer_active
-    r.buffer_x = 0.0
+    r.settings.buffer_x = 0.0
     assert "buffer" not in r.problems and sim.buffer_active
-    r.buffer_on = False
+    r.settings.buffer_on = False
     assert not sim.buffer_active and r.buffer_events[-1][1] is None
 
 
@@ -128,7 +128,7 @@ def test_invalid_settings_give_a_message_and_keep_the_run(runner, change, group,
     r.start()
     r.tick()
     sim, t = r.sim, r.sim.orbits
-    r.param.update(**change)
+    r.settings.param.update(**change)
     assert text in r.problems[group]
     assert r.sim is sim and sim.orbits == t
     r.tick()  # the last valid run goes on
@@ -154,7 +154,7 @@ def test_blow_up_pauses_and_keeps_the_last_good_state(runner):
 
 def test_export_is_a_readable_run_file(runner, tmp_path):
     r = runner
-    r.buffer_on = True
+    r.settings.buffer_on = True
     r.step_once()
     data = r.netcdf_bytes().getvalue()
     path = tmp_path / r.export_filename()
@@ -169,15 +169,15 @@ def test_export_is_a_readable_run_file(runner, tmp_path):
 
 def test_settings_file_round_trip_and_bad_files(runner):
     r = runner
-    r.param.update(sigma0=600.0, isothermal=True, buffer_on=True, spacetime="orbit-resolved")
-    text = r.settings_json()
+    r.settings.param.update(sigma0=600.0, isothermal=True, buffer_on=True, spacetime="orbit-resolved")
+    text = r.settings.settings_json()
     other = HydroRunner()
-    assert other.load_settings(text.encode()) == ""
-    assert other.settings_dict() == r.settings_dict() and other.sim.params.sigma0 == 600.0
-    assert "not valid JSON" in other.load_settings("{oops")
-    assert "not a ringlab hydro settings file" in other.load_settings('{"sigma0": 1}')
-    assert "unknown keys ['x']" in other.load_settings('{"ringlab_settings": "hydro", "x": 1}')
-    assert "sigma0" in other.load_settings('{"ringlab_settings": "hydro", "sigma0": 5000}')
+    assert other.settings.load_settings(text.encode()) == ""
+    assert other.settings.settings_dict() == r.settings.settings_dict() and other.sim.params.sigma0 == 600.0
+    assert "not valid JSON" in other.settings.load_settings("{oops")
+    assert "not a ringlab hydro settings file" in other.settings.load_settings('{"sigma0": 1}')
+    assert "unknown keys ['x']" in other.settings.load_settings('{"ringlab_settings": "hydro", "x": 1}')
+    assert "sigma0" in other.settings.load_settings('{"ringlab_settings": "hydro", "sigma0": 5000}')
     assert other.sim.params.sigma0 == 600.0
 
 
@@ -215,7 +215,7 @@ def test_memory_stays_bounded():
 
 
 def test_view_fills_the_plots_and_readouts():
-    v = HydroView(runner=HydroRunner(**SMALL))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(**SMALL)))
     r = v.runner
     r.start()
     for _ in range(3):
@@ -228,11 +228,11 @@ def test_view_fills_the_plots_and_readouts():
     assert p.x_range.start == -250.0
     assert 'id="hydro-orbits"' in v.readouts.object and f"{r.sim.orbits:.2f}" in v.readouts.object
     assert v.buttons["start"].disabled and not v.buttons["pause"].disabled
-    r.h = 10.0
+    r.settings.h = 10.0
     assert v.messages["grid"].visible and "too coarse" in v.messages["grid"].object
-    r.h = 2.5
+    r.settings.h = 2.5
     assert not v.messages["grid"].visible
-    r.spacetime = "orbit-resolved"  # shown at once, not at the next image frame
+    r.settings.spacetime = "orbit-resolved"  # shown at once, not at the next image frame
     assert "orbit-resolved (last 25 orbits)" in p.spacetime_fig.title.text
     assert p.image_source.data["image"][0].shape[0] == r.orbit_image.rows
     marks = p.psd_markers.data["x"]
@@ -323,33 +323,33 @@ def test_frame_gate_sends_jittered_frames_at_the_capped_rate(monkeypatch):
 
 
 def test_group_titles_say_what_restarts():
-    v = HydroView(runner=HydroRunner(**SMALL))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(**SMALL)))
     html = " ".join(o.object for o in v._layout.select(pn.pane.HTML) if isinstance(o.object, str))
     assert html.count("restarts the run at orbit 0") == 3 and html.count("acts on the running state") == 2
 
 
 def test_out_of_range_input_says_why():
     """L_x = 50 m is not silently replaced by the old value."""
-    v = HydroView(runner=HydroRunner(**SMALL))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(**SMALL)))
     r, grid = v.runner, v.checked["grid"]
     w = grid.widgets["L_x"]
     assert w.start is None and w.end is None  # the browser must not clamp the typed value
     w.value = 50.0
-    assert r.L_x == 500.0 and r.sim.options.L_x == 500.0
+    assert r.settings.L_x == 500.0 and r.sim.options.L_x == 500.0
     assert grid.pane.visible and "L_x = 50 m is out of range: allowed 100 .. 20000 m" in grid.pane.object
     assert "still using 500 m" in grid.pane.object
     w.value = 400.0
     assert r.sim.options.L_x == 400.0 and not grid.pane.visible
-    r.L_x = 600.0  # changed elsewhere (settings file, page address): the field follows
+    r.settings.L_x = 600.0  # changed elsewhere (settings file, page address): the field follows
     assert w.value == 600.0
     seed = v.checked["initial"].widgets["seed"]
     seed.value = -3
-    assert r.seed == 1 and "seed = -3 is out of range" in v.checked["initial"].pane.object
+    assert r.settings.seed == 1 and "seed = -3 is out of range" in v.checked["initial"].pane.object
 
 
 def test_blow_up_disables_step_and_start_and_names_the_floor():
     """After a blow-up only Reset goes on; the advice names the temperature floor."""
-    v = HydroView(runner=HydroRunner(T_floor=0.0, **SMALL))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(T_floor=0.0, **SMALL)))
     r = v.runner
     s, u, vv, T = r.sim.primitives()
     s = s.copy()
@@ -366,7 +366,7 @@ def test_blow_up_disables_step_and_start_and_names_the_floor():
 
 def test_orbits_per_second_is_the_measured_figure():
     """The readout is this run's measured speed (kept when paused), not a fixed number."""
-    v = HydroView(runner=HydroRunner(**SMALL))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(**SMALL)))
     r = v.runner
     r.start()
     t0 = time.perf_counter()
@@ -383,10 +383,10 @@ def test_orbits_per_second_is_the_measured_figure():
 
 def test_isothermal_only_set_switches_the_model():
     """Choosing st99 switches to the isothermal model with a note, no error."""
-    v = HydroView(runner=HydroRunner(**SMALL))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(**SMALL)))
     r = v.runner
-    r.param_set = "st99"
-    assert r.isothermal and r.sim.isothermal and r.sim.params.name == "st99" and "model" not in r.problems
+    r.settings.param_set = "st99"
+    assert r.settings.isothermal and r.sim.isothermal and r.sim.params.name == "st99" and "model" not in r.problems
     assert v.model_note.visible and "switched on for you" in v.model_note.object
-    r.isothermal = False  # unticked by hand: the message beside the controls, the run stays
+    r.settings.isothermal = False  # unticked by hand: the message beside the controls, the run stays
     assert "isothermal" in r.problems["model"] and r.sim.params.name == "st99"

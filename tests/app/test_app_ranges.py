@@ -8,7 +8,8 @@ import pytest
 
 from ringcore import params, ranges
 from ringlab.live.hydro import HydroRunner
-from ringlab.live.nbody import NBodyRunner
+from ringlab.model.hydro_settings import HydroSettings
+from ringlab.model.nbody_settings import NBodySettings
 
 # page parameter -> name in ringcore.ranges
 HYDRO = {"sigma0": "sigma0", "ps_scale": "ps_scale", "L_x": "L_x", "h": "h", "seed": "seed",
@@ -23,7 +24,7 @@ def _inside(bounds, rng, name):
         assert lo > rng.lo or name in ("sigma0", "buffer_width"), f"{name}: {lo} is excluded by the core"
 
 
-@pytest.mark.parametrize("cls, table", [(HydroRunner, HYDRO), (NBodyRunner, NBODY)])
+@pytest.mark.parametrize("cls, table", [(HydroSettings, HYDRO), (NBodySettings, NBODY)])
 def test_every_numeric_control_lies_inside_the_core_range(cls, table):
     for pname, rname in table.items():
         p = cls.param[pname]
@@ -32,7 +33,7 @@ def test_every_numeric_control_lies_inside_the_core_range(cls, table):
 
 
 def test_page_sigma0_maximum_is_allowed_for_every_parameter_set():
-    hi = HydroRunner.param["sigma0"].bounds[1]
+    hi = HydroSettings.param["sigma0"].bounds[1]
     for name in params.SET_NAMES:
         p = params.get(name)
         assert hi <= ranges.sigma0_max(p.Omega, p.c0), name
@@ -40,7 +41,7 @@ def test_page_sigma0_maximum_is_allowed_for_every_parameter_set():
 
 def test_white_noise_amplitude_beyond_the_core_range_is_named_before_a_run():
     r = HydroRunner()
-    r.initial = "noise"
-    r.amplitude = math.nextafter(ranges.get("amplitude_noise").hi, 1.0)
-    msg = r.find_problems().get("initial", "")
+    r.settings.initial = "noise"
+    r.settings.amplitude = math.nextafter(ranges.get("amplitude_noise").hi, 1.0)
+    msg = r.settings.find_problems().get("initial", "")
     assert "amplitude" in msg and "0.1" in msg

@@ -9,6 +9,7 @@ import xarray as xr
 
 import ringlab.tabs.saturation.view as sv
 from ringlab.live.hydro import HydroRunner
+from ringlab.model.hydro_settings import HydroSettings
 from ringlab.tabs.saturation import SaturationView, load_sweep, theory_curves
 from ringlab.live.session import SessionRuns
 from ringcore import linear, params
@@ -87,7 +88,7 @@ def test_add_my_run():
     v = SaturationView(runs=runs)
     v._add()
     assert "no hydro run" in v.message.object and runs.points == []
-    r = HydroRunner(L_x=500.0, h=2.5)
+    r = HydroRunner(settings=HydroSettings(L_x=500.0, h=2.5))
     runs.hydro = r
     v._add()
     assert "only 0.0 orbits" in v.message.object
@@ -115,7 +116,7 @@ def test_sessions_do_not_share_runs():
     assert sat_a.runs is runs_a and runs_a.hydro is hydro_a.runner
     assert sat_b.runs is runs_b and runs_b.hydro is hydro_b.runner
     assert hydro_a.runner is not hydro_b.runner and nbody_a.runner is not nbody_b.runner
-    hydro_a.runner.sigma0 = 800.0
+    hydro_a.runner.settings.sigma0 = 800.0
     assert hydro_b.runner.sim.params.sigma0 == 400.0
 
 

@@ -35,7 +35,7 @@ def small():
     v = CompareView()
     r = v.runner
     for run in r.runs():
-        run.param.update(L_x=500.0, h=2.5)
+        run.settings.param.update(L_x=500.0, h=2.5)
     return v
 
 
@@ -44,7 +44,7 @@ def test_presets_apply_the_differing_control():
     a, b = r.a.sim.params, r.b.sim.params
     assert (a.sigma0, b.sigma0) == (0.0, 400.0)
     assert (a.name, a.isothermal, r.a.sim.options.L_x) == (b.name, b.isothermal, r.b.sim.options.L_x)
-    assert [d[:2] for d in r.differences()] == [("sigma0", r.a.param["sigma0"].label)]
+    assert [d[:2] for d in r.differences()] == [("sigma0", r.a.settings.param["sigma0"].label)]
     assert r.tags() == ("σ₀ = 0", "σ₀ = 400")
 
     r.preset = "isothermal"
@@ -82,7 +82,8 @@ def test_both_advance_together_and_match_standalone_runs(small):
     assert r.clock >= 1.0  # it really ran
     # each run is exactly the run its own settings give on their own (the pairing changes nothing)
     for run in r.runs():
-        ref = Hydro1D(run.ring_params(), run.options(), initial="noise", seed=run.seed, amplitude=run.amplitude)
+        s = run.settings
+        ref = Hydro1D(s.ring_params(), s.options(), initial="noise", seed=s.seed, amplitude=s.amplitude)
         ref.advance(until=run.sim.orbits)
         np.testing.assert_allclose(run.sim.U, ref.U, rtol=1e-12, atol=1e-14)
     # and the two differ (the control is applied): self-gravity changes the state
@@ -94,12 +95,12 @@ def test_one_setting_change_restarts_both(small):
     r = small.runner
     run_ticks(r, 3)
     assert r.a.sim.orbits > 0 and r.b.sim.orbits > 0
-    r.b.sigma0 = 300.0
+    r.b.settings.sigma0 = 300.0
     assert r.b.sim.params.sigma0 == 300.0
     assert r.a.sim.orbits == 0.0 and r.b.sim.orbits == 0.0 and r.clock == 0.0
     assert r.differences()[0][2:] == ("0", "300")
     old = r.a.sim
-    r.a.h = 3.0  # 500 / 3 is not a whole number of cells: not applied, nothing restarts
+    r.a.settings.h = 3.0  # 500 / 3 is not a whole number of cells: not applied, nothing restarts
     assert r.a.problems and r.a.sim is old
     r.close()
 
@@ -210,7 +211,7 @@ def test_pause_when_both_are_at_the_clock_says_so(small):
 def test_pause_at_stops_both_exactly():
     r = CompareRunner()
     for run in r.runs():
-        run.param.update(L_x=300.0)
+        run.settings.param.update(L_x=300.0)
     r.pause_at = 0.75
     r.start()
     for _ in range(40):
@@ -242,10 +243,10 @@ def test_sessions_are_independent_and_close_frees_both():
     assert r1.a is not r2.a and r1.b is not r2.b and r1.compute_lock is not r2.compute_lock
     for r in (r1, r2):
         for run in r.runs():
-            run.param.update(L_x=300.0)
-    r1.b.sigma0 = 200.0
+            run.settings.param.update(L_x=300.0)
+    r1.b.settings.sigma0 = 200.0
     run_ticks(r1, 3)
-    assert r2.b.sigma0 == 400.0 and r2.b.sim.params.sigma0 == 400.0
+    assert r2.b.settings.sigma0 == 400.0 and r2.b.sim.params.sigma0 == 400.0
     assert r2.a.sim.orbits == 0.0 and r2.clock == 0.0 and r1.clock > 0
     r1.preset = "engine"
     assert r2.preset == "sigma0" and isinstance(r2.b, HydroRunner)

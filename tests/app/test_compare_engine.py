@@ -30,7 +30,7 @@ def test_engine_preset_starts_both_at_the_same_e_kin_in_one_box():
     box = r.b.box
     e_box = e_kin(tabulate(box.pos, box.vel, box.L_x, box.options.zones))
     assert a["e_kin"][0] == pytest.approx(e_box, rel=0.1)  # the hydro noise seeded at the box's level
-    assert PRESETS["engine"].a.get("amplitude", 1e-4) == 1e-4 and r.a.amplitude > 1e-3
+    assert PRESETS["engine"].a.get("amplitude", 1e-4) == 1e-4 and r.a.settings.amplitude > 1e-3
     r.close()
 
 

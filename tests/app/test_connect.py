@@ -45,29 +45,30 @@ def test_run_this_in_hydrodynamics_carries_every_model_setting(app, settings):
     c = lin.controls
     c.param.update(**settings)
     r = hyd.runner
-    r.param.update(**SMALL)
+    r.settings.param.update(**SMALL)
     r.advance(30.0, until=2.0)
-    old_orbits, old_values = r.sim.orbits, {k: getattr(r, k) for k in connect.HYDRO_KEYS}
+    old_orbits, old_values = r.sim.orbits, {k: getattr(r.settings, k) for k in connect.HYDRO_KEYS}
     assert old_orbits >= 2.0 - 1e-9
     done = lin.carry.carry("hydro")
     assert done and "restarted at t = 0" in done[0]
     for k in connect.HYDRO_KEYS:
-        assert getattr(r, k) == getattr(c, k), k
+        assert getattr(r.settings, k) == getattr(c, k), k
     assert repr(r.sim.params) == repr(c.ring_params())  # the run uses exactly the Linear tab's model (nan-safe)
-    assert r.sim.orbits == 0.0 and (r.L_x, r.h) == (SMALL["L_x"], SMALL["h"])  # grid settings untouched
+    assert r.sim.orbits == 0.0 and (r.settings.L_x, r.settings.h) == (SMALL["L_x"], SMALL["h"])  # grid untouched
     assert app.tabs.active == TAB_KEYS["hydro"]
     assert "linear-carry-message" in lin.carry.message.object and lin.carry.message.visible
     # the runner's own protection: the replaced run is kept and comes back with its settings
     assert hyd.keeper.kept_label and hyd.restore_button.visible
     assert hyd.keeper.restore()
-    assert r.sim.orbits == pytest.approx(old_orbits) and {k: getattr(r, k) for k in connect.HYDRO_KEYS} == old_values
+    assert r.sim.orbits == pytest.approx(old_orbits)
+    assert {k: getattr(r.settings, k) for k in connect.HYDRO_KEYS} == old_values
 
 
 def test_carrying_unchanged_settings_lets_the_run_go_on(app):
     lin, hyd = app.views[0], app.views[1]
     r = hyd.runner
-    r.param.update(**SMALL)
-    lin.controls.param.update(**{k: getattr(r, k) for k in connect.HYDRO_KEYS})
+    r.settings.param.update(**SMALL)
+    lin.controls.param.update(**{k: getattr(r.settings, k) for k in connect.HYDRO_KEYS})
     r.advance(30.0, until=1.0)
     sim = r.sim
     assert lin.carry.carry("hydro") == ["hydro settings set, run continues"]
@@ -78,7 +79,7 @@ def test_run_this_in_nbody_carries_set_and_sigma0(app):
     lin, nb = app.views[0], app.views[2]
     lin.controls.param.update(param_set="tau20", sigma0=150.0, isothermal=True)
     lin.carry.carry("nbody")
-    assert (nb.runner.param_set, nb.runner.sigma0) == ("tau20", 150.0)
+    assert (nb.runner.settings.param_set, nb.runner.settings.sigma0) == ("tau20", 150.0)
     assert app.tabs.active == TAB_KEYS["nbody"]
     assert "no isothermal switch" in lin.carry.message.object
 
@@ -97,7 +98,7 @@ def test_carry_refuses_unknown_kind_and_missing_tab():
 def test_ekin_overlay_is_the_fastest_allowed_mode_and_matches_the_run(model):
     view = HydroView()
     r = view.runner
-    r.param.update(**SMALL, **model)
+    r.settings.param.update(**SMALL, **model)
     p, L = r.sim.params, r.sim.options.L_x
     m = view.plots.mode
     # independent answer: the continuous maximum of the exact relation; the box's best L_x/n is one of
@@ -146,7 +147,7 @@ def test_slope_line_recovers_an_exact_exponential():
 def test_allowed_wavelength_marks_are_lx_over_n():
     view = HydroView()
     r = view.runner
-    r.param.update(**SMALL)
+    r.settings.param.update(**SMALL)
     r.advance(30.0, until=3.0)
     view._on_frame()
     data = view.plots.allowed_source.data

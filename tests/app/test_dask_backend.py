@@ -15,6 +15,7 @@ from panel.io.state import set_curdoc
 
 from ringlab.server import compute, remote
 from ringlab.live.hydro import HydroRunner
+from ringlab.model.hydro_settings import HydroSettings
 from ringcore.hydro import Hydro1D
 
 from test_app_compute import FakeDoc
@@ -59,7 +60,7 @@ def in_process(orbits, **settings) -> HydroRunner:
     """The reference: the same runner, computing in this process."""
     b, remote._BACKEND = remote._BACKEND, None
     try:
-        r = HydroRunner(**settings)
+        r = HydroRunner(settings=HydroSettings(**settings))
     finally:
         remote._BACKEND = b
     assert isinstance(r.sim, Hydro1D)
@@ -70,7 +71,7 @@ def in_process(orbits, **settings) -> HydroRunner:
 
 
 def test_worker_run_is_bit_identical_to_in_process(backend):
-    r = HydroRunner(**SMALL)
+    r = HydroRunner(settings=HydroSettings(**SMALL))
     assert isinstance(r.sim, remote.RemoteSim) and not r.sim.on_worker
     r.running, r.pause_at = True, 2.0
     ticks = 0
@@ -96,7 +97,7 @@ def test_worker_run_is_bit_identical_to_in_process(backend):
     np.testing.assert_array_equal(r.strobe_image.image(), ref.strobe_image.image())
     # a setup change brings the run back (it may be kept for "restore") and frees the worker
     old = r.sim
-    r.sigma0 = 300.0
+    r.settings.sigma0 = 300.0
     assert not old.on_worker and old.orbits == 2.0 and wait_engines(backend, 0) == 0
     assert old.snapshot().checksum() == ref.sim.snapshot().checksum()
     r.close()
@@ -105,7 +106,7 @@ def test_worker_run_is_bit_identical_to_in_process(backend):
 def test_served_session_pause_keeps_the_shown_state_and_close_frees_the_worker(backend, pool):
     doc = FakeDoc()
     with set_curdoc(doc):
-        r = HydroRunner(**SMALL)
+        r = HydroRunner(settings=HydroSettings(**SMALL))
         r.start()
     frames = []
     r.param.watch(lambda e: frames.append(r.sim.orbits), "frame")
@@ -179,7 +180,7 @@ def test_two_sessions_share_one_worker_engine_and_one_detaches_bit_identically(b
     shared._REGISTRY.clear()  # no computation of another test to join
     shared.set_enabled(True)
     try:
-        a, b = HydroRunner(**SMALL), HydroRunner(**SMALL)
+        a, b = HydroRunner(settings=HydroSettings(**SMALL)), HydroRunner(settings=HydroSettings(**SMALL))
         for r in (a, b):
             r.running, r.pause_at = True, 400.0
         a.tick()

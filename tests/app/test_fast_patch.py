@@ -15,6 +15,7 @@ from bokeh.models import Div
 from bokeh.protocol import Protocol
 
 from ringlab.live.hydro import HydroRunner
+from ringlab.model.hydro_settings import HydroSettings
 from ringlab.server import fast_patch, library_patch
 from ringlab.tabs.hydro.view import HydroView
 
@@ -30,7 +31,7 @@ def _normalised(msg) -> tuple[str, list[bytes]]:
 
 
 def test_messages_equal_bokehs_own():
-    v = HydroView(runner=HydroRunner(L_x=500.0, h=2.5))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(L_x=500.0, h=2.5)))
     doc = Document()
     doc.add_root(v.__panel__().get_root(doc))
     doc.models.flush_synced()  # as after the page was first sent
@@ -68,7 +69,7 @@ def test_scheduled_writes_make_the_same_message(monkeypatch):
 
     assert fast_patch.install_scheduled_writes()
     assert pdoc.schedule_write_events is not fast_patch.ORIGINAL["schedule_write_events"]
-    v = HydroView(runner=HydroRunner(L_x=500.0, h=2.5))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(L_x=500.0, h=2.5)))
     doc = Document()
     doc.add_root(v.__panel__().get_root(doc))
     doc.models.flush_synced()
@@ -117,7 +118,7 @@ def test_incoming_patches_apply_as_bokehs_own():
     assert Document.apply_json_patch is fast_patch.apply_json_patch
     original = fast_patch.ORIGINAL["apply_json_patch"]
     assert library_patch.source_sha256(original) == fast_patch.APPLY_SOURCE_SHA256
-    v = HydroView(runner=HydroRunner(L_x=500.0, h=2.5))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(L_x=500.0, h=2.5)))
     doc = Document()
     doc.add_root(v.__panel__().get_root(doc))
     doc.add_root(Div(text="a"))

@@ -9,6 +9,7 @@ import numpy as np
 
 from ringlab.live.buffers import SeriesBuffer
 from ringlab.live.hydro import HydroRunner
+from ringlab.model.hydro_settings import HydroSettings
 from ringlab.tabs.hydro.view import HydroView
 
 SMALL = dict(L_x=500.0, h=2.5)
@@ -16,24 +17,24 @@ SMALL = dict(L_x=500.0, h=2.5)
 
 def test_setup_change_keeps_the_previous_run_restorable():
     """A setup change starts a new run but the old one comes back with one click."""
-    v = HydroView(runner=HydroRunner(**SMALL))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(**SMALL)))
     r = v.runner
-    r.sigma0 = 300.0  # nothing has run yet: nothing to keep
+    r.settings.sigma0 = 300.0  # nothing has run yet: nothing to keep
     assert not v.restore_button.visible
     r.start()
     for _ in range(3):
         r.tick()
     old, t, sigma = r.sim, r.sim.orbits, r.sim.sigma.copy()
     n_series = r.series.size
-    r.sigma0 = 250.0
+    r.settings.sigma0 = 250.0
     assert r.sim is not old and r.sim.orbits == 0.0  # a new run at the new setting ...
     assert v.restore_button.visible and "σ₀ = 300" in v.kept.object and f"orbit {t:.2f}" in v.kept.object
-    r.h = 10.0  # invalid: nothing rebuilt, the kept run stays the same
+    r.settings.h = 10.0  # invalid: nothing rebuilt, the kept run stays the same
     assert "σ₀ = 300" in v.kept.object
-    r.h = 2.5
+    r.settings.h = 2.5
     r.tick()
     v.restore_button.clicks += 1  # ... and the old one back with its settings, state and plots
-    assert r.sim is old and r.sim.orbits == t and r.sigma0 == 300.0 and r.series.size == n_series
+    assert r.sim is old and r.sim.orbits == t and r.settings.sigma0 == 300.0 and r.series.size == n_series
     np.testing.assert_array_equal(r.sim.sigma, sigma)
     assert "Restored" in r.status and "σ₀ = 300" in v.header.object
     assert "σ₀ = 250" in v.kept.object  # the replaced run is kept in turn
@@ -45,18 +46,18 @@ def test_the_kept_run_is_one_unchanged_value_with_all_its_buffers():
     """The keeper holds the replaced ``LiveRun`` itself: restoring puts back that object, with its engine,
     series, images, buffer events, numbers and the settings Reset falls back to; the new run never wrote
     into it."""
-    v = HydroView(runner=HydroRunner(**SMALL))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(**SMALL)))
     r = v.runner
     r.start()
-    r.buffer_on = True  # a buffer event in the first run
+    r.settings.buffer_on = True  # a buffer event in the first run
     for _ in range(3):
         r.tick()
     old = r.live
     parts = dict(engine=old.engine, series=old.series, strobe=old.strobe_image, orbit=old.orbit_image,
                  numbers=old.numbers, setup=dict(old.setup))
     sizes = (old.series.size, len(old.buffer_events), old.orbit_image.version)
-    r.sigma0 = 250.0
-    r.buffer_on = False  # a buffer event in the new run only
+    r.settings.sigma0 = 250.0
+    r.settings.buffer_on = False  # a buffer event in the new run only
     r.tick()
     assert r.live is not old and r.series is not parts["series"] and r.numbers is not parts["numbers"]
     assert (old.series.size, len(old.buffer_events), old.orbit_image.version) == sizes  # untouched meanwhile
@@ -65,9 +66,9 @@ def test_the_kept_run_is_one_unchanged_value_with_all_its_buffers():
     assert r.strobe_image is parts["strobe"] and r.orbit_image is parts["orbit"] and r.numbers is parts["numbers"]
     assert r.buffer_events == old.buffer_events and len(r.buffer_events) == sizes[1] == 1
     assert r.live.setup == parts["setup"] and r.live.setup["sigma0"] == SMALL.get("sigma0", 400.0)
-    r.h = 10.0  # invalid; Reset puts it back to the restored run's setting
+    r.settings.h = 10.0  # invalid; Reset puts it back to the restored run's setting
     r.reset()
-    assert r.h == parts["setup"]["h"]
+    assert r.settings.h == parts["setup"]["h"]
 
 
 def test_served_frames_stream_the_series_and_skip_unchanged_images(monkeypatch):
@@ -80,7 +81,7 @@ def test_served_frames_stream_the_series_and_skip_unchanged_images(monkeypatch):
     clock = [100.0]
     monkeypatch.setattr(view_module, "served", lambda: True)
     monkeypatch.setattr(view_module.time, "perf_counter", lambda: clock[0])
-    v = HydroView(runner=HydroRunner(**SMALL))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(**SMALL)))
     r, p = v.runner, v.plots
     r.start()
     r.live.series = SeriesBuffer(("e_kin", "lambda_p"), max_points=16)  # thins after 16 points
@@ -120,7 +121,7 @@ def test_a_frame_sends_the_psd_markers_only_when_lambda_p_moved_and_shares_the_s
     from ringlab.model.connect import slope_line
     from ringlab.tabs.hydro import plots as plots_module
 
-    v = HydroView(runner=HydroRunner(**SMALL))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(**SMALL)))
     r, p = v.runner, v.plots
     r.start()
     for _ in range(3):

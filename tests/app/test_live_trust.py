@@ -10,6 +10,8 @@ import pytest
 from ringlab.live.hydro import HydroRunner
 from ringlab.live.loop import RATE_WINDOW_S, measured_rates
 from ringlab.live.nbody import NBodyRunner
+from ringlab.model.nbody_settings import NBodySettings
+from ringlab.model.hydro_settings import HydroSettings
 from ringlab.tabs.hydro.view import HydroView
 from ringlab.tabs.nbody import NBodyView
 
@@ -17,21 +19,21 @@ SMALL = dict(L_x=500.0, h=2.5)
 
 
 def test_reset_with_an_invalid_setting_names_it_puts_it_back_and_restarts():
-    v = HydroView(runner=HydroRunner(**SMALL))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(**SMALL)))
     r = v.runner
     r.start()
     for _ in range(3):
         r.tick()
     assert r.sim.orbits > 0
-    r.sigma0 = 1000.0  # Q0 = 0.80: the hydro run refuses it (the run shown keeps its settings)
-    r.h = 10.0  # too coarse as well
+    r.settings.sigma0 = 1000.0  # Q0 = 0.80: the hydro run refuses it (the run shown keeps its settings)
+    r.settings.h = 10.0  # too coarse as well
     assert r.problems and r.sim.params.sigma0 == 400.0
     grid = v.checked["grid"]
     grid.widgets["L_x"].value = 50.0  # a typed value the field never passed on
     assert grid.pane.visible
     v.reset()
     assert r.sim.orbits == 0.0 and r.problems == {}
-    assert (r.sigma0, r.h, r.L_x, grid.widgets["L_x"].value) == (400.0, 2.5, 500.0, 500.0)
+    assert (r.settings.sigma0, r.settings.h, r.settings.L_x, grid.widgets["L_x"].value) == (400.0, 2.5, 500.0, 500.0)
     assert not grid.pane.visible
     assert "Settings invalid" not in r.status and "nothing reset" not in r.status
     for named in ("Surface density σ₀ = 1000 → 400 kg/m²", "= 10 → 2.5 m", "typed 50 → 500 m"):
@@ -40,7 +42,7 @@ def test_reset_with_an_invalid_setting_names_it_puts_it_back_and_restarts():
 
 
 def test_reset_with_valid_settings_just_restarts():
-    r = HydroRunner(**SMALL)
+    r = HydroRunner(settings=HydroSettings(**SMALL))
     r.start()
     r.tick()
     r.reset()
@@ -49,17 +51,17 @@ def test_reset_with_valid_settings_just_restarts():
 
 
 def test_nbody_reset_puts_an_impossible_box_back():
-    v = NBodyView(runner=NBodyRunner(L_x=40.0, L_y=20.0))
+    v = NBodyView(runner=NBodyRunner(settings=NBodySettings(L_x=40.0, L_y=20.0)))
     r = v.runner
-    r.param.update(L_x=200.0, L_y=200.0)  # L_x L_y tau / (pi R_p^2) > MAX_PARTICLES
+    r.settings.param.update(L_x=200.0, L_y=200.0)  # L_x L_y tau / (pi R_p^2) > MAX_PARTICLES
     assert r.problem and r.box.options.L_y == 20.0
     v.reset()
-    assert r.problem == "" and (r.L_x, r.L_y) == (40.0, 20.0) and r.box.orbits == 0.0
+    assert r.problem == "" and (r.settings.L_x, r.settings.L_y) == (40.0, 20.0) and r.box.orbits == 0.0
     assert "put back" in r.status and "= 200 → 20 m" in r.status, r.status
 
 
 def test_time_axes_restart_with_the_run():
-    v = HydroView(runner=HydroRunner(**SMALL))
+    v = HydroView(runner=HydroRunner(settings=HydroSettings(**SMALL)))
     r, p = v.runner, v.plots
     r.start()
     while r.sim.orbits < 3.0:
@@ -72,7 +74,7 @@ def test_time_axes_restart_with_the_run():
 
 
 def test_nbody_time_axes_restart_with_the_box():
-    v = NBodyView(runner=NBodyRunner(L_x=40.0, L_y=20.0))
+    v = NBodyView(runner=NBodyRunner(settings=NBodySettings(L_x=40.0, L_y=20.0)))
     r = v.runner
     while r.box.orbits < 1.2:
         r.advance(2.0, orbits=0.5)

@@ -4,6 +4,7 @@ from __future__ import annotations
 import pytest
 
 from ringlab.live.hydro import HydroRunner
+from ringlab.model.hydro_settings import HydroSettings
 from ringlab.live.session import SessionRuns
 from ringlab.tabs.saturation import SaturationView
 
@@ -11,7 +12,7 @@ from ringlab.tabs.saturation import SaturationView
 def test_add_again_replaces_and_remove_removes():
     runs = SessionRuns()
     v = SaturationView(runs=runs)
-    r = HydroRunner(L_x=500.0, h=2.5)
+    r = HydroRunner(settings=HydroSettings(L_x=500.0, h=2.5))
     runs.hydro = r
     r.advance(60.0, until=21.0)
     v._add()
@@ -21,7 +22,7 @@ def test_add_again_replaces_and_remove_removes():
     assert len(runs.points) == 1 and runs.points[0]["orbits"] == pytest.approx(23.0)
     assert "updated your point" in v.message.object
     assert list(v.user_source.data["lambda_p"]) == [runs.points[0]["lambda_p_m"]]
-    r.sigma0 = 300.0  # another run (new settings): a second point
+    r.settings.sigma0 = 300.0  # another run (new settings): a second point
     r.advance(60.0, until=21.0)
     v._add()
     assert [p["sigma0"] for p in runs.points] == [400.0, 300.0]

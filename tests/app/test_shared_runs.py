@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from ringlab.live.hydro import HydroRunner
+from ringlab.model.hydro_settings import HydroSettings
 from ringlab.server import remote, shared
 from ringlab.server.shared_sim import SharedSim
 
@@ -31,7 +32,7 @@ def sharing():
 def alone(**settings) -> HydroRunner:
     shared.set_enabled(False)
     try:
-        r = HydroRunner(**settings)
+        r = HydroRunner(settings=HydroSettings(**settings))
     finally:
         shared.set_enabled(True)
     assert not isinstance(r.sim, SharedSim)
@@ -42,7 +43,7 @@ def alone(**settings) -> HydroRunner:
 
 
 def runner(**settings) -> HydroRunner:
-    r = HydroRunner(**settings)
+    r = HydroRunner(settings=HydroSettings(**settings))
     assert isinstance(r.sim, SharedSim)
     r.running, r.pause_at = True, END
     return r
@@ -113,7 +114,7 @@ def test_different_settings_or_end_times_never_share(sharing):
     d = runner(**SMALL)
     d.tick()
     assert d.sim.computation is a.sim.computation
-    d.seed = 99
+    d.settings.seed = 99
     assert a.sim.following and a.sim.computation.followers == 1
     for r in (a, b, c, d):
         r.close()

@@ -23,8 +23,11 @@ from ringlab.tabs.shared import ExportPanel
 from ringlab.live.export import check_settings_upload
 from ringlab.live.hydro import HydroRunner
 from ringlab.live.nbody import NBodyRunner
+from ringlab.model.hydro_settings import HydroSettings
+from ringlab.model.nbody_settings import NBodySettings
 
-RUNNERS = {"hydro": lambda: HydroRunner(L_x=500.0, h=2.5), "nbody": lambda: NBodyRunner(L_x=40.0, L_y=20.0)}
+RUNNERS = {"hydro": lambda: HydroRunner(settings=HydroSettings(L_x=500.0, h=2.5)),
+           "nbody": lambda: NBodyRunner(settings=NBodySettings(L_x=40.0, L_y=20.0))}
 _CACHE = {}
 
 
@@ -37,7 +40,7 @@ def _setup(kind):
 
 
 def _state(r):
-    return json.loads(r.settings_json())
+    return json.loads(r.settings.settings_json())
 
 
 def _upload(panel, data) -> str:
@@ -123,7 +126,7 @@ def _damage(draw, valid: dict, r) -> bytes:
             d["ringlab_settings"] = draw(st.sampled_from(["hydro", "nbody", "linear", "", None, 1]))
         elif op == "numeric_edge" and keys:
             k = draw(st.sampled_from(keys))
-            p = r.param[k] if k in r.param else None
+            p = r.settings.param[k] if k in r.settings.param else None
             if isinstance(p, param.Number) and p.bounds:
                 lo, hi = p.bounds
                 d[k] = draw(st.sampled_from([lo, hi, lo - 1e-9 * max(1, abs(lo)), hi * (1 + 1e-9) + 1e-9]))
@@ -152,7 +155,7 @@ def _check_example(kind, data):
         after = _state(r)
         for k, v in d.items():
             assert after[k] == v or (isinstance(v, float) and math.isclose(after[k], v)), (k, v, after[k])
-        check_settings_upload(json.dumps(after).encode(), kind, r)  # the applied state passes again
+        check_settings_upload(json.dumps(after).encode(), kind, r.settings)  # the applied state passes again
         panel._on_upload(SimpleNamespace(new=json.dumps(before).encode()))  # restore
         assert _state(r) == before
     else:

@@ -100,8 +100,10 @@ def test_one_e_kin_in_a_sweep(tmp_path):
 def test_one_e_kin_in_the_app():
     pytest.importorskip("panel")
     from ringlab.live.hydro import HydroRunner
+    from ringlab.model.hydro_settings import HydroSettings
 
-    r = HydroRunner(param_set="tau15", sigma0=SIGMA0, L_x=200.0, h=5.0, seed=1, amplitude=1e-3)
+    r = HydroRunner(settings=HydroSettings(param_set="tau15", sigma0=SIGMA0, L_x=200.0, h=5.0, seed=1,
+                                           amplitude=1e-3))
     try:
         r.advance(30.0, until=0.2)
         shown = np.asarray(r.series.get("e_kin"), float)  # what the Hydrodynamics tab plots

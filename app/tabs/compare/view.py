@@ -129,7 +129,7 @@ class CompareView(pn.viewable.Viewer):
                          sides, self.key, lines, explanation, sizing_mode="stretch_width", css_classes=["compare-run"])
 
     def _widgets(self, run) -> list:
-        W, p = pn.widgets, run.param
+        W, p = pn.widgets, run.settings.param
         fixed = dict(width=140)
         out = [W.Select.from_param(p.param_set, options=set_labels()) if isinstance(run, HydroRunner)
                else W.Select.from_param(p.param_set),

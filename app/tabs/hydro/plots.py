@@ -139,9 +139,10 @@ class HydroPlots:
         rows = [r for r in rows if math.isfinite(r[0])]
         self.lp_marker_source.data = dict(y=[r[0] for r in rows], color=[r[1] for r in rows],
                                           dash=[r[2] for r in rows], label=[r[3] for r in rows])
-        self.mode = m = theory_mode(sim.params, L, sim.n, runner.initial, runner.wavelength)
+        s = runner.settings
+        self.mode = m = theory_mode(sim.params, L, sim.n, s.initial, s.wavelength)
         self.ekin_fig.legend.items[0].label = value(
-            "linear theory, " + ("seeded wave" if runner.initial == "mode" else "box's fastest wave")
+            "linear theory, " + ("seeded wave" if s.initial == "mode" else "box's fastest wave")
             + f" λ = {m['wavelength_m']:.4g} m")  # short: the legend must fit a 390 px phone
         self.allowed_lp = None
         self._series_sent = None
@@ -206,7 +207,7 @@ class HydroPlots:
 
     def update_image(self, runner) -> None:
         """The space-time diagram (stroboscopic or orbit-resolved, as set)."""
-        strobe = runner.spacetime == "stroboscopic"
+        strobe = runner.settings.spacetime == "stroboscopic"
         img = runner.shown_image
         title = ("Space-time diagram of σ/σ₀, stroboscopic (one row per orbit)" if strobe else
                  f"Space-time diagram of σ/σ₀, orbit-resolved (last {img.max_rows * img.interval:g} orbits)")

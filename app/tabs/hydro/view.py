@@ -20,10 +20,9 @@ import param
 
 from ringlab.lessons.tutorials import tab_links
 from ringlab.live.hydro import HydroRunner
-from ringlab.live.keeper import RunKeeper
 from ringlab.model.connect import allowed_wavelengths
 from ringlab.model.controls import set_labels
-from ringlab.model.hydro_settings import SETTINGS_PARAMS, SETUP_PARAMS
+from ringlab.model.hydro_settings import SETTINGS_PARAMS
 from ringlab.server.session_end import on_session_end
 from ringlab.tabs.hydro.plots import HydroPlots
 from ringlab.tabs.shared import ExportPanel, restore_widgets
@@ -97,9 +96,9 @@ class HydroView(pn.viewable.Viewer):
         self.messages = {g: message_pane(f"hydro-msg-{g}") for g in ("model", "grid", "initial", "buffer")}
         self.model_note = message_pane("hydro-model-note")
         self.checked = {}
-        self.keeper = RunKeeper(r, SETUP_PARAMS, SETTINGS_PARAMS)
+        self.keeper = r.keeper  # the runner keeps the run a setup change replaced
         self.kept, self.restore_button = restore_widgets(self.keeper, "hydro", CSS)
-        r.param.watch(lambda e: show_message(self.model_note, e.new, "ok"), "model_note")
+        r.settings.param.watch(lambda e: show_message(self.model_note, e.new, "ok"), "model_note")
         self._last_rate = (math.nan, math.nan)
         self.buttons = self._buttons()
         self.export = ExportPanel(r, "hydro")
@@ -108,7 +107,7 @@ class HydroView(pn.viewable.Viewer):
         r.param.watch(self._on_frame, "frame")
         r.param.watch(self._on_problems, ["problems", "blowup"])
         r.param.watch(self._on_running, ["running", "status", "blowup"])
-        r.param.watch(self._on_mode, "spacetime")
+        r.settings.param.watch(self._on_mode, "spacetime")
         self.param.watch(lambda e: e.new and self._on_frame(force=True), "shown")
         self._on_frame()
         self._on_problems()
@@ -138,8 +137,8 @@ class HydroView(pn.viewable.Viewer):
         return b
 
     def _widgets(self) -> pn.Column:
-        r = self.runner
-        p = r.param
+        s = self.runner.settings
+        p = s.param
         iso = p.isothermal
         W = pn.widgets
 
@@ -149,9 +148,9 @@ class HydroView(pn.viewable.Viewer):
             return pn.pane.HTML(f'<div class="group-title">{text}</div><div class="buttons-note">{how}</div>',
                                 stylesheets=[CSS], margin=(0, 10))
 
-        grid = self.checked["grid"] = CheckedInputs(r, "hydro-input-grid")
-        init = self.checked["initial"] = CheckedInputs(r, "hydro-input-initial")
-        buf = self.checked["buffer"] = CheckedInputs(r, "hydro-input-buffer")
+        grid = self.checked["grid"] = CheckedInputs(s, "hydro-input-grid")
+        init = self.checked["initial"] = CheckedInputs(s, "hydro-input-initial")
+        buf = self.checked["buffer"] = CheckedInputs(s, "hydro-input-buffer")
 
         return pn.Column(
             title("Ring model"),
@@ -218,7 +217,8 @@ class HydroView(pn.viewable.Viewer):
     def _sync_location(self):
         doc = pn.state.curdoc
         if pn.state.location is not None and doc is not None and doc.session_context is not None:
-            pn.state.location.sync(self.runner, {k: f"hydro_{k}" for k in SETTINGS_PARAMS}, on_error=self._bad_query)
+            pn.state.location.sync(self.runner.settings, {k: f"hydro_{k}" for k in SETTINGS_PARAMS},
+                                   on_error=self._bad_query)
 
     def _bad_query(self, values: dict) -> None:
         self.runner.status = (f"Settings in the page address were not applied (invalid): "
@@ -301,7 +301,7 @@ class HydroView(pn.viewable.Viewer):
             ("hydro-orbits-per-s", "Orbits per second", fmt(orb_s, ".1f"), when),
             ("hydro-steps-per-s", "Steps per second", fmt(steps_s, ".0f"), f"{fr.n} cells"),
             ("hydro-dt", "Time step", fmt(fr.stable_dt_orbits, ".2g", "orbits"),
-             publish("the paper's rule, eq. (timestep)") if r.timestep == "paper" else "fast rule"),
+             publish("the paper's rule, eq. (timestep)") if r.settings.timestep == "paper" else "fast rule"),
             ("hydro-lambda-p", "λ<sub>p</sub> now", fmt(fr.lambda_p_m, ".4g", "m"),
              f"fastest growth {fmt(n.get('lambda_max_growth_m', math.nan), '.4g', 'm')}"),
             ("hydro-lambda-zero", "λ<sub>zero</sub>", fmt(n.get("lambda_zero_m", math.nan), ".4g", "m"),
