@@ -12,12 +12,20 @@ CHROMIUM ?= /usr/bin/chromium
 
 .PHONY: app test test-fast slow-list lint-imports install clean bench browser tutorials-html docs bench-record
 
+# The venv gets uv (https://docs.astral.sh/uv/), which installs the same releases as pip in about a tenth of the
+# time (measured on the 2-core machine: 10 s against 116 s for ".[app,test,docs]"); where uv cannot be installed or
+# cannot reach the package index (it does not read pip.conf), pip installs instead.
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install -q --upgrade pip
+	$(BIN)/python -m pip install -q uv || echo "note: uv not available; installing with pip (slower)"
+
+define pip_install
+	@if test -x $(BIN)/uv && $(BIN)/uv pip install -q --python $(BIN)/python $(1); then :; else \
+	  echo "installing with pip"; $(BIN)/python -m pip install -q $(1); fi
+endef
 
 $(STAMP): pyproject.toml setup.py | $(BIN)/python
-	$(BIN)/python -m pip install -q -e ".[app,test,docs]"
+	$(call pip_install,-e ".[app,test,docs]")
 	touch $(STAMP)
 
 install: $(STAMP)
@@ -35,7 +43,7 @@ PORT ?= 5006
 DOCS_SITE ?= app/docs_site
 APP_STAMP = $(VENV)/.installed-app
 $(APP_STAMP): pyproject.toml setup.py | $(BIN)/python
-	$(BIN)/python -m pip install -q -e ".[app]"
+	$(call pip_install,-e ".[app]")
 	touch $(APP_STAMP)
 
 app: $(APP_STAMP)

@@ -116,7 +116,7 @@ def test_a_closed_page_frees_its_run_at_once_with_one_log_line(server, browser):
     one log line ("... of a closed session freed at orbit ...") and never a traceback."""
     url, log, pid = server
     results = []
-    for tab, how in [("hydro", "close"), ("nbody", "close"), ("hydro", "goto"), ("hydro", "close")]:
+    for tab, how in [("hydro", "close"), ("nbody", "close"), ("hydro", "goto")]:  # each after the one before
         page = open_tab(browser, url, tab, autostart=True)
         o = wait_streaming(page, tab, 0.05)
         wait_streaming(page, tab, o, timeout_s=20.0)  # frames keep coming (the page paces them when loaded)

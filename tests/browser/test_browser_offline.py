@@ -59,7 +59,7 @@ def internal_words(where: str, text: str) -> list:
                     for m in INTERNAL.finditer(text)]
 
 
-def click(page, sel: str, wait_ms: int = 800) -> None:
+def click(page, sel: str, wait_ms: int = 400) -> None:
     loc = page.locator(sel).first
     loc.wait_for(state="visible", timeout=60_000)
     loc.click(timeout=90_000)  # waits while the button is disabled (Pause: until the run has started)
@@ -69,16 +69,16 @@ def click(page, sel: str, wait_ms: int = 800) -> None:
 def show_tab(page, title: str, ready: str, seen: list | None = None) -> None:
     page.locator(".bk-tab", has_text=title).first.click()
     page.locator(ready).first.wait_for(state="visible", timeout=LOAD_MS)
-    page.wait_for_timeout(1000)
+    page.wait_for_timeout(500)
     if seen is not None:
         seen.append((f"tab {title}", visible_text(page)))
 
 
 def run_briefly(page, prefix: str, step: bool = True) -> None:
-    click(page, f".{prefix}-start button", 2500)
-    click(page, f".{prefix}-pause button", 1500)
+    click(page, f".{prefix}-start button", 1500)  # Pause waits (enabled) until the run has started
+    click(page, f".{prefix}-pause button", 800)
     if step:
-        click(page, f".{prefix}-step button", 1500)
+        click(page, f".{prefix}-step button", 800)
 
 
 def keep_and_restore(page, prefix: str) -> None:
@@ -86,7 +86,7 @@ def keep_and_restore(page, prefix: str) -> None:
     handle = page.locator(f".{prefix}-settings .bk-input-group", has_text="Surface density").first.locator(".noUi-handle")
     handle.focus()
     handle.press("ArrowRight")
-    click(page, f".{prefix}-restore button", 2500)
+    click(page, f".{prefix}-restore button", 1500)
 
 
 @pytest.fixture
@@ -167,28 +167,28 @@ def test_walk_through_every_tab_requests_nothing_from_other_hosts(ringlab_serve_
     click(page, ".hydro-isothermal input")
     click(page, ".hydro-buffer-on input")
     click(page, ".hydro-settings button >> text=orbit-resolved")
-    click(page, ".export-settings .bk-btn", 1500)  # a download
+    click(page, ".export-settings .bk-btn", 800)  # a download
     page.locator(".hydro-settings .settings-upload input[type=file]").first.set_input_files(
         files=[{"name": "odd.json", "mimeType": "application/json", "buffer": b'{"sigma0": "many"}'}])
     page.locator("#settings-message").first.wait_for(timeout=60_000)  # refused with a message, nothing changed
-    click(page, ".hydro-reset button", 1500)
+    click(page, ".hydro-reset button", 800)
 
     show_tab(page, "N-body", ".nbody-start", seen)
     run_briefly(page, "nbody")
     keep_and_restore(page, "nbody")
-    click(page, ".nbody-reset button", 1500)
+    click(page, ".nbody-reset button", 800)
 
     show_tab(page, "Saturation", ".bk-Canvas", seen)
     show_tab(page, "Compare", ".compare-start", seen)
     page.locator(".compare-a-settings").first.click()  # open the collapsed card
-    page.wait_for_timeout(800)
+    page.wait_for_timeout(400)
     run_briefly(page, "compare", step=False)
-    click(page, ".compare-reset button", 1500)
+    click(page, ".compare-reset button", 800)
     show_tab(page, "Paper results", ".bk-Canvas", seen)
 
-    click(page, ".present-toggle button", 1500)  # presentation mode on and off
-    click(page, ".present-toggle button", 1500)
-    page.wait_for_timeout(2000)
+    click(page, ".present-toggle button", 1000)  # presentation mode on and off
+    click(page, ".present-toggle button", 1000)
+    page.wait_for_timeout(1000)
 
     # last (choosing lessons changes what the buttons above set up): every step of every lesson, as the
     # student reads it (without setting the steps up)
