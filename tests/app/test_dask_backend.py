@@ -182,23 +182,23 @@ def test_two_sessions_share_one_worker_engine_and_one_detaches_bit_identically(b
     try:
         a, b = HydroRunner(settings=HydroSettings(**SMALL)), HydroRunner(settings=HydroSettings(**SMALL))
         for r in (a, b):
-            r.running, r.pause_at = True, 400.0
+            r.running, r.pause_at = True, 200.0
         a.tick()
         b.tick()  # a chunk on a worker is ~0.1 s: tens of orbits of this small box
         assert a.sim.computation is b.sim.computation and a.sim.on_worker
         assert wait_engines(backend, 1) == 1  # one engine on the workers for both sessions
         b.pause()
         b._settle()  # Pause: b continues on its own copy
-        assert not b.sim.following and b.sim.orbits < 300.0
+        assert not b.sim.following and b.sim.orbits < 150.0
         b.running = True  # Start again
         for r in (a, b):
-            while r.sim.orbits < 400.0 - 1e-9:
+            while r.sim.orbits < 200.0 - 1e-9:
                 r.tick()
         assert wait_engines(backend, 2) == 2 and a.sim.following and b.sim.on_worker
     finally:
         shared.set_enabled(None)
         shared._REGISTRY.clear()
-    ref = in_process(400.0, **SMALL)
+    ref = in_process(200.0, **SMALL)
     for r in (a, b):
         assert r.sim.steps == ref.sim.steps
         for name in ("t", "e_kin", "lambda_p"):
