@@ -24,8 +24,11 @@ define pip_install
 	  echo "installing with pip"; $(BIN)/python -m pip install -q $(1); fi
 endef
 
+# (the requirements in variables: a comma inside $(call ...) would split its arguments)
+REQ_ALL = -e ".[app,test,docs]"
+REQ_APP = -e ".[app]"
 $(STAMP): pyproject.toml setup.py | $(BIN)/python
-	$(call pip_install,-e ".[app,test,docs]")
+	$(call pip_install,$(REQ_ALL))
 	touch $(STAMP)
 
 install: $(STAMP)
@@ -43,7 +46,7 @@ PORT ?= 5006
 DOCS_SITE ?= app/docs_site
 APP_STAMP = $(VENV)/.installed-app
 $(APP_STAMP): pyproject.toml setup.py | $(BIN)/python
-	$(call pip_install,-e ".[app]")
+	$(call pip_install,$(REQ_APP))
 	touch $(APP_STAMP)
 
 app: $(APP_STAMP)
