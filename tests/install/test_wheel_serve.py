@@ -46,8 +46,8 @@ def _install_requirements(py: Path, env: dict) -> None:
     installed with pip, as a user would, and pip checks every requirement of the wheel."""
     uv = Path(sys.executable).parent / "uv"
     if uv.is_file():
-        r = subprocess.run([str(uv), "pip", "install", "-q", "--python", str(py), *_lab_requirements()],
-                           capture_output=True, text=True, timeout=1500, env=env)
+        r = subprocess.run([str(uv), "pip", "install", "-q", "--compile-bytecode", "--python", str(py),
+                            *_lab_requirements()], capture_output=True, text=True, timeout=1500, env=env)
         if r.returncode == 0:
             return
     _run([str(py), "-m", "pip", "install", "-q", *_lab_requirements()], timeout=1500, env=env)
