@@ -145,6 +145,20 @@ def write_run(ds: xr.Dataset, path, kind: str, overwrite: bool | None = None) ->
     return write_bytes(path, run_bytes(ds, kind), overwrite)
 
 
+def _read_engine() -> str:
+    """The xarray engine that reads run files: netCDF-C (``netcdf4``) when installed, else h5netcdf.  Both read
+    the same values and attributes; netCDF-C opens a run file of a few kB in about 0.04 s, h5netcdf in about
+    0.5 s (its per-variable bookkeeping of dimensions, about 40 variables per file)."""
+    try:
+        import netCDF4  # noqa: F401  (only whether it is installed)
+    except ImportError:
+        return "h5netcdf"
+    return "netcdf4"
+
+
+READ_ENGINE = _read_engine()
+
+
 def read_run(path, kind: str | None = None) -> xr.Dataset:
     """Open a run file and check it with :func:`ringcore.io.validate_run`; returns a loaded ``xarray.Dataset``.
 
@@ -160,9 +174,9 @@ def read_run(path, kind: str | None = None) -> xr.Dataset:
     if not path.is_file():
         raise RunFileError(f"{path}: no such file" if not path.exists() else f"{path}: not a regular file")
     try:
-        with xr.open_dataset(path, engine="h5netcdf") as f:
+        with xr.open_dataset(path, engine=READ_ENGINE) as f:
             ds = f.load()
-    except Exception as exc:  # h5py/h5netcdf raise many types for damaged files
+    except Exception as exc:  # the engines raise many types for damaged files
         first = str(exc).splitlines()[0] if str(exc) else ""
         raise RunFileError(f"{path}: not a readable NetCDF/HDF5 file ({type(exc).__name__}: {first})") from None
     return validate_run(ds, kind, source=str(path))

@@ -54,3 +54,29 @@ def test_errors_name_file_and_problem(tmp_path):
     d2.to_netcdf(tmp_path / "e.nc", engine="h5netcdf")
     with pytest.raises(RunFileError, match="no longer supported"):
         read_run(tmp_path / "e.nc")
+
+
+@pytest.mark.parametrize("kind", ["hydro", "nbody"])
+def test_netcdf_c_and_h5netcdf_read_the_same_run_file(tmp_path, kind):
+    """read_run uses netCDF-C when installed (about 10x faster); both engines read the engines' run files alike:
+    every variable, coordinate and attribute, value for value, dtype for dtype."""
+    pytest.importorskip("netCDF4")
+    from ringcore.hydro import Hydro1D, HydroOptions
+    from ringcore.io import runfile
+    from ringcore.nbody import NBodyOptions, ShearingBox
+
+    if kind == "hydro":
+        run = Hydro1D(params.get("tau15", sigma0=400), HydroOptions(L_x=500, h=2.5), initial="noise", seed=3,
+                      amplitude=1e-2).run(orbits=0.2)
+    else:
+        run = ShearingBox(params.get("tau15"), NBodyOptions(L_x=25, L_y=25), seed=1).run(0.1)
+    path = run.save(tmp_path / "run.nc")
+    by_c = xr.load_dataset(path, engine="netcdf4")
+    by_h5 = xr.load_dataset(path, engine="h5netcdf")
+    assert by_c.identical(by_h5)
+    for name, var in by_h5.variables.items():
+        assert by_c[name].dtype == var.dtype, name
+    for key, value in by_h5.attrs.items():
+        assert type(by_c.attrs[key]) is type(value), key
+    assert runfile.READ_ENGINE == "netcdf4"
+    assert read_run(path, kind).identical(by_h5)
