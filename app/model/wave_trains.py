@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from ringcore import ranges, wavetrain
+from ringcore.io.engines import READ_ENGINE
 from ringcore.params import RingParams
 from ringcore.wavetrain.boundary import STABLE_TOL
 from ringcore.wavetrain.floquet import DEFAULT_Q
@@ -56,7 +57,7 @@ def _read_lambda_st(path: Path) -> tuple[dict, str]:
         return {}, f"The stability-boundary table ({path.name}) is missing: no λ_st line."
     try:
         import xarray as xr
-        with xr.open_dataset(path, engine="h5netcdf") as f:
+        with xr.open_dataset(path, engine=READ_ENGINE) as f:
             ds = f.load()
     except Exception as exc:  # a damaged file must not break the tab
         return {}, f"The stability-boundary table {path.name} cannot be read ({type(exc).__name__}: {exc})."

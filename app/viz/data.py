@@ -20,6 +20,7 @@ from ringcore.checks import check_choice
 from ringcore.experiments.longruns import LONG_RUNS, check_compact
 from ringcore.experiments.sweep_grid import as_runs
 from ringcore.io import read_run
+from ringcore.io.engines import READ_ENGINE
 
 from ringlab.paths import LONGRUNS_DIR
 
@@ -83,7 +84,7 @@ def open_run(run) -> xr.Dataset:
         if not path.is_file():
             raise ValueError(f"run = {str(path)!r} is not a file: allowed a run file (.nc) written by ringcore, "
                              f"a compact long-run file or a shipped long run's name ({', '.join(LONG_RUNS)})")
-        with xr.open_dataset(path, engine="h5netcdf") as f:
+        with xr.open_dataset(path, engine=READ_ENGINE) as f:
             kind = f.attrs.get("kind")
             ds = check_compact(f.load(), path.name) if kind == COMPACT else None
         if ds is None:
@@ -152,9 +153,9 @@ def open_sweep(sweep) -> xr.Dataset:
         if not path.is_file():
             raise ValueError(f"sweep = {str(path)!r} is not a file: allowed a sweep.nc written by ringcore sweep")
         try:
-            with xr.open_dataset(path, engine="h5netcdf") as f:
+            with xr.open_dataset(path, engine=READ_ENGINE) as f:
                 sweep = f.load()
-        except Exception as exc:  # h5py/h5netcdf raise many types for damaged files
+        except Exception as exc:  # the engines raise many types for damaged files
             raise ValueError(f"sweep = {str(path)!r} cannot be read as NetCDF ({type(exc).__name__})") from None
     if not isinstance(sweep, xr.Dataset):
         raise ValueError(f"sweep = {type(sweep).__name__} object is not valid: allowed a sweep.nc path or its "

@@ -55,7 +55,7 @@ def register(sub) -> None:
     p.add_argument("--T-floor", type=float, default=0.0, dest="T_floor",
                    help="temperature floor in units of T0 (non-isothermal; 0: off, the paper's scheme)")
     p.add_argument("--out", required=True, metavar="FILE.nc",
-                   help="run file to write (NetCDF, h5netcdf); an existing file is kept unless --overwrite; reserved "
+                   help="run file to write (NetCDF-4); an existing file is kept unless --overwrite; reserved "
                         "for this run (a second run on the same FILE.nc is refused before computing)")
     p.add_argument("--overwrite", action="store_true", help="replace FILE.nc if it exists (default: refuse)")
     p.add_argument("--checkpoint-every", type=float, default=None, metavar="ORBITS",

@@ -6,6 +6,7 @@ from pathlib import Path
 import xarray as xr
 
 from ringcore.checks import check_real
+from ringcore.io.engines import READ_ENGINE
 from ringcore.figures.runfile import run_overview
 
 
@@ -25,7 +26,7 @@ def run(args) -> int:
         raise ValueError(f"run = {str(args.run)!r} is not a file: allowed an existing hydro run file")
     if args.out.suffix.lower() not in (".png", ".pdf", ".svg"):
         raise ValueError(f"out = {str(args.out)!r} has no known image suffix: allowed .png, .pdf, .svg")
-    with xr.open_dataset(args.run, engine="h5netcdf") as ds:
+    with xr.open_dataset(args.run, engine=READ_ENGINE) as ds:
         fig = run_overview(ds.load())
     fig.savefig(args.out, dpi=args.dpi)
     print(f"wrote {args.out}")

@@ -14,6 +14,7 @@ from ..figures._mpl import subplots
 from .. import linear, params
 from ..analysis import lambda_p_empirical
 from ..analysis.saturation import C_EMPIRICAL
+from ..io.engines import READ_ENGINE
 from .recipe_common import finish, hydro_run, pick
 from .registry import recipe
 from .resolution import resolved_h
@@ -60,7 +61,7 @@ def shipped_sweeps() -> dict:
     out = {}
     for path in shipped_sweep_files(SWEEP_FILE):
         try:
-            with xr.open_dataset(path, engine="h5netcdf") as ds:
+            with xr.open_dataset(path, engine=READ_ENGINE) as ds:
                 ds = ds.load()
         except (OSError, ValueError):
             continue

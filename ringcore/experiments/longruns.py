@@ -32,6 +32,7 @@ import xarray as xr
 from ..analysis.spectra import prevalent_wavelength
 from ..checks import check_choice, check_int
 from ..io.ekin import e_kin_of
+from ..io.engines import READ_ENGINE
 from ..units import E_KIN_UNIT
 from ..paperrefs import ref
 from ..provenance import software_attrs
@@ -209,7 +210,7 @@ def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) ->
     name = check_choice("name", name or path.stem, sorted(LONG_RUNS))
     rows, cols = check_int("rows", rows, 2, 100000), check_int("cols", cols, 2, 100000)
     info = LONG_RUNS[name]
-    with xr.open_dataset(path, engine="h5netcdf") as ds:
+    with xr.open_dataset(path, engine=READ_ENGINE) as ds:
         a = dict(ds.attrs)
         opts = json.loads(a.get("options_json", "{}"))
         L_x = float(opts.get("L_x", a.get("option_L_x", np.nan)))

@@ -1,4 +1,4 @@
-"""Self-describing run files (NetCDF through xarray + h5netcdf), their validation, graceful interruption,
+"""Self-describing run files (NetCDF-4 through xarray: netCDF-C, else h5netcdf), their validation, graceful interruption,
 atomic outputs and output reservations."""
 from .runfile import (SCHEMA, SCHEMA_VERSION, RunFileError, attrs_from_dict, dict_from_attrs, read_run,
                       run_bytes, status_attrs, stamp_run, write_run)

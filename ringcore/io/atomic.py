@@ -31,6 +31,7 @@ from pathlib import Path
 
 from .errors import (NAME_MAX, OutputAppeared, OutputBusy, OutputError, OutputExists, output_error,  # noqa: F401
                      refuse, side_name, temp_name)
+from .engines import WRITE_ENGINE
 from .lock import held, name_lock
 
 CHUNK = 1 << 22  # bytes per os.write call
@@ -148,7 +149,8 @@ def write_bytes(path, data, overwrite: bool | None = None) -> Path:
 
 
 def netcdf_bytes(ds) -> memoryview:
-    """``ds`` serialised as a NetCDF-4 (HDF5) file in memory with the h5netcdf engine."""
+    """``ds`` serialised as a NetCDF-4 (HDF5) file in memory (engine :data:`ringcore.io.engines.WRITE_ENGINE`:
+    netCDF-C when installed, else h5netcdf)."""
     try:  # inside a dask.distributed worker xarray would ask the cluster for a lock named after the buffer
         import dask
 
@@ -156,7 +158,7 @@ def netcdf_bytes(ds) -> memoryview:
     except ImportError:  # pragma: no cover - dask is a dependency
         ctx = contextlib.nullcontext()
     with ctx:
-        return ds.to_netcdf(engine="h5netcdf")
+        return ds.to_netcdf(engine=WRITE_ENGINE)
 
 
 def save_figure(fig, path, overwrite: bool | None = None, **kwargs) -> Path:

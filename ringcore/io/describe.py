@@ -18,6 +18,7 @@ from .schema import SCHEMA, RunFileError
 from .validate import LAYOUTS, validate_run
 from ..experiments.sweep_grid import LAYOUT, as_runs
 from .ekin import upgrade_e_kin
+from .engines import READ_ENGINE
 
 PROVENANCE = ("ringcore_version", "ringcore_commit", "created", "written_on", "command")
 
@@ -109,9 +110,9 @@ def describe(path) -> dict:
     if not path.is_file():
         raise RunFileError(f"{path}: no such file")
     try:
-        with xr.open_dataset(path, engine="h5netcdf") as f:
+        with xr.open_dataset(path, engine=READ_ENGINE) as f:
             ds = f.load()
-    except Exception as exc:  # h5py/h5netcdf raise many types for damaged files
+    except Exception as exc:  # the engines raise many types for damaged files
         first = str(exc).splitlines()[0] if str(exc) else ""
         raise RunFileError(f"{path}: not a readable NetCDF/HDF5 file ({type(exc).__name__}: {first})") from None
     a = ds.attrs

@@ -21,6 +21,7 @@ import param
 from ringcore.checks import check_real
 from ringcore.experiments.longruns import LONG_RUNS, check_compact
 from ringcore.io.ekin import e_kin_of
+from ringcore.io.engines import READ_ENGINE
 
 from ringlab.paths import LONGRUNS_DIR
 
@@ -39,7 +40,7 @@ def list_runs(folder: Path | None = None) -> dict:
 def _load(path: str, mtime: float) -> dict:
     import xarray as xr
 
-    with xr.open_dataset(path, engine="h5netcdf") as f:
+    with xr.open_dataset(path, engine=READ_ENGINE) as f:
         ds = check_compact(f.load(), Path(path).name)
     strobe = ds["strobe"].values.astype(np.float32)
     step = max(1, math.ceil(strobe.shape[1] / MAX_IMAGE_COLS))

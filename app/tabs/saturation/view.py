@@ -22,6 +22,7 @@ from bokeh.models import ColumnDataSource, HoverTool, Range1d
 from ringcore import linear
 from ringcore.analysis.saturation import C_EMPIRICAL, lambda_p_empirical
 from ringcore.experiments.sweep import shipped_sweep_files, sweep_points
+from ringcore.io.engines import READ_ENGINE
 
 from ringlab.lessons.tutorials import docs_link, tab_links
 from ringlab.live.session import SessionRuns
@@ -110,7 +111,7 @@ def _read_sweep(path: Path) -> tuple[list, str]:
                     "The researcher's guide of the documentation (Sweeps) says how to compute it.")
     try:
         import xarray as xr
-        with xr.open_dataset(path, engine="h5netcdf") as f:
+        with xr.open_dataset(path, engine=READ_ENGINE) as f:
             ds = f.load()
     except Exception as exc:  # a damaged file must not break the tab
         return [], f"The sweep file {path.name} cannot be read ({type(exc).__name__}: {exc}); theory only."
