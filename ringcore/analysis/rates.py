@@ -72,7 +72,8 @@ def growth_rate(t, amplitude, window=None) -> Fit:
 
 
 def lomb_frequency(t, y, fmin: float, fmax: float, n: int = 20000) -> Fit:
-    """Dominant angular frequency of ``y(t)`` from the normalized Lomb periodogram.
+    """Dominant angular frequency of ``y(t)`` from the normalized Lomb periodogram
+    (:func:`ringcore.analysis.lomb.lomb_periodogram`, the estimator of :func:`scipy.signal.lombscargle`).
 
     Parameters
     ----------
@@ -96,10 +97,9 @@ def lomb_frequency(t, y, fmin: float, fmax: float, n: int = 20000) -> Fit:
         raise ValueError(f"fmin = {fmin:g}, fmax = {fmax:g} are not valid: allowed 0 < fmin < fmax")
     n = check_int("n", n, 3, 10**8)
     t, y = _window(t, y, None)
-    w = np.linspace(fmin, fmax, int(n))
-    from scipy import signal  # deferred: see the module's imports
+    from .lomb import lomb_periodogram  # deferred: numba, which the lighter analyses never need
 
-    P = signal.lombscargle(t, y - y.mean(), w, normalize=True)
+    w, P = lomb_periodogram(t, y, fmin, fmax, n)
     i = int(np.argmax(P))
     wi = w[i]
     if 0 < i < w.size - 1:
