@@ -1,4 +1,4 @@
-"""``ringlab loadtest --join-together --shared``: a small class (3 students, 10 s) opens its pages at the
+"""``ringlab loadtest --join-together --shared``: a small class (3 students, 5 s) opens its pages at the
 same moment on one lesson step; the report has the join figures (pages_ready_s, page_server_cpu_s), the
 frames each student received and the app process's cores per student, next to the keys it always had."""
 from __future__ import annotations
@@ -19,13 +19,13 @@ def loadtest(tmp_path, *options) -> dict:
     # the classroom presets: the fast ones' small box reaches the step's classroom length (100 orbits) and pauses
     # itself before the measured window on an idle machine
     env = {**os.environ, "RINGLAB_LOAD_LOG": str(tmp_path / "server.log"), "RINGLAB_LESSONS_SCALE": "classroom"}
-    out = subprocess.run([sys.executable, "-m", "ringlab.cli.main", "loadtest", "--students", "3", "--seconds", "10",
-                          "--warmup", "4", *options, "--json"], capture_output=True, text=True, timeout=600, env=env)
+    out = subprocess.run([sys.executable, "-m", "ringlab.cli.main", "loadtest", "--students", "3", "--seconds", "5",
+                          "--warmup", "3", *options, "--json"], capture_output=True, text=True, timeout=600, env=env)
     assert out.returncode == 0, out.stderr[-2000:]
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
-@pytest.mark.slow  # a server, 3 pages and 14 s of running: 40-90 s on a 2-core machine
+@pytest.mark.slow  # a server, 3 pages and 8 s of running: 30-80 s on a 2-core machine
 @pytest.mark.xdist_group("browser")  # starts a server: with the browser tests, one at a time
 def test_a_class_joining_together_on_one_lesson_step_is_reported(tmp_path):
     r = loadtest(tmp_path, "--join-together", "--shared")
