@@ -213,8 +213,8 @@ print(f"sigma0 = {q.sigma0:.0f}, group velocity at {lam_near:.0f} m: nonlinear {
 # * At σ0 = 300 and 400 kg m⁻² the nonlinear minimum lies at 1.45 and 1.37 λ_zero (printed ratios), i.e. at the
 #   empirical 1.4 λ_zero: the factor C = 1.4 of Eq. (55) is largely the nonlinear shift of the frequency
 #   minimum ("nonlinearity accounts for much of the deviation from unity of the factor C").
-# * At σ0 = 700 kg m⁻² the shift is smaller (1.12 λ_zero; the 210 m box, far from the minimum, was taken over by
-#   shorter waves, marked above). The paper sees the same: "with increasing σ0 the values of λ_p gradually depart from the minimum toward
+# * At σ0 = 700 kg m⁻² the shift is smaller (1.12 λ_zero; a box far from the minimum can be taken over by
+#   shorter waves: the printed list then marks that wavelength). The paper sees the same: "with increasing σ0 the values of λ_p gradually depart from the minimum toward
 #   larger wavelengths" in periodic boxes, and runs with a buffer zone bring λ_p back to the nonlinear minimum
 #   (Section 6.2, Figures 24, 25).
 # * Near that wavelength the nonlinear group velocity is close to zero, while the *linear* one is not. A wave train at
