@@ -1,15 +1,24 @@
 """Helpers of the browser tier (tests/browser): Debian Chromium through Playwright, and app servers
-started with ``panel serve app/main.py`` on free loopback ports.  The fixtures ``app_server`` and
-``browser_page`` are in tests/conftest.py."""
+started with ``panel serve app/main.py`` on free loopback ports.  The fixtures ``app_server``, ``shared_app``,
+``browser`` and ``browser_page`` are in tests/conftest.py.
+
+Shared by the tier's tests (one pytest process runs them one after another): one Chromium (each test gets a fresh
+browser context: its own cookies, local storage and cache, as a fresh profile gave) and one app server with the
+default options (:func:`shared_server`) for every test that needs nothing else of its server.  Starting Chromium
+costs ~1.3 s of CPU and a server ~2 s, and the first page of a fresh server or browser ~3 s more than the next
+(imports, numba's cache, the renderer warming up): measured 2-8 s of CPU per test.  Both are closed after the last
+browser test (tests/conftest.py), not left running while the worker goes on with other tiers."""
 from __future__ import annotations
 
 import os
 import re
+import shutil
 import socket
 import subprocess
 import sys
 import time
 import urllib.request
+import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 from typing import NamedTuple
@@ -48,13 +57,14 @@ TEST_FRAME_RATE = "2"
 
 
 def start_server(port: int, log_path: Path, extra=(), compute: str | None = None,
-                 max_frame_rate: str | None = TEST_FRAME_RATE) -> tuple[subprocess.Popen, float]:
+                 max_frame_rate: str | None = TEST_FRAME_RATE, env_extra: dict | None = None
+                 ) -> tuple[subprocess.Popen, float]:
     """Start ``panel serve app/main.py`` and wait for /liveness; returns (process, seconds to liveness).
 
     ``compute``: the server's ``RINGLAB_COMPUTE`` (default: the environment's, else ``threads``: the
     browser tests keep their runs in the server process; ``tests/browser/test_browser_backend.py`` runs the
     app's own default, worker processes).  ``max_frame_rate``: its ``RINGLAB_MAX_FRAME_RATE`` (None: the
-    app's default).
+    app's default).  ``env_extra``: more environment variables of the server.
     """
     cmd = [sys.executable, "-m", "panel", "serve", "app/main.py", "--port", str(port), "--address", "127.0.0.1",
            "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness", *extra]
@@ -63,6 +73,7 @@ def start_server(port: int, log_path: Path, extra=(), compute: str | None = None
     env.pop("RINGLAB_MAX_FRAME_RATE", None)
     if max_frame_rate is not None:
         env["RINGLAB_MAX_FRAME_RATE"] = max_frame_rate
+    env.update(env_extra or {})
     env["PYTHONUNBUFFERED"] = "1"  # tests read the log while the server runs: no line may wait in a buffer
     log = open(log_path, "w")
     t0 = time.perf_counter()
@@ -106,6 +117,7 @@ class ServedApp(NamedTuple):
     log: Path
     proc: subprocess.Popen
     t_live: float  # seconds to /liveness
+    site: Path | None = None  # the documentation site it serves at /docs (the shared server)
 
 
 @contextmanager
@@ -127,10 +139,115 @@ def served(log_name: str, extra=(), compute: str | None = None, check_log: bool 
         assert not bad, f"server log {log} has errors: {bad[:8]}"
 
 
+class _Shared:
+    """The Playwright driver, the Chromium and the app server shared by the browser tests (created on first use)."""
+    pw = None
+    browser = None
+    app: ServedApp | None = None
+    tmp: Path | None = None
+
+
+SHARED_LOG = "panel-serve-shared.log"
+
+
+def docs_site(folder: Path) -> Path:
+    """The documentation site to serve: the built one if it holds every tutorial page (``make tutorials-html``),
+    else small stand-in pages written into ``folder``."""
+    from ringlab.lessons import tutorials
+
+    site = tutorials.docs_dir()
+    if all((tutorials.html_dir() / f"{s}.html").is_file() for s in tutorials.TUTORIALS):
+        return site
+    site = folder / "docs_site"
+    (site / "tutorials" / "nb").mkdir(parents=True, exist_ok=True)
+    for stem, title in tutorials.TUTORIALS.items():
+        (site / "tutorials" / "nb" / f"{stem}.html").write_text(f"<html><body><h1>{title}</h1></body></html>")
+    return site
+
+
+def shared_server() -> ServedApp:
+    """The app server shared by the tests that need nothing else (started on first use, logging to
+    ``test-artifacts/panel-serve-shared.log``): ``panel serve app/main.py`` with the tests' frame rate, runs
+    in threads, the lessons' ``fast`` preset scale (RINGLAB_LESSONS_SCALE: smaller boxes; it changes only what
+    a lesson's "Set up this step" starts) and the documentation site at /docs (:func:`docs_site`).  Live runs
+    with identical settings started within a few minutes are shared between sessions (ringlab.server.shared):
+    the tests on this server start different runs."""
+    app = _Shared.app
+    if app is not None and app.proc.poll() is None:
+        return app
+    from ringlab.lessons import tutorials
+
+    ARTIFACTS.mkdir(exist_ok=True)
+    if _Shared.tmp is None:
+        _Shared.tmp = Path(tempfile.mkdtemp(prefix="ringlab-browser-"))
+    site = docs_site(_Shared.tmp)
+    port = free_port()
+    proc, t_live = start_server(port, ARTIFACTS / SHARED_LOG, extra=tutorials.serve_args(site),
+                                env_extra={tutorials.ENV: str(site), "RINGLAB_LESSONS_SCALE": "fast"})
+    _Shared.app = ServedApp(f"http://127.0.0.1:{port}/main", port, ARTIFACTS / SHARED_LOG, proc, t_live, site)
+    return _Shared.app
+
+
+def shared_browser():
+    """The Chromium shared by the browser tests (launched on first use); tests open their own contexts."""
+    b = _Shared.browser
+    if b is not None and b.is_connected():
+        return b
+    if _Shared.pw is None:
+        _Shared.pw = sync_playwright().start()
+    _Shared.browser = _Shared.pw.chromium.launch(executable_path=str(CHROMIUM), headless=True, args=FLAGS)
+    return _Shared.browser
+
+
+def emulated_device(name: str) -> dict:
+    """Playwright's settings of the device ``name`` (viewport, user agent, touch ...) for ``new_context``."""
+    shared_browser()
+    return {k: v for k, v in _Shared.pw.devices[name].items() if k != "default_browser_type"}
+
+
+def close_shared() -> list:
+    """Close the shared Chromium and stop the shared server; returns the error lines of the server's whole log
+    (:data:`BAD_LOG_LINES`), also those written between tests."""
+    bad = []
+    if _Shared.browser is not None:
+        try:
+            _Shared.browser.close()
+        finally:
+            _Shared.browser = None
+    if _Shared.pw is not None:
+        try:
+            _Shared.pw.stop()
+        finally:
+            _Shared.pw = None
+    if _Shared.app is not None:
+        stop_server(_Shared.app.proc)
+        bad = log_errors(_Shared.app.log)
+        _Shared.app = None
+    if _Shared.tmp is not None:
+        shutil.rmtree(_Shared.tmp, ignore_errors=True)
+        _Shared.tmp = None
+    return bad
+
+
+@contextmanager
+def context(width: int = 1280, height: int = 720, timeout_ms: float = 20_000, **kw):
+    """A fresh context (own cookies, storage, cache) of the shared Chromium: viewport ``width`` x ``height``
+    (None: ``kw`` holds it, e.g. a device's), default timeout ``timeout_ms``; ``kw`` to ``new_context``."""
+    if width is not None:
+        kw["viewport"] = {"width": width, "height": height}
+    ctx = shared_browser().new_context(**kw)
+    ctx.set_default_timeout(timeout_ms)
+    try:
+        yield ctx
+    finally:
+        ctx.close()
+
+
 @contextmanager
 def chromium(profile, width: int = 1280, height: int = 720, timeout_ms: float = 20_000, **kw):
-    """A persistent Playwright context of headless Debian Chromium (profile folder ``profile``, viewport
-    ``width`` x ``height``, default timeout ``timeout_ms``; ``kw`` to ``launch_persistent_context``)."""
+    """A persistent Playwright context of a Chromium of its own (profile folder ``profile``, viewport
+    ``width`` x ``height``, default timeout ``timeout_ms``; ``kw`` to ``launch_persistent_context``): for
+    scripts; the tests use :func:`context` of the shared Chromium."""
     with sync_playwright() as pw:
         ctx = pw.chromium.launch_persistent_context(str(profile), executable_path=str(CHROMIUM), headless=True,
                                                     args=FLAGS, viewport={"width": width, "height": height}, **kw)

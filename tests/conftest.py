@@ -133,19 +133,63 @@ def _long_first(item) -> int:
 
 
 # ---------------------------------------------------------------- browser fixtures (tests/browser)
+# One Chromium and one app server with the default options serve the browser tests (tests/browser_support.py:
+# starting them cost 2-8 s of CPU per test); a test that needs other server options starts its own.
 @pytest.fixture
-def app_server():
-    """URL of a freshly started app server (terminated in teardown) and its seconds to liveness."""
-    from browser_support import served
+def shared_app():
+    """The shared app server (:func:`browser_support.shared_server`, a ``ServedApp``).  The lines its log gets
+    during the test must hold no traceback or error (checked in teardown); the whole log again after the last
+    browser test."""
+    from browser_support import BAD_LOG_LINES, shared_server
 
-    with served("panel-serve.log") as app:
-        yield app.url, app.t_live
+    app = shared_server()
+    n0 = len(app.log.read_text(errors="replace").splitlines())
+    yield app
+    new = app.log.read_text(errors="replace").splitlines()[n0:]
+    bad = [ln for ln in new if any(p in ln for p in BAD_LOG_LINES)]
+    assert not bad, f"server log {app.log} got errors during the test: {bad[:8]}"
 
 
 @pytest.fixture
-def browser_page(tmp_path):
-    """A Playwright page in headless Debian Chromium with a fresh profile; collects JavaScript errors."""
-    from browser_support import chromium, new_page
+def app_server(shared_app):
+    """URL of the shared app server and its seconds to liveness."""
+    yield shared_app.url, shared_app.t_live
 
-    with chromium(tmp_path / "profile", width=1500, height=1100, timeout_ms=15_000) as ctx:
+
+@pytest.fixture
+def browser():
+    """The shared headless Chromium (a Playwright ``Browser``): open a fresh context with ``new_context``, or
+    with :func:`browser_support.context`, and close it."""
+    from browser_support import shared_browser
+
+    return shared_browser()
+
+
+@pytest.fixture
+def browser_page():
+    """A Playwright page in a fresh context (its own storage, as a fresh profile) of the shared Chromium;
+    collects JavaScript errors."""
+    from browser_support import context, new_page
+
+    with context(width=1500, height=1100, timeout_ms=15_000) as ctx:
         yield new_page(ctx)
+
+
+@pytest.hookimpl(trylast=True)
+def pytest_runtest_teardown(item, nextitem):
+    """After the last browser test (the browser tests run one after another in one process): close the shared
+    Chromium and stop the shared server (an idle server and browser would otherwise hold their memory while the
+    process goes on with other tiers); its whole log must hold no error line."""
+    if not item.get_closest_marker("browser") or (nextitem is not None and nextitem.get_closest_marker("browser")):
+        return
+    import browser_support
+
+    bad = browser_support.close_shared()
+    assert not bad, f"the shared app server's log has errors: {bad[:8]}"
+
+
+def pytest_sessionfinish(session):
+    """Close what an interrupted browser test left open (the shared Chromium and server)."""
+    import browser_support  # tests/browser_support.py, imported at collection already
+
+    browser_support.close_shared()

@@ -2,9 +2,9 @@
 
 * Enter in "Compare with σ₀" applies the list and the server logs no ``_pending_writes`` traceback;
 * the page loads nothing from any host but the app server (offline classroom);
-* the server log of the whole module holds no "Traceback" and no "ERROR" line.
+* the server log holds no "Traceback" and no "ERROR" line (the lines of each test, then the whole log).
 
-One server for the module (start-up is slow on a shared machine).  Run alone with
+The tier's shared app server and Chromium (tests/conftest.py).  Run alone with
 ``.venv/bin/python -m pytest -p no:playwright tests/browser/test_browser_defects.py``.
 Recipe: ``shared/guides/panel-live-app.md``; fixtures as in ``tests/browser/test_browser.py``.
 """
@@ -15,21 +15,21 @@ from urllib.parse import urlparse
 
 import pytest
 
-from browser_support import chromium, pytestmark, served  # noqa: F401
+from browser_support import context, pytestmark  # noqa: F401
 
 LOAD_TIMEOUT_MS = 150_000  # the page builds all tabs' models on a loaded 2-core machine
 
 
-@pytest.fixture(scope="module")
-def server():
-    """(URL, log path) of one app server for the module; the log is checked for tracebacks at the end."""
-    with served("panel-serve-defects.log", check_log=True) as app:
-        yield app.url, app.log
+@pytest.fixture
+def server(shared_app):
+    """(URL, log path) of the shared app server; the lines of its log written during the test must hold no
+    traceback or error (the fixture ``shared_app`` checks them)."""
+    return shared_app.url, shared_app.log
 
 
-@pytest.fixture(scope="module")
-def browser(tmp_path_factory):
-    with chromium(tmp_path_factory.mktemp("profile"), 1280, 720, timeout_ms=20_000) as ctx:
+@pytest.fixture
+def browser():
+    with context(1280, 720, timeout_ms=20_000) as ctx:
         yield ctx
 
 

@@ -20,7 +20,7 @@ import time
 
 import pytest
 
-from browser_support import ARTIFACTS, chromium, new_page, pytestmark, served  # noqa: F401
+from browser_support import ARTIFACTS, context, new_page, pytestmark, served  # noqa: F401
 
 LOAD_TIMEOUT_MS = 150_000  # the page builds all tabs' models on a loaded 2-core machine
 BAD = ("Traceback", "Task exception", "Error", "error handling", "Failed sending", "Uncaught")
@@ -37,8 +37,8 @@ def server():
 
 
 @pytest.fixture(scope="module")
-def browser(tmp_path_factory):
-    with chromium(tmp_path_factory.mktemp("profile"), 1280, 900, timeout_ms=30_000, accept_downloads=True) as ctx:
+def browser():
+    with context(1280, 900, timeout_ms=30_000, accept_downloads=True) as ctx:
         yield ctx
 
 

@@ -15,7 +15,7 @@ import time
 
 import pytest
 
-from browser_support import ARTIFACTS, CHROMIUM, FLAGS, free_port, start_server, stop_server, sync_playwright
+from browser_support import ARTIFACTS, emulated_device
 from ringlab.main import TABS as TABS_ALL
 
 pytestmark = [pytest.mark.slow]
@@ -50,27 +50,16 @@ PANELS_JS = """
 """
 
 
-@pytest.fixture(scope="module")
-def server():
-    ARTIFACTS.mkdir(exist_ok=True)
+@pytest.fixture
+def server(shared_app):
+    """URL of the tier's shared app server (tests/conftest.py)."""
     SHOTS.mkdir(parents=True, exist_ok=True)
-    port = free_port()
-    proc, _ = start_server(port, ARTIFACTS / "layout-serve.log")
-    try:
-        yield f"http://127.0.0.1:{port}/main"
-    finally:
-        stop_server(proc)
+    return shared_app.url
 
 
-@pytest.fixture(scope="module")
-def playwright():
-    with sync_playwright() as pw:
-        yield pw
-
-
-def new_context(pw, tmp_path, **kw):
-    ctx = pw.chromium.launch_persistent_context(str(tmp_path / f"profile-{time.monotonic_ns()}"),
-                                                executable_path=str(CHROMIUM), headless=True, args=FLAGS, **kw)
+def new_context(browser, **kw):
+    """A fresh context of the shared Chromium (``kw``: viewport or a device's settings)."""
+    ctx = browser.new_context(**kw)
     ctx.set_default_timeout(30_000)
     return ctx
 
@@ -228,8 +217,8 @@ LOAD_THEN_RESIZE = [(DESKTOP[0], DESKTOP[2]), (DESKTOP[1], DESKTOP[3])]
 
 @pytest.mark.timeout(900)
 @pytest.mark.parametrize("loaded, resized", LOAD_THEN_RESIZE, ids=lambda wh: f"{wh[0]}x{wh[1]}")
-def test_run_controls_and_main_plots_in_the_first_screen(server, playwright, tmp_path, loaded, resized):
-    ctx = new_context(playwright, tmp_path, viewport={"width": loaded[0], "height": loaded[1]})
+def test_run_controls_and_main_plots_in_the_first_screen(server, browser, loaded, resized):
+    ctx = new_context(browser, viewport={"width": loaded[0], "height": loaded[1]})
     try:
         page = ctx.new_page()
         errors = []
@@ -245,9 +234,9 @@ def test_run_controls_and_main_plots_in_the_first_screen(server, playwright, tmp
 
 
 @pytest.mark.timeout(900)
-def test_phone_with_mobile_emulation_gets_one_column(server, playwright, tmp_path):
-    device = {k: v for k, v in playwright.devices["iPhone 13"].items() if k != "default_browser_type"}
-    ctx = new_context(playwright, tmp_path, **device)
+def test_phone_with_mobile_emulation_gets_one_column(server, browser):
+    device = emulated_device("iPhone 13")
+    ctx = new_context(browser, **device)
     height = device["viewport"]["height"]
     try:
         page = ctx.new_page()
@@ -274,8 +263,8 @@ FONT_JS = """(id) => {
 
 
 @pytest.mark.timeout(600)
-def test_presentation_mode_larger_text_no_side_panel(server, playwright, tmp_path):
-    ctx = new_context(playwright, tmp_path, viewport={"width": 1280, "height": 720})
+def test_presentation_mode_larger_text_no_side_panel(server, browser):
+    ctx = new_context(browser, viewport={"width": 1280, "height": 720})
     try:
         page = ctx.new_page()
         open_tab(page, server, "hydro", ".hydro-start")

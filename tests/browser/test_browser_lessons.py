@@ -1,7 +1,7 @@
 """The five lessons end to end in headless Debian Chromium (Playwright, no bundled browser).
 
-One page, one server (``RINGLAB_LESSONS_SCALE=fast``: the presets' smaller boxes, so the runs get
-far enough in seconds).  For every step: "Set up this step" applies the preset (the test checks the
+One page of the tier's shared app server and Chromium (the server has ``RINGLAB_LESSONS_SCALE=fast``: the
+presets' smaller boxes, so the runs get far enough in seconds).  For every step: "Set up this step" applies the preset (the test checks the
 tab it shows and the controls), then the answer is read off the page the way a student would (a
 readout card, or 0.85 x the linear maximum growth rate for the measured growth), a wrong answer
 is rejected and the right one accepted by the app's check.  A run the check needs is paused first,
@@ -21,7 +21,7 @@ import pytest
 
 from ringlab.lessons import LESSONS
 from ringlab.lessons.worksheets import worksheet_path
-from browser_support import CHROMIUM, FLAGS, served, sync_playwright
+from browser_support import CHROMIUM, context, sync_playwright
 
 SHOTS = Path("/tmp/shots/lessons")
 
@@ -33,10 +33,9 @@ pytestmark = [
 
 
 @pytest.fixture
-def lessons_server(monkeypatch):
-    monkeypatch.setenv("RINGLAB_LESSONS_SCALE", "fast")
-    with served("panel-serve-lessons.log") as app:
-        yield app.url
+def lessons_server(shared_app):
+    """URL of the shared app server: RINGLAB_LESSONS_SCALE=fast (tests/browser_support.py)."""
+    return shared_app.url
 
 
 def number(text: str) -> float:
@@ -131,14 +130,10 @@ class Student:
 
 
 @pytest.mark.timeout(600)
-def test_five_lessons_end_to_end(lessons_server, tmp_path):
+def test_five_lessons_end_to_end(lessons_server):
     SHOTS.mkdir(parents=True, exist_ok=True)
     timings = {}
-    with sync_playwright() as pw:
-        ctx = pw.chromium.launch_persistent_context(str(tmp_path / "profile"), executable_path=str(CHROMIUM),
-                                                    headless=True, args=FLAGS,
-                                                    viewport={"width": 1280, "height": 720})
-        ctx.set_default_timeout(20_000)
+    with context(1280, 720, timeout_ms=20_000) as ctx:
         page = ctx.new_page()
         errors = []
         page.on("pageerror", lambda exc: errors.append(str(exc)))
@@ -298,5 +293,4 @@ def test_five_lessons_end_to_end(lessons_server, tmp_path):
         finally:
             timings["total"] = time.perf_counter() - t0
             print("timings [s]:", {k: round(v, 1) for k, v in timings.items()})
-            ctx.close()
     assert not errors, f"JavaScript errors: {errors}"

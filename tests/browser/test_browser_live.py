@@ -163,11 +163,16 @@ def test_live_tabs_in_browser(warm_server, browser_page):
     page.locator(".nbody-start button").click()
     page.locator("#nbody-status", has_text="Running").wait_for(timeout=10_000)
     page.wait_for_timeout(1500)
-    n1 = number(readout(page, "nbody-orbits"))
-    page.wait_for_timeout(6000)
-    n2 = number(readout(page, "nbody-orbits"))
-    m.update(nbody_orbits_per_s_page=(n2 - n1) / 6.0, nbody_orbits_per_s_readout=number(readout(page, "nbody-orbits-per-s")))
-    assert n2 > n1 + 1.0, f"the N-body box hardly moved: {n1} -> {n2}"
+    n1, t1 = number(readout(page, "nbody-orbits")), time.perf_counter()
+    # more than one orbit within 6 s, read every 250 ms: the box (~0.8 orbits/s when idle) ends the wait after
+    # ~1.5 s instead of streaming (a server core and the page's renderer) for all 6 s
+    while True:
+        page.wait_for_timeout(250)
+        n2, dt = number(readout(page, "nbody-orbits")), time.perf_counter() - t1
+        if n2 > n1 + 1.0 or dt >= 6.0:
+            break
+    m.update(nbody_orbits_per_s_page=(n2 - n1) / dt, nbody_orbits_per_s_readout=number(readout(page, "nbody-orbits-per-s")))
+    assert n2 > n1 + 1.0, f"the N-body box hardly moved in {dt:.1f} s: {n1} -> {n2}"
     page.screenshot(path=str(ARTIFACTS / "nbody-running.png"), full_page=True)
     page.locator(".nbody-pause button").click()
 

@@ -1,5 +1,5 @@
 """The teacher's dashboard end to end: ``ringlab serve`` with a teacher password, two student browsers
-(separate profiles: separate local storage) and the teacher's page in headless Debian Chromium.
+(separate browser contexts of one Chromium: separate local storage) and the teacher's page in headless Debian Chromium.
 
 Two students answer lesson 1, step 1 (one right, one wrong); the dashboard shows both pages, both answers
 and the right/wrong counts; a reload of a student page keeps its step and its answer (and the dashboard
@@ -22,7 +22,7 @@ from pathlib import Path
 
 import pytest
 
-from browser_support import ARTIFACTS, CHROMIUM, FLAGS, TEST_FRAME_RATE, free_port, stop_server, sync_playwright
+from browser_support import ARTIFACTS, TEST_FRAME_RATE, free_port, stop_server
 
 SHOTS = Path("/tmp/shots/teacher")
 PASSWORD = "lecture-hall-B"
@@ -59,9 +59,9 @@ def number(text: str) -> float:
     return float(re.search(r"[-+]?\d+\.?\d*", text).group(0))
 
 
-def open_browser(pw, folder: Path):
-    ctx = pw.chromium.launch_persistent_context(str(folder), executable_path=str(CHROMIUM), headless=True,
-                                               args=FLAGS, viewport={"width": 1280, "height": 900})
+def open_browser(browser):
+    """A student's or the teacher's browser: a fresh context (own local storage) of the shared Chromium."""
+    ctx = browser.new_context(viewport={"width": 1280, "height": 900})
     ctx.set_default_timeout(30_000)
     page = ctx.new_page()
     page.js_errors = []
@@ -85,78 +85,77 @@ def answer(page, value, attempt: int) -> str:
 
 @pytest.mark.slow  # three browsers and a server: ~1-3 min on the shared 2-core machine
 @pytest.mark.timeout(400)
-def test_dashboard_sees_two_students_and_moves_them(class_server, tmp_path):
+def test_dashboard_sees_two_students_and_moves_them(class_server, browser):
     base, log_path = class_server
     SHOTS.mkdir(parents=True, exist_ok=True)
-    with sync_playwright() as pw:
-        (ca, a), (cb, b), (ct, t) = (open_browser(pw, tmp_path / n) for n in ("a", "b", "teacher"))
-        try:
-            for p in (a, b):
-                p.goto(base + "/main", timeout=90_000)
-                p.locator("#lesson-step-title", has_text="Step 1.").wait_for(timeout=90_000)
-            # both students set the step up and answer: A right, B wrong
-            for p in (a, b):
-                p.locator(".lesson-setup button").click()
-                p.locator("#lesson-setup-result.msg-ok").wait_for(timeout=60_000)
-            lam = number(a.locator("#ro-lambda-max .ro-value").inner_text())
-            right, wrong = f"{lam:g}", f"{lam * 1.5:g}"
-            assert answer(a, right, 1) == "correct"
-            assert answer(b, wrong, 1) == "wrong"
+    (ca, a), (cb, b), (ct, t) = (open_browser(browser) for _ in ("a", "b", "teacher"))
+    try:
+        for p in (a, b):
+            p.goto(base + "/main", timeout=90_000)
+            p.locator("#lesson-step-title", has_text="Step 1.").wait_for(timeout=90_000)
+        # both students set the step up and answer: A right, B wrong
+        for p in (a, b):
+            p.locator(".lesson-setup button").click()
+            p.locator("#lesson-setup-result.msg-ok").wait_for(timeout=60_000)
+        lam = number(a.locator("#ro-lambda-max .ro-value").inner_text())
+        right, wrong = f"{lam:g}", f"{lam * 1.5:g}"
+        assert answer(a, right, 1) == "correct"
+        assert answer(b, wrong, 1) == "wrong"
 
-            # the dashboard: both pages, both answers, the counts
-            t.goto(f"{base}/teacher?key={PASSWORD}", timeout=90_000)
-            t.locator("#teacher-count", has_text="2").wait_for()
-            t.locator("#teacher-answers .teacher-tally", has_text="1 right").wait_for()
-            tally = t.locator("#teacher-answers .teacher-tally").inner_text()
-            assert "1 right" in tally and "1 wrong" in tally
-            table = t.locator("#teacher-answers").inner_text()
-            assert right in table and wrong in table
-            assert t.locator(".teacher-student").count() == 2
+        # the dashboard: both pages, both answers, the counts
+        t.goto(f"{base}/teacher?key={PASSWORD}", timeout=90_000)
+        t.locator("#teacher-count", has_text="2").wait_for()
+        t.locator("#teacher-answers .teacher-tally", has_text="1 right").wait_for()
+        tally = t.locator("#teacher-answers .teacher-tally").inner_text()
+        assert "1 right" in tally and "1 wrong" in tally
+        table = t.locator("#teacher-answers").inner_text()
+        assert right in table and wrong in table
+        assert t.locator(".teacher-student").count() == 2
 
-            # a reload keeps A's step and answer; the dashboard still counts A once
-            a.reload(timeout=90_000)
-            a.locator("#lesson-step-title", has_text="Step 1.").wait_for(timeout=90_000)
-            a.locator("#lesson-feedback-restored", has_text=right).wait_for()
-            assert a.locator(".lesson-answer input").input_value() == right
-            t.wait_for_timeout(2500)  # two refreshes of the dashboard
-            t.locator("#teacher-count", has_text="2").wait_for()
-            assert "1 right" in t.locator("#teacher-answers .teacher-tally").inner_text()
+        # a reload keeps A's step and answer; the dashboard still counts A once
+        a.reload(timeout=90_000)
+        a.locator("#lesson-step-title", has_text="Step 1.").wait_for(timeout=90_000)
+        a.locator("#lesson-feedback-restored", has_text=right).wait_for()
+        assert a.locator(".lesson-answer input").input_value() == right
+        t.wait_for_timeout(2500)  # two refreshes of the dashboard
+        t.locator("#teacher-count", has_text="2").wait_for()
+        assert "1 right" in t.locator("#teacher-answers .teacher-tally").inner_text()
 
-            # send everyone to lesson 1, step 3
-            t.locator(".teacher-step-select select").select_option(index=2)
-            t.locator(".teacher-send button").click()
-            t.locator("#teacher-message", has_text="Sent 2 pages").wait_for()
-            for p in (a, b):
-                p.locator("#lesson-step-title", has_text="Step 3.").wait_for(timeout=30_000)
-            # the dashboard reads the roster every 1.5 s; on a loaded machine its periodic callback comes later
-            t.locator(".teacher-student", has_text="step 3").nth(1).wait_for(timeout=30_000)
-            assert t.locator(".teacher-student", has_text="step 3").count() == 2
-            t.screenshot(path=str(SHOTS / "dashboard.png"), full_page=True)
+        # send everyone to lesson 1, step 3
+        t.locator(".teacher-step-select select").select_option(index=2)
+        t.locator(".teacher-send button").click()
+        t.locator("#teacher-message", has_text="Sent 2 pages").wait_for()
+        for p in (a, b):
+            p.locator("#lesson-step-title", has_text="Step 3.").wait_for(timeout=30_000)
+        # the dashboard reads the roster every 1.5 s; on a loaded machine its periodic callback comes later
+        t.locator(".teacher-student", has_text="step 3").nth(1).wait_for(timeout=30_000)
+        assert t.locator(".teacher-student", has_text="step 3").count() == 2
+        t.screenshot(path=str(SHOTS / "dashboard.png"), full_page=True)
 
-            # reset everyone: A's progress (step 1 answered right) and every answer are gone
-            a.locator("#lesson-progress", has_text="1 of").wait_for()
-            t.locator(".teacher-reset button").click()
-            t.locator("#teacher-message", has_text="Reset 2 pages").wait_for()
-            a.locator("#lesson-progress", has_text="0 of").wait_for(timeout=30_000)
-            t.locator("#teacher-answers", has_text="No answers to this question yet").wait_for()
-            assert right not in t.locator("#teacher-answers").inner_text()
+        # reset everyone: A's progress (step 1 answered right) and every answer are gone
+        a.locator("#lesson-progress", has_text="1 of").wait_for()
+        t.locator(".teacher-reset button").click()
+        t.locator("#teacher-message", has_text="Reset 2 pages").wait_for()
+        a.locator("#lesson-progress", has_text="0 of").wait_for(timeout=30_000)
+        t.locator("#teacher-answers", has_text="No answers to this question yet").wait_for()
+        assert right not in t.locator("#teacher-answers").inner_text()
 
-            # the step is kept in B's browser: a bare address opens it at step 3
-            b.goto(base + "/main", timeout=90_000)
-            b.locator("#lesson-step-title", has_text="Step 3.").wait_for(timeout=90_000)
+        # the step is kept in B's browser: a bare address opens it at step 3
+        b.goto(base + "/main", timeout=90_000)
+        b.locator("#lesson-step-title", has_text="Step 3.").wait_for(timeout=90_000)
 
-            # a student page has no link to the dashboard and cannot open it
-            assert b.locator("a[href*='teacher']").count() == 0
-            for url in (f"{base}/teacher", f"{base}/teacher?key=guess", f"{base}/teacher?key={PASSWORD}x"):
-                b.goto(url, timeout=60_000)
-                b.locator("#teacher-refused", has_text="Not authorised").wait_for()
-                assert b.locator("#teacher-count").count() == 0
-            assert not (a.js_errors or b.js_errors or t.js_errors), (a.js_errors, b.js_errors, t.js_errors)
-            hosts = a.hosts | b.hosts | t.hosts
-            assert hosts == {"127.0.0.1"}, hosts
-        finally:
-            for c in (ca, cb, ct):
-                c.close()
+        # a student page has no link to the dashboard and cannot open it
+        assert b.locator("a[href*='teacher']").count() == 0
+        for url in (f"{base}/teacher", f"{base}/teacher?key=guess", f"{base}/teacher?key={PASSWORD}x"):
+            b.goto(url, timeout=60_000)
+            b.locator("#teacher-refused", has_text="Not authorised").wait_for()
+            assert b.locator("#teacher-count").count() == 0
+        assert not (a.js_errors or b.js_errors or t.js_errors), (a.js_errors, b.js_errors, t.js_errors)
+        hosts = a.hosts | b.hosts | t.hosts
+        assert hosts == {"127.0.0.1"}, hosts
+    finally:
+        for c in (ca, cb, ct):
+            c.close()
     out = log_path.read_text()
     assert "teacher's dashboard: http://localhost:" in out and f"/teacher?key={PASSWORD}" in out
     assert "Traceback" not in out, out
