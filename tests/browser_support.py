@@ -16,9 +16,9 @@ import shutil
 import socket
 import subprocess
 import sys
+import tempfile
 import time
 import urllib.request
-import tempfile
 from contextlib import contextmanager
 from pathlib import Path
 from typing import NamedTuple

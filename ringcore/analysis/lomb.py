@@ -21,6 +21,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from ..checks import check_int, check_real
+
 BLOCK = 64  # frequencies advanced by rotation from one exact evaluation: rounding grows ~ BLOCK x 1e-16
 EPS_NEG = float(np.finfo(np.float64).epsneg)  # SciPy's floor of the cos^2 and sin^2 sums
 
@@ -81,9 +83,9 @@ def lomb_periodogram(t, y, fmin: float, fmax: float, n: int) -> tuple[np.ndarray
     t, y : ndarray of float
         Sample times (any unit, need not be uniform) and the signal; the signal's mean is removed here.
     fmin, fmax : float
-        First and last trial angular frequency (rad per unit of ``t``), fmin < fmax.
+        First and last trial angular frequency (rad per unit of ``t``), 0 < fmin < fmax.
     n : int
-        Number of trial frequencies (at least 2): ``numpy.linspace(fmin, fmax, n)``.
+        Number of trial frequencies (3 to 10^8): ``numpy.linspace(fmin, fmax, n)``.
 
     Returns
     -------
@@ -91,8 +93,15 @@ def lomb_periodogram(t, y, fmin: float, fmax: float, n: int) -> tuple[np.ndarray
         The trial angular frequencies and the periodogram (dimensionless, 0 to 1: the fraction of the
         signal's variance a sinusoid of that frequency explains).
     """
+    fmin = check_real("fmin", fmin, 0.0, np.inf, lo_open=True)
+    fmax = check_real("fmax", fmax, 0.0, np.inf, lo_open=True)
+    if not fmax > fmin:
+        raise ValueError(f"fmin = {fmin:g}, fmax = {fmax:g} are not valid: allowed 0 < fmin < fmax")
+    n = check_int("n", n, 3, 10**8)
     t = np.ascontiguousarray(t, dtype=np.float64)
     y = np.ascontiguousarray(y, dtype=np.float64)
-    w = np.linspace(fmin, fmax, int(n))
-    step = (fmax - fmin) / (int(n) - 1)  # linspace's own step: w[j] = fmin + j * step
+    if t.ndim != 1 or t.shape != y.shape or t.size < 2:
+        raise ValueError(f"t and y must be 1-d arrays of equal length (at least 2), got {t.shape} and {y.shape}")
+    w = np.linspace(fmin, fmax, n)
+    step = (fmax - fmin) / (n - 1)  # linspace's own step: w[j] = fmin + j * step
     return w, _lomb_kernel(t, y - y.mean(), w, step, BLOCK, EPS_NEG)
