@@ -32,6 +32,22 @@ def test_plot_bad_input_one_line_exit_2(hydro_file, tmp_path, capsys, argv, word
     assert len(err.splitlines()) == 1 and word in err
 
 
+def test_plot_refuses_a_damaged_run_file_and_keeps_an_existing_image(hydro_file, tmp_path, capsys):
+    bad = tmp_path / "bad.nc"
+    bad.write_bytes(b"not a run file")
+    png = tmp_path / "run.png"
+    assert main(["plot", str(bad), str(png)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "bad.nc" in err and not png.exists()
+    png.write_bytes(b"my figure")
+    assert main(["plot", str(hydro_file), str(png)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "run.png" in err and png.read_bytes() == b"my figure"
+    assert main(["plot", str(hydro_file), str(png), "--overwrite"]) == 0
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and sorted(p.name for p in tmp_path.iterdir()) == [
+        "bad.nc", "run.png"]
+
+
 def test_validate_lists_every_validation_and_checks_its_options(capsys):
     try:
         rc = main(["validate", "--help"])
