@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import math
 
-from bokeh.models import ColumnDataSource, CustomJSTickFormatter, FixedTicker, Range1d
+from bokeh.models import ColumnDataSource, CustomJSTickFormatter, DataRange1d, FixedTicker, Range1d
 from bokeh.plotting import figure
 
 from ringlab.ui.cite import publish
@@ -31,7 +31,19 @@ def new_figure(title: str, xlabel: str, ylabel: str, height: int = 260, **kw):
     fig = figure(title=publish(title, html_out=False), x_axis_label=xlabel, y_axis_label=ylabel, height=height, sizing_mode="stretch_width",
                  tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="above", **kw)
     style_figure(fig)
+    quiet_auto_ranges(fig)
     return fig
+
+
+def quiet_auto_ranges(fig) -> None:
+    """Keep the page's automatic axis ranges in the page.  A ``DataRange1d`` is computed by BokehJS from the
+    data shown, and each new frame moves it: Bokeh would send every change of its start and end back to the
+    server (five ranges of the Hydrodynamics tab: ten messages per frame and student, ~30 % of the event
+    loop's CPU per streaming page, measured), where nothing reads them.  Explicit ``Range1d`` axes the server
+    sets (time axes, fixed windows) stay synchronised."""
+    for rng in (fig.x_range, fig.y_range):
+        if isinstance(rng, DataRange1d):
+            rng.syncable = False
 
 
 def marker_source(name: str | None = None) -> ColumnDataSource:
