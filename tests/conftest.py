@@ -66,7 +66,14 @@ def pytest_configure(config):
         return
     from ringcore.warmup import compile_in_parallel
 
-    _WARMUP.update(compile_in_parallel())
+    # the hydro warm-up also hashes two fixed runs with the kernels it has just compiled (or loaded: it says which);
+    # tests/core/test_hydro_determinism.py compares them with a process that loads the cache instead of compiling
+    # everything a second time (the workers inherit the variable)
+    fingerprint = HERE.parent / "test-artifacts" / "warmup-fingerprint.json"
+    fingerprint.parent.mkdir(exist_ok=True)
+    fingerprint.unlink(missing_ok=True)
+    os.environ["RINGLAB_TEST_FRESH_FINGERPRINT"] = str(fingerprint)
+    _WARMUP.update(compile_in_parallel(fingerprint=fingerprint))
 
 
 def pytest_report_header(config):

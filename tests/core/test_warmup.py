@@ -21,3 +21,9 @@ def test_parallel_warm_up_reports_each_engine():
 def test_a_failing_engine_is_reported_not_raised():
     rc, seconds = warmup.compile_in_parallel(("fluid",))["fluid"]
     assert rc != 0 and seconds > 0.0
+
+
+def test_fingerprint_is_for_the_hydro_engine_only(tmp_path):
+    with pytest.raises(ValueError, match="hydro"):
+        warmup.main(["nbody", "--fingerprint", str(tmp_path / "f.json")])
+    assert not (tmp_path / "f.json").exists()
