@@ -43,7 +43,7 @@ class FrameGate:
     """Flow control for one live plot: at most ``max_in_flight`` frames the page has not yet
     applied, and not more often than every ``min_period_s``.
 
-    A ``CustomJS`` on the source's ``data`` bumps the figure's ``tags`` in the page; Bokeh
+    A ``CustomJS`` on the source's ``data`` (and on its patches) bumps the figure's ``tags`` in the page; Bokeh
     syncs that change back to the server, where it counts as an acknowledgement.  This is
     the guide's "wait for the page's acknowledgement": a slow page gets fewer frames
     instead of a growing backlog (``shared/guides/panel-live-app.md``).  Frames sent while
@@ -55,7 +55,9 @@ class FrameGate:
     """
 
     def __init__(self, fig, source, min_period_s: float = 0.0, max_in_flight: int = 2, timeout_s: float = 1.5):
-        source.js_on_change("data", CustomJS(args=dict(fig=fig), code=ACK_JS))
+        ack = CustomJS(args=dict(fig=fig), code=ACK_JS)
+        source.js_on_change("data", ack)  # a frame replaces the source's data ...
+        source.js_on_change("patching", ack)  # ... or patches part of it (the space-time diagram's new rows)
         fig.on_change("tags", self._ack)
         self.min_period_s, self.timeout_s = float(min_period_s), float(timeout_s)
         self.served_period_s = max(self.min_period_s, 1.0 / max_frame_rate())

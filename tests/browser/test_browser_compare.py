@@ -41,7 +41,9 @@ name => {
       for (const m of doc.all_models) {
         if (m.data_source === src) { mapper = m.glyph.color_mapper.id; }
       }
-      return {rows: shape[0], cols: shape[1], dh: src.data.dh[0], mapper: mapper};
+      let rows = 0;  // rows computed so far (the canvas's rows not computed yet are NaN)
+      for (let r = 0; r < shape[0]; r++) if (Number.isFinite(img[r * shape[1]])) rows += 1;
+      return {rows: rows, cols: shape[1], dh: src.data.dh[0], mapper: mapper};
     }
   }
   return null;

@@ -76,7 +76,8 @@ result["hydro"] = dict(
     before=dict(orbits=before["orbits"], frame=before["frame"], series=before["series"]),
     while_running=running_frame,
     after=dict(orbits=r.sim.orbits, frame=r.frame, series=len(P.series_source.data["t"]),
-               image_rows=int(np.asarray(P.image_source.data["image"][0]).shape[0]), status=r.status),
+               image_rows=int(np.isfinite(np.asarray(P.image_source.data["image"][0])[:, 0]).sum()),  # rows computed
+               status=r.status),
     sigma_changed=bool(not np.array_equal(before["sigma"], P.profile_source.data["sigma"])),
     readout_orbits=f'id="hydro-orbits"><div class="ro-label">Orbits elapsed</div><div class="ro-value">'
                    f'{r.sim.orbits:.2f}<' in hydro.readouts.object,

@@ -21,6 +21,7 @@ from ringcore.analysis.saturation import C_EMPIRICAL
 
 from ringlab.lessons.refs import cite
 from ringlab.ui.figures import log_ticks, new_figure
+from ringlab.ui.row_canvas import TRANSPARENT, RowCanvas
 
 COLORS = {"A": "#0072b2", "B": "#d55e00"}  # Okabe-Ito blue and vermillion (told apart by colour-blind eyes)
 DASH = {"A": "solid", "B": "dashed"}  # the lines differ by dash too (and in print)
@@ -39,10 +40,11 @@ class ComparePlots:
     def __init__(self):
         self.x_range = Range1d(-1000, 1000)
         self.t_range = Range1d(0, 1)
-        self.color_mapper = LinearColorMapper(palette=Viridis256, low=0.9, high=1.1)
-        self.image_sources, self.spacetime_figs = {}, {}
+        self.color_mapper = LinearColorMapper(palette=Viridis256, low=0.9, high=1.1, nan_color=TRANSPARENT)
+        self.image_sources, self.spacetime_figs, self.canvases = {}, {}, {}
         for k in "AB":
             src = self.image_sources[k] = _empty_image(f"compare-{k.lower()}-image-source")
+            self.canvases[k] = RowCanvas(src)  # the stroboscopic images reach the page as new rows
             fig = new_figure(f"Run {k}: space-time diagram of σ/σ₀", "x [m]", "time [orbits]", height=350,
                              x_range=self.x_range, y_range=self.t_range, min_width=220)
             fig.image(image="image", x="x", y="y", dw="dw", dh="dh", source=src, color_mapper=self.color_mapper)
@@ -144,12 +146,8 @@ class ComparePlots:
             img = None if s is None else s["image"]
             if img is None or img.rows == 0:
                 continue
-            data = img.image()
-            t0, t1 = img.extent()
-            images[k] = data
-            ends.append(t1)
-            L = s["L_x"]
-            self.image_sources[k].data = dict(image=[data], x=[-L / 2], y=[t0], dw=[L], dh=[t1 - t0])
+            images[k] = self.canvases[k].send(img, s["L_x"])
+            ends.append(img.extent()[1])
         if not images:
             return
         lo, hi = self.color_limits(list(images.values()))

@@ -4,6 +4,9 @@ Profiles of sigma, u, v, T (every frame), the space-time diagram of sigma (a flo
 image of at most 500 x 500 pixels, at most every IMAGE_PERIOD_S), e_kin(t), lambda_p(t)
 and the PSD of sigma with lambda_zero and the fastest-growing wavelength marked.
 
+The stroboscopic diagram reaches the page as new rows (:class:`ringlab.ui.row_canvas.RowCanvas`); the
+orbit-resolved one, a window moving with the run, whole.
+
 References: eqs. (ekin), (fourier); Figures "tau15nga", "ekinisonosg", "lambdap".
 """
 from __future__ import annotations
@@ -18,10 +21,12 @@ from bokeh.palettes import Viridis256
 
 from ringcore.analysis.saturation import C_EMPIRICAL
 
+from ringlab.live.buffers import SpaceTimeImage
 from ringlab.model.connect import allowed_wavelengths, slope_line, theory_mode
 from ringlab.ui.cite import publish
 from ringlab.ui.figures import follow_time, log_ticks, new_figure, time_range, wavelength_markers
 from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
+from ringlab.ui.row_canvas import TRANSPARENT, RowCanvas
 
 SLOPE_COLOR = "#d84315"  # linear-theory growth of e_kin
 ALLOWED_COLOR = "#9e9e9e"  # wavelengths L_x/n the box can hold
@@ -67,7 +72,8 @@ class HydroPlots:
     def _spacetime_figure(self):
         self.image_source = ColumnDataSource(dict(image=[np.zeros((1, 1), np.float32)], x=[-1000.0], y=[0.0],
                                                   dw=[2000.0], dh=[1.0]), name="hydro-spacetime-source")
-        self.color_mapper = LinearColorMapper(palette=Viridis256, low=0.5, high=1.5)
+        self.color_mapper = LinearColorMapper(palette=Viridis256, low=0.5, high=1.5, nan_color=TRANSPARENT)
+        self.canvas = RowCanvas(self.image_source)
         fig = new_figure("Space-time diagram of σ/σ₀", "x [m]", "time [orbits]", height=420, x_range=self.x_range,
                          y_range=Range1d(0, 1))
         fig.image(image="image", x="x", y="y", dw="dw", dh="dh", source=self.image_source,
@@ -213,12 +219,19 @@ class HydroPlots:
                  f"Space-time diagram of σ/σ₀, orbit-resolved (last {img.max_rows * img.interval:g} orbits)")
         if self.spacetime_fig.title.text != title:
             self.spacetime_fig.title.text = title
-        data = img.image()
-        if data.shape[0] == 0:
-            return
-        t0, t1 = img.extent()
         L = runner.sim.options.L_x
-        self.image_source.data = dict(image=[data], x=[-L / 2], y=[t0], dw=[L], dh=[t1 - t0])
+        if type(img) is SpaceTimeImage:  # rows in time order, only appended until it thins
+            data = self.canvas.send(img, L)
+            if data is None:
+                return
+        else:  # a window moving with the run: every row moves at every frame
+            self.canvas.forget()
+            data = img.image()
+            if data.shape[0] == 0:
+                return
+            t0, t1 = img.extent()
+            self.image_source.data = dict(image=[data], x=[-L / 2], y=[t0], dw=[L], dh=[t1 - t0])
+        t0, t1 = img.extent()
         flat = data.ravel()  # the colour scale from an even sample: a full percentile was ~8 % of a frame's CPU
         lo, hi = np.percentile(flat[::max(1, flat.size // COLOR_SAMPLES)], [1, 99])
         if not (hi > lo):
