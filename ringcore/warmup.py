@@ -15,6 +15,7 @@ compiled kernels without compiling again (the test suite's check, ``tests/core/t
 """
 from __future__ import annotations
 
+import gc
 import hashlib
 import json
 import subprocess
@@ -79,8 +80,7 @@ def fingerprint_run() -> list:
 def kernel_cache_use() -> dict:
     """How this process got the ``ringcore`` kernels it has called so far: ``{"hits": n, "misses": m}``
     summed over numba's per-kernel statistics (hits: loaded from the on-disk cache; misses: compiled here)."""
-    import gc
-
+    # deferred: pytest's controller imports this module to start the warm-up processes, without numba
     from numba.core.registry import CPUDispatcher
 
     kernels = [o for o in gc.get_objects()

@@ -58,16 +58,15 @@ def test_frames_send_only_the_new_rows_until_the_image_thins():
     img = SpaceTimeImage(64, 1.0, max_rows=8)
     plots, events = plots_with_events()
     runner = runner_showing(img)
-    log = []
-    for t in range(20):
-        for _ in range(1 + t % 2):  # one or two rows per frame
-            img.add(float(len(log)), rng.random(64))
-            log.append(1)
+    frames, added = [], 0
+    for frame in range(20):
+        for _ in range(1 + frame % 2):  # one or two rows per frame, at slightly uneven times (as a run's samples)
+            img.add(added + 0.05 * (added % 3), rng.random(64))
+            added += 1
         events.clear()
         plots.update_image(runner)
         check_canvas(plots, img)
-        log.append(kinds(events))
-    frames = [x for x in log if isinstance(x, list)]
+        frames.append(kinds(events))
     assert frames[0] == [("data", None)]  # the first frame: the whole canvas
     patches = [f for f in frames if f and f[0][0] == "patch"]
     fulls = [f for f in frames if f and f[0][0] == "data"]
