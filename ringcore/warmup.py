@@ -125,7 +125,20 @@ def compile_in_parallel(engines=ENGINES, timeout_s: float = 900.0, fingerprint=N
 
 
 def main(argv=None) -> int:
+    """``python -m ringcore.warmup [ENGINE ...]`` / ``ENGINE`` / ``hydro --fingerprint FILE``; returns the exit
+    status: bad input is one line on stderr and status 2, a file that cannot be written one line and status 1."""
     args = sys.argv[1:] if argv is None else list(argv)
+    try:
+        return _main(args)
+    except ValueError as exc:
+        sys.stderr.write(f"ringcore.warmup: error: {exc}\n")
+        return 2
+    except OSError as exc:
+        sys.stderr.write(f"ringcore.warmup: cannot write {exc.filename or ''}: {exc.strerror or exc}\n")
+        return 1
+
+
+def _main(args: list) -> int:
     if len(args) == 3 and args[1] == "--fingerprint":  # the hydro kernels, then the fixed runs' hashes into a file
         if args[0] != "hydro":
             raise ValueError(f"--fingerprint is for the hydro engine, not {args[0]!r}")
@@ -135,6 +148,9 @@ def main(argv=None) -> int:
     if len(args) == 1:
         compile_kernels(args[0])
         return 0
+    for e in args:  # every name checked before any process starts
+        if e not in ENGINES:
+            raise ValueError(f"engine = {e!r} is not valid: choose one of {', '.join(ENGINES)}")
     for e, (rc, s) in compile_in_parallel(args or ENGINES).items():
         print(f"{e}: exit {rc} after {s:.1f} s")
     return 0

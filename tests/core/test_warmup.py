@@ -23,7 +23,17 @@ def test_a_failing_engine_is_reported_not_raised():
     assert rc != 0 and seconds > 0.0
 
 
-def test_fingerprint_is_for_the_hydro_engine_only(tmp_path):
-    with pytest.raises(ValueError, match="hydro"):
-        warmup.main(["nbody", "--fingerprint", str(tmp_path / "f.json")])
+def test_fingerprint_is_for_the_hydro_engine_only(tmp_path, capsys):
+    assert warmup.main(["nbody", "--fingerprint", str(tmp_path / "f.json")]) == 2
+    err = capsys.readouterr().err
+    assert err == "ringcore.warmup: error: --fingerprint is for the hydro engine, not 'nbody'\n"
     assert not (tmp_path / "f.json").exists()
+
+
+def test_bad_engine_and_unwritable_fingerprint_are_one_line(tmp_path, capsys):
+    assert warmup.main(["hydro", "fluid"]) == 2
+    assert capsys.readouterr().err.strip() == ("ringcore.warmup: error: engine = 'fluid' is not valid: choose one "
+                                               "of hydro, nbody")
+    assert warmup.main(["hydro", "--fingerprint", str(tmp_path / "missing" / "f.json")]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("ringcore.warmup: cannot write ") and "f.json" in err and len(err.splitlines()) == 1
