@@ -107,7 +107,7 @@ class Recorder:
         self.e_kin.append(e_kin_dimless(sigma, u, v))
         # no tracked modes (the app's default): no transform (it was a seventh of a sample's cost)
         cs = fourier_coefficients(sigma) if self.track_modes.size else np.empty(0, complex)
-        self.lambda_p.append(spectra.prevalent_wavelength(sigma, self.L_x_m))
+        self.lambda_p.append(spectra._prevalent_wavelength_1d(sigma, self.L_x_m))  # (checked arguments)
         for name, f in zip(FIELDS, (sigma, u, v, T)):
             self.fmin[name].append(float(f.min()))
             self.fmax[name].append(float(f.max()))

@@ -124,3 +124,69 @@ def ssprk_step(U, slot, L, W, beta, par, gravity_on, G, s, sk, g, stage_i, stage
         if field >= 0:
             return dt, hits, field, j, k
     return dt, hits, field, j, last
+
+
+@njit(nogil=True, cache=True, error_model="numpy")
+def ssprk_steps(U, slot, L, W, beta, par, gravity_on, G, s, sk, g, stage_i, stage_f, T_floor, t, t_event,
+                t_stop, max_steps):
+    """Steps of :func:`ssprk_step` up to the next event, in one call (the loop of
+    :meth:`ringcore.hydro.Hydro1D.advance` between two of its events, without a crossing between Python
+    and compiled code per step).
+
+    Each step is capped at ``t_event - t`` and, as in ``advance``, lands exactly on ``t_event`` when its
+    dt is within 1e-12 of the cap; the time sums ``t + dt`` step by step as ``advance`` does, so the
+    steps, times and states are those of single :meth:`~ringcore.hydro.Hydro1D.step` calls bit for bit.
+    After a good step u0 and the result swap places in ``slot``.
+
+    Parameters
+    ----------
+    U, slot, L, W, beta, par, gravity_on, G, s, sk, g, stage_i, stage_f, T_floor
+        As in :func:`ssprk_step`.
+    t : float
+        Time of the state [1/Omega].
+    t_event : float
+        Next event of the run (a sample time or the buffer switch-on) [1/Omega]; the call ends on it
+        (or on the first step that reaches it).
+    t_stop : float
+        The call also ends once ``t >= t_stop`` [1/Omega] (the caller's end time).
+    max_steps : int
+        At most this many steps (>= 1).
+
+    Returns
+    -------
+    t : float
+        Time after the last good step [1/Omega].
+    dt : float
+        Last good time step (0.0 if none) or, after a failed step, that step's dt.
+    steps : int
+        Good steps taken.
+    floor_hits : int
+        Node-stages the temperature floor raised in the good steps.
+    field, index, stage : int
+        ``-1, -1, -1``, or the failed step's first bad field, node and stage as :func:`ssprk_step` gives
+        them (the state is the last good one); ``field = -2`` if the failed step's dt was not positive
+        and finite (``dt`` returns it).
+    """
+    hits = 0
+    steps = 0
+    dt_good = 0.0
+    while True:
+        cap = t_event - t
+        dt, h, field, j, k = ssprk_step(U, slot, L, W, beta, par, gravity_on, G, s, sk, g, stage_i, stage_f,
+                                        cap, T_floor)
+        if field >= 0:
+            return t, dt_good, steps, hits, field, j, k
+        if not (dt > 0.0 and dt < np.inf):
+            return t, dt, steps, hits, -2, -1, -1
+        a = slot[0]
+        slot[0] = slot[5]
+        slot[5] = a
+        hits += h
+        t += dt
+        steps += 1
+        dt_good = dt
+        if dt >= cap * (1.0 - 1e-12):
+            t = t_event  # land exactly on the event
+            return t, dt_good, steps, hits, -1, -1, -1
+        if t >= t_event or steps >= max_steps or t >= t_stop:  # (t may round onto the event)
+            return t, dt_good, steps, hits, -1, -1, -1

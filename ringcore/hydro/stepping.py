@@ -19,7 +19,7 @@ from ..deprecation import E_KIN_RP_KEY, DeprecatedKeys, warn_once
 from ..engine import BlowUp
 from . import kernels as K
 from .convert import cons_to_prim
-from .stepper import ssprk_step
+from .stepper import ssprk_step, ssprk_steps
 from .timestep import stage_plan
 
 NG = K.NG
@@ -112,6 +112,27 @@ class Stepping:
         self.dt = dt
         return dt
 
+    def _steps_to(self, t_event: float, t_stop: float, max_steps: int) -> None:
+        """Fast-path steps from ``t`` up to the event ``t_event`` [1/Omega] (landing on it as :meth:`advance`
+        does), or until ``t >= t_stop`` or ``max_steps`` steps, in one compiled call
+        (:func:`~ringcore.hydro.stepper.ssprk_steps`): the same steps, times and states as one :meth:`step`
+        per step.  On a failed step raises :class:`HydroBlowUp` with the last good state, time and counters."""
+        grav, sl, U = self.gravity, self._slot, self._U
+        t, dt, n, hits, field, j, k = ssprk_steps(
+            self._Ustack, sl, self._Lstack, self._W, self._beta, self._par, grav.enabled, grav.G, self._gs,
+            self._gsk, grav.g, STAGE_I, STAGE_F, self._T_floor, self.t, t_event, t_stop, max_steps)
+        if n:
+            U[0], U[5] = self._Ustack[sl[0]], self._Ustack[sl[5]]  # the views follow the slots
+            self.floor_hits += hits
+            self.t = t
+            self._steps += n
+            self.dt = dt
+        if field >= 0:
+            val = cons_to_prim(self._U[k][:, NG + j], self._par[K.P_T0])[field]
+            raise HydroBlowUp(FIELD_NAMES[field], float(self.x_m[j]), self.orbits, self._steps + 1, float(val))
+        if field == -2:
+            raise HydroBlowUp("dt", float(self.x_m[0]), self.orbits, self._steps + 1, float(dt))
+
     def _step_reference(self, dt_cap):
         """The five stages driven from Python with pyfftw self-gravity (the scheme as first written;
         :mod:`.stepper` explains the fast path).  Returns ``(dt, floor_hits, field, index, bad_state)``."""
@@ -153,8 +174,10 @@ class Stepping:
 
         Diagnostics are recorded at the sample times (and pushed to :meth:`on_sample` callbacks).
         Returns early, in a consistent continuable state, after ``max_wall_s`` seconds of wall
-        time, after ``max_steps`` steps, or when ``stop()`` (polled after every step, e.g. a
-        :class:`ringcore.io.StopRequest`) returns True.  Raises :class:`HydroBlowUp` (last good
+        time, after ``max_steps`` steps, or when ``stop()`` (e.g. a :class:`ringcore.io.StopRequest`)
+        returns True; the budget and ``stop`` are checked at every event of the run's grid and, on the
+        reference path, after every step (the fast path takes the few steps between two sample
+        times in one compiled call).  Raises :class:`HydroBlowUp` (last good
         state kept) if a field goes bad.
         """
         if (orbits is None) == (until is None):
@@ -186,14 +209,20 @@ class Stepping:
         try:
             if self._k_sample * ds <= self.t:  # bare step() calls went past sample times: resume the grid
                 self._k_sample = math.floor(self.t / ds) + 1
-            while self.t < t_end * (1.0 - 1e-15):
-                if max_steps is not None and self._steps - steps0 >= max_steps:  # (checked >= 1 above)
+            t_stop = t_end * (1.0 - 1e-15)
+            bar_steps = self._steps
+            while self.t < t_stop:
+                left = max_steps - (self._steps - steps0) if max_steps is not None else 2**62
+                if left <= 0:  # (max_steps checked >= 1 above)
                     break
                 t_next = min(self._k_sample * ds, t_buf)  # the run's own events only, never t_end
-                cap = t_next - self.t
-                dt = self.step(cap)
-                if dt >= cap * (1.0 - 1e-12):
-                    self.t = t_next  # land exactly on the event
+                if self.fast_step:
+                    self._steps_to(t_next, t_stop, left)  # the steps up to the event, in one compiled call
+                else:
+                    cap = t_next - self.t
+                    dt = self.step(cap)
+                    if dt >= cap * (1.0 - 1e-12):
+                        self.t = t_next  # land exactly on the event
                 if self.t >= t_buf:
                     self.set_buffer(*opt.buffer)
                     t_buf = math.inf
@@ -202,7 +231,8 @@ class Stepping:
                     break
                 if time.perf_counter() >= t_wall:
                     break
-                if bar is not None and self._steps % 200 == 0:
+                if bar is not None and self._steps - bar_steps >= 200:
+                    bar_steps = self._steps
                     bar.update(round(self.orbits - o0 - bar.n, 6))
         finally:
             if bar is not None:

@@ -75,6 +75,60 @@ def test_fast_step_fails_like_the_reference_path():
     assert (w0, x0, s0) == (w1, x1, s1) and o1 == pytest.approx(o0, rel=1e-12)  # t differs in the last bits
 
 
+def _advance_step_by_step(sim, until):
+    """advance(until=...) written as one step() per step (the loop before the fast path took the steps
+    between two sample times in one compiled call), for comparison."""
+    ds = 2.0 * np.pi / sim.options.samples_per_orbit
+    t_end = until * 2.0 * np.pi
+    while sim.t < t_end * (1.0 - 1e-15):
+        t_next = sim._k_sample * ds
+        cap = t_next - sim.t
+        dt = sim.step(cap)
+        if dt >= cap * (1.0 - 1e-12):
+            sim.t = t_next
+        sim._record()
+
+
+@pytest.mark.parametrize("iso", [False, True])
+def test_steps_between_samples_in_one_call_are_single_steps_bit_for_bit(iso):
+    """advance takes the steps up to each sample time in one compiled call (stepper.ssprk_steps): the
+    same steps, times, samples and state as one step() per step, also split by max_steps."""
+    def make():
+        p = params.get("tau15", sigma0=400, isothermal=iso)
+        return Hydro1D(p, HydroOptions(L_x=1000, h=2.5, timestep="cfl", T_floor=0.0 if iso else 0.01,
+                                       samples_per_orbit=7, spacetime_rows_per_orbit=7), initial="noise", seed=3,
+                       amplitude=1e-2)
+    one, chunks = make(), make()
+    _advance_step_by_step(one, 3.0)
+    chunks.advance(until=1.3)
+    chunks.advance(until=2.0, max_steps=5)
+    chunks.advance(until=3.0)
+    assert chunks.steps == one.steps > 100 and chunks.t == one.t and chunks.dt == one.dt
+    assert chunks.floor_hits == one.floor_hits
+    assert np.array_equal(chunks.U, one.U)
+    a, b = one.recorder.arrays(), chunks.recorder.arrays()
+    for key in a:
+        assert np.array_equal(a[key], b[key]), key
+
+
+def test_a_blow_up_inside_a_call_keeps_the_last_good_state():
+    """A step failing among the steps of one compiled call: the error of single steps (what, where,
+    orbit, step), the last good state, time and counters."""
+    def make():
+        p = params.get("tau15", sigma0=400, isothermal=False)
+        return Hydro1D(p, HydroOptions(L_x=200, h=2.0, timestep="cfl", dt_factor=3.0, samples_per_orbit=1),
+                       initial="mode", wavelength=100, amplitude=0.2)
+    one, chunks = make(), make()
+    with pytest.raises(HydroBlowUp) as e1:
+        _advance_step_by_step(one, 50.0)
+    with pytest.raises(HydroBlowUp) as e2:
+        chunks.advance(orbits=50.0)
+    a, b = e1.value, e2.value
+    assert (a.what, a.where_m, a.orbit, a.step, a.value) == (b.what, b.where_m, b.orbit, b.step, b.value)
+    assert chunks.steps == one.steps == b.step - 1 and chunks.t == one.t and np.array_equal(chunks.U, one.U)
+    assert chunks.steps == 7  # good steps before the failing one in the same call (odd: u0 and the result swapped)
+
+
 def test_gravity_force_matches_self_gravity():
     n = 800
     rng = np.random.default_rng(5)

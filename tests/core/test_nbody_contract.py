@@ -104,7 +104,7 @@ def test_stop_is_polled_between_kernel_calls():
         calls.append(1)
         return len(calls) >= 3
 
-    box.advance(1.0, stop=stop)  # polled after each kernel call (as the hydro engine polls after each step)
+    box.advance(1.0, stop=stop)  # polled after each kernel call (as the hydro engine polls at each sample time)
     assert box.steps == 15
     assert box.advance(1.0, stop=lambda: True) == pytest.approx(0.005) and box.steps == 20
 
