@@ -121,6 +121,35 @@ def test_different_settings_or_end_times_never_share(sharing):
     assert shared.computations() == []
 
 
+def test_the_chunks_kept_for_joining_are_bounded_for_all_computations_together(sharing, monkeypatch):
+    """Thirty different runs must not each keep minutes of chunks for students who may join: over
+    JOIN_TOTAL_BYTES in all, the oldest computations close first; their followers go on, keep only what
+    they have not taken, and an identical run started later computes alone, with the same numbers."""
+    a = runner(**SMALL)
+    a.tick()
+    b = runner(**dict(SMALL, sigma0=300.0))
+    b.tick()
+    ca, cb = a.sim.computation, b.sim.computation
+    assert ca.joinable and cb.joinable and len(ca.results) >= 1
+    monkeypatch.setattr(shared, "JOIN_TOTAL_BYTES", cb.bytes + 0.5 * ca.bytes)  # both together are too many
+    with cb._cond:
+        cb._append([])  # what b's next chunk checks: the oldest computation (a's) stops accepting followers
+    assert not ca.joinable and cb.joinable and shared.computations() == [cb]
+    a.tick()  # a's follower goes on; the chunks it has taken are dropped
+    assert a.sim.following and len(ca.results) == 0
+    late = runner(**SMALL)
+    late.tick()
+    assert late.sim.computation is not ca  # a new computation of the same run
+    for r in (a, late):
+        while r.sim.orbits < END - 1e-9:
+            r.tick()
+    ref = alone(**SMALL)
+    assert_same_run(a, ref)
+    assert_same_run(late, ref)
+    for r in (a, b, late):
+        r.close()
+
+
 def test_closing_every_session_frees_the_computation(sharing):
     rs = [runner(**SMALL) for _ in range(3)]
     for r in rs:
