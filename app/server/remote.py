@@ -36,7 +36,7 @@ import weakref
 from ringcore.engine import engine_class
 
 from ringlab.server.cluster import ENV_WORKERS, LOOPBACK, cores, local_cluster, local_workers  # noqa: F401  (re-exported)
-from ringlab.server.engine_host import EngineHost, LightView, blowup, light, light_snapshot  # noqa: F401  (the worker side; re-exported)
+from ringlab.server.engine_host import EngineHost, LightView, blowup, cancel_queued, light, light_snapshot  # noqa: F401  (the worker side; re-exported)
 
 ENV_MODE = "RINGLAB_COMPUTE"
 ENV_SCHEDULER = "RINGLAB_DASK_SCHEDULER"
@@ -225,6 +225,7 @@ class RemoteSim:
         """Free the worker's copy (the run is closed, or was brought back by :meth:`detach`)."""
         self._pending = None
         if self._actor is not None:
+            cancel_queued(self._actor)
             self._backend().free(self._key)
         self._actor = self._worker = self._key = None
         if self._fin is not None:

@@ -38,7 +38,7 @@ import time
 
 from ringcore.engine import engine_class
 
-from ringlab.server.engine_host import EngineHost
+from ringlab.server.engine_host import EngineHost, cancel_queued
 from ringlab.server.remote import MIN_CHUNK_S, RemoteSim
 
 ENV_SHARE = "RINGLAB_SHARE_RUNS"
@@ -185,6 +185,7 @@ class _RemoteHost:
         return self.actor.snapshot().result()
 
     def free(self) -> None:
+        cancel_queued(self.actor)
         self.pending.clear()
         self.backend.free(self.key)
         self.backend.forget(self.worker)
