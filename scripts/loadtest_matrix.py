@@ -27,6 +27,10 @@ ROWS = {  # name -> (label, loadtest options)
     "k16-different": ("16, different runs", ["--students", "16", "--different"]),
     "k30-different": ("30, different runs", ["--students", "30", "--different"]),
     "k30-join": ("30 joining together (one lesson step)", ["--students", "30", "--shared", "--join-together"]),
+    "k30-join-2procs": ("30 joining together (one lesson step), 2 app processes",
+                        ["--students", "30", "--shared", "--join-together", "--num-procs", "2"]),
+    "k30-shared-2procs": ("30, one lesson step (shared), 2 app processes",
+                          ["--students", "30", "--shared", "--num-procs", "2"]),
 }
 
 
