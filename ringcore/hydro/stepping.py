@@ -98,11 +98,8 @@ class Stepping:
             bad = self._U[k] if field >= 0 else None
         else:
             dt, hits, field, j, bad = self._step_reference(dt_cap)
-        if field >= 0:
-            val = cons_to_prim(bad[:, NG + j], self._par[K.P_T0])[field]
-            raise HydroBlowUp(FIELD_NAMES[field], float(self.x_m[j]), self.orbits, self._steps + 1, float(val))
-        if not (dt > 0.0 and math.isfinite(dt)):
-            raise HydroBlowUp("dt", float(self.x_m[0]), self.orbits, self._steps + 1, float(dt))
+        if field >= 0 or not (dt > 0.0 and math.isfinite(dt)):
+            raise self._blow_up(field, j, bad, dt)
         U, sl = self._U, self._slot
         U[0], U[5] = U[5], U[0]
         sl[0], sl[5] = sl[5], sl[0]
@@ -127,11 +124,16 @@ class Stepping:
             self.t = t
             self._steps += n
             self.dt = dt
+        if field != -1:  # -2: the step's dt was not positive and finite
+            raise self._blow_up(field, j, self._U[k] if field >= 0 else None, dt)
+
+    def _blow_up(self, field: int, j: int, bad, dt: float) -> HydroBlowUp:
+        """The error of a failed step after the current (last good) state: field ``field`` (>= 0) bad at
+        interior node ``j`` of the stage state ``bad``, else the step's ``dt`` not positive and finite."""
         if field >= 0:
-            val = cons_to_prim(self._U[k][:, NG + j], self._par[K.P_T0])[field]
-            raise HydroBlowUp(FIELD_NAMES[field], float(self.x_m[j]), self.orbits, self._steps + 1, float(val))
-        if field == -2:
-            raise HydroBlowUp("dt", float(self.x_m[0]), self.orbits, self._steps + 1, float(dt))
+            val = cons_to_prim(bad[:, NG + j], self._par[K.P_T0])[field]
+            return HydroBlowUp(FIELD_NAMES[field], float(self.x_m[j]), self.orbits, self._steps + 1, float(val))
+        return HydroBlowUp("dt", float(self.x_m[0]), self.orbits, self._steps + 1, float(dt))
 
     def _step_reference(self, dt_cap):
         """The five stages driven from Python with pyfftw self-gravity (the scheme as first written;
