@@ -1,5 +1,6 @@
 """The teacher guide's summary table: ``ringlab loadtest`` for K = 1, 8, 16, 30 students, shared and different
-runs, and a class of 30 joining together, one after the other on an otherwise idle machine.
+runs, and a class of 30 joining together (also with two app processes), one after the other on an otherwise
+idle machine.
 
     .venv/bin/python scripts/loadtest_matrix.py [--seconds 40] [--warmup 40] [--rows NAME ...] [--out DIR]
 
