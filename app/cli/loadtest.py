@@ -68,8 +68,9 @@ def free_port() -> int:
 def start_server(port: int, num_procs: int, env: dict) -> subprocess.Popen:
     cmd = [sys.executable, "-m", "panel", "serve", str(PACKAGE_DIR / "main.py"), "--port", str(port), "--address", "127.0.0.1",
            "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness", "--warm", "--num-procs", str(num_procs)]
-    if num_procs > 1:
-        cmd += ["--setup", joining.__file__]  # as `ringlab serve --num-procs N`: a class joining at once is spread
+    if num_procs > 1:  # as `ringlab serve --num-procs N`: a class joining at once is spread over the processes, and
+        # a page's address answered from one template (this client opens no address; a browser does)
+        cmd += ["--setup", joining.__file__, "--reuse-sessions"]
     log = open(os.environ.get("RINGLAB_LOAD_LOG", "/tmp/classroom_load_server.log"), "w")
     proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT)
     t_end = time.time() + START_TIMEOUT_S

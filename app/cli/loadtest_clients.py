@@ -25,7 +25,7 @@ START_CLASS = "hydro-start"  # CSS class of the Hydrodynamics tab's Start button
 ORBITS_RE = re.compile(r'id="hydro-orbits">.*?class="ro-value">([0-9.]+)<')
 
 
-def connect(url: str, loop, arguments: dict | None = None) -> ClientSession:
+def connect(url: str, loop, arguments: dict | None = None, defer_build: bool = False) -> ClientSession:
     """Open a session at ``url`` (``ws://.../main/ws``) on the IOLoop ``loop`` with the page address query
     ``arguments``, pull its document and tell the server it is rendered, as a page does.
 
@@ -33,6 +33,9 @@ def connect(url: str, loop, arguments: dict | None = None) -> ClientSession:
     ``pulled_text`` the text of that message: a browser shows a page from then on, while this client
     still has to build the document's Bokeh models in Python (0.6-0.9 s of CPU for the class start
     link's page, in a process whose threads share one interpreter lock), which is no cost of the server.
+    With ``defer_build`` that work waits: the session gets an empty document (the page's ``DocumentReady``
+    is sent at once, as a browser on its own computer sends it) and keeps the pulled message as
+    ``pulled_reply`` for :meth:`Student.build`.
     """
     HTTPRequest._DEFAULTS.update(connect_timeout=HANDSHAKE_TIMEOUT_S, request_timeout=HANDSHAKE_TIMEOUT_S)
     s = ClientSession(websocket_url=url, io_loop=loop, arguments=arguments)
@@ -45,7 +48,10 @@ def connect(url: str, loop, arguments: dict | None = None) -> ClientSession:
                            f"{'connection lost' if reply is None else reply.content.get('text')}")
     s.pulled_text = reply.content_json
     doc = Document()
-    reply.push_to_document(doc)
+    if defer_build:
+        s.pulled_reply = reply
+    else:
+        reply.push_to_document(doc)
     s._attach_document(doc)  # as ClientSession.pull does
     # the page tells the server it has rendered the document (Bokeh's DocumentReady event): Panel
     # then counts the session as connected; until then it sends no held changes (plot data)
@@ -84,6 +90,8 @@ class Student:
     def __init__(self, session):
         self.s = session
         self.doc = session.document
+        # a session opened with connect(defer_build=True): the server's messages wait here until build()
+        self.waiting = [] if getattr(session, "pulled_reply", None) is not None else None
         self.samples = []  # (wall, orbits shown)
         self.acks = 0
         self.started = False
@@ -96,6 +104,22 @@ class Student:
         if START_CLASS in getattr(session, "pulled_text", ""):
             self.ready_at = session.pulled_at
         self.poll()
+
+    def build(self) -> None:
+        """Build the pulled document of a session opened with ``defer_build`` and apply the messages the server
+        sent meanwhile (in the session's IOLoop thread)."""
+        if self.waiting is None:
+            return
+        doc = Document()
+        self.s.pulled_reply.push_to_document(doc)
+        self.s.pulled_reply = None
+        self.s.document.remove_on_change(self.s)
+        self.s._attach_document(doc)
+        self.doc = doc
+        waiting, self.waiting = self.waiting, None
+        self.poll()
+        for message in waiting:
+            self.on_message(message)
 
     def _ack(self, fig):
         """Acknowledge a frame as the page's ``CustomJS`` does (bump the figure's ``tags``)."""
@@ -128,6 +152,9 @@ class Student:
                     self.hooked.add("readouts")
 
     def on_message(self, message):
+        if self.waiting is not None:
+            self.waiting.append(message)
+            return
         if len(self.hooked) < 3:
             if self.ready_at is None and START_CLASS in message.content_json:
                 self.ready_at = time.perf_counter()  # arrived; building its models is this client's work

@@ -189,6 +189,8 @@ def run(args) -> int:
                      f"{p['num_procs']} server processes ({cluster.address})")
     print("\n".join(lines), flush=True)
     apps = {"main": create_app, "teacher": page_factory(p["key"])}
+    if p["num_procs"] > 1:
+        joining.reuse_page_template("/main", TITLE)  # before the fork: each page built once, where its websocket lands
     try:
         pn.serve(apps, port=p["port"], address=p["address"], websocket_origin=p["origins"],
                  num_procs=p["num_procs"], show=args.show, static_dirs=p["docs"],

@@ -6,7 +6,8 @@ may grow without bound (``shared/guides/panel-live-app.md``, "Pushing frames to 
 (float32): when it is full, neighbouring rows are averaged in pairs and the row interval
 doubles, so the image always covers the whole run; :class:`RollingImage` keeps the latest
 ``max_rows`` rows at full time resolution.  :class:`SeriesBuffer` thins like the former
-for (t, y) series.  :func:`bin_columns` averages a profile down to the shown pixels.
+for (t, y) series.  :func:`bin_columns` (from :mod:`ringcore.hydro.frame`) averages a profile down to the
+shown pixels.
 """
 from __future__ import annotations
 
@@ -15,24 +16,11 @@ import time
 
 import numpy as np
 
+from ringcore.hydro.frame import IMAGE_COLUMNS as MAX_IMAGE_COLS
+from ringcore.hydro.frame import bin_columns
+
 MAX_IMAGE_ROWS = 500
-MAX_IMAGE_COLS = 500
 MAX_SERIES_POINTS = 4000
-
-
-def bin_columns(row: np.ndarray, max_cols: int = MAX_IMAGE_COLS) -> np.ndarray:
-    """Average ``row`` (length n) into ceil(n / ceil(n / max_cols)) bins of equal size (float32).
-
-    The last bin is shorter when n is not a multiple of the bin size.
-    """
-    row = np.asarray(row, np.float32)
-    f = max(1, math.ceil(row.size / max_cols))
-    if f == 1:
-        return row.copy()
-    if f == 2 and row.size % 2 == 0:  # the default grids (up to 1,000 cells), 3x faster and the same numbers
-        return ((row[0::2] + row[1::2]) / np.float64(2.0)).astype(np.float32)
-    edges = np.arange(0, row.size, f)
-    return (np.add.reduceat(row, edges) / np.diff(np.append(edges, row.size))).astype(np.float32)
 
 
 class _ImageRows:

@@ -8,7 +8,11 @@ connection per wake-up: a process busy building a page leaves the next connectio
 on the 2-core machine with ``ringlab loadtest --students 30 --join-together --num-procs 2`` (29 November
 2026): the pages arrived after 48.0 s (median) and 49.4 s (last) with Tornado's default and after 22.5-30.7 s
 and 23.6-32.8 s (three runs) with one connection per wake-up.  The listen backlog (128) is unchanged: only
-the accept loop reads this value at run time.
+the accept loop reads this value at run time.  A process with a page to build still accepted the connections
+that arrived while it waited between two builds, and took more than its share (19 and 11 of 30 pages, logged
+in the server with ``scripts/measure_join_order.py --num-procs 2``): while it has a new page queued or in
+the making it now accepts none (:func:`create_session_if_needed`), so the next page goes to the process that is
+free first.
 
 **One page built per turn of the event loop.**  Bokeh builds a session's page as soon as its connection
 asks for one, on the event loop.  When thirty connections arrive together, all thirty builds are queued
@@ -21,22 +25,41 @@ or being built is returned at once, as before.  Measured in the server (``script
 30 class start link pages, one process): the first, median and last page were sent their documents after
 32.9, 35.5 and 38.4 s with Bokeh's order and after 2.4, 20.1 and 38.0 s with this one.
 
-``ringlab serve`` calls both before its processes start (the balance with ``--num-procs`` N > 1);
-``panel serve ... --setup <this file>`` runs this file as the server's setup script.
+**Each page built once, where its websocket lands.**  A browser asks for the page's address (HTTP) and then
+opens the page's websocket: two connections, which with ``--num-procs`` N > 1 may reach two different
+processes.  Bokeh builds the page for the first; the second process does not have that session and builds it
+again (Bokeh issues 5582, 7091).  In Chromium against two processes, 3 of 6 class start link pages were
+built twice (29 November 2026), and the copy nobody shows lives until the server gives up on it.
+:func:`reuse_page_template` makes the address answer from one empty page made when the server starts
+(Panel's ``reuse_sessions``, as ``panel serve --warm --reuse-sessions`` does): the HTML of a page does not
+depend on the page's query, and the page itself is built once, by the process its websocket reaches (6 pages,
+6 builds).
+
+``ringlab serve`` calls all three before its processes start (the balance and the page template with
+``--num-procs`` N > 1); ``panel serve ... --setup <this file>`` runs this file as the server's setup script
+(add ``--warm --reuse-sessions`` there).
 """
 from __future__ import annotations
 
 import asyncio
 import weakref
 
+import panel as pn
 import tornado.netutil
+from bokeh.application import Application
 from bokeh.server.contexts import ApplicationContext
+from panel.io.session import generate_session
+from panel.io.state import set_curdoc, state
 
 from ringlab.server import gc_policy
 from ringlab.server.library_patch import replace_if_unchanged
 
 ACCEPTS_PER_WAKEUP = 1
-YIELD_S = 0.05  # [s] before each page is built, the event loop first answers what is waiting this long
+_BALANCING: dict = {}  # {"on": True} once balance_accepts() ran in this process (inherited by forked processes)
+_PENDING: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # event loop -> new pages queued or being built
+# [s] before each page is built, the event loop first answers what is waiting (a few turns of the loop: a built
+# page's request for its document has arrived by then); at 0.05 s thirty pages waited 1.5 s in all for nothing
+YIELD_S = 0.005
 ORIGINAL: dict = {}  # Bokeh's ApplicationContext.create_session_if_needed while install_build_order is installed
 # SHA-256 of the source of Bokeh 3.9.2's ApplicationContext.create_session_if_needed (what the wrapper assumes:
 # a session id in ``_sessions`` or ``_pending_sessions`` is returned without building)
@@ -50,7 +73,16 @@ def balance_accepts() -> bool:
     if not isinstance(getattr(tornado.netutil, "_DEFAULT_BACKLOG", None), int):
         return False
     tornado.netutil._DEFAULT_BACKLOG = ACCEPTS_PER_WAKEUP
+    _BALANCING["on"] = True
     return True
+
+
+def _pending(loop, change: int) -> None:
+    """Count a new page queued (+1) or built (-1) on ``loop``; with balanced accepts a process accepts no
+    connection while it has one (the connection waits in the shared queue for a process that is free)."""
+    n = _PENDING[loop] = _PENDING.get(loop, 0) + change
+    if _BALANCING:
+        tornado.netutil._DEFAULT_BACKLOG = 0 if n > 0 else ACCEPTS_PER_WAKEUP
 
 
 async def create_session_if_needed(self, session_id, request=None, token=None):
@@ -62,11 +94,31 @@ async def create_session_if_needed(self, session_id, request=None, token=None):
     lock = _BUILD_LOCKS.get(loop)
     if lock is None:
         lock = _BUILD_LOCKS.setdefault(loop, asyncio.Lock())
-    async with lock:
-        await asyncio.sleep(YIELD_S)  # what waits on the loop (a built page asking for its document) goes first
-        session = await original(self, session_id, request, token)
-        gc_policy.page_built()  # the new page's objects out of the next pages' garbage collections
-        return session
+    _pending(loop, +1)
+    try:
+        async with lock:
+            await asyncio.sleep(YIELD_S)  # what waits on the loop (a built page asking for its document) goes first
+            session = await original(self, session_id, request, token)
+            gc_policy.page_built()  # the new page's objects out of the next pages' garbage collections
+            return session
+    finally:
+        _pending(loop, -1)
+
+
+def reuse_page_template(path: str = "/main", title: str | None = None) -> None:
+    """Answer every request for the page address ``path`` with the HTML of one empty page made now (Panel's
+    ``reuse_sessions``); the page of each student is then built when its websocket arrives, by the process it
+    reaches.  The template has no content (Bokeh refuses to fork after application code ran; ``panel serve
+    --warm --reuse-sessions`` does the same on Python < 3.12): the page's roots arrive with its document.
+    Call before the server forks its processes."""
+    session = generate_session(Application(), initialize=False)
+    if title is not None:
+        session.document.title = title
+    with set_curdoc(session.document):
+        state._session_key_funcs[path] = lambda request: request.path
+        state._sessions[path] = session
+        session.block_expiration()  # kept for the life of the server, as panel serve --reuse-sessions keeps it
+    pn.config.reuse_sessions = True
 
 
 def install_build_order() -> bool:

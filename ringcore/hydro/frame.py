@@ -4,15 +4,36 @@ A web page that shows a run computed in another process (a worker of a Dask clus
 the power spectrum and a few numbers after every chunk.  :func:`hydro_frame` computes them next to the
 engine, in the units the page shows and as float32 arrays (half the bytes), so the page's process
 neither rebuilds the engine from its state nor repeats the spectrum for every frame.  It reads the
-state only; the run is not changed.
+state only; the run is not changed.  :func:`bin_columns` averages a profile down to the columns of a
+space-time image row, so a worker sends each sample's row once binned, whatever number of pages show it.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..analysis.spectra import power_spectrum, prevalent_wavelength
+
+
+IMAGE_COLUMNS = 500  # at most this many columns in a row of a live space-time image (a page's pixels)
+
+
+def bin_columns(row: np.ndarray, max_cols: int = IMAGE_COLUMNS) -> np.ndarray:
+    """Average ``row`` (length n) into ceil(n / ceil(n / max_cols)) bins of equal size (float32).
+
+    The last bin is shorter when n is not a multiple of the bin size.  A row that already has at most
+    ``max_cols`` columns is returned as a float32 copy, so binning a binned row again changes nothing.
+    """
+    row = np.asarray(row, np.float32)
+    f = max(1, math.ceil(row.size / max_cols))
+    if f == 1:
+        return row.copy()
+    if f == 2 and row.size % 2 == 0:  # the default grids (up to 1,000 cells), 3x faster and the same numbers
+        return ((row[0::2] + row[1::2]) / np.float64(2.0)).astype(np.float32)
+    edges = np.arange(0, row.size, f)
+    return (np.add.reduceat(row, edges) / np.diff(np.append(edges, row.size))).astype(np.float32)
 
 
 @dataclass(frozen=True)

@@ -17,9 +17,11 @@ from ringlab.server import joining
 
 @pytest.fixture
 def tornado_default():
-    before = tornado.netutil._DEFAULT_BACKLOG
+    before, balancing = tornado.netutil._DEFAULT_BACKLOG, dict(joining._BALANCING)
     yield before
     tornado.netutil._DEFAULT_BACKLOG = before
+    joining._BALANCING.clear()
+    joining._BALANCING.update(balancing)
 
 
 def _accepted_per_wakeup() -> int:
@@ -109,3 +111,34 @@ def test_installed_with_this_bokeh():
     assert joining.install_build_order()
     from bokeh.server.contexts import ApplicationContext
     assert ApplicationContext.create_session_if_needed is joining.create_session_if_needed
+
+
+def test_a_process_with_a_page_to_build_leaves_new_connections_to_the_others(monkeypatch, tornado_default):
+    """With balanced accepts, a process accepts no connection from the moment a new page is queued until the
+    last queued page is built; then one per wake-up again.  Without balancing (one process) nothing changes."""
+    seen = []
+
+    async def bokeh_create(self, sid, request=None, token=None):
+        seen.append((sid, tornado.netutil._DEFAULT_BACKLOG))
+        self._sessions[sid] = sid
+        return sid
+
+    monkeypatch.setitem(joining.ORIGINAL, "create_session_if_needed", bokeh_create)
+    monkeypatch.setattr(joining.gc_policy, "page_built", lambda: None)
+
+    def join(n):
+        ctx = types.SimpleNamespace(_sessions={}, _pending_sessions={})
+
+        async def scenario():
+            await asyncio.gather(*[joining.create_session_if_needed(ctx, f"p{i}") for i in range(n)])
+        asyncio.run(scenario())
+
+    join(2)
+    assert seen == [("p0", 128), ("p1", 128)] and tornado.netutil._DEFAULT_BACKLOG == 128
+    seen.clear()
+    assert joining.balance_accepts()
+    join(3)
+    assert seen == [("p0", 0), ("p1", 0), ("p2", 0)]
+    assert tornado.netutil._DEFAULT_BACKLOG == joining.ACCEPTS_PER_WAKEUP  # all built: accepting again
+    tornado.netutil._DEFAULT_BACKLOG = 0
+    assert _accepted_per_wakeup() == 0  # Tornado's accept loop honours it at run time

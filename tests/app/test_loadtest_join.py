@@ -15,12 +15,12 @@ OLD_KEYS = {"students", "seconds", "server_process_cores", "per_session_orbits_p
             "client_cores", "acks", "started", "hooked", "load_average", "setup_s", "cores_5s_after_close"}
 
 
-def loadtest(tmp_path, *options) -> dict:
+def loadtest(tmp_path, *options, warmup: str = "3") -> dict:
     # the classroom presets: the fast ones' small box reaches the step's classroom length (100 orbits) and pauses
     # itself before the measured window on an idle machine
     env = {**os.environ, "RINGLAB_LOAD_LOG": str(tmp_path / "server.log"), "RINGLAB_LESSONS_SCALE": "classroom"}
     out = subprocess.run([sys.executable, "-m", "ringlab.cli.main", "loadtest", "--students", "3", "--seconds", "5",
-                          "--warmup", "3", *options, "--json"], capture_output=True, text=True, timeout=600, env=env)
+                          "--warmup", warmup, *options, "--json"], capture_output=True, text=True, timeout=600, env=env)
     assert out.returncode == 0, out.stderr[-2000:]
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -38,3 +38,18 @@ def test_a_class_joining_together_on_one_lesson_step_is_reported(tmp_path):
     assert len(r["frames_per_s"]) == 3 and all(f > 0 for f in r["frames_per_s"]), r["frames_per_s"]
     assert r["app_process_cores_per_student"] == pytest.approx(r["server_process_cores"] / 3, abs=0.01)
     assert all(r["started"]), r["started"]  # the lesson's preset built the Hydrodynamics tab and started its run
+
+
+@pytest.mark.slow  # a server, 3 pages and 11 s of running: 30-80 s on a 2-core machine
+@pytest.mark.xdist_group("browser")
+def test_a_class_opening_the_start_link_together_builds_its_pages_once_all_arrived(tmp_path):
+    """The class start link: each simulated page says it is rendered when its document arrives and builds the
+    document's models only once every page has arrived (a browser renders on the student's computer); the
+    messages the server sent meanwhile are applied then, so every page finds its plots and counts frames."""
+    r = loadtest(tmp_path, "--join-together", warmup="8")
+    assert r["join_together"] is True and r["shared"] is False and "page_errors" not in r
+    ready = r["pages_ready_s"]
+    assert ready["n"] == ready["n_ready"] == 3 and 0 < ready["median"] <= ready["max"] < 300, ready
+    assert r["hooked"] == [3, 3, 3], r["hooked"]  # profile and image sources and the readout found after the build
+    assert all(r["started"]), r["started"]
+    assert all(f > 0 for f in r["frames_per_s"]), r["frames_per_s"]

@@ -10,7 +10,11 @@ import numpy as np
 from bokeh.document import Document
 from bokeh.document.events import ColumnDataChangedEvent, ColumnsPatchedEvent
 
+from ringcore import params
+from ringcore.hydro import Hydro1D, HydroOptions
+from ringcore.hydro.frame import IMAGE_COLUMNS, bin_columns
 from ringlab.live.buffers import RollingImage, SpaceTimeImage
+from ringlab.server.engine_host import EngineHost
 from ringlab.tabs.hydro.plots import HydroPlots
 
 L_X = 1000.0
@@ -121,3 +125,26 @@ def test_another_image_and_the_orbit_resolved_window_are_sent_whole():
 
 def test_rows_not_computed_yet_are_transparent():
     assert HydroPlots().color_mapper.nan_color == "rgba(0, 0, 0, 0)"
+
+
+def test_a_worker_sends_each_sample_row_binned_and_the_image_is_the_one_of_the_full_rows():
+    """A worker bins each sample's profile to the image's columns once (every page following a shared run used
+    to bin every row again); binning a binned row again changes nothing, so the orbit-resolved image a page keeps
+    is the one it keeps from the engine's own full rows, value for value."""
+    opt = HydroOptions(L_x=2000.0, h=2.5, samples_per_orbit=20)
+    local = Hydro1D(params.get("tau15", 400.0), opt, initial="noise", seed=3)
+    host = EngineHost(local.snapshot(), renice=False)
+    full = []
+    local.on_sample(lambda sim, s: full.append((s["orbit"], sim.U[0].copy())))
+    local.advance(orbits=1.0)
+    res = host.advance(orbits=1.0)
+    rows = [(s["orbit"], s["sigma_row"]) for s in res["samples"]]
+    assert len(rows) == len(full) == 20
+    assert all(r.dtype == np.float32 and r.size == 400 <= IMAGE_COLUMNS for _, r in rows)
+    a, b = RollingImage(local.n, 0.05), RollingImage(local.n, 0.05)
+    for (t, row), (t_full, row_full) in zip(rows, full):
+        assert t == t_full
+        np.testing.assert_array_equal(bin_columns(row), row)
+        a.add(t, row)
+        b.add(t_full, row_full)
+    np.testing.assert_array_equal(a.image(), b.image())
