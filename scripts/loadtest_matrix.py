@@ -1,6 +1,6 @@
 """The teacher guide's summary table: ``ringlab loadtest`` for K = 1, 8, 16, 30 students, shared and different
-runs, and a class of 30 joining together (also with two app processes), one after the other on an otherwise
-idle machine.
+runs, and a class of 30 joining together on one lesson step or the class start link (also with two app
+processes), one after the other on an otherwise idle machine.
 
     .venv/bin/python scripts/loadtest_matrix.py [--seconds 40] [--warmup 40] [--rows NAME ...] [--out DIR]
 
@@ -32,6 +32,9 @@ ROWS = {  # name -> (label, loadtest options)
                         ["--students", "30", "--shared", "--join-together", "--num-procs", "2"]),
     "k30-shared-2procs": ("30, one lesson step (shared), 2 app processes",
                           ["--students", "30", "--shared", "--num-procs", "2"]),
+    "k30-startlink-join": ("30 joining together (class start link)", ["--students", "30", "--join-together"]),
+    "k30-startlink-join-2procs": ("30 joining together (class start link), 2 app processes",
+                                  ["--students", "30", "--join-together", "--num-procs", "2"]),
 }
 
 

@@ -18,6 +18,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import signal
 import statistics
 import subprocess
 import sys
@@ -73,7 +74,8 @@ def measure(students: int, bokeh_order: bool, num_procs: int = 1) -> dict:
     cmd = [sys.executable, "-m", "panel", "serve", str(PACKAGE_DIR / "main.py"), "--port", str(port),
            "--address", "127.0.0.1", "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness", "--warm",
            "--setup", setup, "--num-procs", str(num_procs)]
-    proc = subprocess.Popen(cmd, stdout=open(os.path.join(tmp, "server.log"), "w"), stderr=subprocess.STDOUT)
+    proc = subprocess.Popen(cmd, stdout=open(os.path.join(tmp, "server.log"), "w"), stderr=subprocess.STDOUT,
+                            start_new_session=True)  # its own process group: the processes it forks stop with it
     try:
         t_end = time.time() + 300
         while time.time() < t_end:
@@ -83,11 +85,15 @@ def measure(students: int, bokeh_order: bool, num_procs: int = 1) -> dict:
             except OSError:
                 time.sleep(0.3)
         threads, _, _ = join_together(f"ws://127.0.0.1:{port}/main/ws", dict(tab="hydro", autostart="1"),
-                                      None, students)
+                                      None, students, build=False)
         stop_all(threads)
     finally:
-        proc.terminate()
-        proc.wait(30)
+        os.killpg(proc.pid, signal.SIGINT)
+        try:
+            proc.wait(30)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
     rows = [line.split() for line in open(log)]
     t0 = min(float(r[0]) for r in rows if r[1] == "connected")
     sent = sorted(float(r[0]) - t0 for r in rows if r[1] == "sent")

@@ -87,9 +87,10 @@ class JoiningStudent(threading.Thread):
 
 
 def join_together(url: str, arguments: dict | list, setup_button: str | None, students: int,
-                  timeout_s: float = 300.0) -> tuple[list, float, float]:
+                  timeout_s: float = 300.0, build: bool = True) -> tuple[list, float, float]:
     """Open ``students`` pages at the same moment; returns (the threads, the release time, the time all
-    pages were ready or ``timeout_s`` had passed), times from ``time.perf_counter``."""
+    pages were ready or ``timeout_s`` had passed), times from ``time.perf_counter``.  Then the pages build
+    their documents (``build``; a caller that only times the arrivals leaves them unbuilt)."""
     barrier = threading.Barrier(students + 1)
     threads = [JoiningStudent(url, arguments[i] if isinstance(arguments, list) else arguments, setup_button, barrier)
                for i in range(students)]
@@ -100,7 +101,7 @@ def join_together(url: str, arguments: dict | list, setup_button: str | None, st
     while time.perf_counter() - t_release < timeout_s and not all(th.ready for th in threads):
         time.sleep(0.05)
     t_done = time.perf_counter()
-    for th in threads:
+    for th in threads if build else ():
         th.build()
     return threads, t_release, t_done
 

@@ -55,7 +55,8 @@ def add_parser(sub) -> None:
     p.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
                    help="the scheduler of an existing Dask cluster whose workers compute the runs")
     p.add_argument("--num-procs", type=int, default=1, help="app server processes (1-64; sessions stay in the "
-                                                            "process that made them)")
+                                                            "process that made them; 2 for a class that opens "
+                                                            "the link at the same moment)")
     p.add_argument("--classroom-length", type=float, default=None, metavar="FACTOR",
                    help="a factor on the lessons' classroom lengths (runs a lesson starts pause by themselves "
                         "after them; 0-1000, default 1; 0: never)")

@@ -8,8 +8,10 @@ import socket
 import time
 import types
 
+import panel as pn
 import pytest
 import tornado.netutil
+from panel.io.state import state
 from tornado.ioloop import IOLoop
 
 from ringlab.server import joining
@@ -142,3 +144,20 @@ def test_a_process_with_a_page_to_build_leaves_new_connections_to_the_others(mon
     assert tornado.netutil._DEFAULT_BACKLOG == joining.ACCEPTS_PER_WAKEUP  # all built: accepting again
     tornado.netutil._DEFAULT_BACKLOG = 0
     assert _accepted_per_wakeup() == 0  # Tornado's accept loop honours it at run time
+
+
+def test_the_page_address_answers_from_one_empty_template():
+    """With several server processes, the page's address is answered from one page made at start-up (Panel's
+    reuse_sessions), which holds no content and never expires; the students' pages are built at their websocket."""
+    before = pn.config.reuse_sessions
+    try:
+        joining.reuse_page_template("/main-test", "a title")
+        session = state._sessions["/main-test"]
+        assert pn.config.reuse_sessions is True
+        assert session.document.roots == [] and session.document.title == "a title"
+        assert state._session_key_funcs["/main-test"](types.SimpleNamespace(path="/main-test")) == "/main-test"
+        assert session.expiration_blocked
+    finally:
+        pn.config.reuse_sessions = before
+        state._sessions.pop("/main-test", None)
+        state._session_key_funcs.pop("/main-test", None)
