@@ -78,20 +78,30 @@ def start_server(port: int, log_path: Path, extra=(), compute: str | None = None
     log = open(log_path, "w")
     t0 = time.perf_counter()
     proc = subprocess.Popen(cmd, cwd=REPO, env=env, stdout=log, stderr=subprocess.STDOUT)
-    deadline = t0 + 120.0  # a loaded shared 2-core machine
+    try:
+        wait_live(proc, port, log_path)
+    except RuntimeError:
+        log.close()
+        stop_server(proc)
+        raise
+    return proc, time.perf_counter() - t0
+
+
+def wait_live(proc: subprocess.Popen, port: int, log_path: Path, timeout_s: float = 120.0) -> None:
+    """Wait until the server ``proc`` answers ``/liveness`` on ``port`` (120 s: a loaded shared 2-core machine);
+    RuntimeError with its log if it exits or does not answer in time."""
+    deadline = time.perf_counter() + timeout_s
     while time.perf_counter() < deadline:
         if proc.poll() is not None:
-            log.close()
-            raise RuntimeError(f"panel serve exited with {proc.returncode}:\n{log_path.read_text()}")
+            raise RuntimeError(f"the server exited with {proc.returncode}:\n{log_path.read_text()}")
         try:
             with urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=1) as r:
                 if r.status == 200:
-                    return proc, time.perf_counter() - t0
+                    return
         except OSError:
             pass
         time.sleep(0.1)
-    stop_server(proc)
-    raise RuntimeError(f"panel serve did not answer /liveness within 120 s:\n{log_path.read_text()}")
+    raise RuntimeError(f"the server did not answer /liveness within {timeout_s:g} s:\n{log_path.read_text()}")
 
 
 def stop_server(proc: subprocess.Popen) -> None:

@@ -190,8 +190,10 @@ def run(args) -> int:
                      f"{p['num_procs']} server processes ({cluster.address})")
     print("\n".join(lines), flush=True)
     apps = {"main": create_app, "teacher": page_factory(p["key"])}
-    if p["num_procs"] > 1:
-        joining.reuse_page_template("/main", TITLE)  # before the fork: each page built once, where its websocket lands
+    if p["num_procs"] > 1:  # before the fork: each page built once, where its websocket lands (every address
+        # gets its template: Panel would otherwise keep the first real page of an address as the template, forever)
+        joining.reuse_page_template("/main", TITLE)
+        joining.reuse_page_template("/teacher", TEACHER_TITLE)
     try:
         pn.serve(apps, port=p["port"], address=p["address"], websocket_origin=p["origins"],
                  num_procs=p["num_procs"], show=args.show, static_dirs=p["docs"],

@@ -11,12 +11,10 @@ import os
 import signal
 import subprocess
 import sys
-import time
-import urllib.request
 
 import pytest
 
-from browser_support import ARTIFACTS, TEST_FRAME_RATE, expect, free_port
+from browser_support import ARTIFACTS, TEST_FRAME_RATE, expect, free_port, wait_live
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
@@ -45,16 +43,7 @@ def test_two_server_processes_build_each_page_once(tmp_path, browser):
                                  "2", "--max-frame-rate", TEST_FRAME_RATE], env=env, stdout=log, stderr=subprocess.STDOUT,
                                 start_new_session=True)
     try:
-        deadline = time.monotonic() + 120
-        while True:
-            assert proc.poll() is None, log_path.read_text()
-            assert time.monotonic() < deadline, "no /liveness within 120 s:\n" + log_path.read_text()
-            try:
-                with urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=1) as r:
-                    if r.status == 200:
-                        break
-            except OSError:
-                time.sleep(0.2)
+        wait_live(proc, port, log_path)
         pages = 6
         for i in range(pages):
             ctx = browser.new_context(viewport={"width": 1280, "height": 800})

@@ -15,14 +15,12 @@ import os
 import re
 import subprocess
 import sys
-import time
-import urllib.request
 from urllib.parse import urlsplit
 from pathlib import Path
 
 import pytest
 
-from browser_support import ARTIFACTS, TEST_FRAME_RATE, free_port, stop_server
+from browser_support import ARTIFACTS, TEST_FRAME_RATE, free_port, stop_server, wait_live
 
 SHOTS = Path("/tmp/shots/teacher")
 PASSWORD = "lecture-hall-B"
@@ -38,17 +36,8 @@ def class_server():
     env = dict(os.environ, RINGLAB_COMPUTE="threads", RINGLAB_LESSONS_SCALE="fast")
     proc = subprocess.Popen([sys.executable, "-m", "ringlab.cli.main", "serve", "--port", str(port),
                              "--teacher-password", PASSWORD, "--max-frame-rate", TEST_FRAME_RATE], env=env, stdout=log, stderr=subprocess.STDOUT)
-    deadline = time.monotonic() + 120
     try:
-        while True:
-            assert proc.poll() is None, log_path.read_text()
-            assert time.monotonic() < deadline, "no /liveness within 120 s:\n" + log_path.read_text()
-            try:
-                with urllib.request.urlopen(f"http://127.0.0.1:{port}/liveness", timeout=1) as r:
-                    if r.status == 200:
-                        break
-            except OSError:
-                time.sleep(0.2)
+        wait_live(proc, port, log_path)
         yield f"http://127.0.0.1:{port}", log_path
     finally:
         stop_server(proc)
