@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import socket
 import statistics
 import subprocess
@@ -339,5 +340,7 @@ def run_command(args) -> int:
     if not 1 <= args.num_procs <= 64:
         raise ValueError(f"--num-procs = {args.num_procs} is not valid: allowed 1 to 64")
     classroom_length(args)  # checked before a server starts
+    # a kill (SIGTERM) ends the load test like Ctrl-C: through run()'s clean-up, which stops the server it started
+    signal.signal(signal.SIGTERM, lambda signum, frame: sys.exit(128 + signum))
     print(json.dumps(run(args)))
     return 0
