@@ -12,8 +12,7 @@ A student's computer renders its own page, so without a button to press the stud
 documents' Bokeh models only once every page has arrived (:meth:`JoiningStudent.build`): each tells the
 server its page is rendered as soon as the document arrives, and keeps the server's messages until then.
 Building them at once took this one client process 0.6-0.9 s of CPU per page, about a core for the whole
-join of thirty pages on the two cores the server is measured on (pages ready after 7.4-7.6 s median,
-9.5-10.3 s max with two app processes).
+join of thirty pages on the two cores the server is measured on.
 """
 from __future__ import annotations
 
