@@ -17,45 +17,19 @@ With infinitely many replicas and the bin correction the wire kernel tends to th
 mode response (the discrete sum of 1/d gives the factor 1 - |k| h/pi that eq. cbin
 restores).  sigma0 = 0 (1/Q0 = 0) switches self-gravity off.
 
-FFTs use pyfftw (FFTW plans made once per solver with FFTW_ESTIMATE: the plan, and so the
-rounding, is the same in every process, which a bit-for-bit restart in a new process needs;
-FFTW_MEASURE picks plans by timing and can differ between processes; measured no slower
-for n = 1200 and 2000); numpy.fft is the fallback.  This class serves the reference path of
-:meth:`ringcore.hydro.Hydro1D.step`; the default one-call step does the same convolution inside
-numba (:func:`ringcore.hydro.stepper.gravity_force`, rocket-fft) with the response ``SelfGravity.G``.
+FFTs use FFTW (the library pyfftw ships) from compiled code, with plans made once per solver with
+FFTW_ESTIMATE (:mod:`ringcore.hydro.fftw`): the plan, and so the rounding, is the same in every process, which a
+bit-for-bit restart in a new process needs (FFTW_MEASURE picks plans by timing and can differ between
+processes); numpy.fft is the fallback without pyfftw.  Both step paths of :class:`ringcore.hydro.Hydro1D` use
+this convolution (:func:`ringcore.hydro.fftw.convolve`), so they agree bit for bit.
 """
 from __future__ import annotations
 
 import math
-import sys
 
 import numpy as np
 
-
-def _import_pyfftw():
-    """``pyfftw``, or None when it is not installed.
-
-    pyfftw's package imports its dask interface whenever dask is installed (as it is with ringcore): that
-    imports ``dask.array``, about 1 s of start-up for every process that imports the hydro engine, for an
-    interface ringcore never uses (it calls :class:`pyfftw.FFTW` directly).  ``dask.array.fft`` is hidden for
-    that one import (an entry of None in ``sys.modules`` makes pyfftw's ``try: from dask.array.fft import ...``
-    fail at once) and restored right after; ``pyfftw.interfaces.dask_fft`` stays importable explicitly.
-    """
-    hide = "dask.array.fft" not in sys.modules
-    if hide:
-        sys.modules["dask.array.fft"] = None
-    try:
-        import pyfftw
-    except ImportError:  # pragma: no cover - pyfftw is a dependency
-        return None
-    finally:
-        if hide and sys.modules.get("dask.array.fft", 0) is None:
-            del sys.modules["dask.array.fft"]
-    return pyfftw
-
-
-pyfftw = _import_pyfftw()
-HAVE_PYFFTW = pyfftw is not None
+from .fftw import HAVE_FFTW, HAVE_PYFFTW, RealPlans, convolve, pyfftw  # noqa: F401 (re-exported)
 
 GRAVITY_METHODS = ("mode", "wire")
 
@@ -117,42 +91,52 @@ class SelfGravity:
     n, h, inv_Q0, method, replicas, bin_correction
         As in :func:`response`.
     use_pyfftw : bool, optional
-        Default: True if pyfftw is importable.
+        Use FFTW (:mod:`ringcore.hydro.fftw`); default: True if its library was found.  False: numpy.fft.
+
+    Attributes
+    ----------
+    G : (n//2+1,) complex128
+        The response divided by n.
+    g : (n,) float64
+        The force of the last :meth:`force` call [c0 Omega].
+    kernel_args : tuple
+        ``(forward, backward, G, s, sk, g)`` for :func:`ringcore.hydro.fftw.convolve` inside compiled code
+        (FFTW only).
 
     Notes
     -----
-    :meth:`force` allocates nothing when pyfftw is used: the density is copied into
-    the aligned input array (minus its first value, so that a uniform state gives an
-    exactly zero force), FFTW executes, the spectrum is multiplied in place by the
-    cached response / n, and the backward FFTW writes into :attr:`g`.
+    :meth:`force` allocates nothing with FFTW: one compiled call subtracts the first value of the density
+    (so that a uniform state gives an exactly zero force), transforms, multiplies by the cached response / n
+    and transforms back into :attr:`g`.  A copy or a pickle makes its own plans.
     """
 
     def __init__(self, n, h, inv_Q0, method="mode", replicas=0, bin_correction=False, use_pyfftw=None):
+        self._args = (n, h, inv_Q0, method, replicas, bin_correction, use_pyfftw)
         self.n = int(n)
         self.enabled = inv_Q0 != 0.0
         self.G = response(self.n, h, inv_Q0, method, replicas, bin_correction) / self.n
-        self.use_pyfftw = HAVE_PYFFTW if use_pyfftw is None else bool(use_pyfftw and HAVE_PYFFTW)
+        self.use_pyfftw = HAVE_FFTW if use_pyfftw is None else bool(use_pyfftw and HAVE_FFTW)
         if self.use_pyfftw:
-            self._s = pyfftw.empty_aligned(self.n, dtype="float64")
-            self._sk = pyfftw.empty_aligned(self.n // 2 + 1, dtype="complex128")
-            self.g = pyfftw.empty_aligned(self.n, dtype="float64")
-            flags = ("FFTW_ESTIMATE",)  # deterministic plan: bit-for-bit restarts across processes
-            self._fwd = pyfftw.FFTW(self._s, self._sk, direction="FFTW_FORWARD", flags=flags)
-            self._bwd = pyfftw.FFTW(self._sk, self.g, direction="FFTW_BACKWARD", flags=flags)
+            self._plans = pl = RealPlans(self.n)
+            self.g = pl.g
+            self.kernel_args = (pl.forward, pl.backward, self.G, pl.s, pl.sk, pl.g)
         else:
-            self._s = np.empty(self.n)
-            self.g = np.empty(self.n)
-        self.g[:] = 0.0
+            self.g = np.zeros(self.n)
+            self.kernel_args = None
+
+    def __reduce__(self):
+        return (SelfGravity, self._args)
 
     def force(self, sigma: np.ndarray) -> np.ndarray:
         """Force per unit mass at the n nodes for density ``sigma`` (n,); returns :attr:`g`."""
         if not self.enabled:
             return self.g
-        np.subtract(sigma, sigma[0], out=self._s)
+        sigma = np.ascontiguousarray(sigma, dtype=float)
+        if sigma.shape != (self.n,):
+            raise ValueError(f"sigma has shape {sigma.shape}: give the density at the n = {self.n} nodes")
         if self.use_pyfftw:
-            self._fwd.execute()
-            np.multiply(self._sk, self.G, out=self._sk)
-            self._bwd.execute()
+            convolve(sigma, *self.kernel_args)
         else:
-            self.g[:] = np.fft.irfft(np.fft.rfft(self._s) * self.G, n=self.n) * self.n
+            s = sigma - sigma[0]
+            self.g[:] = np.fft.irfft(np.fft.rfft(s) * self.G, n=self.n) * self.n
         return self.g

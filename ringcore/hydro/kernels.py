@@ -34,24 +34,19 @@ from .layout import *  # noqa: F401,F403 (the layout constants, re-exported: ker
 from .layout import _FM, NG, P_BULK, P_DTFACTOR, P_DTMODE, P_GAMMA0, P_GRAVITY, P_GS, P_GT, P_H, P_KRATIO, \
     P_NT, P_NU0, P_PS, P_PT, P_T0, R_C, R_DIF, R_ETA, R_ETAX, R_FH, R_FM, R_FP, R_GAM, R_MP5, R_P, R_RATE, \
     R_SIG, R_T, R_TX, R_TXX, R_U, R_UX, R_UXX, R_V, R_VX, R_VXX
-from .mp5 import MP5_ALPHA, MP5_EPS, NSCRATCH, mp5, numerical_flux, numerical_flux_full  # noqa: F401 (re-exported)
+from .mp5 import MP5_ALPHA, MP5_EPS, NSCRATCH, mp5, numerical_flux  # noqa: F401 (re-exported)
 from .state_kernels import apply_temperature_floor, check_state, fill_ghosts, to_conservative  # noqa: F401
 
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
 def _primitives(U, W, beta, par):
-    """Loop A: u, v, T, p, c, eta and Gamma (eqs. pres-coolfunc) at every node.
-
-    Also stores the diffusivity max((4/3+gamma) eta/sigma, 2 kappa_D/(3 sigma)) in row R_DIF
-    and |u| + c in row R_SIG for :func:`_grid_maxima`.
-    """
+    """Loop A: u, v, T, p, c, eta and Gamma (eqs. pres-coolfunc) at every node."""
     nv, N = U.shape
-    nu0, kr, T0 = par[P_NU0], par[P_KRATIO], par[P_T0]
+    nu0, T0 = par[P_NU0], par[P_T0]
     ps, pT, nT, Gs, GT = par[P_PS], par[P_PT], par[P_NT], par[P_GS], par[P_GT]
-    Gamma0, bulk = par[P_GAMMA0], par[P_BULK] + 4.0 / 3.0
+    Gamma0 = par[P_GAMMA0]
     invT0 = 1.0 / T0
     wu, wv, wt, wp, wc, weta, wgam = W[R_U], W[R_V], W[R_T], W[R_P], W[R_C], W[R_ETA], W[R_GAM]
-    wdif, wsig, wrate = W[R_DIF], W[R_SIG], W[R_RATE]
     s_, mx_, my_ = U[0], U[1], U[2]
     if nv == 3:
         for i in range(N):
@@ -69,12 +64,8 @@ def _primitives(U, W, beta, par):
             wc[i] = c
             weta[i] = eta
             wgam[i] = 0.0
-            wdif[i] = bulk * eta * rs
-            wsig[i] = abs(u) + c
-            wrate[i] = 0.0
     else:
         e_ = U[3]
-        dmax = max(bulk, (2.0 / 3.0) * kr)
         wls, wlt = W[R_MP5], W[R_MP5 + 1]  # log sigma, log T/T0 (scratch rows of the later MP5 loop)
         for i in range(N):  # two loops: measured 20 % faster than one (shorter dependency chains)
             s = s_[i]
@@ -89,28 +80,42 @@ def _primitives(U, W, beta, par):
         for i in range(N):
             s = s_[i]
             rs = 1.0 / s
-            T = wt[i]
             ls = wls[i]
             lt = wlt[i]
             p = vexp(ps * ls + pT * lt)
             eta = nu0 * vexp((beta[i] + 1.0) * ls + nT * lt)
-            c = math.sqrt(ps * p * rs + (2.0 / 3.0) * pT * p * p * rs * rs / T)
+            c = math.sqrt(ps * p * rs + (2.0 / 3.0) * pT * p * p * rs * rs / wt[i])
             wp[i] = p
             wc[i] = c
             weta[i] = eta
-            gam = Gamma0 * vexp(Gs * ls + GT * lt)
-            wgam[i] = gam
-            wdif[i] = dmax * eta * rs
-            wsig[i] = abs(wu[i]) + c
-            wrate[i] = (2.0 / 3.0) * abs(GT) * gam * rs / T
+            wgam[i] = Gamma0 * vexp(Gs * ls + GT * lt)
 
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
-def _grid_maxima(W, n):
-    """(max |u| + c, max diffusivity, max cooling rate) over the interior nodes."""
-    a = W[R_SIG][NG:NG + n]
-    b = W[R_DIF][NG:NG + n]
-    r = W[R_RATE][NG:NG + n]
+def _grid_maxima(U, W, par, n):
+    """(max |u| + c, max diffusivity, max cooling rate) over the interior nodes, from the rows of
+    :func:`_primitives`: the diffusivity max((4/3+gamma) eta/sigma, 2 kappa_D/(3 sigma)) and the relaxation
+    rate (2/3) |G_T| Gamma/(sigma T) of the cooling term (0 if isothermal).  Only the stage that chooses
+    the time step needs them: a vectorized loop stores them in rows R_SIG, R_DIF, R_RATE, a second one
+    takes the maxima."""
+    s_ = U[0][NG:NG + n]
+    u_, c_, eta_ = W[R_U][NG:NG + n], W[R_C][NG:NG + n], W[R_ETA][NG:NG + n]
+    a, b, r = W[R_SIG][NG:NG + n], W[R_DIF][NG:NG + n], W[R_RATE][NG:NG + n]
+    bulk = par[P_BULK] + 4.0 / 3.0
+    if U.shape[0] == 3:
+        for i in range(n):
+            a[i] = abs(u_[i]) + c_[i]
+            b[i] = bulk * eta_[i] * (1.0 / s_[i])
+            r[i] = 0.0
+    else:
+        dmax = max(bulk, (2.0 / 3.0) * par[P_KRATIO])
+        rate = (2.0 / 3.0) * abs(par[P_GT])
+        T_, gam_ = W[R_T][NG:NG + n], W[R_GAM][NG:NG + n]
+        for i in range(n):
+            rs = 1.0 / s_[i]
+            a[i] = abs(u_[i]) + c_[i]
+            b[i] = dmax * eta_[i] * rs
+            r[i] = rate * gam_[i] * rs / T_[i]
     vmax = 0.0
     numax = 0.0
     rmax = 0.0
@@ -215,7 +220,7 @@ def _gradients(W, iso, inv60h, inv180h2, n):
 
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
-def compute_rhs(U, W, beta, g, par, L):
+def compute_rhs(U, W, beta, g, par, L, maxima=True):
     """Right-hand side L(U) = -dF/dx + S of eq. (hcl) at the interior nodes.
 
     Parameters
@@ -231,6 +236,8 @@ def compute_rhs(U, W, beta, g, par, L):
     par : (NPAR,) float64
     L : (nv, N) float64
         Output, interior nodes only.
+    maxima : bool, optional
+        Compute the grid maxima the time step needs (default); False returns zeros for them.
 
     Returns
     -------
@@ -252,7 +259,7 @@ def compute_rhs(U, W, beta, g, par, L):
     iso = nv == 3
     fill_ghosts(U, n)
     _primitives(U, W, beta, par)
-    vmax, numax, rmax = _grid_maxima(W, n)
+    vmax, numax, rmax = _grid_maxima(U, W, par, n) if maxima else (0.0, 0.0, 0.0)
     _split_fluxes(U, W)
     _numerical_flux(W, nv, n)
     h = par[P_H]
@@ -322,8 +329,9 @@ def rk_stage(Uin, W, beta, g, par, L, Lprev, A, a0, B, a1, C, a2, b1, b2, dt, dt
     If ``dt <= 0`` the step is chosen here from L's grid maxima with :func:`stable_dt`
     (mode and factor in ``par``) and capped at ``dt_cap``.  Returns the dt used.
     """
-    vmax, numax, rmax = compute_rhs(Uin, W, beta, g, par, L)
-    if dt <= 0.0:
+    choose = dt <= 0.0
+    vmax, numax, rmax = compute_rhs(Uin, W, beta, g, par, L, choose)
+    if choose:
         dt = min(stable_dt(vmax, numax, rmax, par[P_H], int(par[P_DTMODE]), par[P_DTFACTOR]), dt_cap)
     nv, N = Uin.shape
     n = N - 2 * NG

@@ -28,8 +28,8 @@ R_FP = 16  # 4 rows F+
 R_FM = 20  # 4 rows F-
 R_FH = 24  # 4 rows numerical flux f_{i+1/2} (stored at index i)
 R_RATE = 28  # cooling relaxation rate (2/3) G_T Gamma/(sigma T) for the time step
-R_MP5 = 29  # 10 scratch rows: MP5 reconstruction (mp5.NSCRATCH); log sigma, log T; the split pressures p+, p-
-NW = 39
+R_MP5 = 29  # 4 scratch rows: MP5 reconstruction (mp5.NSCRATCH); log sigma, log T; the split pressures p+, p-
+NW = 33
 
 # indices into the parameter vector
 P_NU0, P_KRATIO, P_T0, P_PS, P_PT, P_NT, P_GS, P_GT, P_GAMMA0, P_BULK, P_H = range(11)

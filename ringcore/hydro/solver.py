@@ -11,9 +11,9 @@ parameters into a float vector for the compiled kernels of
 :mod:`ringcore.hydro.kernels`.  One step = 5 SSPRK(5,4) stages, each one FFT
 self-gravity evaluation plus one :func:`~ringcore.hydro.kernels.rk_stage`, following the
 tableau of :mod:`ringcore.hydro.timestep`: by default all in one compiled call
-(:func:`ringcore.hydro.stepper.ssprk_step`, FFTs by rocket-fft); with ``fast_step = False``
-(or without rocket-fft) the reference path drives the stages from Python with pyfftw
-(:mod:`ringcore.hydro.gravity`).  Nothing is allocated per step.  The state goes in and
+(:func:`ringcore.hydro.stepper.ssprk_step`); with ``fast_step = False`` (or without pyfftw's FFTW library)
+the reference path drives the stages from Python.  Both evaluate self-gravity with the same FFTW plans
+(:mod:`ringcore.hydro.gravity`, :mod:`ringcore.hydro.fftw`) and give the same states bit for bit.  Nothing is allocated per step.  The state goes in and
 out as a :class:`ringcore.engine.State` (:meth:`Hydro1D.snapshot`, :meth:`Hydro1D.restore`);
 run files are written from it by :mod:`ringcore.hydro.runfile` (this module does not import it).
 The time integration (the step, :meth:`Hydro1D.advance`, the sample callbacks) is the mixin
@@ -43,7 +43,6 @@ from .gravity import SelfGravity
 from .initial import INITIAL_KINDS, amplitude_too_large, check_initial_arguments, make_initial
 from .state_io import StateIO
 from .options import HydroOptions
-from .stepper import HAVE_ROCKET_FFT
 from .stepping import FIELD_NAMES, NG, STAGE_F, STAGE_I, STAGES, TWO_PI, HydroBlowUp, Stepping  # noqa: F401 (re-exported)
 
 
@@ -70,10 +69,10 @@ class Hydro1D(Stepping, StateIO, PhysicalFields):
         ``sigma_kg_m2``, ``u_m_s``, ``v_m_s``, ``T_m2_s2`` and the time ``t_s`` [s] (``orbits`` [orbits]);
         the kernels' dimensionless ones ``sigma_dimless`` ... (:mod:`ringcore.hydro.fields`).
     fast_step : bool
-        True (the default where rocket-fft is installed): each step is one compiled call
-        (:mod:`ringcore.hydro.stepper`).  False: the reference path (stages driven from Python,
-        pyfftw self-gravity).  The two agree to ~1e-14 relative after 5 orbits (the FFT
-        libraries round differently), each is deterministic on its own; set it before the first step.
+        True (the default where pyfftw's FFTW library is found): each step is one compiled call
+        (:mod:`ringcore.hydro.stepper`).  False: the reference path (stages driven from Python).  Both
+        give the same states bit for bit; the fast path costs less.  Without FFTW only the reference
+        path (with numpy.fft) is available.
     """
 
     kind = "hydro"
@@ -131,8 +130,8 @@ class Hydro1D(Stepping, StateIO, PhysicalFields):
         self._T_floor = 0.0 if self.isothermal else opt.T_floor * d["T0"]
         self.floor_hits = 0  # node-steps raised by the optional temperature floor
         self.gravity = SelfGravity(n, self.h, d["inv_Q0"], opt.gravity, opt.replicas, opt.bin_correction)
-        self._gs, self._gsk = np.zeros(n), np.zeros(n // 2 + 1, dtype=complex)  # FFT scratch of the fast path
-        self.fast_step = HAVE_ROCKET_FFT  # one compiled call per step (.stepper); False: the reference path
+        # one compiled call per step (.stepper), wherever the FFTW library was found; False: the reference path
+        self.fast_step = self.gravity.kernel_args is not None
         self.t = 0.0  # [1/Omega]
         self._steps = 0
         self.dt = 0.0  # last time step [1/Omega]

@@ -1,18 +1,15 @@
 """A whole SSPRK(5,4) step in one compiled call (the fast path of :meth:`Hydro1D.step`).
 
 The reference path of :class:`ringcore.hydro.Hydro1D` drives the five stages from Python:
-per stage one pyfftw self-gravity evaluation (:class:`ringcore.hydro.gravity.SelfGravity`),
+per stage one self-gravity evaluation (:meth:`ringcore.hydro.gravity.SelfGravity.force`),
 one :func:`~ringcore.hydro.kernels.rk_stage` call and, with a temperature floor, one
 :func:`~ringcore.hydro.kernels.apply_temperature_floor` call, then one
 :func:`~ringcore.hydro.kernels.check_state`: 16 crossings between Python and compiled code
-per step (measured 20-25 us of the ~300 us a step of the app's default 800-node box cost).  :func:`ssprk_step` does the same work in one call: the stages, the floor and the
-final check are the same compiled functions (the same arithmetic, bit for bit), and the
-self-gravity convolution uses ``numpy.fft`` inside numba (package ``rocket-fft``, PocketFFT's
-successor DUCC0, the library of ``scipy.fft``) instead of FFTW.  The two FFT libraries round
-differently in the last bit, so the fast path agrees with the reference path to ~1e-15
-relative per step and ~1e-13 after 5 orbits (checked in ``tests/core/test_hydro_fastpath.py``),
-not bit for bit; each path on its own is deterministic (no timing-based FFT plans), so
-restarts and repeated runs stay bit-identical.
+per step (measured 20-25 us of the ~300 us a step of the app's default 800-node box cost).
+:func:`ssprk_step` does the same work in one call, and :func:`ssprk_steps` the steps up to the next
+sample time: the stages, the self-gravity convolution (FFTW called from compiled code,
+:func:`ringcore.hydro.fftw.convolve`), the floor and the final check are the same compiled functions, so
+both paths give the same states bit for bit (``tests/core/test_hydro_fastpath.py``).
 
 References: eqs. (hcl), (conv) and Section "Numerical Methods".
 """
@@ -22,47 +19,13 @@ import numpy as np
 from numba import njit
 
 from . import kernels as K
-
-try:  # rocket-fft registers numpy.fft with numba through an entry point on import of numba
-    import rocket_fft  # noqa: F401
-
-    HAVE_ROCKET_FFT = True
-except ImportError:  # pragma: no cover - the reference path is then used
-    HAVE_ROCKET_FFT = False
+from .fftw import convolve
 
 NG = K.NG
 
 
 @njit(nogil=True, cache=True, error_model="numpy")
-def gravity_force(sigma, G, s, sk, g):
-    """``g = IFFT[FFT(sigma - sigma[0]) G]`` (unnormalised backward transform), as
-    :meth:`ringcore.hydro.gravity.SelfGravity.force`.
-
-    Parameters
-    ----------
-    sigma : (n,) float64
-        Dimensionless surface density at the interior nodes.
-    G : (n//2+1,) complex128
-        Response divided by n (``SelfGravity.G``).
-    s : (n,) float64
-        Scratch.
-    sk : (n//2+1,) complex128
-        Scratch spectrum.
-    g : (n,) float64
-        Output: force per unit mass [c0 Omega].
-    """
-    n = sigma.shape[0]
-    s0 = sigma[0]
-    for i in range(n):
-        s[i] = sigma[i] - s0  # a uniform state gives an exactly zero force
-    np.fft.rfft(s, out=sk)
-    for i in range(sk.shape[0]):
-        sk[i] = sk[i] * G[i]
-    np.fft.irfft(sk, n, norm="forward", out=g)  # "forward": no 1/n on the backward transform
-
-
-@njit(nogil=True, cache=True, error_model="numpy")
-def ssprk_step(U, slot, L, W, beta, par, gravity_on, G, s, sk, g, stage_i, stage_f, dt_cap, T_floor):
+def ssprk_step(U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stage_i, stage_f, dt_cap, T_floor):
     """One SSPRK step; returns ``(dt, floor_hits, field, index, stage)``.
 
     Parameters
@@ -78,8 +41,8 @@ def ssprk_step(U, slot, L, W, beta, par, gravity_on, G, s, sk, g, stage_i, stage
         As in :func:`ringcore.hydro.kernels.compute_rhs`.
     gravity_on : bool
         Evaluate self-gravity (else ``g`` holds zeros).
-    G, s, sk, g
-        As in :func:`gravity_force`.
+    fwd, bwd, G, s, sk, g
+        As in :func:`ringcore.hydro.fftw.convolve` (``SelfGravity.kernel_args``).
     stage_i : (5, 6) int64
         Per stage: input state, L slot, earlier L slot, three state indices of the alphas.
     stage_f : (5, 5) float64
@@ -108,7 +71,7 @@ def ssprk_step(U, slot, L, W, beta, par, gravity_on, G, s, sk, g, stage_i, stage
                                  stage_i[st, 4], stage_i[st, 5])
         Uin = U[slot[i]]
         if gravity_on:
-            gravity_force(Uin[0, NG:NG + n], G, s, sk, g)
+            convolve(Uin[0, NG:NG + n], fwd, bwd, G, s, sk, g)
         out = U[slot[i + 1]]
         dt = K.rk_stage(Uin, W, beta, g, par, L[li], L[lp], U[slot[ja]], stage_f[st, 0], U[slot[jb]],
                         stage_f[st, 1], U[slot[jc]], stage_f[st, 2], stage_f[st, 3], stage_f[st, 4],
@@ -127,8 +90,8 @@ def ssprk_step(U, slot, L, W, beta, par, gravity_on, G, s, sk, g, stage_i, stage
 
 
 @njit(nogil=True, cache=True, error_model="numpy")
-def ssprk_steps(U, slot, L, W, beta, par, gravity_on, G, s, sk, g, stage_i, stage_f, T_floor, t, t_event,
-                t_stop, max_steps):
+def ssprk_steps(U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stage_i, stage_f, T_floor, t,
+                t_event, t_stop, max_steps):
     """Steps of :func:`ssprk_step` up to the next event, in one call (the loop of
     :meth:`ringcore.hydro.Hydro1D.advance` between two of its events, without a crossing between Python
     and compiled code per step).
@@ -140,7 +103,7 @@ def ssprk_steps(U, slot, L, W, beta, par, gravity_on, G, s, sk, g, stage_i, stag
 
     Parameters
     ----------
-    U, slot, L, W, beta, par, gravity_on, G, s, sk, g, stage_i, stage_f, T_floor
+    U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stage_i, stage_f, T_floor
         As in :func:`ssprk_step`.
     t : float
         Time of the state [1/Omega].
@@ -172,8 +135,8 @@ def ssprk_steps(U, slot, L, W, beta, par, gravity_on, G, s, sk, g, stage_i, stag
     dt_good = 0.0
     while True:
         cap = t_event - t
-        dt, h, field, j, k = ssprk_step(U, slot, L, W, beta, par, gravity_on, G, s, sk, g, stage_i, stage_f,
-                                        cap, T_floor)
+        dt, h, field, j, k = ssprk_step(U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stage_i,
+                                        stage_f, cap, T_floor)
         if field >= 0:
             return t, dt_good, steps, hits, field, j, k
         if not (dt > 0.0 and dt < np.inf):

@@ -1,6 +1,6 @@
 """Time stepping of the 1D hydro solver: the SSPRK(5,4) stage table, a step on the fast path
 (:func:`ringcore.hydro.stepper.ssprk_step`, one compiled call) or the reference path (stages driven from
-Python, pyfftw self-gravity), :meth:`Stepping.advance` on the run's sample grid, and the blow-up error.
+Python; the same kernels and the same FFTW self-gravity, so the same bits), :meth:`Stepping.advance` on the run's sample grid, and the blow-up error.
 
 :class:`Stepping` is a mixin of :class:`ringcore.hydro.solver.Hydro1D`, which owns the state and the work arrays.
 
@@ -93,8 +93,8 @@ class Stepping:
         if self.fast_step:
             grav = self.gravity
             dt, hits, field, j, k = ssprk_step(self._Ustack, self._slot, self._Lstack, self._W, self._beta, self._par,
-                                               grav.enabled, grav.G, self._gs, self._gsk, grav.g, STAGE_I, STAGE_F,
-                                               dt_cap, self._T_floor)
+                                               grav.enabled, *grav.kernel_args, STAGE_I, STAGE_F, dt_cap,
+                                               self._T_floor)
             bad = self._U[k] if field >= 0 else None
         else:
             dt, hits, field, j, bad = self._step_reference(dt_cap)
@@ -116,8 +116,8 @@ class Stepping:
         per step.  On a failed step raises :class:`HydroBlowUp` with the last good state, time and counters."""
         grav, sl, U = self.gravity, self._slot, self._U
         t, dt, n, hits, field, j, k = ssprk_steps(
-            self._Ustack, sl, self._Lstack, self._W, self._beta, self._par, grav.enabled, grav.G, self._gs,
-            self._gsk, grav.g, STAGE_I, STAGE_F, self._T_floor, self.t, t_event, t_stop, max_steps)
+            self._Ustack, sl, self._Lstack, self._W, self._beta, self._par, grav.enabled, *grav.kernel_args,
+            STAGE_I, STAGE_F, self._T_floor, self.t, t_event, t_stop, max_steps)
         if n:
             U[0], U[5] = self._Ustack[sl[0]], self._Ustack[sl[5]]  # the views follow the slots
             self.floor_hits += hits
@@ -136,8 +136,8 @@ class Stepping:
         return HydroBlowUp("dt", float(self.x_m[0]), self.orbits, self._steps + 1, float(dt))
 
     def _step_reference(self, dt_cap):
-        """The five stages driven from Python with pyfftw self-gravity (the scheme as first written;
-        :mod:`.stepper` explains the fast path).  Returns ``(dt, floor_hits, field, index, bad_state)``."""
+        """The five stages driven from Python (the scheme as first written; :mod:`.stepper` explains the
+        fast path, which gives the same bits).  Returns ``(dt, floor_hits, field, index, bad_state)``."""
         U, Ls = self._U, self._L
         W, beta, par = self._W, self._beta, self._par
         grav, s = self.gravity.force, slice(NG, NG + self.n)
