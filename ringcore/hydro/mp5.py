@@ -9,16 +9,18 @@ shared by neighbouring interfaces.  Every value is computed with the operations 
 same order (the curvature of the mirrored F- stencil keeps its own summation order; minmod4 of the four
 arguments does not depend on their order), so both agree bit for bit (``tests/core/test_hydro_mp5.py``).
 
-The minmod functions are written with comparisons and selects instead of the textbook
-``(sign(a) + sign(b))/2 min(|a|, |b|)``: the same value for every pair of finite numbers (the product
-there is +-1 times the minimum when the signs agree, a zero otherwise), compared bit for bit with the
-sign form in the tests, and about a fifth cheaper for the whole flux once vectorized.
+The minmod functions are written with min, max and a select instead of the textbook
+``(sign(a) + sign(b))/2 min(|a|, |b|)``: when all arguments are positive the smallest of them is the one of
+smallest magnitude, when all are negative the largest is, otherwise the result is zero -- the same value for
+every finite argument, compared bit for bit with the sign form in the tests.  In the limiter the second
+minmod has ordered arguments (fmin <= f0 <= fmax), so it needs one comparison each way.  With these the whole
+limiter, evaluated at every interface, costs about 0.85 of the textbook form evaluated only where the
+accuracy-preserving check fails (the earlier kernel).
 
 References: eqs. (halfnodes), (defnumflux).
 """
 from __future__ import annotations
 
-import numpy as np
 from numba import njit
 
 MP5_ALPHA = 4.0  # Suresh & Huynh (1997)
@@ -29,18 +31,18 @@ _FM = {"nsz"}  # see ringcore.hydro.kernels: no reassociation, so cached and fre
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM, inline="always")
 def _minmod(a, b):
-    """minmod(a, b) = (sign(a) + sign(b))/2 min(|a|, |b|)."""
-    m = min(abs(a), abs(b))
-    return m if (a > 0.0 and b > 0.0) else (-m if (a < 0.0 and b < 0.0) else 0.0)
+    """minmod(a, b) = (sign(a) + sign(b))/2 min(|a|, |b|) for finite a, b."""
+    lo = min(a, b)  # both positive: the smaller is the one of smaller magnitude; both negative: the larger
+    hi = max(a, b)
+    return lo if lo > 0.0 else (hi if hi < 0.0 else 0.0)
 
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM, inline="always")
 def _minmod4(w, x, y, z):
-    """minmod of four: the smallest magnitude with the common sign, 0 unless all four share it."""
-    m = min(min(abs(w), abs(x)), min(abs(y), abs(z)))
-    pos = w > 0.0 and x > 0.0 and y > 0.0 and z > 0.0
-    neg = w < 0.0 and x < 0.0 and y < 0.0 and z < 0.0
-    return m if pos else (-m if neg else 0.0)
+    """minmod of four finite numbers: the smallest magnitude with the common sign, 0 unless all four share it."""
+    lo = min(min(w, x), min(y, z))
+    hi = max(max(w, x), max(y, z))
+    return lo if lo > 0.0 else (hi if hi < 0.0 else 0.0)
 
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM, inline="always")
@@ -53,7 +55,10 @@ def _limit(forig, fm1, f0, fp1, dm4m, dm4p):
     flc = f0 + 0.5 * (f0 - fm1) + (4.0 / 3.0) * dm4m
     fmin = max(min(min(f0, fp1), fmd), min(min(f0, ful), flc))
     fmax = min(max(max(f0, fp1), fmd), max(max(f0, ful), flc))
-    flim = forig + _minmod(fmin - forig, fmax - forig)
+    # minmod(lo, hi) with lo <= hi (fmin <= f0 <= fmax, and rounding keeps the order): lo, hi or zero
+    lo = fmin - forig
+    hi = fmax - forig
+    flim = forig + (lo if lo > 0.0 else (hi if hi < 0.0 else 0.0))
     return forig if (forig - f0) * (forig - fmp) <= MP5_EPS else flim
 
 
