@@ -38,7 +38,7 @@ from numba import njit, types
 FFTW_ESTIMATE = 1 << 6
 FFTW_PRESERVE_INPUT = 1 << 4
 PLAN_FLAGS = FFTW_ESTIMATE | FFTW_PRESERVE_INPUT  # as pyfftw.FFTW plans r2c and one-dimensional c2r
-PLAN_LOCK = threading.Lock()
+PLAN_LOCK = threading.RLock()  # re-entrant: a finalizer may destroy plans while this thread plans
 
 
 def _import_pyfftw():
