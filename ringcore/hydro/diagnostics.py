@@ -99,18 +99,32 @@ class Recorder:
         self.t_strobe, self.strobe = [], []
         self.t_spacetime, self.spacetime = [], []
 
-    def sample(self, t, dt, steps, sigma, u, v, T):
-        """Record the scalar diagnostics of one state at dimensionless time t."""
+    def sample(self, t, dt, steps, sigma, u, v, T, *, e_kin_density=None, extrema=None):
+        """Record the scalar diagnostics of one state at dimensionless time t.
+
+        ``e_kin_density`` (n,) and ``extrema`` (the minima and the maxima of the four fields, two sequences of
+        four), if given, are the kinetic energy per node and the extrema computed already
+        (:func:`ringcore.hydro.state_kernels.sample_fields`: the same values); the arrays are not kept.
+        """
         self.t.append(t)
         self.dt.append(dt)
         self.steps.append(steps)
-        self.e_kin.append(e_kin_dimless(sigma, u, v))
+        if e_kin_density is None:
+            self.e_kin.append(e_kin_dimless(sigma, u, v))
+        else:
+            self.e_kin.append(float(np.mean(e_kin_density)))
         # no tracked modes (the app's default): no transform (it was a seventh of a sample's cost)
         cs = fourier_coefficients(sigma) if self.track_modes.size else np.empty(0, complex)
         self.lambda_p.append(spectra._prevalent_wavelength_1d(sigma, self.L_x_m))  # (checked arguments)
-        for name, f in zip(FIELDS, (sigma, u, v, T)):
-            self.fmin[name].append(float(f.min()))
-            self.fmax[name].append(float(f.max()))
+        if extrema is None:
+            for name, f in zip(FIELDS, (sigma, u, v, T)):
+                self.fmin[name].append(float(f.min()))
+                self.fmax[name].append(float(f.max()))
+        else:
+            lo, hi = (np.asarray(e, float).tolist() for e in extrema)
+            for k, name in enumerate(FIELDS):
+                self.fmin[name].append(lo[k])
+                self.fmax[name].append(hi[k])
         self.mode_sigma.append(cs[self.track_modes])
         # (an empty copy, not cs[:0]: a view would keep the whole spectrum of every sample alive, ~6 KB at n = 800)
         self.mode_u.append(fourier_coefficients(u)[self.track_modes] if self.track_modes.size else np.empty(0, complex))

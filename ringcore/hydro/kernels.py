@@ -35,7 +35,8 @@ from .layout import _FM, NG, P_BULK, P_DTFACTOR, P_DTMODE, P_GAMMA0, P_GRAVITY, 
     P_NT, P_NU0, P_PS, P_PT, P_T0, R_C, R_DIF, R_ETA, R_ETAX, R_FH, R_FM, R_FP, R_GAM, R_MP5, R_P, R_RATE, \
     R_SIG, R_T, R_TX, R_TXX, R_U, R_UX, R_UXX, R_V, R_VX, R_VXX
 from .mp5 import MP5_ALPHA, MP5_EPS, NSCRATCH, mp5, numerical_flux  # noqa: F401 (re-exported)
-from .state_kernels import apply_temperature_floor, check_state, fill_ghosts, to_conservative  # noqa: F401
+from .state_kernels import (apply_temperature_floor, check_state, fill_ghosts, sample_fields,  # noqa: F401
+                            to_conservative)
 
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)

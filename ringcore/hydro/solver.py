@@ -113,6 +113,7 @@ class Hydro1D(Stepping, StateIO, PhysicalFields):
         self._Lstack = np.zeros((1 + max(st[1] for st in STAGES), self.nv, N))
         self._L = list(self._Lstack)
         self._W = np.zeros((K.NW, N))
+        self._sample_rows = (np.zeros((4, n)), np.zeros(n))  # a sample's primitive fields and e_kin per node
         self._beta = np.full(N, d["beta"])
         self.buffer_active = False
         self.buffer = None  # (x_min_m, x_max_m, beta) while a buffer zone is on

@@ -96,3 +96,27 @@ def to_conservative(sigma, u, v, T, out):
         if nv == 4:
             out[3, i] = sigma[j] * (0.5 * u[j] * u[j] + 1.5 * T[j])
     fill_ghosts(out, n)
+
+
+@njit(nogil=True, cache=True, error_model="numpy")
+def sample_fields(s_, mx_, my_, e_, T0, prim, w):
+    """The primitive fields and the kinetic energy density at the interior nodes, in one pass (a sample of
+    the recorder).
+
+    ``s_``, ``mx_``, ``my_``, ``e_`` are the rows sigma, sigma u, sigma v and e of the interior state
+    (``e_`` is ignored if ``T0 > 0``: isothermal, T = T0).  ``prim`` (4, n) receives sigma, u, v, T as
+    :func:`ringcore.hydro.convert.cons_to_prim` computes them (the same operations), ``w`` (n,) the kinetic
+    energy density ``0.5 sigma (u^2 + v^2)`` whose mean is :func:`ringcore.hydro.diagnostics.e_kin_dimless`.
+    """
+    n = s_.shape[0]
+    p0, p1, p2, p3 = prim[0], prim[1], prim[2], prim[3]
+    iso = T0 > 0.0
+    for i in range(n):
+        s = s_[i]
+        u = mx_[i] / s
+        v = my_[i] / s
+        p0[i] = s
+        p1[i] = u
+        p2[i] = v
+        p3[i] = T0 if iso else (2.0 / 3.0) * (e_[i] / s - 0.5 * u * u)
+        w[i] = 0.5 * s * (u * u + v * v)

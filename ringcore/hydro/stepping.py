@@ -268,9 +268,13 @@ class Stepping:
         k = self._k_sample
         if not force and self.t < k * ds:
             return
-        sig, u, v, T = self.primitives()
+        prim, w = self._sample_rows  # one compiled pass; the recorder copies what it keeps
+        U = self.U
+        K.sample_fields(U[0], U[1], U[2], U[-1], self._par[K.P_T0] if self.isothermal else 0.0, prim, w)
+        sig, u, v, T = prim
         rec = self.recorder
-        rec.sample(self.t, self.dt, self._steps, sig, u, v, T)
+        rec.sample(self.t, self.dt, self._steps, sig, u, v, T, e_kin_density=w,
+                   extrema=(prim.min(axis=1), prim.max(axis=1)))
         S = self.options.samples_per_orbit
         strobe = rec.add_strobe(self.t, sig) if self.options.strobe and k % S == 0 else None
         r = self.options.spacetime_rows_per_orbit

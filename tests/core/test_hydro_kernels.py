@@ -112,3 +112,27 @@ def test_cons_to_prim_inverts_to_conservative():
             np.testing.assert_allclose(back[k], prim[k], rtol=1e-14, atol=1e-14)
         np.testing.assert_allclose(back[3], prim[3] if nv == 4 else 0.7, rtol=1e-13)
     assert temperature(3.0, 2.0) == (2.0 / 3.0) * (3.0 - 2.0)  # e/sigma = u^2/2 + 3T/2
+
+
+@pytest.mark.parametrize("iso", [False, True])
+def test_sample_fields_in_one_pass_are_cons_to_prim_bit_for_bit(iso):
+    """The recorder's one-pass sample (state_kernels.sample_fields) gives the primitive fields, the kinetic
+    energy and the extrema of the numpy expressions it replaced, bit for bit (a NaN too)."""
+    from ringcore.hydro.convert import cons_to_prim
+    from ringcore.hydro.diagnostics import e_kin_dimless
+
+    sim = Hydro1D(params.get("tau15", sigma0=400, isothermal=iso), HydroOptions(L_x=500, h=2.5), initial="noise",
+                  seed=4, amplitude=0.05)
+    T0 = sim._par[K.P_T0]
+    for bad in (False, True):
+        U = sim.U.copy()
+        if bad:
+            U[1, 17] = np.nan
+        prim, w = np.empty((4, sim.n)), np.empty(sim.n)
+        K.sample_fields(U[0], U[1], U[2], U[-1], T0 if iso else 0.0, prim, w)
+        ref = cons_to_prim(U, T0)
+        for k in range(4):
+            assert np.array_equal(prim[k].view(np.uint64), np.asarray(ref[k]).view(np.uint64))
+        assert float(np.mean(w)) == e_kin_dimless(*ref[:3]) or (bad and np.isnan(np.mean(w)))
+        assert np.array_equal(prim.min(axis=1), [f.min() for f in ref], equal_nan=True)
+        assert np.isnan(prim.min(axis=1)[1]) == bad
