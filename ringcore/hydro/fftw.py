@@ -68,7 +68,7 @@ def _import_pyfftw():
 
 pyfftw = _import_pyfftw()
 HAVE_PYFFTW = pyfftw is not None
-_NAME = re.compile(r"/libfftw3(-[0-9a-f]+)?\.(so|dylib)[.0-9]*$")  # double precision only (not fftw3f/l/_omp)
+_NAME = re.compile(r"[/\\]libfftw3(-[0-9a-f]+)?(\.[0-9]+)*\.(so|dylib|dll)[.0-9]*$")  # double precision (not fftw3f/l/_omp)
 
 
 def library_path() -> str | None:
@@ -83,8 +83,8 @@ def library_path() -> str | None:
                     return path
     except OSError:
         pass
-    here = os.path.dirname(pyfftw.__file__)  # wheels: auditwheel's pyfftw.libs, delocate's .dylibs
-    for pattern in ("../pyfftw.libs/libfftw3-*.so*", ".dylibs/libfftw3.*dylib"):
+    here = os.path.dirname(pyfftw.__file__)  # wheels: auditwheel's pyfftw.libs, delocate's .dylibs, Windows' DLL
+    for pattern in ("../pyfftw.libs/libfftw3-*.so*", ".dylibs/libfftw3.*dylib", "libfftw3-3.dll"):
         found = [p for p in glob.glob(os.path.join(here, pattern)) if _NAME.search(p)]
         if found:
             return os.path.realpath(found[0])

@@ -52,6 +52,18 @@ def test_the_library_is_the_one_pyfftw_loaded():
     assert fftw.HAVE_PYFFTW
 
 
+@pytest.mark.parametrize("path,double", [
+    ("/v/site-packages/pyfftw.libs/libfftw3-6b983104.so.3.5.5", True),  # manylinux wheel
+    ("/usr/lib/x86_64-linux-gnu/libfftw3.so.3", True),  # a system library
+    ("/v/site-packages/pyfftw/.dylibs/libfftw3.3.dylib", True),  # macOS wheel
+    ("C:\\v\\site-packages\\pyfftw\\libfftw3-3.dll", True),  # Windows wheel
+    ("/usr/lib/libfftw3f.so.3", False), ("/usr/lib/libfftw3l.so.3", False),  # single and long double
+    ("/usr/lib/libfftw3_omp.so.3", False), ("/usr/lib/libfftw3_threads.so.3", False),
+])
+def test_only_the_double_precision_library_is_taken(path, double):
+    assert bool(fftw._NAME.search(path)) == double
+
+
 def test_plans_made_in_many_threads_at_once_give_the_same_force():
     """FFTW's planner is not thread-safe: every plan is made under one lock (the app builds solvers in
     several threads)."""
