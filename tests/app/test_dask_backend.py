@@ -176,29 +176,30 @@ def test_own_cluster_and_its_dashboard_listen_on_this_machine_only():
 
 
 def test_two_sessions_share_one_worker_engine_and_one_detaches_bit_identically(backend):
+    END = 400.0  # orbits: the pause lands at ~150 (two chunks ahead) on a fast machine, well before the end
     from ringlab.server import shared
     shared._REGISTRY.clear()  # no computation of another test to join
     shared.set_enabled(True)
     try:
         a, b = HydroRunner(settings=HydroSettings(**SMALL)), HydroRunner(settings=HydroSettings(**SMALL))
         for r in (a, b):
-            r.running, r.pause_at = True, 200.0
+            r.running, r.pause_at = True, END
         a.tick()
-        b.tick()  # a chunk on a worker is ~0.1 s: tens of orbits of this small box
+        b.tick()  # a chunk on a worker is ~0.1 s: tens of orbits of this small box (two run ahead)
         assert a.sim.computation is b.sim.computation and a.sim.on_worker
         assert wait_engines(backend, 1) == 1  # one engine on the workers for both sessions
         b.pause()
         b._settle()  # Pause: b continues on its own copy
-        assert not b.sim.following and b.sim.orbits < 150.0
+        assert not b.sim.following and b.sim.orbits < END - 150.0  # a long stretch left to compute alone
         b.running = True  # Start again
         for r in (a, b):
-            while r.sim.orbits < 200.0 - 1e-9:
+            while r.sim.orbits < END - 1e-9:
                 r.tick()
         assert wait_engines(backend, 2) == 2 and a.sim.following and b.sim.on_worker
     finally:
         shared.set_enabled(None)
         shared._REGISTRY.clear()
-    ref = in_process(200.0, **SMALL)
+    ref = in_process(END, **SMALL)
     for r in (a, b):
         assert r.sim.steps == ref.sim.steps
         for name in ("t", "e_kin", "lambda_p"):
