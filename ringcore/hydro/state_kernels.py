@@ -118,5 +118,5 @@ def sample_fields(s_, mx_, my_, e_, T0, prim, w):
         p0[i] = s
         p1[i] = u
         p2[i] = v
-        p3[i] = T0 if iso else (2.0 / 3.0) * (e_[i] / s - 0.5 * u * u)
+        p3[i] = T0 if iso else temperature_nb(e_[i] / s, u)
         w[i] = 0.5 * s * (u * u + v * v)
