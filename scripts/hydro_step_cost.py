@@ -183,6 +183,8 @@ def main(argv=None) -> int:
     ap.add_argument("--json", help="write the results here")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
+    if a.json and os.path.exists(a.json):
+        ap.error(f"--json {a.json} exists; give a new file name (results are never overwritten)")
     if a.worker:
         print(json.dumps(cells(a.worker)))
         return 0
