@@ -268,12 +268,19 @@ class DaskBackend:
         self._count = {}  # worker address -> engines placed there
         self._freed = set()
 
+    # Worker address -> threads asked of the scheduler (``Client.nthreads``), not ``Client.scheduler_info``: that
+    # returns the client's cached identity, which its periodic update (asking for no workers) can replace between
+    # the fetch and the return -- 30 runs starting at once met an empty worker list about once in a hundred.
     def workers(self) -> list:
-        return sorted(self.client.scheduler_info(n_workers=-1)["workers"])
+        """The cluster's worker addresses, sorted; RuntimeError if it has none."""
+        ws = sorted(self.client.nthreads())
+        if not ws:
+            raise RuntimeError("the Dask cluster has no workers: live runs cannot be placed")
+        return ws
 
     def slots(self) -> int:
-        info = self.client.scheduler_info(n_workers=-1)["workers"]
-        return max(1, sum(int(w.get("nthreads", 1)) for w in info.values()))
+        """Threads of all workers together (at least 1)."""
+        return max(1, sum(self.client.nthreads().values()))
 
     def host(self, state):
         """An :class:`EngineHost` actor holding ``state`` on the least-loaded worker: (actor, address, future)."""

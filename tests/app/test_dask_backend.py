@@ -231,3 +231,26 @@ def test_chunks_queued_for_a_closed_run_return_at_once_without_stepping(backend)
     finally:
         backend.free(fut)
         backend.forget(addr)
+
+
+def test_runs_are_placed_even_when_the_clients_periodic_update_lands_between_fetch_and_return(backend, monkeypatch):
+    """``Client.scheduler_info`` fetches the workers, then returns the client's cached identity, which its
+    periodic update (asking for no workers) may have replaced meanwhile: a run of a class of 30 failed with
+    "min() arg is an empty sequence" that way.  Here the periodic update lands in between every time."""
+    client = backend.client
+    update = client._update_scheduler_info
+
+    async def racing(n_workers=0):
+        await update(n_workers=n_workers)
+        await update(n_workers=0)  # the periodic update: totals only, no workers
+
+    monkeypatch.setattr(client, "_update_scheduler_info", racing)
+    assert client.scheduler_info(n_workers=-1)["workers"] == {}  # the race, as the client shows it
+    assert len(backend.workers()) == 2 and backend.slots() == 2
+    setup = HydroSettings(**SMALL).resolve()
+    sim = Hydro1D(setup.params, setup.options, initial=setup.initial, **setup.initial_kw)
+    actor, addr, fut = backend.host(sim.snapshot())
+    try:
+        assert addr in backend.workers() and actor.snapshot().result().meta["steps"] == 0
+    finally:
+        backend.free(fut)
