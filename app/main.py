@@ -93,7 +93,7 @@ def create_app(args: dict | None = None) -> pn.Column:
     runs.param.update(positions=dict(TAB_KEYS), builder=lambda kind: lazy.view(TAB_KEYS[kind]))
     header = pn.pane.HTML(f'<header class="app-header" id="app-header"><h1>{TITLE}</h1></header>',
                           stylesheets=[PAGE_CSS], sizing_mode="stretch_width", margin=0, styles={"flex": "1 1 300px"})
-    present = pn.widgets.Toggle(name="Presentation mode", button_type="light", css_classes=["present-toggle"],
+    present = pn.widgets.Toggle(label="Presentation mode", color="light", css_classes=["present-toggle"],
                                 width=170, margin=(8, 16), styles={"flex": "0 0 auto"})
     top = pn.FlexBox(header, present, flex_wrap="wrap", align_items="center", sizing_mode="stretch_width",
                      styles={"background": "#1f4e79", "margin-bottom": "4px"})

@@ -83,14 +83,14 @@ class NBodyView(pn.viewable.Viewer):
         self.message = message_pane("nbody-message")
         self.blowup = message_pane("nbody-blowup")
         self.note = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
-        self.buttons = dict(start=pn.widgets.Button(label="Start", color="success", css_classes=["nbody-start"]),
-                            pause=pn.widgets.Button(label="Pause", color="warning", css_classes=["nbody-pause"]),
-                            step=pn.widgets.Button(label="Step 0.1 orbit", css_classes=["nbody-step"]),
-                            reset=pn.widgets.Button(label="Reset", css_classes=["nbody-reset"]))
+        B = pn.widgets.Button  # a width and no "fixed" sizing mode (Bokeh's W-1005 wants a height with it)
+        self.buttons = dict(start=B(label="Start", color="success", css_classes=["nbody-start"], width=120),
+                            pause=B(label="Pause", color="warning", css_classes=["nbody-pause"], width=120),
+                            step=B(label="Step 0.1 orbit", css_classes=["nbody-step"], width=120),
+                            reset=B(label="Reset", css_classes=["nbody-reset"], width=120))
         self.checked = None  # the box-size inputs (built with the layout); Reset puts back what they hold
         for key, fn in (("start", r.start), ("pause", r.pause), ("step", r.step_once), ("reset", self.reset)):
             self.buttons[key].on_click(fn)
-            self.buttons[key].param.update(width=120, sizing_mode="fixed")
         self.export = ExportPanel(r, "nbody")
         self.keeper = r.keeper  # the runner keeps the box a setup change replaced
         self.kept, self.restore_button = restore_widgets(self.keeper, "nbody", CSS)

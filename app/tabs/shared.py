@@ -74,7 +74,7 @@ def restore_widgets(keeper: RunKeeper, prefix: str, css: str):
     Both are hidden until ``keeper`` keeps a run; ``prefix`` ("hydro", "nbody") names their
     element id / CSS class (``{prefix}-kept``, ``{prefix}-restore``).  Returns ``(note, button)``.
     """
-    button = pn.widgets.Button(label="Restore previous run", color="primary", width=200, sizing_mode="fixed",
+    button = pn.widgets.Button(label="Restore previous run", color="primary", width=200,
                                css_classes=[f"{prefix}-restore"], visible=False)
     button.on_click(keeper.restore)
     note = pn.pane.HTML("", stylesheets=[css], sizing_mode="stretch_width", margin=(2, 10), visible=False)

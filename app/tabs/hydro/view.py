@@ -124,16 +124,15 @@ class HydroView(pn.viewable.Viewer):
     # ---------------------------------------------------------------- building
     def _buttons(self) -> dict:
         r = self.runner
-        b = dict(start=pn.widgets.Button(label="Start", color="success", css_classes=["hydro-start"]),
-                 pause=pn.widgets.Button(label="Pause", color="warning", css_classes=["hydro-pause"]),
-                 step=pn.widgets.Button(label="Step 1 orbit", css_classes=["hydro-step"]),
-                 reset=pn.widgets.Button(label="Reset", css_classes=["hydro-reset"]))
+        B = pn.widgets.Button  # a width and no "fixed" sizing mode (Bokeh's W-1005 wants a height with it)
+        b = dict(start=B(label="Start", color="success", css_classes=["hydro-start"], width=120),
+                 pause=B(label="Pause", color="warning", css_classes=["hydro-pause"], width=120),
+                 step=B(label="Step 1 orbit", css_classes=["hydro-step"], width=120),
+                 reset=B(label="Reset", css_classes=["hydro-reset"], width=120))
         b["start"].on_click(r.start)
         b["pause"].on_click(r.pause)
         b["step"].on_click(r.step_once)
         b["reset"].on_click(self.reset)
-        for w in b.values():
-            w.param.update(width=120, sizing_mode="fixed")
         return b
 
     def _widgets(self) -> pn.Column:

@@ -104,21 +104,21 @@ class PaperView(pn.viewable.Viewer):
 
     # ------------------------------------------------------------------ building
     def _build_controls(self):
-        W = pn.widgets
+        W = pn.widgets  # widths without a "fixed" sizing mode (Bokeh's W-1005 wants a height with it)
         self.play_button = W.Button(label="▶ Play", color="success", css_classes=["paper-play"], width=100,
-                                    sizing_mode="fixed", margin=(24, 5, 5, 5))
+                                    margin=(24, 5, 5, 5))
         self.pause_button = W.Button(label="Pause", color="warning", css_classes=["paper-pause"], width=100,
-                                     sizing_mode="fixed", margin=(24, 5, 5, 5))
+                                     margin=(24, 5, 5, 5))
         self.play_button.on_click(self.playback.play)
         self.pause_button.on_click(self.playback.pause)
         self.speed = W.Select.from_param(self.playback.param.speed, options={f"{s:,} orbits/s": s for s in SPEEDS},
-                                         css_classes=["paper-speed"], width=170, sizing_mode="fixed")
+                                         css_classes=["paper-speed"], width=170)
         self.position = W.FloatSlider(label="Orbit shown", start=0, end=1, value=1, step=1, format="0",
-                                      css_classes=["paper-position"], width=260, sizing_mode="fixed")
+                                      css_classes=["paper-position"], width=260)
         self.position.param.watch(self._on_seek, "value_throttled")
         self.window = W.RadioButtonGroup(options=list(WINDOWS), value=next(iter(WINDOWS)), color="primary",
                                          variant="outline", css_classes=["paper-window"], margin=(24, 5, 5, 5),
-                                         width=320, sizing_mode="fixed")
+                                         width=320)
         self.window.param.watch(lambda e: self.plots.set_window(WINDOWS[e.new]), "value")
         self.playback.param.watch(self._on_clock, "t")
 
@@ -127,7 +127,7 @@ class PaperView(pn.viewable.Viewer):
         titles = {run_title(n): n for n in self.runs}  # plain words; the file name only if two titles agree
         titles = titles if len(titles) == len(self.runs) else {f"{run_title(n)} ({n})": n for n in self.runs}
         select = pn.widgets.Select.from_param(self.param.run, options=titles,
-                                              css_classes=["paper-run"], width=330, sizing_mode="fixed")
+                                              css_classes=["paper-run"], width=330)
         bar = wrap_row(select, self.play_button, self.pause_button, self.speed, self.position, self.window)
         note = pn.pane.HTML('<div class="buttons-note">Play replays the stored run (no computation): the diagram '
                             'grows like a live run; red cursors mark the orbit shown.</div>', stylesheets=[CSS],

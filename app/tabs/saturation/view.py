@@ -176,7 +176,7 @@ class SaturationView(pn.viewable.Viewer):
         self.add_button = pn.widgets.Button(label="Add my run", color="primary", css_classes=["sat-add"],
                                             width=200)
         self.add_button.on_click(self._add)
-        self.point_select = pn.widgets.Select(name="My points", options={}, css_classes=["sat-point-select"],
+        self.point_select = pn.widgets.Select(label="My points", options={}, css_classes=["sat-point-select"],
                                               width=300, visible=False)
         self.remove_button = pn.widgets.Button(label="Remove this point", css_classes=["sat-remove"], width=200,
                                                visible=False)

@@ -53,9 +53,9 @@ class WaveTrainCard(pn.viewable.Viewer):
         super().__init__(**params)
         self.job = WaveTrainJob()
         W = pn.widgets
-        self.sigma0_input = W.FloatInput(name="σ₀ [kg/m²] (0: no self-gravity)", value=0.0, step=50.0, width=190)
-        self.wavelength_input = W.FloatInput(name="wavelength λ [m]", value=300.0, step=10.0, width=150)
-        self.button = W.Button(name="Compute wave train", button_type="primary", css_classes=["wt-compute"],
+        self.sigma0_input = W.FloatInput(label="σ₀ [kg/m²] (0: no self-gravity)", value=0.0, step=50.0, width=190)
+        self.wavelength_input = W.FloatInput(label="wavelength λ [m]", value=300.0, step=10.0, width=150)
+        self.button = W.Button(label="Compute wave train", color="primary", css_classes=["wt-compute"],
                                width=200, align="end")
         self.button.on_click(self.compute)
         self.message = message_pane("wt-message")
