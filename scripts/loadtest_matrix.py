@@ -72,16 +72,17 @@ def table_row(res: dict) -> str:
     orbits = res.get("per_session_orbits_per_s") or []
     cores = res.get("server_cores")
     per_core = res.get("aggregate_orbits_per_s", 0.0) / cores if cores else float("nan")
+    steps_core = res.get("aggregate_steps_per_s", float("nan")) / cores if cores else float("nan")
     join = (f"{ready['median']:.1f} / {ready['max']:.1f}" if ready.get("max") is not None else "-")
     # a shared run's students all show one computation: orbits per core would count it once per student
-    compute = "" if "--shared" in ROWS[res["row"]][1] else f" ({per_core:.1f} per core)"
+    compute = "" if "--shared" in ROWS[res["row"]][1] else f" ({per_core:.1f} per core; {steps_core:,.0f} steps/s per core)"
     return (f"| {label} | {_range(orbits)}{compute} | "
             f"{_range(res.get('frames_per_s'))} | {cores:.2f} ({res.get('server_main_thread_cores', 0):.2f}) | "
             f"{lat.get('median', float('nan')):.2f} / {lat.get('max', float('nan')):.2f} | "
             f"{res.get('server_rss_mb', float('nan')):.0f} | {join} |")
 
 
-HEADER = ("| students, runs | orbits/s per student (different runs: all students' orbits/s per server core) | frames/s per student | "
+HEADER = ("| students, runs | orbits/s per student (different runs: all students' orbits/s and steps/s per server core) | frames/s per student | "
           "server cores (app main thread) | slider median / worst s | server memory MB | page ready median / max s |\n"
           "|---|---|---|---|---|---|---|")
 

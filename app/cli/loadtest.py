@@ -8,8 +8,9 @@ sessions without a browser (Bokeh client sessions on one event loop).  Each stud
 the teacher's link ``/main?tab=hydro&autostart=1`` (the app opens the Hydrodynamics tab and
 presses Start, exactly as a click would; see ``ringlab.main.apply_query``) and acknowledges every
 frame the way the page does (the page's ``CustomJS`` bumps the figure's ``tags`` after a
-source changed; the client does the same), without rendering.  Orbits are read from each
-session's own "Orbits elapsed" readout, i.e. what the page shows.  One more session stays on
+source changed; the client does the same), without rendering.  Orbits and steps are read from each
+session's own "Orbits elapsed" readout, i.e. what the page shows (``aggregate_steps_per_s``: the work done,
+comparable between runs at different orbits, whose orbits take 60 to 140 steps).  One more session stays on
 the Linear-theory tab and moves its sigma0 slider every 2 s: the control latency is the time
 until its linear-theory readout shows the new value.  CPU cores and memory are summed over
 the server's process tree with psutil (and over the Dask workers with ``--dask``);
@@ -184,6 +185,9 @@ def run(args) -> dict:
                    dask=bool(args.dask), compute=env["RINGLAB_COMPUTE"],
                    server_process_cores=round((server_only - marks["own0"]) / (t1 - marks["t0"]), 2), per_session_orbits_per_s=[round(r, 2) for r in rates],
                    aggregate_orbits_per_s=round(sum(rates), 2),
+                   # the work done: an orbit takes 60 to 140 steps as a run's waves grow, so runs at different
+                   # orbits (a lone fast run far on, thirty slow ones early) compare by steps, not orbits
+                   aggregate_steps_per_s=round(sum(st.rate(marks["t0"], t1, what=2) for st in students), 1),
                    min_max_ratio=round(max(rates) / min(rates), 2) if min(rates) > 0 else None,
                    server_cores=round((cpu1 + wcpu1 - scpu0) / (t1 - marks["t0"]), 2),
                    server_rss_mb=round(rss, 0), control_latency_s=dict(

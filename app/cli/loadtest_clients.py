@@ -22,7 +22,8 @@ from tornado.httpclient import HTTPRequest
 # building many pages at once exceeds: the simulated pages wait like a browser
 HANDSHAKE_TIMEOUT_S = 300.0
 START_CLASS = "hydro-start"  # CSS class of the Hydrodynamics tab's Start button
-ORBITS_RE = re.compile(r'id="hydro-orbits">.*?class="ro-value">([0-9.]+)<')
+# the "Orbits elapsed" readout: its value, and the steps taken in its note
+ORBITS_RE = re.compile(r'id="hydro-orbits">.*?class="ro-value">([0-9.]+)<.*?class="ro-note">([0-9]+) steps<')
 
 
 def connect(url: str, loop, arguments: dict | None = None, defer_build: bool = False) -> ClientSession:
@@ -92,7 +93,7 @@ class Student:
         self.doc = session.document
         # a session opened with connect(defer_build=True): the server's messages wait here until build()
         self.waiting = [] if getattr(session, "pulled_reply", None) is not None else None
-        self.samples = []  # (wall, orbits shown)
+        self.samples = []  # (wall, orbits shown, steps taken)
         self.acks = 0
         self.started = False
         self.hooked = set()
@@ -173,14 +174,15 @@ class Student:
     def _readout(self, text):
         m = ORBITS_RE.search(html.unescape(text or ""))
         if m:
-            self.samples.append((time.perf_counter(), float(m.group(1))))
+            self.samples.append((time.perf_counter(), float(m.group(1)), int(m.group(2))))
             self.started = self.started or float(m.group(1)) > 0
 
-    def rate(self, t0: float, t1: float) -> float:
-        s = [(t, o) for t, o in self.samples if t0 <= t <= t1]
+    def rate(self, t0: float, t1: float, what: int = 1) -> float:
+        """Orbits (``what`` = 1) or time steps (2) per second of wall time shown between ``t0`` and ``t1``."""
+        s = [x for x in self.samples if t0 <= x[0] <= t1]
         if len(s) < 2 or s[-1][0] <= s[0][0]:
             return 0.0
-        return (s[-1][1] - s[0][1]) / (s[-1][0] - s[0][0])
+        return (s[-1][what] - s[0][what]) / (s[-1][0] - s[0][0])
 
     def frame_rate(self, t0: float, t1: float) -> float:
         """Frames (new profile data) per second received between ``t0`` and ``t1``."""

@@ -53,3 +53,5 @@ def test_a_class_opening_the_start_link_together_builds_its_pages_once_all_arriv
     assert r["hooked"] == [3, 3, 3], r["hooked"]  # profile and image sources and the readout found after the build
     assert all(r["started"]), r["started"]
     assert all(f > 0 for f in r["frames_per_s"]), r["frames_per_s"]
+    # the steps the pages show: an orbit of the default box takes 42 steps or more
+    assert r["aggregate_steps_per_s"] >= 40 * r["aggregate_orbits_per_s"] > 0, r
