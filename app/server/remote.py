@@ -270,7 +270,7 @@ class DaskBackend:
 
     # Worker address -> threads asked of the scheduler (``Client.nthreads``), not ``Client.scheduler_info``: that
     # returns the client's cached identity, which its periodic update (asking for no workers) can replace between
-    # the fetch and the return -- 30 runs starting at once met an empty worker list about once in a hundred.
+    # the fetch and the return -- a class of 30 starting different runs met an empty worker list.
     def workers(self) -> list:
         """The cluster's worker addresses, sorted; RuntimeError if it has none."""
         ws = sorted(self.client.nthreads())
