@@ -18,6 +18,8 @@ each printed as a table (and written as JSON with ``--json``):
             ``ringcore/``, e.g. from ``git archive``) the same for that code, in its own process and numba cache.
 ``landing`` steps over orbits 0-10 with 20 and with 2 samples per orbit (every sample time is landed on
             exactly, so a step is shortened at each), and the largest difference of the states after 5 orbits.
+``phases``  (with ``--phases``, about 90 s) steps and CPU per orbit of one run over orbits 0-160, 160-400, ...
+            4,000-6,000 and 6,000-8,000: an orbit costs more steps while the waves grow than once they saturate.
 
 Process CPU time (``time.process_time``); run on a quiet machine.
 """
@@ -176,11 +178,29 @@ def landing(root: str) -> dict:
     return out
 
 
+def phases(root: str) -> dict:
+    """Steps and ms of CPU per orbit between the orbits of :data:`PHASE_MARKS`."""
+    sim, out = _box(root), {}
+    sim.advance(orbits=0.2)
+    sim = _box(root)
+    o0, s0, c0 = 0.0, 0, time.process_time()
+    for m in PHASE_MARKS:
+        sim.advance(until=m)
+        c = time.process_time()
+        out[f"{o0:g}-{m:g}"] = dict(steps_per_orbit=(sim.steps - s0) / (m - o0), ms_per_orbit=1e3 * (c - c0) / (m - o0))
+        o0, s0, c0 = m, sim.steps, c
+    return out
+
+
+PHASE_MARKS = (160.0, 400.0, 1000.0, 2000.0, 4000.0, 6000.0, 8000.0)
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--base", help="folder holding another ringcore/ for the 'cells' comparison")
     ap.add_argument("--baseline-ms-per-orbit", type=float, help="CPU per orbit of the code compared against")
     ap.add_argument("--json", help="write the results here")
+    ap.add_argument("--phases", action="store_true", help="also the cost per orbit of one run to orbit 8,000 (~90 s)")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
     if a.json and os.path.exists(a.json):
@@ -198,6 +218,8 @@ def main(argv=None) -> int:
     res["pieces"] = pieces(HERE)
     res["floor"] = floor(HERE, a.baseline_ms_per_orbit)
     res["landing"] = landing(HERE)
+    if a.phases:
+        res["phases"] = phases(HERE)
     for k in ("cells_base", "cells"):
         if k in res:
             c = res[k]
@@ -212,6 +234,8 @@ def main(argv=None) -> int:
         print(f"  of the baseline {f['baseline_ms_per_orbit']:.2f}: floor {f['floor_over_baseline']:.3f}, "
               f"run {f['run_over_baseline']:.3f}; half of it allows {f['half_budget_us_per_step']:.1f} us per step")
     print("landing:", json.dumps(res["landing"]))
+    for k, v in res.get("phases", {}).items():
+        print(f"orbits {k}: {v['steps_per_orbit']:.1f} steps and {v['ms_per_orbit']:.2f} ms of CPU per orbit")
     if a.json:
         with open(a.json, "w") as fh:
             json.dump(res, fh, indent=1)
