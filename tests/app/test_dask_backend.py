@@ -82,7 +82,7 @@ def test_worker_run_is_bit_identical_to_in_process(backend):
     ref = in_process(2.0, **SMALL)
     assert r.sim.orbits == ref.sim.orbits == 2.0 and r.sim.steps == ref.sim.steps > 0
     assert r.sim.snapshot().checksum() == ref.sim.snapshot().checksum()  # kernel state and every sample
-    np.testing.assert_array_equal(r.sim.sigma, ref.sim.sigma)  # what the page draws
+    np.testing.assert_array_equal(r.sim.sigma_dimless, ref.sim.sigma_dimless)  # what the page draws
     wf, lf = r.sim.frame(), ref.sim.frame()
     assert wf is r.sim._frame  # computed on the worker with the chunk, not rebuilt here
     for field in dataclasses.fields(wf):
