@@ -72,7 +72,7 @@ def fingerprint_run() -> list:
     for iso in (False, True):
         p = params.get("tau15", sigma0=400, isothermal=iso)
         sim = Hydro1D(p, HydroOptions(L_x=500, h=2.5, timestep="cfl"), initial="noise", seed=3, amplitude=1e-2)
-        sim.run(orbits=0.5)
+        sim.advance(orbits=0.5)
         lines.append(f"{hashlib.sha1(sim.U.tobytes()).hexdigest()} {sim.steps}")
     return lines
 

@@ -40,7 +40,7 @@ ORBITS = 3.0
 def run(p, h, lam, f):
     opt = HydroOptions(L_x=2 * lam, h=h, timestep="cfl", dt_factor=f, samples_per_orbit=4)
     sim = Hydro1D(p, opt, initial="mode", wavelength=lam, amplitude=0.2)
-    sim.run(orbits=ORBITS)
+    sim.advance(orbits=ORBITS)
     return sim
 
 

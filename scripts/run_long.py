@@ -30,7 +30,7 @@ def main():
         sim = Hydro1D(p, opt, initial="noise", seed=1, amplitude=1e-4, lambda_min=50.0)
     t0 = time.time()
     while sim.orbits < orbits - 1e-9:
-        sim.run(until=min(orbits, sim.orbits + chunk))
+        sim.advance(until=min(orbits, sim.orbits + chunk))
         sim.save(out, complete=sim.orbits >= orbits - 1e-9)  # ringcore.io.write_run: atomic
         print(f"{sim.orbits:8.1f} orbits  e_kin = {sim.e_kin():.4e} sigma0 c0^2  lambda_p = "
               f"{sim.prevalent_wavelength():7.1f} m  dt = {sim.dt_orbits:.2e} orbits  "

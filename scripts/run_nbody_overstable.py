@@ -27,7 +27,7 @@ box = ShearingBox(params.get("tau15", sigma0=a.sigma0),
 print(f"N = {box.N}, L_x = {a.L_x} m, L_y = {a.L_y} m, sigma0 = {a.sigma0}", flush=True)
 t0 = time.time()
 while box.orbits < a.orbits - 1e-9:
-    box.run(min(a.check, a.orbits - box.orbits))
+    box.advance(min(a.check, a.orbits - box.orbits))
     box.save(a.out, complete=box.orbits >= a.orbits - 1e-9)
     h = box.history
     n = int(round(a.check / box.options.record_every))

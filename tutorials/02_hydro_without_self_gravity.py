@@ -76,7 +76,7 @@ print(f"{p.name}, {p.model}, p_s = {p.p_s}: fastest linear growth {s.max_growth_
 t0 = time.perf_counter()
 opt = HydroOptions(L_x=L_x, h=h, timestep="cfl", samples_per_orbit=2, strobe=True)
 run1 = Hydro1D(p, opt, initial="noise", seed=1)
-run1.run(orbits=orbits_noise)
+run1.advance(orbits=orbits_noise)
 wall1 = time.perf_counter() - t0
 print(f"{run1}: {wall1:.0f} s wall time, {run1.steps / run1.orbits:.0f} steps per orbit")
 
@@ -216,7 +216,7 @@ print(f"last source seen at orbit {last_pair}; afterwards one wave train travell
 t0 = time.perf_counter()
 run2 = Hydro1D(p, HydroOptions(L_x=L_x, h=h, timestep="cfl", samples_per_orbit=2, strobe=False),
                initial="mode", wavelength=100.0, amplitude=1e-3)
-run2.run(orbits=orbits_mode)
+run2.advance(orbits=orbits_mode)
 print(f"{run2}: {time.perf_counter() - t0:.0f} s wall time")
 t2, ekin2 = run2.e_kin_series()
 lp2 = run2.series()["lambda_p"]
@@ -251,8 +251,8 @@ print(f"e_kin of the saturated 100 m wave: {e_before:.3g}; after the step: {ekin
 # marked:
 
 # %%
-lam, P = analysis.power_spectrum(run1.sigma, L_x)
-lam_final = analysis.prevalent_wavelength(run1.sigma, L_x)
+lam, P = analysis.power_spectrum(run1.sigma_dimless, L_x)
+lam_final = analysis.prevalent_wavelength(run1.sigma_dimless, L_x)
 plt.figure(figsize=(6, 3.6))
 plt.semilogx(lam, P / P.max(), "k.-", ms=3)
 plt.axvline(233, color="C1", ls="--", label="λ_st = 233 m (LO2009)")
@@ -289,7 +289,7 @@ print("inside the buffer zone: growth rate " +
 t0 = time.perf_counter()
 run3 = Hydro1D(p, HydroOptions(L_x=L_x, h=h, timestep="cfl", samples_per_orbit=2, strobe=True, buffer=buffer),
                initial="noise", seed=1)
-run3.run(orbits=orbits_buffer)
+run3.advance(orbits=orbits_buffer)
 print(f"{run3}: {time.perf_counter() - t0:.0f} s wall time")
 ts3, src3, snk3, d3 = strobe_panels(run3, [(0, 300), (orbits_buffer - 300, orbits_buffer)],
                                     f"with a buffer zone β = −0.5 on [{buffer[0]:.0f} m, {buffer[1]:.0f} m]")
@@ -297,7 +297,7 @@ t3, ekin3 = run3.e_kin_series()
 lp3 = run3.series()["lambda_p"]
 late = t3 > orbits_buffer / 2
 inside = (run3.x_m >= buffer[0]) & (run3.x_m <= buffer[1])
-sig = run3.sigma
+sig = run3.sigma_dimless
 q10, q50, q90 = np.percentile(lp3[late], [10, 50, 90])
 print(f"last {orbits_buffer // 2} orbits: e_kin = {ekin3[late].mean():.3g} (run 1 at its end: {ekin[-1]:.3g}); "
       f"lambda_p median {q50:.0f} m, 10-90 % range {q10:.0f}-{q90:.0f} m")

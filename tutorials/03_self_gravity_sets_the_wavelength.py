@@ -138,7 +138,7 @@ if RUN_LARGE:
         q = params.get(SET, sigma0=s0)
         sim = Hydro1D(q, HydroOptions(L_x=L_x, h=h, timestep="cfl", samples_per_orbit=2, strobe=False, T_floor=0.01),
                       initial="noise", seed=1)
-        sim.run(orbits=sweep_orbits)
+        sim.advance(orbits=sweep_orbits)
         runs[s0] = sim
         print(f"sigma0 = {s0:.0f}: {time.perf_counter() - t0:.0f} s, lambda_p = {sim.prevalent_wavelength():.0f} m "
               f"(1.4 lambda_zero = {analysis.lambda_p_empirical(q):.0f} m)")

@@ -69,9 +69,9 @@ print(f"table (tau15): c0 = {p.c0 * 1e3:.2f} mm/s, nu0 = {p.nu0 * 1e3:.2f}e-3 m^
 # %%
 t0 = time.perf_counter()
 box = ShearingBox(p, NBodyOptions(L_x=gs_box[0], L_y=gs_box[1], restitution="bridges"), seed=1)
-box.run(gs_settle)
+box.advance(gs_settle)
 box.reset_accumulators()
-box.run(gs_average)
+box.advance(gs_average)
 d = box.diagnostics()
 print(f"N = {box.N} particles, {gs_settle} + {gs_average} orbits in {time.perf_counter() - t0:.0f} s")
 rows = [("granular temperature T [1e-8 m^2/s^2]", d["T"] * 1e8, p.T0 * 1e8),
@@ -118,7 +118,7 @@ lam, s0 = 100.0, 600.0
 q = params.get("tau15", sigma0=s0)
 t0 = time.perf_counter()
 nb = ShearingBox(q, NBodyOptions(L_x=lam, L_y=lin_Ly, restitution="bridges", single_mode=1), seed=2)
-nb.run(lin_settle)
+nb.advance(lin_settle)
 nb.seed_mode(1, 0.3)                                 # add u = 0.3 R_p Omega sin(k x), below the thermal motions
 g = growth.measure(nb, 1, lin_orbits, skip=1.0)
 print(f"N-body: N = {nb.N}, {time.perf_counter() - t0:.0f} s; growth {g.growth_rate:.4f} +- {g.growth_rate_err:.4f}, "
@@ -126,7 +126,7 @@ print(f"N-body: N = {nb.N}, {time.perf_counter() - t0:.0f} s; growth {g.growth_r
 
 hy = Hydro1D(q, HydroOptions(L_x=lam, h=1.0, samples_per_orbit=20, strobe=False, track_modes=(1,), probes_m=(0.0,)),
              initial="mode", wavelength=lam, amplitude=1e-3)
-hy.run(orbits=lin_orbits)
+hy.advance(orbits=lin_orbits)
 a = hy.series()
 t_h = a["t"] / (2 * np.pi)
 from ringcore import analysis  # noqa: E402  (growth_rate, lomb_frequency)

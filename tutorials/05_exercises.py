@@ -91,9 +91,9 @@ t0 = time.perf_counter()
 for R in (1.0, 2.0):
     box = ShearingBox(p, NBodyOptions(L_x=size[0] * R, L_y=size[1] * R, R_p=R, restitution="bridges",
                                       v_c=0.077e-3 * R), seed=1)
-    box.run(4 if QUICK else 10)
+    box.advance(4 if QUICK else 10)
     box.reset_accumulators()
-    box.run(8 if QUICK else 40)
+    box.advance(8 if QUICK else 40)
     d = box.diagnostics()
     c_eff[R] = d["c_eff"]
     print(f"R_p = {R:.0f} m: N = {box.N}, c0 = {d['c_eff'] * 1e3:.3f} mm/s, sqrt(T) = {np.sqrt(d['T']) * 1e3:.3f} mm/s, "

@@ -3,7 +3,7 @@
 >>> from ringcore import params
 >>> from ringcore.nbody import ShearingBox, NBodyOptions
 >>> box = ShearingBox(params.get("tau15"), NBodyOptions(L_x=50, L_y=25, restitution="bridges"), seed=1)
->>> box.run(orbits=20, progress=True)                # doctest: +SKIP
+>>> box.advance(orbits=20, progress=True)            # doctest: +SKIP
 >>> box.diagnostics()["T"], box.transport()["nu"]    # [m^2/s^2], [m^2/s]  # doctest: +SKIP
 >>> box.save("run.nc"); box = ShearingBox.load("run.nc")                   # doctest: +SKIP
 

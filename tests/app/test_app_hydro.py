@@ -56,19 +56,19 @@ def test_each_control_changes_the_model(runner):
     assert r.sim.n == 200 and r.sim.x_m[0] == -200.0
     r.settings.timestep = "paper"
     assert r.sim.options.timestep == "paper"
-    a = r.sim.sigma
+    a = r.sim.sigma_dimless
     r.settings.seed = 7
-    assert not np.array_equal(a, r.sim.sigma)
+    assert not np.array_equal(a, r.sim.sigma_dimless)
     r.settings.param.update(initial="mode", wavelength=100.0, amplitude=0.01)
     ref = Hydro1D(params.get("tau20", 250.0), HydroOptions(L_x=400.0, h=2.0), initial="mode", wavelength=100.0,
                   amplitude=0.01)
-    np.testing.assert_allclose(r.sim.sigma, ref.sigma, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(r.sim.sigma_dimless, ref.sigma_dimless, rtol=0, atol=1e-14)
     assert "mode λ = 100 m" in r.run_label
 
 
 def test_run_advances_pause_step_and_reset(runner):
     r = runner
-    sigma0 = r.sim.sigma
+    sigma0 = r.sim.sigma_dimless
     r.start()
     assert r.running
     for _ in range(5):
@@ -91,7 +91,7 @@ def test_run_advances_pause_step_and_reset(runner):
     assert r.strobe_image.rows >= 2  # a stroboscopic row at every full orbit
     r.reset()
     assert r.sim.orbits == 0.0 and r.series.size == 1
-    np.testing.assert_array_equal(r.sim.sigma, sigma0)  # same seed, same initial state
+    np.testing.assert_array_equal(r.sim.sigma_dimless, sigma0)  # same seed, same initial state
 
 
 def test_buffer_switched_on_while_running(runner):
@@ -161,7 +161,7 @@ def test_export_is_a_readable_run_file(runner, tmp_path):
     path.write_bytes(data)
     ds = read_run(path, "hydro")
     assert ds.attrs["kind"] == "hydro" and float(ds["t"][-1]) == pytest.approx(r.sim.orbits)
-    np.testing.assert_allclose(ds["sigma"].values, r.sim.sigma * 400.0)
+    np.testing.assert_allclose(ds["sigma"].values, r.sim.sigma_dimless * 400.0)
     assert HydroSettings.parse_settings(ds.attrs["app_settings_json"])["buffer_on"] is True
     restored = Hydro1D.from_dataset(ds)
     np.testing.assert_allclose(restored.U, r.sim.U)

@@ -117,13 +117,13 @@ def test_served_session_pause_keeps_the_shown_state_and_close_frees_the_worker(b
         r.pause()
     doc.drain(2.0, stop=lambda: not r._inflight)
     doc.drain(0.3)
-    shown = (r.sim.orbits, r.sim.steps, r.sim.sigma.copy())
+    shown = (r.sim.orbits, r.sim.steps, r.sim.sigma_dimless.copy())
     time.sleep(0.3)
     doc.drain(0.3)
     assert (r.sim.orbits, r.sim.steps) == shown[:2] and frames[-1] == shown[0]  # nothing advanced after Pause
     kept = Hydro1D.restore(r.sim.snapshot())  # what an export writes
     assert (kept.orbits, kept.steps) == shown[:2]
-    np.testing.assert_array_equal(kept.sigma, shown[2])
+    np.testing.assert_array_equal(kept.sigma_dimless, shown[2])
     ds = r.to_dataset()
     assert float(ds.attrs.get("steps", kept.steps)) == kept.steps
     assert wait_engines(backend, 1) == 1

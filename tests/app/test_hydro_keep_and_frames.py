@@ -24,7 +24,7 @@ def test_setup_change_keeps_the_previous_run_restorable():
     r.start()
     for _ in range(3):
         r.tick()
-    old, t, sigma = r.sim, r.sim.orbits, r.sim.sigma.copy()
+    old, t, sigma = r.sim, r.sim.orbits, r.sim.sigma_dimless.copy()
     n_series = r.series.size
     r.settings.sigma0 = 250.0
     assert r.sim is not old and r.sim.orbits == 0.0  # a new run at the new setting ...
@@ -35,7 +35,7 @@ def test_setup_change_keeps_the_previous_run_restorable():
     r.tick()
     v.restore_button.clicks += 1  # ... and the old one back with its settings, state and plots
     assert r.sim is old and r.sim.orbits == t and r.settings.sigma0 == 300.0 and r.series.size == n_series
-    np.testing.assert_array_equal(r.sim.sigma, sigma)
+    np.testing.assert_array_equal(r.sim.sigma_dimless, sigma)
     assert "Restored" in r.status and "σ₀ = 300" in v.header.object
     assert "σ₀ = 250" in v.kept.object  # the replaced run is kept in turn
     r.tick()

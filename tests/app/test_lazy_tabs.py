@@ -87,7 +87,7 @@ def test_a_run_in_a_lazily_built_tab_is_bit_identical_to_an_eager_one():
         r.settings.param.update(**SMALL)
         r.advance(60.0, until=1.0)
     assert lazy.sim.orbits == eager.sim.orbits
-    np.testing.assert_array_equal(lazy.sim.sigma, eager.sim.sigma)
+    np.testing.assert_array_equal(lazy.sim.sigma_dimless, eager.sim.sigma_dimless)
 
 
 @pytest.mark.parametrize("name", sorted(PRESETS))

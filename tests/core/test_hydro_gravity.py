@@ -69,7 +69,7 @@ def test_response_of_wire_tends_to_mode():
 def test_sigma0_zero_switches_gravity_off():
     sim = Hydro1D(params.get("tau15", sigma0=0), HydroOptions(L_x=200, h=2.0), initial="noise", seed=3)
     assert not sim.gravity.enabled
-    assert np.all(sim.gravity.force(sim.sigma) == 0.0)
+    assert np.all(sim.gravity.force(sim.sigma_dimless) == 0.0)
 
 
 def test_numpy_fallback_matches_pyfftw():

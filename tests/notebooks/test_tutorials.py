@@ -1,4 +1,5 @@
-"""Every tutorial runs top to bottom in quick mode (jupytext percent .py -> nbclient).
+"""Every tutorial runs top to bottom in quick mode (jupytext percent .py -> nbclient), without a warning that
+it uses a deprecated part of the lab's API.
 
 Executed notebooks are written to test-artifacts/tutorials/ (HTML too) for reading.
 """
@@ -37,5 +38,9 @@ def test_tutorial_runs(path):
     except Exception:  # HTML is a convenience for reading, not part of the check
         pass
     (out / f"{path.stem}.time").write_text(f"{wall:.1f}\n")
+    # a classroom notebook shows students no warning that the lab's own API they were taught is deprecated
+    said = [o.get("text", "") for c in nb.cells for o in c.get("outputs", []) if o.get("output_type") == "stream"]
+    stale = [line for text in said for line in text.splitlines() if "is deprecated" in line]
+    assert not stale, f"{path.stem} uses deprecated API: {stale}"
     loaded = os.getloadavg()[0] > (os.cpu_count() or 1) * 2
     assert wall < LIMIT_S * (LOAD_SLACK if loaded else 1.0), f"{path.stem} took {wall:.0f} s (load {os.getloadavg()[0]:.1f})"
