@@ -26,24 +26,30 @@ import time
 HERE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def measure(root: str, orbits: float, reference: bool) -> dict:
-    """One run in this process with ``ringcore`` imported from ``root``."""
+def default_box(root: str, L_x: float = 2000.0, samples: int = 20):
+    """The app's default live box (``L_x`` [m] and ``samples`` per orbit may differ) as a new
+    :class:`~ringcore.hydro.Hydro1D`, with ``ringcore`` imported from ``root`` (also used by
+    ``scripts/hydro_step_cost.py``)."""
     sys.path.insert(0, root)
-    import hashlib
-
-    import numpy as np
-
     import ringcore
     from ringcore import params
     from ringcore.hydro import Hydro1D, HydroOptions
     if not ringcore.__file__.startswith(os.path.abspath(root)):
         raise SystemExit(f"ringcore imported from {ringcore.__file__}, not from {root}")
     p = params.get("tau15", sigma0=400.0, isothermal=False)
-    opt = HydroOptions(L_x=2000.0, h=2.5, timestep="cfl", T_floor=0.01, samples_per_orbit=20,
+    opt = HydroOptions(L_x=L_x, h=2.5, timestep="cfl", T_floor=0.01, samples_per_orbit=samples,
                        spacetime_rows_per_orbit=0, strobe=True, probes_m=(0.0,))
+    return Hydro1D(p, opt, initial="noise", seed=1, amplitude=1e-4, max_samples=20000, max_rows=2000)
+
+
+def measure(root: str, orbits: float, reference: bool) -> dict:
+    """One run in this process with ``ringcore`` imported from ``root``."""
+    import hashlib
+
+    import numpy as np
 
     def make():
-        sim = Hydro1D(p, opt, initial="noise", seed=1, amplitude=1e-4, max_samples=20000, max_rows=2000)
+        sim = default_box(root)
         if reference:
             sim.fast_step = False
         return sim

@@ -35,30 +35,19 @@ import tempfile
 import time
 
 HERE = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from hydro_step_ab import default_box  # noqa: E402 (the same box as the A/B)
 CELLS_L = (500.0, 1000.0, 2000.0, 4000.0, 8000.0)  # m, at h = 2.5 m: 200 ... 3,200 cells
-
-
-def _box(root, L_x=2000.0, samples=20):
-    sys.path.insert(0, root)
-    import ringcore
-    from ringcore import params
-    from ringcore.hydro import Hydro1D, HydroOptions
-    if not ringcore.__file__.startswith(os.path.abspath(root)):
-        raise SystemExit(f"ringcore imported from {ringcore.__file__}, not from {root}")
-    p = params.get("tau15", sigma0=400.0, isothermal=False)
-    opt = HydroOptions(L_x=L_x, h=2.5, timestep="cfl", T_floor=0.01, samples_per_orbit=samples,
-                       spacetime_rows_per_orbit=0, strobe=True, probes_m=(0.0,))
-    return Hydro1D(p, opt, initial="noise", seed=1, amplitude=1e-4, max_samples=20000, max_rows=2000)
 
 
 def cells(root: str) -> dict:
     """us per step (median of 3) for each grid of :data:`CELLS_L`, orbits 0-8, and the fit."""
     out = {}
     for L in CELLS_L:
-        _box(root, L).advance(orbits=0.2)  # compile or load the cache
+        default_box(root, L).advance(orbits=0.2)  # compile or load the cache
         v = []
         for _ in range(3):
-            sim = _box(root, L)
+            sim = default_box(root, L)
             sim.on_sample(lambda s, d: None)
             c = time.process_time()
             sim.advance(until=8.0)
@@ -77,7 +66,7 @@ def pieces(root: str) -> dict:
 
     from ringcore.hydro import kernels as K
     from ringcore.hydro.fftw import convolve
-    sim = _box(root)
+    sim = default_box(root)
     sim.advance(until=100.0)
     U = sim._Ustack[sim._slot[0]].copy()
     W, beta, par, n, g = sim._W, sim._beta, sim._par, sim.n, sim.gravity
@@ -138,7 +127,7 @@ def floor(root: str, baseline_ms: float | None) -> dict:
     from ringcore.hydro.stepping import STAGE_F, STAGE_I
     per = {}
     for start in (10.0, 100.0, 150.0):
-        sim = _box(root)
+        sim = default_box(root)
         sim.advance(until=start)
         g = sim.gravity
         c = time.process_time()
@@ -146,7 +135,7 @@ def floor(root: str, baseline_ms: float | None) -> dict:
             sim._Ustack, sim._slot, sim._Lstack, sim._W, sim._beta, sim._par, g.enabled, *g.kernel_args,
             STAGE_I, STAGE_F, sim._T_floor, sim.t, math.inf, math.inf, 1000)
         per[start] = 1e6 * (time.process_time() - c) / n
-    sim = _box(root)
+    sim = default_box(root)
     c = time.process_time()
     sim.advance(until=200.0)
     run_ms = 1e3 * (time.process_time() - c) / 200.0
@@ -165,7 +154,7 @@ def landing(root: str) -> dict:
     import numpy as np
     out, U = {}, {}
     for S in (20, 2):
-        sim = _box(root, samples=S)
+        sim = default_box(root, samples=S)
         sim.advance(until=5.0)
         U[S] = sim.U.copy()
         sim.advance(until=10.0)
@@ -180,9 +169,9 @@ def landing(root: str) -> dict:
 
 def phases(root: str) -> dict:
     """Steps and ms of CPU per orbit between the orbits of :data:`PHASE_MARKS`."""
-    sim, out = _box(root), {}
+    sim, out = default_box(root), {}
     sim.advance(orbits=0.2)
-    sim = _box(root)
+    sim = default_box(root)
     o0, s0, c0 = 0.0, 0, time.process_time()
     for m in PHASE_MARKS:
         sim.advance(until=m)
@@ -203,8 +192,14 @@ def main(argv=None) -> int:
     ap.add_argument("--phases", action="store_true", help="also the cost per orbit of one run to orbit 8,000 (~90 s)")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
-    if a.json and os.path.exists(a.json):
-        ap.error(f"--json {a.json} exists; give a new file name (results are never overwritten)")
+    out_file = None
+    if a.json:  # made now (never over an existing file), so that a bad place fails before minutes of measuring
+        try:
+            out_file = open(a.json, "x")
+        except FileExistsError:
+            ap.error(f"--json {a.json} exists; give a new file name (results are never overwritten)")
+        except OSError as exc:
+            ap.error(f"--json {a.json} cannot be written: {exc.strerror}")
     if a.worker:
         print(json.dumps(cells(a.worker)))
         return 0
@@ -236,9 +231,9 @@ def main(argv=None) -> int:
     print("landing:", json.dumps(res["landing"]))
     for k, v in res.get("phases", {}).items():
         print(f"orbits {k}: {v['steps_per_orbit']:.1f} steps and {v['ms_per_orbit']:.2f} ms of CPU per orbit")
-    if a.json:
-        with open(a.json, "w") as fh:
-            json.dump(res, fh, indent=1)
+    if out_file is not None:
+        with out_file:
+            json.dump(res, out_file, indent=1)
     return 0
 
 
