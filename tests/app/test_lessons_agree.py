@@ -60,3 +60,12 @@ def test_the_compare_tab_explains_what_its_watch_box_says():
 
     assert "start together" in COMPARE["engine"].watch and "start far apart" not in EXPLANATION
     assert "curves start together" in EXPLANATION
+
+
+def test_feedback_echoes_a_plain_answer_with_its_unit_once():
+    from ringlab.lessons.checks import _judge
+
+    r = _judge("128.9 m", 100.0, rel_tol=0.03, unit="m", what="λ_zero")
+    assert r.status == "wrong" and "128.9 m is too high" in r.message and "= 128.9" not in r.message
+    r = _judge("0.1289 km", 100.0, rel_tol=0.03, unit="m", what="λ_zero")  # another unit: shown as read
+    assert "0.1289 km = 128.9 m is too high" in r.message
