@@ -5,13 +5,11 @@ from __future__ import annotations
 import html
 import io
 import json
-from types import SimpleNamespace
 
 import panel as pn
 
-from ringlab.live.export import MAX_UPLOAD_BYTES, check_settings_upload
+from ringlab.live.export import check_settings_upload
 from ringlab.live.keeper import RunKeeper
-from ringlab.ui.file_upload import SizedUpload
 
 
 class ExportPanel(pn.viewable.Viewer):
@@ -31,14 +29,10 @@ class ExportPanel(pn.viewable.Viewer):
         self.settings_download = pn.widgets.FileDownload(
             callback=self._settings_file, filename=f"ringlab-{kind}-settings.json", label="Save settings (JSON)",
             embed=False, css_classes=["export-settings"], sizing_mode="stretch_width")
-        # a file over the limit is refused in the browser before it is sent (a large one would exceed the
-        # websocket's message limit and end the page's connection without a word)
-        self.settings_upload = SizedUpload(accept=".json", max_bytes=MAX_UPLOAD_BYTES, sizing_mode="stretch_width",
-                                           css_classes=["settings-upload"])
+        self.settings_upload = pn.widgets.FileInput(accept=".json", multiple=False, sizing_mode="stretch_width",
+                                                    css_classes=["settings-upload"])
         self.message = pn.pane.HTML("", visible=False, sizing_mode="stretch_width")
-        self.settings_upload.param.watch(lambda e: self._on_upload(SimpleNamespace(new=self.settings_upload.data())),
-                                         "uploads")
-        self.settings_upload.param.watch(self._on_refused, "refusals")
+        self.settings_upload.param.watch(self._on_upload, "value")
         self._layout = pn.Column(
             pn.pane.Markdown("**Export** — each plot has a save tool (disk icon above it) for a PNG.", margin=(0, 10)),
             self.run_download, self.settings_download,
@@ -56,17 +50,6 @@ class ExportPanel(pn.viewable.Viewer):
     def _settings_file(self):
         return io.StringIO(self.runner.settings.settings_json())
 
-    def _on_refused(self, *_):
-        """A file the browser refused (over the size limit): say so; nothing was sent or changed."""
-        up = self.settings_upload
-        self._say(f"{up.refused_name!r} has {up.refused_size} bytes: allowed at most {MAX_UPLOAD_BYTES} "
-                  "(a settings file saved by this page has about 1 KiB); it was not sent")
-
-    def _say(self, err: str) -> None:
-        self.message.object = (f'<div class="msg-error" id="settings-message">Settings file not used: '
-                               f'{html.escape(err)}</div>' if err else '<div class="msg-ok">Settings loaded.</div>')
-        self.message.visible = True
-
     def _on_upload(self, event):
         """Validate the whole file first (:func:`check_settings_upload`); apply it only if it passes."""
         if event.new is None:
@@ -77,7 +60,9 @@ class ExportPanel(pn.viewable.Viewer):
             err = settings.load_settings(json.dumps({"ringlab_settings": self.kind, **d}))
         except Exception as exc:  # never a traceback in the page: one line, nothing changed
             err = " ".join(str(exc).split()) or type(exc).__name__
-        self._say(err)
+        self.message.object = (f'<div class="msg-error" id="settings-message">Settings file not used: '
+                               f'{html.escape(err)}</div>' if err else '<div class="msg-ok">Settings loaded.</div>')
+        self.message.visible = True
 
     def __panel__(self):
         return self._layout
