@@ -145,10 +145,11 @@ def _present_view(view, on: bool) -> None:
 
 
 def _query_value(args: dict, name: str) -> str:
-    """The first value of query ``name`` in ``args`` (name -> list of bytes), stripped and lower case."""
+    """The first value of query ``name`` in ``args`` (name -> list of bytes), stripped and lower case; bytes that
+    are not UTF-8 (``?tab=%ff``) read as U+FFFD, so such a value is simply not one the page knows."""
     v = (args or {}).get(name) or [b""]
     v = v[0]
-    return (v.decode() if isinstance(v, bytes) else str(v)).strip().lower()
+    return (v.decode("utf-8", "replace") if isinstance(v, bytes) else str(v)).strip().lower()
 
 
 def apply_query(app: pn.Column, args: dict) -> None:
@@ -158,7 +159,9 @@ def apply_query(app: pn.Column, args: dict) -> None:
     ``args`` is the page address's query, as ``pn.state.session_args`` gives it (name -> list
     of bytes); unknown tab names are ignored (the page opens as usual).  Autostart calls the
     same ``runner.start`` as a click on Start, so the run uses the settings of the address
-    (``hydro_*`` queries) and the server's compute limit like any other run.
+    (``hydro_*`` queries) and the server's compute limit like any other run.  It presses Start only once
+    the page's websocket has connected (``pn.state.onload``): a bare GET of the address (an ``<img>`` on
+    another site, a link preview) builds a page that nobody shows, and starts nothing.
     """
     def first(name):
         return _query_value(args, name)
@@ -172,7 +175,7 @@ def apply_query(app: pn.Column, args: dict) -> None:
         view = app.views[index]
         runner = getattr(view, "runner", None)
         if runner is not None and hasattr(runner, "start"):
-            runner.start()
+            pn.state.onload(runner.start)  # at once outside a server (no document)
 
 
 def configure() -> None:

@@ -22,7 +22,7 @@ from ringcore.checks import check_int, check_real
 from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.lessons.tutorials import docs_dir, static_dirs
 from ringlab.main import TITLE, configure, create_app
-from ringlab.server import joining, remote
+from ringlab.server import joining, remote, routes
 from ringlab.server.cluster import LocalClusterProcess
 from ringlab.server.compute import ENV_MAX
 from ringlab.server.remote import ENV_MODE, ENV_SCHEDULER, ENV_WORKERS, MODES
@@ -196,7 +196,7 @@ def run(args) -> int:
         joining.reuse_page_template("/teacher", TEACHER_TITLE)
     try:
         pn.serve(apps, port=p["port"], address=p["address"], websocket_origin=p["origins"],
-                 num_procs=p["num_procs"], show=args.show, static_dirs=p["docs"],
+                 num_procs=p["num_procs"], show=args.show, extra_patterns=routes.patterns(p["docs"]),
                  title={"main": TITLE, "teacher": TEACHER_TITLE}, liveness=True,
                  start=True, threaded=False, verbose=False)
     finally:

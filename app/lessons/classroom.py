@@ -59,6 +59,9 @@ def join_class(panel, roster: Roster = ROSTER, session_id: str | None = None, di
                 lesson, step = (int(p) for p in key.split("."))
                 roster.answered(session_id, lesson, step, ans["text"], ans["status"])
     panel.store.param.watch(identified, ["browser_key", "loaded"])  # after the restore (attach)
+    # the page may send its key, its storage and "loaded" in one message, and then the restore can come after
+    # identified: the restored answers (judged on the server again, LessonsPanel.restore) are reported when they land
+    panel.param.watch(identified, "answers")
     if in_server:
         on_session_end(lambda: roster.unregister(session_id))
     return seat

@@ -9,11 +9,15 @@ hand-edited entry is ignored, never trusted): lessons and steps inside the lesso
 from __future__ import annotations
 
 import json
+import re
 
 from ringlab.lessons.content import LESSONS
+from ringlab.live.roster import STATUSES
 
 VERSION = 1
 MAX_ANSWER = 80  # characters of an answer kept (an answer box holds a number or a short expression)
+MAX_STORED = 100_000  # characters of a stored text read at all (ours are a few kB)
+_NUMBER = re.compile(r"[0-9]{1,3}")  # a lesson or step number as stored (ASCII digits: "²".isdigit() is True)
 
 
 def encode(lesson: int, step: int, progress: dict, answers: dict) -> str:
@@ -25,36 +29,50 @@ def encode(lesson: int, step: int, progress: dict, answers: dict) -> str:
 
 
 def _step_ok(lesson, step) -> bool:
-    return (isinstance(lesson, int) and isinstance(step, int) and 1 <= lesson <= len(LESSONS)
+    return (type(lesson) is int and type(step) is int and 1 <= lesson <= len(LESSONS)
             and 1 <= step <= len(LESSONS[lesson - 1].steps))
+
+
+def _place(key) -> tuple[int, int] | None:
+    """(lesson, step) of a stored key "L.S" inside the lessons' ranges, else None."""
+    parts = str(key).split(".")
+    if len(parts) != 2 or not all(_NUMBER.fullmatch(p) for p in parts):
+        return None
+    lesson, step = int(parts[0]), int(parts[1])
+    return (lesson, step) if _step_ok(lesson, step) else None
 
 
 def decode(text: str) -> dict | None:
     """The state in a stored text, or None when there is none or it is not one of ours.
 
     Returns dict(lesson, step, progress={lesson: set of steps}, answers={"l.s": {"text", "status"}});
-    entries outside the lessons' ranges are dropped.
+    entries outside the lessons' ranges are dropped, and so is a status that is not one of the checks'
+    (:data:`ringlab.live.roster.STATUSES`; "" is kept then).  A status read here is what the browser says:
+    the panel judges restored answers again on the server (:mod:`ringlab.lessons.verdict`).
     """
+    if not isinstance(text, str) or len(text) > MAX_STORED:
+        return None
     try:
         data = json.loads(text) if text else None
-    except ValueError:
+    except (ValueError, RecursionError):
         return None
     if not isinstance(data, dict) or data.get("v") != VERSION or not _step_ok(data.get("lesson"), data.get("step")):
         return None
     progress = {}
-    for k, steps in (data.get("progress") or {}).items():
-        if not (str(k).isdigit() and isinstance(steps, list)):
+    stored_progress, stored_answers = data.get("progress"), data.get("answers")
+    for k, steps in (stored_progress.items() if isinstance(stored_progress, dict) else ()):
+        if not (_NUMBER.fullmatch(str(k)) and isinstance(steps, list)):
             continue
         ok = {s for s in steps if _step_ok(int(k), s)}
         if ok:
             progress[int(k)] = ok
     answers = {}
-    for k, a in (data.get("answers") or {}).items():
-        parts = str(k).split(".")
-        if (len(parts) == 2 and all(p.isdigit() for p in parts) and _step_ok(int(parts[0]), int(parts[1]))
-                and isinstance(a, dict) and isinstance(a.get("text"), str)):
-            answers[f"{int(parts[0])}.{int(parts[1])}"] = dict(text=a["text"][:MAX_ANSWER],
-                                                               status=str(a.get("status", ""))[:10])
+    for k, a in (stored_answers.items() if isinstance(stored_answers, dict) else ()):
+        place = _place(k)
+        if place is not None and isinstance(a, dict) and isinstance(a.get("text"), str):
+            status = a.get("status")
+            answers[f"{place[0]}.{place[1]}"] = dict(text=a["text"][:MAX_ANSWER],
+                                                     status=status if status in STATUSES else "")
     return dict(lesson=data["lesson"], step=data["step"], progress=progress, answers=answers)
 
 

@@ -22,6 +22,7 @@ from ringlab.lessons.memory import attach
 from ringlab.lessons.presets import Targets, apply_preset, default_scale
 from ringlab.lessons.refs import publish, render
 from ringlab.lessons.tutorials import docs_note, links_html
+from ringlab.lessons.verdict import rejudged
 from ringlab.lessons.worksheets import worksheet_html, worksheet_path
 from ringlab.paths import TUTORIALS_SRC_DIR
 from ringlab.ui.local_store import LocalStore
@@ -277,9 +278,12 @@ class LessonsPanel(pn.viewable.Viewer):
                    "ok" if last["status"] == "correct" else "warn", "lesson-feedback-restored")
 
     def restore(self, state: dict, place: bool = True) -> None:
-        """Take over a stored state (:func:`ringlab.lessons.memory.decode`); ``place``: also its lesson and step."""
+        """Take over a stored state (:func:`ringlab.lessons.memory.decode`); ``place``: also its lesson and step.
+
+        The stored answers are judged again here (:func:`ringlab.lessons.verdict.rejudged`): the verdict the
+        browser kept is never shown or reported."""
         where = dict(lesson=state["lesson"], step=state["step"]) if place else {}
-        self.param.update(progress=state["progress"], answers=state["answers"], **where)
+        self.param.update(progress=state["progress"], answers=rejudged(state["answers"], self.scale), **where)
         self._render()
 
     def reset_progress(self) -> None:

@@ -15,10 +15,39 @@ the distribution of a question's answers survives a student's reload and is clea
 """
 from __future__ import annotations
 
+import re
 import threading
 from collections import Counter
 from dataclasses import dataclass, field
 from typing import Callable
+
+
+STATUSES = ("correct", "wrong", "wait", "error")  # the verdicts of the server's checks (ringlab.lessons.checks)
+MAX_INDEX = 99  # largest lesson or step number taken in (the dashboard checks them against the lessons)
+MAX_TEXT = 80  # characters of an answer kept
+_BROWSER_KEY = re.compile(r"[A-Za-z0-9_-]{8,64}")  # the page's random key (base 36); anything else is ignored
+
+
+def checked_place(lesson, step) -> tuple[int, int]:
+    """``(lesson, step)`` as ints in 1..MAX_INDEX; ValueError naming the bad one (a page's report is not trusted)."""
+    out = []
+    for name, v in (("lesson", lesson), ("step", step)):
+        if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= MAX_INDEX:
+            raise ValueError(f"{name} = {v!r} is not a lesson step number: allowed integers 1 to {MAX_INDEX}")
+        out.append(int(v))
+    return out[0], out[1]
+
+
+def checked_status(status) -> str:
+    """``status`` if it is one of :data:`STATUSES`, else ValueError (only the server's checks make verdicts)."""
+    if not isinstance(status, str) or status not in STATUSES:
+        raise ValueError(f"status = {str(status)[:40]!r} is not a verdict: allowed {', '.join(STATUSES)}")
+    return status
+
+
+def valid_browser_key(key) -> bool:
+    """True for a browser key of the form the page makes (8-64 letters, digits, '-' or '_')."""
+    return isinstance(key, str) and _BROWSER_KEY.fullmatch(key) is not None
 
 
 @dataclass
@@ -85,8 +114,10 @@ class Roster:
             return seat
 
     def identify(self, session_id: str, browser_key: str) -> None:
-        """The page's browser key is known: the student keeps the name (and answers) of that browser."""
-        browser_key = str(browser_key)[:64]
+        """The page's browser key is known: the student keeps the name (and answers) of that browser.
+        A key not of the page's form (edited in the browser) is ignored: the page stays known by its session."""
+        if not valid_browser_key(browser_key):
+            return
         with self._lock:
             seat = self._seats.get(session_id)
             if seat is None or not browser_key or seat.key == browser_key:
@@ -106,18 +137,24 @@ class Roster:
             self._seats.pop(session_id, None)
 
     def moved(self, session_id: str, lesson: int, step: int) -> None:
-        """The student's page shows ``lesson``, ``step`` now."""
+        """The student's page shows ``lesson``, ``step`` now (ValueError outside 1..MAX_INDEX)."""
+        lesson, step = checked_place(lesson, step)
         with self._lock:
             seat = self._seats.get(session_id)
             if seat is not None:
                 seat.lesson, seat.step = int(lesson), int(step)
 
     def answered(self, session_id: str, lesson: int, step: int, text: str, status: str) -> None:
-        """The student checked ``text`` at ``lesson``, ``step``; the check said ``status``."""
+        """The student checked ``text`` at ``lesson``, ``step``; the server's check said ``status`` (one of
+        :data:`STATUSES`; ValueError for anything else, or for a place outside 1..MAX_INDEX)."""
+        lesson, step = checked_place(lesson, step)
+        status = checked_status(status)
+        if not isinstance(text, str):
+            raise TypeError(f"text = {text!r} is not an answer text: allowed a str")
         with self._lock:
             seat = self._seats.get(session_id)
             key = seat.key if seat is not None else session_id
-            self._answers.setdefault((int(lesson), int(step)), {})[key] = Answer(str(text).strip()[:80], str(status))
+            self._answers.setdefault((lesson, step), {})[key] = Answer(text.strip()[:MAX_TEXT], status)
 
     # ------------------------------------------------------------ what the dashboard reads
     def count(self) -> int:

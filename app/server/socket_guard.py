@@ -25,7 +25,8 @@ same code is on Panel's and Bokeh's main branches):
 in practice; idempotent) makes all three quiet at their source: a message is written frame by
 frame and stops at the first frame refused, its futures ending quietly; messages of a page whose
 socket is closing are dropped instead of applied and answered, and an answer that cannot reach
-the page is dropped without a warning; ``on_close`` of a connection
+the page is dropped without a warning; an ERROR answer to a malformed message carries a short text and no
+traceback (:func:`short_error`; Bokeh logs the traceback); ``on_close`` of a connection
 already detached only finishes the clean-up.  Nothing else changes: an open page gets exactly the
 same frames in the same order, and other errors still propagate.  :func:`live_connections` lets
 the live runners stop computing as soon as the socket is closing, before Bokeh notices.
@@ -136,6 +137,7 @@ def _guard_bokeh_handler() -> bool:
         # (its handler's on_close runs anyway; the session logs one line when its run is freed)
         if gone(self):
             return None
+        short_error(message)
         try:
             if ws_module._message_test_port is not None:
                 ws_module._message_test_port.sent.append(message)
@@ -161,6 +163,17 @@ def _guard_bokeh_handler() -> bool:
     WSHandler.on_message, WSHandler._handle, WSHandler.on_close = guarded_on_message, guarded_handle, guarded_on_close
     WSHandler.send_message = guarded_send_message
     return True
+
+
+ERROR_TEXT = "the server could not handle this message (the server's log has the details)"
+
+
+def short_error(message) -> None:
+    """An ERROR reply to a page carries :data:`ERROR_TEXT` only: Bokeh puts the exception's repr and the
+    server's traceback (file paths, library versions) in it; its protocol handler has logged both already."""
+    content = getattr(message, "content", None)
+    if getattr(message, "msgtype", None) == "ERROR" and isinstance(content, dict):
+        content["text"], content["traceback"] = ERROR_TEXT, None
 
 
 _PAGE_LEFT = weakref.WeakKeyDictionary()  # document -> callbacks for the moment its page leaves

@@ -4,12 +4,20 @@ page never links there.
 """
 from __future__ import annotations
 
+import logging
 import os
 import secrets
+import threading
+import time
+from collections import deque
 
 ENV_KEY = "RINGLAB_TEACHER_KEY"  # the key of the dashboard of `panel serve` (ringlab serve passes its own)
 ENV_PASSWORD = "RINGLAB_TEACHER_PASSWORD"  # a password chosen by the lecturer instead of a random key
 MIN_LENGTH = 8  # characters: a shorter password is guessed too easily on a class network
+MAX_WRONG = 5  # wrong keys from one address within WINDOW_S before that address is refused for a while
+WINDOW_S = 60.0  # [s]
+MAX_ADDRESSES = 10_000  # addresses remembered at most (the oldest entries are dropped first)
+LOG = logging.getLogger("ringlab.teacher")
 
 
 def new_key() -> str:
@@ -42,3 +50,61 @@ def authorised(given: str, expected: str | None) -> bool:
     if not expected or not given:
         return False
     return secrets.compare_digest(given.encode("utf-8"), expected.encode("utf-8"))
+
+
+class KeyGuard:
+    """A limit on wrong keys per client address, for the dashboard's key check (thread safe).
+
+    Every wrong key is logged (the address and how many so far, never the key tried).  After ``max_wrong``
+    wrong keys within ``window_s`` seconds, every try from that address is refused, the right key too, until
+    its oldest wrong key is ``window_s`` old: guessing a key of :func:`new_key` (128 bits) or an 8-character
+    password then takes at most ``max_wrong`` tries a minute per address.
+    """
+
+    def __init__(self, max_wrong: int = MAX_WRONG, window_s: float = WINDOW_S, clock=time.monotonic):
+        if not (isinstance(max_wrong, int) and max_wrong >= 1):
+            raise ValueError(f"max_wrong = {max_wrong!r} is not a number of tries: allowed integers >= 1")
+        if not window_s > 0:
+            raise ValueError(f"window_s = {window_s!r} is not a duration: allowed > 0 s")
+        self.max_wrong, self.window_s, self.clock = max_wrong, float(window_s), clock
+        self._lock = threading.Lock()
+        self._wrong: dict[str, deque] = {}
+
+    def _recent(self, address: str, now: float) -> deque:
+        times = self._wrong.get(address)
+        if times is None:
+            return deque()
+        while times and now - times[0] >= self.window_s:
+            times.popleft()
+        if not times:
+            self._wrong.pop(address, None)
+        return times
+
+    def blocked(self, address: str) -> bool:
+        """True while ``address`` has had ``max_wrong`` wrong keys within the last ``window_s`` seconds."""
+        with self._lock:
+            return len(self._recent(address, self.clock())) >= self.max_wrong
+
+    def check(self, given: str, expected: str | None, address: str) -> str:
+        """"ok" for the right key, "wrong" for a wrong or missing one (counted and logged), "blocked" when
+        ``address`` is over the limit (nothing compared)."""
+        now = self.clock()
+        with self._lock:
+            times = self._recent(address, now)
+            if len(times) >= self.max_wrong:
+                LOG.warning("teacher's dashboard: refused a key from %s (%d wrong keys in %g s)", address,
+                            len(times), self.window_s)
+                return "blocked"
+            if authorised(given, expected):
+                return "ok"
+            if address not in self._wrong and len(self._wrong) >= MAX_ADDRESSES:
+                self._wrong.pop(next(iter(self._wrong)))
+            times = self._wrong.setdefault(address, times)
+            times.append(now)
+            n = len(times)
+        LOG.warning("teacher's dashboard: wrong key from %s (%d of %d allowed in %g s)", address, n,
+                    self.max_wrong, self.window_s)
+        return "wrong"
+
+
+GUARD = KeyGuard()  # one per server process, shared by its sessions

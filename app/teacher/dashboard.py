@@ -35,13 +35,26 @@ DASH_CSS = CSS + """
 """
 STATUS = {"correct": ("right", "correct"), "wrong": ("wrong", "wrong"), "wait": ("not judged yet", "other"),
           "error": ("unreadable", "other")}
+UNKNOWN = ("not judged", "other")  # any other status (the roster takes none: shown as words of ours, never as sent)
+
+
+def verdict(status) -> tuple[str, str]:
+    """(words shown, CSS class) of a check's ``status``: only this module's own words reach the page."""
+    return STATUS.get(status, UNKNOWN) if isinstance(status, str) else UNKNOWN
+
+
+def text_html(text) -> str:
+    """A student's answer as text on the page (every character escaped, quotes too); "(empty)" for none."""
+    return html.escape(str(text), quote=True) or "(empty)"
 
 
 def step_title(lesson: int, step: int) -> str:
-    """"Lesson 2, step 3: <title>" (the lesson's own words)."""
-    les = LESSONS[lesson - 1]
-    st = les.steps[min(step, len(les.steps)) - 1]
-    return f"Lesson {lesson}, step {step}: {render(st.title)}"
+    """"Lesson 2, step 3: <title>" (the lesson's own words); "Lesson ?, step ?" outside the lessons."""
+    ok = (isinstance(lesson, int) and isinstance(step, int) and 1 <= lesson <= len(LESSONS)
+          and 1 <= step <= len(LESSONS[lesson - 1].steps))
+    if not ok:
+        return "Lesson ?, step ?"
+    return f"Lesson {lesson}, step {step}: {render(LESSONS[lesson - 1].steps[step - 1].title)}"
 
 
 def students_html(rows: list[dict]) -> str:
@@ -49,7 +62,7 @@ def students_html(rows: list[dict]) -> str:
     if not rows:
         return '<div class="dash" id="teacher-students"><p class="none">No student page is open.</p></div>'
     body = "".join(
-        f'<tr class="teacher-student"><td>{html.escape(r["name"])}</td><td>{step_title(r["lesson"], r["step"])}</td>'
+        f'<tr class="teacher-student"><td>{text_html(r["name"])}</td><td>{step_title(r["lesson"], r["step"])}</td>'
         f'<td>{_answer_cell(r["answer"], r["status"])}</td></tr>' for r in rows)
     return (f'<div class="dash" id="teacher-students"><table><tr><th>Student</th><th>On screen</th>'
             f'<th>Answer there</th></tr>{body}</table></div>')
@@ -58,8 +71,8 @@ def students_html(rows: list[dict]) -> str:
 def _answer_cell(text: str, status: str) -> str:
     if not status:
         return '<span class="none">—</span>'
-    word, cls = STATUS.get(status, (status, "other"))
-    return f'{html.escape(text) or "(empty)"} <span class="{cls}">({word})</span>'
+    word, cls = verdict(status)
+    return f'{text_html(text)} <span class="{cls}">({word})</span>'
 
 
 def answers_html(roster) -> str:
@@ -75,11 +88,13 @@ def answers_html(roster) -> str:
     for lesson, step in steps:
         d = roster.distribution(lesson, step)
         total = max(1, sum(n for _, _, n in d.counts))
+        if step_title(lesson, step).startswith("Lesson ?"):
+            continue  # not a step of the lessons (the roster checks ranges only): nothing of it is shown
         q = LESSONS[lesson - 1].steps[step - 1].question
         rows = "".join(
-            f'<tr><td><span class="bar" style="width:{int(120 * n / total)}px"></span>{n}</td>'
-            f'<td>{html.escape(text) or "(empty)"}</td><td class="{STATUS.get(status, (status, "other"))[1]}">'
-            f'{STATUS.get(status, (status, "other"))[0]}</td></tr>' for text, status, n in d.counts)
+            f'<tr><td><span class="bar" style="width:{int(120 * n / total)}px"></span>{int(n)}</td>'
+            f'<td>{text_html(text)}</td><td class="{verdict(status)[1]}">{verdict(status)[0]}</td></tr>'
+            for text, status, n in d.counts)
         parts.append(
             f'<div class="teacher-step" data-lesson="{lesson}" data-step="{step}">'
             f'<div class="q">{step_title(lesson, step)}</div><div>{render(q.text)}</div>'

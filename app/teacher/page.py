@@ -11,26 +11,37 @@ import os
 
 import panel as pn
 
-from ringlab.teacher.access import ENV_KEY, authorised, given_key
+from ringlab.teacher.access import ENV_KEY, GUARD, given_key
 from ringlab.teacher.dashboard import DASH_CSS, TeacherDashboard
 
 TITLE = "ringlab: teacher's dashboard"
 REFRESH_MS = 1500  # [ms] the dashboard reads the roster this often (a few small strings; nothing if unchanged)
 
 
-def refused() -> pn.pane.HTML:
-    """The whole page for a wrong or missing key."""
-    return pn.pane.HTML('<div class="dash" id="teacher-refused"><h2>Not authorised</h2>'
-                        '<p>This page needs the teacher\'s link printed by <code>ringlab serve</code>.</p></div>',
+def refused(blocked: bool = False) -> pn.pane.HTML:
+    """The whole page for a wrong or missing key (``blocked``: too many wrong keys from this address)."""
+    why = ("Too many wrong keys from this computer: try again in a minute." if blocked else
+           "This page needs the teacher\'s link printed by <code>ringlab serve</code>.")
+    return pn.pane.HTML(f'<div class="dash" id="teacher-refused"><h2>Not authorised</h2><p>{why}</p></div>',
                         stylesheets=[DASH_CSS])
+
+
+def client_address() -> str:
+    """The address of the browser that asked for this page ("local" outside a server session)."""
+    doc = pn.state.curdoc
+    ctx = getattr(doc, "session_context", None)
+    request = getattr(ctx, "request", None)
+    return str(getattr(request, "remote_ip", None) or "local")
 
 
 def teacher_page(key: str | None = None):
     """The page for this session: the dashboard when the address's ``key`` is ``key`` (default: the
-    environment's ``RINGLAB_TEACHER_KEY``), else :func:`refused`."""
+    environment's ``RINGLAB_TEACHER_KEY``), else :func:`refused`.  Wrong keys are counted per address
+    (:data:`ringlab.teacher.access.GUARD`: logged, and an address over the limit is refused for a while)."""
     expected = key if key is not None else os.environ.get(ENV_KEY, "")
-    if not authorised(given_key(pn.state.session_args), expected):
-        return refused()
+    verdict = GUARD.check(given_key(pn.state.session_args), expected, client_address())
+    if verdict != "ok":
+        return refused(blocked=verdict == "blocked")
     dash = TeacherDashboard()
     if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None:
         pn.state.add_periodic_callback(dash.refresh, period=REFRESH_MS)
