@@ -222,7 +222,7 @@ def _run(args, box, fallback) -> int:
     o = box.options
     if o.impacts == "viscoelastic" and not args.json:
         print(f"impacts: visco-elastic contacts of {o.contact_duration:g} orbits; time step {o.dt_orbit:.4g} orbits "
-              f"({o.contact_duration / o.dt_orbit:.3g} steps per contact, {1.0 / o.dt_orbit:.4g} per orbit)", flush=True)
+              f"({o.contact_duration / o.dt_orbit:.3g} steps per contact, {round(1.0 / o.dt_orbit):,} per orbit)", flush=True)
     end = box.orbits + args.equilibrate + args.orbits
     start_archive(box, args, args.equilibrate + args.orbits)
     if args.equilibrate > 0:

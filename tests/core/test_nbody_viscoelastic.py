@@ -117,14 +117,41 @@ def test_calls_split_anyhow_are_bit_identical():
     np.testing.assert_array_equal(a.vel, b.vel)
 
 
-@pytest.mark.slow  # about 2-4 min on a loaded 2-core machine
+@pytest.mark.slow  # about 1 min on a quiet core (11 orbits of 20,000 steps, 191 particles)
 def test_ground_state_matches_table_viscoelastic():
     """tau = 1.5, Omega_z = 3.6, Bridges law, 20 m x 20 m box: T, nu, c0 of Table "Hydrodynamic Parameters"."""
     box = ShearingBox(TAU15, NBodyOptions(L_x=20, L_y=20, impacts="viscoelastic"), seed=1)
     box.advance(3)
     box.reset_accumulators()
-    box.advance(6)
+    box.advance(8)
     tr = box.transport()
     assert tr["T"] == pytest.approx(TAU15.T0, rel=0.06)
     assert tr["nu"] == pytest.approx(TAU15.nu0, rel=0.06)
     assert tr["c_eff"] == pytest.approx(TAU15.c0, rel=0.06)
+
+
+def test_cli_impacts_option_states_the_time_step(tmp_path, capsys):
+    import json
+
+    import xarray as xr
+
+    from ringcore.cli.main import main
+    out = tmp_path / "v.nc"
+    rc = main(["nbody", "--impacts", "viscoelastic", "--L-x", "12", "--L-y", "12", "--orbits", "0.01",
+               "--record-every", "0.005", "--profile-every", "0.01", "--out", str(out), "--no-progress"])
+    assert rc == 0
+    text = capsys.readouterr().out
+    assert "time step 5e-05 orbits (20 steps per contact" in text
+    ds = xr.load_dataset(out, engine="h5netcdf")
+    assert ds.attrs["option_impacts"] == "viscoelastic" and ds.attrs["option_dt_orbit"] == pytest.approx(5e-5)
+    assert "contact_eps" in ds and ds.attrs["step_count"] == 200
+    rc = main(["nbody", "--from", str(out), "--orbits", "0.005", "--out", str(tmp_path / "w.nc"), "--no-progress",
+               "--json"])
+    assert rc == 0 and json.loads(capsys.readouterr().out)["impacts"] == "viscoelastic"
+    for argv, msg in ((["--impacts", "soft"], "--impacts"),
+                      (["--contact-duration", "2e-3"], "--contact-duration has no effect with --impacts instant"),
+                      (["--impacts", "viscoelastic", "--dt", "1e-3"], "--dt = 0.001 orbits is out of range"),
+                      (["--impacts", "viscoelastic", "--contact-duration", "1"], "--contact-duration")):
+        assert main(["nbody", *argv, "--orbits", "0.01", "--no-progress", "--out", str(tmp_path / "x.nc")]) == 2
+        err = capsys.readouterr().err
+        assert msg in err and len(err.strip().splitlines()) == 1, err
