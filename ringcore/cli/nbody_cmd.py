@@ -20,8 +20,8 @@ from .errors import UsageError
 from .safety import check_fallback_dir, check_memory, reserve_output_file
 
 # options that define a new box: refused with --from FILE (the file's box wins)
-NEW_BOX_OPTIONS = ("set", "L_x", "L_y", "R_p", "restitution", "epsilon", "impacts", "contact_duration", "dt", "seed", "m_max", "single_mode",
-                   "seed_mode", "amplitude", "fill_fraction", "record_every", "profile_every")
+NEW_BOX_OPTIONS = ("set", "L_x", "L_y", "R_p", "restitution", "epsilon", "impacts", "contact_duration", "dt", "seed",
+                   "m_max", "single_mode", "seed_mode", "amplitude", "fill_fraction", "record_every", "profile_every")
 BYTES_PER_PARTICLE = 400  # state, sorted copies, ghost list and cell lists [bytes]
 VISCO_STEPS = 20  # time steps per visco-elastic contact chosen for the user (NBodyOptions.contact_steps)
 PLAN_ATTR = "equilibrate_until"  # run-file attribute: transport averaging starts (accumulators reset) here
@@ -222,7 +222,8 @@ def _run(args, box, fallback) -> int:
     o = box.options
     if o.impacts == "viscoelastic" and not args.json:
         print(f"impacts: visco-elastic contacts of {o.contact_duration:g} orbits; time step {o.dt_orbit:.4g} orbits "
-              f"({o.contact_duration / o.dt_orbit:.3g} steps per contact, {round(1.0 / o.dt_orbit):,} per orbit)", flush=True)
+              f"({o.contact_duration / o.dt_orbit:.3g} steps per contact, {round(1.0 / o.dt_orbit):,} per orbit)",
+              flush=True)
     end = box.orbits + args.equilibrate + args.orbits
     start_archive(box, args, args.equilibrate + args.orbits)
     if args.equilibrate > 0:
@@ -240,8 +241,8 @@ def _run(args, box, fallback) -> int:
     run_checkpointed(box, until=end, **kw)
     d = box.diagnostics()
     if args.json:
-        print(json.dumps({**{k: (float(v) if isinstance(v, float) else v) for k, v in d.items()}, "e_kin_units": E_KIN_UNIT,
-                          "impacts": o.impacts, "dt_orbit": o.dt_orbit, "contact_duration": o.contact_duration}))
+        print(json.dumps({**{k: (float(v) if isinstance(v, float) else v) for k, v in d.items()},
+                          "e_kin_units": E_KIN_UNIT, "impacts": o.impacts, "dt_orbit": o.dt_orbit, "contact_duration": o.contact_duration}))
         return 0
     print(f"N = {d['N']}, tau = {d['tau']:.3f}, t = {d['orbit']:.2f} orbits -> {args.out}")
     rows = [(f"e_kin [{E_KIN_UNIT}]", f"{d['ekin']:.4g}"), ("<c> [mm/s]", f"{d['c_mean'] * 1e3:.4f}"),
