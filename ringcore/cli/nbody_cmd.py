@@ -7,10 +7,11 @@ import sys
 
 from .. import params
 from .. import ranges
-from ..checks import check_choice, check_int
+from ..checks import check_choice, check_int, check_real
 from ..experiments.checkpoint import run_checkpointed
 from ..io import read_run
 from ..nbody import NBodyOptions, ShearingBox
+from ..nbody.options import DT_INSTANT, IMPACT_MODELS
 from ..params import RingParams
 from ..units import E_KIN_UNIT
 from .archive_opt import add_archive_arguments, start_archive
@@ -19,9 +20,10 @@ from .errors import UsageError
 from .safety import check_fallback_dir, check_memory, reserve_output_file
 
 # options that define a new box: refused with --from FILE (the file's box wins)
-NEW_BOX_OPTIONS = ("set", "L_x", "L_y", "R_p", "restitution", "epsilon", "dt", "seed", "m_max", "single_mode",
-                   "seed_mode", "amplitude", "fill_fraction", "record_every", "profile_every")
+NEW_BOX_OPTIONS = ("set", "L_x", "L_y", "R_p", "restitution", "epsilon", "impacts", "contact_duration", "dt", "seed",
+                   "m_max", "single_mode", "seed_mode", "amplitude", "fill_fraction", "record_every", "profile_every")
 BYTES_PER_PARTICLE = 400  # state, sorted copies, ghost list and cell lists [bytes]
+VISCO_STEPS = 20  # time steps per visco-elastic contact chosen for the user (NBodyOptions.contact_steps)
 PLAN_ATTR = "equilibrate_until"  # run-file attribute: transport averaging starts (accumulators reset) here
 
 
@@ -39,7 +41,14 @@ def register(sub) -> None:
     p.add_argument("--R-p", type=float, default=1.0, metavar="M", help="particle radius [m] (default 1)")
     p.add_argument("--restitution", default="bridges", metavar="LAW", help="bridges (default) or constant")
     p.add_argument("--epsilon", type=float, default=0.5, help="constant coefficient of restitution (default 0.5)")
-    p.add_argument("--dt", type=float, default=1e-3, metavar="ORBITS", help="time step [orbits] (default 1e-3)")
+    p.add_argument("--impacts", default="instant", metavar="MODEL",
+                   help="impact model: instant (default; hard spheres, one velocity change per impact) or "
+                        "viscoelastic (the paper's damped-spring contacts of finite duration, Salo 1995)")
+    p.add_argument("--contact-duration", type=float, default=1e-3, metavar="ORBITS",
+                   help="duration of a visco-elastic contact [orbits] (default 1e-3; with --impacts viscoelastic)")
+    p.add_argument("--dt", type=float, default=None, metavar="ORBITS",
+                   help="time step [orbits] (default 1e-3; with --impacts viscoelastic the contact duration / 20, "
+                        "and at most the contact duration / 10)")
     p.add_argument("--orbits", type=float, default=10.0, help="orbits to run (default 10)")
     p.add_argument("--equilibrate", type=float, default=0.0, metavar="ORBITS",
                    help="orbits run before the transport averaging starts (default 0)")
@@ -93,6 +102,8 @@ def check_options(args) -> None:
         if args.restitution != "constant":
             refuse_with(args, ("epsilon",), f"with --restitution {args.restitution} (it sets the constant law; "
                         "use --restitution constant)")
+        if args.impacts != "viscoelastic":
+            refuse_with(args, ("contact_duration",), f"with --impacts {args.impacts} (use --impacts viscoelastic)")
         if not args.seed_mode:
             refuse_with(args, ("amplitude",), "without --seed-mode M (there is no seeded wave)")
         if not args.sigma0:
@@ -100,6 +111,7 @@ def check_options(args) -> None:
         if args.single_mode:
             refuse_with(args, ("m_max",), "with --single-mode (only that mode is used)")
     check_choice("--set", args.set, params.SET_NAMES)
+    check_choice("--impacts", args.impacts, IMPACT_MODELS)
     if args.sigma0 is not None:
         p0 = params.get(args.set)
         ranges.check_sigma0(args.sigma0, p0.Omega, p0.c0, "--sigma0", args.set)
@@ -113,7 +125,17 @@ def check_numbers(args) -> None:
     for dest in ("L_x", "L_y"):
         check_flag(args, dest, lo=6.0 * R_p, note=f"at least 6 --R-p, --R-p = {R_p:g} m")
     check_flag(args, "epsilon")
+    check_real("--contact-duration", args.contact_duration, 1e-5, 0.05, unit="orbits")
     dt = check_flag(args, "dt", "dt_orbit")
+    if args.impacts == "viscoelastic":
+        if dt is None:
+            dt = args.contact_duration / VISCO_STEPS
+        elif dt > args.contact_duration / 10.0:
+            raise UsageError(f"--dt = {dt:g} orbits is out of range: with --impacts viscoelastic allowed --dt <= "
+                             f"--contact-duration / 10 = {args.contact_duration / 10.0:g} orbits (at least 10 steps "
+                             "per contact; leave --dt out to get --contact-duration / 20)")
+    elif dt is None:
+        dt = DT_INSTANT
     check_flag(args, "seed")
     check_flag(args, "m_max")
     check_int("--single-mode", args.single_mode, 0, 100000)
@@ -149,7 +171,8 @@ def _build(args):
     p = params.get(args.set, sigma0=0.0 if args.sigma0 is None else args.sigma0)
     check_self_gravity(p)
     o = NBodyOptions(L_x=args.L_x, L_y=args.L_y, R_p=args.R_p, restitution=args.restitution,
-                     epsilon=args.epsilon, dt_orbit=args.dt, m_max=args.m_max, single_mode=args.single_mode,
+                     epsilon=args.epsilon, impacts=args.impacts, contact_duration=args.contact_duration,
+                     contact_steps=VISCO_STEPS, dt_orbit=args.dt, m_max=args.m_max, single_mode=args.single_mode,
                      record_every=args.record_every, profile_every=args.profile_every,
                      fill_fraction=args.fill_fraction)
     n = p.tau * o.fill_fraction * o.L_x * o.L_y / (math.pi * o.R_p**2)
@@ -157,7 +180,7 @@ def _build(args):
     check_memory(f"a box of {n:.3g} particles for {args.equilibrate + args.orbits:g} orbits", mem,
                  "use a smaller box (--L-x, --L-y) or fewer --orbits")
     ranges.check_work("--equilibrate + --orbits" if args.equilibrate else "--orbits", args.equilibrate + args.orbits,
-                      1.0 / args.dt, n, "particles")
+                      1.0 / o.dt_orbit, n, "particles")
     if args.seed_mode:
         lam = o.L_x / args.seed_mode
         if args.seed_mode < 0 or lam < 4.0 * o.R_p:
@@ -196,6 +219,11 @@ def _run(args, box, fallback) -> int:
         raise UsageError(f"--orbits = {args.orbits:.7g} from orbit {box.orbits:.10g} of {args.from_file} ends beyond orbit "
                          f"{ranges.ORBITS_MAX:g}: allowed --equilibrate + --orbits <= {ranges.ORBITS_MAX - box.orbits:.10g}")
     kw = dict(out=args.out, every=args.checkpoint_every, progress=not args.no_progress, fallback=fallback)
+    o = box.options
+    if o.impacts == "viscoelastic" and not args.json:
+        print(f"impacts: visco-elastic contacts of {o.contact_duration:g} orbits; time step {o.dt_orbit:.4g} orbits "
+              f"({o.contact_duration / o.dt_orbit:.3g} steps per contact, {round(1.0 / o.dt_orbit):,} per orbit)",
+              flush=True)
     end = box.orbits + args.equilibrate + args.orbits
     start_archive(box, args, args.equilibrate + args.orbits)
     if args.equilibrate > 0:
@@ -213,7 +241,8 @@ def _run(args, box, fallback) -> int:
     run_checkpointed(box, until=end, **kw)
     d = box.diagnostics()
     if args.json:
-        print(json.dumps({**{k: (float(v) if isinstance(v, float) else v) for k, v in d.items()}, "e_kin_units": E_KIN_UNIT}))
+        print(json.dumps({**{k: (float(v) if isinstance(v, float) else v) for k, v in d.items()},
+                          "e_kin_units": E_KIN_UNIT, "impacts": o.impacts, "dt_orbit": o.dt_orbit, "contact_duration": o.contact_duration}))
         return 0
     print(f"N = {d['N']}, tau = {d['tau']:.3f}, t = {d['orbit']:.2f} orbits -> {args.out}")
     rows = [(f"e_kin [{E_KIN_UNIT}]", f"{d['ekin']:.4g}"), ("<c> [mm/s]", f"{d['c_mean'] * 1e3:.4f}"),

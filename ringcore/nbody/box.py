@@ -33,12 +33,14 @@ from . import initial
 from . import integrator as I
 from . import kernels as K
 from . import sanity
+from . import viscoelastic as V
 from .fields import PhysicalParticles
 from .options import NBodyOptions
 from .recorder import Recorder
 from .stepping import NBodyBlowUp, Stepping  # noqa: F401 (NBodyBlowUp re-exported: its older home)
 
 SORT_EVERY = 20  # steps between reorderings of the particles into cell order
+CONTACT_KEYS = ("contact_partner", "contact_stamp", "contact_eps", "contact_stats")  # State arrays (visco-elastic)
 CHUNK_PARTICLE_STEPS = 250_000  # particle-steps per kernel call (<= ~0.5 s on a loaded core): checks, stop, wall budget
 
 
@@ -119,6 +121,14 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
         self._cell_entries, self._cell_of = w[I.W_CELL_ENTRIES], w[I.W_CELL_OF]
         self._good = (np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n, np.int64), K.new_accumulators())
         self._chunk_max = max(1, CHUNK_PARTICLE_STEPS // max(n, 1))
+        self._contacts = None  # visco-elastic contact memory (cpart, cstamp, ceps, cstat) and force scratch
+        if o.impacts == "viscoelastic":
+            if not np.array_equal(np.sort(self.ids), np.arange(n)):
+                raise ValueError("ids are not valid: visco-elastic impacts need the labels 0 .. N-1")
+            self._contacts = V.new_memory(n)
+            self._good += tuple(np.zeros_like(c) for c in self._contacts)
+            self._dv = np.zeros((n, 3))
+            self._T_c = 2.0 * math.pi * o.contact_duration  # [1/Omega]
         self._v_max = sanity.speed_bound(self.L_x)
 
     def _params(self):
@@ -156,6 +166,8 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
     def t(self, value: float) -> None:
         lim = ranges.ORBITS_MAX * 2.0 * math.pi
         self._t0, self._steps = check_real("t", value, -lim, lim, unit="1/Omega"), 0
+        if self._contacts is not None:  # contact stamps count steps from the time origin
+            V.clear_memory(self._contacts)
 
     @property
     def acc_total(self) -> np.ndarray:
@@ -240,6 +252,8 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
         """
         arrays = dict(pos=self.pos.copy(), vel=self.vel.copy(), ids=self.ids.copy(), acc=self.acc.copy(),
                       acc_before=self._acc_before.copy(), acc_last_record=np.array(self._last_acc, copy=True))
+        if self._contacts is not None:
+            arrays.update(zip(CONTACT_KEYS, (c.copy() for c in self._contacts)))
         arrays.update(self._rec.arrays(self.options.zones))
         meta = dict(t0=self._t0, steps=self._steps, seed=self.seed, rng_state=self.rng.bit_generator.state,
                     history_limit=self._rec.max_len, history_thinned=self._rec.thinned)
@@ -260,6 +274,9 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
         box.acc[:] = a["acc"]
         box._acc_before[:] = a["acc_before"]
         box._last_acc = np.array(a["acc_last_record"], float, copy=True)
+        if box._contacts is not None and CONTACT_KEYS[0] in a:
+            for c, k in zip(box._contacts, CONTACT_KEYS):
+                c[...] = a[k]
         box._rec = Recorder.from_arrays(a, m.get("history_limit"), m.get("history_thinned", False))
         if m.get("rng_state") is not None:
             box.rng.bit_generator.state = m["rng_state"]

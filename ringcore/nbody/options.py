@@ -11,6 +11,8 @@ from .. import ranges
 from ..checks import check_bool, check_choice, check_int, check_real
 
 RESTITUTION_LAWS = ("bridges", "constant")
+IMPACT_MODELS = ("instant", "viscoelastic")
+DT_INSTANT = 1.0e-3  # [orbits] default time step of the instantaneous impacts
 V_C_BRIDGES = 0.077e-3  # [m/s] scale of the Bridges et al. (1984) law, eq. (bridges)
 
 
@@ -31,8 +33,19 @@ class NBodyOptions:
         Constant coefficient of restitution (0 < epsilon <= 1; the paper uses 0.5).
     v_c : float
         Velocity scale of the Bridges law [m/s] (0.077 mm/s).
-    dt_orbit : float
-        Time step [orbits] (default 1e-3: 1,000 steps per orbit).
+    impacts : {"instant", "viscoelastic"}
+        Impact model: "instant" (default) reverses and scales the normal relative velocity of overlapping,
+        approaching pairs once per step; "viscoelastic" resolves each impact as a damped linear spring of
+        duration ``contact_duration`` that returns the restitution law at the impact speed (Dilley 1993,
+        Salo 1995; :mod:`ringcore.nbody.viscoelastic`), as the paper's runs did.
+    contact_duration : float
+        Duration of a visco-elastic contact [orbits] (default 1e-3; used with ``impacts="viscoelastic"``).
+    contact_steps : int
+        Time steps per contact duration of the automatic time step (default 20; at least 10).
+    dt_orbit : float or None
+        Time step [orbits]. None (default): 1e-3 (1,000 steps per orbit) for instantaneous impacts,
+        ``contact_duration / contact_steps`` for visco-elastic ones (5e-5 by default); resolved on
+        construction.  A given step must leave at least 10 steps per contact duration.
     collisions : bool
         Resolve collisions (False: free test particles).
     m_max : int
@@ -63,7 +76,10 @@ class NBodyOptions:
     restitution: str = "bridges"
     epsilon: float = 0.5
     v_c: float = V_C_BRIDGES  # [m/s]
-    dt_orbit: float = 1.0e-3  # [orbits]
+    impacts: str = "instant"
+    contact_duration: float = 1.0e-3  # [orbits]
+    contact_steps: int = 20
+    dt_orbit: float | None = None  # [orbits]; None: resolved from the impact model
     collisions: bool = True
     m_max: int = 256
     single_mode: int = 0
@@ -82,7 +98,17 @@ class NBodyOptions:
         check_choice("restitution", self.restitution, RESTITUTION_LAWS)
         fl["epsilon"] = ranges.check("epsilon", self.epsilon)
         fl["v_c"] = check_real("v_c", self.v_c, 0.0, 1.0, lo_open=True, unit="m/s")
+        check_choice("impacts", self.impacts, IMPACT_MODELS)
+        fl["contact_duration"] = check_real("contact_duration", self.contact_duration, 1e-5, 0.05, unit="orbits")
+        object.__setattr__(self, "contact_steps", check_int("contact_steps", self.contact_steps, 10, 10000))
+        visco = self.impacts == "viscoelastic"
+        if self.dt_orbit is None:
+            object.__setattr__(self, "dt_orbit", fl["contact_duration"] / self.contact_steps if visco else DT_INSTANT)
         fl["dt_orbit"] = ranges.check("dt_orbit", self.dt_orbit)
+        if visco and fl["dt_orbit"] > fl["contact_duration"] / 10.0:
+            raise ValueError(f"dt_orbit = {self.dt_orbit!r} is out of range: with impacts='viscoelastic' allowed "
+                             f"dt_orbit <= contact_duration / 10 = {fl['contact_duration'] / 10.0:g} orbits (at least "
+                             "10 steps per contact; None chooses contact_duration / contact_steps)")
         check_bool("collisions", self.collisions)
         ranges.check("m_max", self.m_max)
         check_int("single_mode", self.single_mode, 0, 100000)
@@ -125,6 +151,15 @@ class NBodyOptions:
         """Number of diagnostic zones actually used."""
         return self.n_zones if self.n_zones > 0 else max(1, int(round(self.L_x / (5.0 * self.R_p))))
 
+    @property
+    def auto_dt_orbit(self) -> float:
+        """The time step [orbits] that ``dt_orbit=None`` chooses for this impact model."""
+        return self.contact_duration / self.contact_steps if self.impacts == "viscoelastic" else DT_INSTANT
+
     def replace(self, **changes) -> "NBodyOptions":
-        """Copy with some fields changed (validated)."""
+        """Copy with some fields changed (validated); a chosen time step (``dt_orbit`` left at
+        :attr:`auto_dt_orbit`) is chosen again for a changed impact model or contact duration."""
+        if ("dt_orbit" not in changes and self.dt_orbit == self.auto_dt_orbit
+                and {"impacts", "contact_duration", "contact_steps"} & set(changes)):
+            changes["dt_orbit"] = None
         return replace(self, **changes)

@@ -23,6 +23,7 @@ from . import diagnostics as D
 from . import integrator as I
 from . import kernels as K
 from . import sanity
+from . import viscoelastic as V
 
 
 class NBodyBlowUp(BlowUp):
@@ -61,7 +62,14 @@ class Stepping:
             np.copyto(good[1], self.vel)
             np.copyto(good[2], self.ids)
             np.copyto(good[3], self.acc)
-            status, k = I.advance(self.pos, self.vel, self.ids, self.acc, fpar, ipar, self._work, self._steps, n)
+            cm = self._contacts
+            if cm is None:
+                status, k = I.advance(self.pos, self.vel, self.ids, self.acc, fpar, ipar, self._work, self._steps, n)
+            else:
+                for c, gc in zip(cm, good[4:]):
+                    np.copyto(gc, c)
+                status, k = V.advance(self.pos, self.vel, self.ids, self.acc, fpar, ipar, self._work, self._T_c,
+                                      self._dv, *cm, self._steps, n)
             self._check(status, k)
             self._steps += n
             done += n
@@ -103,6 +111,8 @@ class Stepping:
         np.copyto(self.vel, good[1])
         np.copyto(self.ids, good[2])
         np.copyto(self.acc, good[3])
+        for c, gc in zip(self._contacts or (), good[4:]):
+            np.copyto(c, gc)
         raise NBodyBlowUp(what, where, self.orbits, step, value, detail=f"{why} {what} of particle {pid}")
 
     def advance(self, orbits: float | None = None, *, until: float | None = None, max_wall_s: float | None = None,

@@ -88,6 +88,10 @@ def to_dataset(src) -> xr.Dataset:
     data["accumulators_last_record"] = ("acc", a["acc_last_record"],
                                         dict(long_name="run accumulators at the last record"))
     data["accumulators_total"] = ("acc", a["acc_before"] + a["acc"], dict(long_name="kernel accumulators (run)"))
+    if "contact_eps" in a:  # visco-elastic contact memory: rows by particle label, not memory order
+        for k, dims in (("contact_partner", ("label", "contact_slot")), ("contact_stamp", ("label", "contact_slot")),
+                        ("contact_eps", ("label", "contact_slot")), ("contact_stats", ("contact_stat",))):
+            data[k] = (dims, a[k], dict(long_name="visco-elastic contact memory (ringcore.nbody.viscoelastic)"))
     coords = dict(particle=np.arange(n_part), time=("time", a["history_time"], dict(units="orbit")),
                   time_profile=("time_profile", a["profile_time"], dict(units="orbit")),
                   x=("x", prof.x, dict(units="m", long_name="zone centre")))
@@ -114,6 +118,9 @@ def state_from_dataset(ds) -> State:
                   ids=ds["particle_id"].values.astype(np.int64), acc=ds["accumulators"].values.copy(),
                   acc_before=ds["accumulators_before"].values.copy(),
                   acc_last_record=ds["accumulators_last_record"].values.copy())
+    for k in ("contact_partner", "contact_stamp", "contact_eps", "contact_stats"):
+        if k in ds:
+            arrays[k] = ds[k].values.copy()
     for k in SERIES:
         arrays[f"history_{k}"] = (ds["time"] if k == "time" else ds[k]).values.copy()
     arrays["profile_time"] = ds["time_profile"].values.copy()

@@ -5,4 +5,4 @@ status 0 if every check passes, 1 otherwise; the printed table is the record).  
 to hours and are not part of the test suite; quick versions of the same checks are.
 """
 VALIDATIONS = {"hydro-linear": "hydro_linear", "nbody-groundstate": "nbody_groundstate",
-               "nbody-linear": "nbody_linear"}
+               "nbody-linear": "nbody_linear", "nbody-impacts": "nbody_impacts"}

@@ -1,0 +1,158 @@
+"""Visco-elastic impacts of finite duration (NBodyOptions(impacts="viscoelastic")): the restitution law and
+the contact duration of a head-on impact, its energy and momentum bookkeeping, the chosen time step, restarts
+bit for bit, and the ground state against Table "Hydrodynamic Parameters"."""
+import math
+
+import numpy as np
+import pytest
+
+from ringcore import params
+from ringcore.nbody import NBodyOptions, ShearingBox
+from ringcore.nbody import viscoelastic as V
+
+TAU15 = params.get("tau15")
+
+
+def head_on(v_over_vc, law, phase=0.3, b=0.0, v_t=0.0, **kw):
+    """Two particles approaching along y at normal speed v = v_over_vc v_c (impact parameter ``b`` [R_p],
+    tangential relative speed ``v_t`` [R_p Omega] along z), run until they part.  Returns the box, the
+    speed v [R_p Omega], the measured restitution, the contact duration [orbits] and the energies."""
+    o = NBodyOptions(L_x=20, L_y=20, impacts="viscoelastic", restitution=law, **kw)
+    v = v_over_vc * o.v_c / (o.R_p * TAU15.Omega)
+    dt = 2.0 * math.pi * o.dt_orbit
+    s = math.sqrt(4.0 - b * b) + phase * v * dt  # touching after `phase` of a step
+    pos = np.array([[0.0, -0.5 * s, -0.5 * b], [0.0, 0.5 * s, 0.5 * b]])
+    vel = np.array([[0.0, 0.5 * v, -0.5 * v_t], [0.0, -0.5 * v, 0.5 * v_t]])
+    box = ShearingBox(TAU15, o, state=(pos, vel, 0.0))
+    e0 = 0.5 * float((box.vel ** 2).sum())
+    n_in = None
+    for k in range(40 * o.contact_steps):
+        n0 = np.array(box.pos[1] - box.pos[0])
+        box.step()
+        r = np.linalg.norm(box.pos[1] - box.pos[0])
+        if n_in is None and r < 2.0:
+            n_in = k
+        elif n_in is not None and r >= 2.0:
+            break
+    else:
+        raise AssertionError("the contact did not end")
+    d = box.pos[1] - box.pos[0]
+    n = d / np.linalg.norm(d)
+    eps = float((box.vel[1] - box.vel[0]) @ n) / v if b == 0 else None
+    return dict(box=box, v=v, eps=eps, duration=(k - n_in) * o.dt_orbit, e0=e0,
+                e1=0.5 * float((box.vel ** 2).sum()), n0=n0)
+
+
+@pytest.mark.parametrize("law", ["bridges", "constant"])
+def test_head_on_impact_returns_restitution_law_and_duration(law):
+    """0.01 - 10 v_c, contacts starting anywhere in a step: eps within 1 % of the law, duration T_c +- 1 step."""
+    o = NBodyOptions(impacts="viscoelastic")
+    for f, phase in zip((0.01, 0.03, 0.1, 0.3, 1.0, 2.0, 3.0, 5.0, 10.0), (0.1, 0.3, 0.7, 0.9, 0.2, 0.6, 0.4, 0.8, 0.3)):
+        r = head_on(f, law, phase)
+        ref = 0.5 if law == "constant" else min(1.0, f ** -0.234)
+        assert r["eps"] == pytest.approx(ref, rel=0.01), (f, phase)
+        assert abs(r["duration"] - o.contact_duration) <= 1.01 * o.dt_orbit, (f, r["duration"])
+
+
+def test_single_impact_energy_and_momentum_bookkeeping():
+    """Momentum conserved to round-off; the kinetic energy lost is (1 - eps^2) of the normal relative motion's
+    (v^2/4 per unit mass) and equals the dashpot work counted by the kernel; an oblique impact keeps its
+    tangential relative velocity."""
+    r = head_on(2.0, "constant", 0.45)
+    box, v = r["box"], r["v"]
+    np.testing.assert_allclose(box.vel.sum(0), 0.0, atol=1e-15 * v)
+    lost = (1.0 - 0.5**2) * 0.25 * v * v
+    assert r["e0"] - r["e1"] == pytest.approx(lost, rel=0.01)
+    assert box._contacts[3][V.S_DISSIPATED] == pytest.approx(r["e0"] - r["e1"], rel=0.01)
+    assert box._contacts[3][V.S_STARTED] == 1 and box.acc_total[0] == 1  # one impact, counted once
+    ob = head_on(1.0, "constant", 0.3, b=1.0, v_t=0.2 * 1.0 * NBodyOptions().v_c / TAU15.Omega)
+    np.testing.assert_allclose(ob["box"].vel.sum(0), 0.0, atol=1e-15)
+    assert ob["e1"] < ob["e0"]
+
+
+def test_time_step_is_chosen_and_bad_options_named():
+    o = NBodyOptions(impacts="viscoelastic")
+    assert o.dt_orbit == pytest.approx(o.contact_duration / 20) and o.contact_steps == 20
+    assert NBodyOptions().dt_orbit == 1e-3
+    assert NBodyOptions(impacts="viscoelastic", contact_duration=2e-3).dt_orbit == pytest.approx(1e-4)
+    assert NBodyOptions().replace(impacts="viscoelastic").dt_orbit == pytest.approx(5e-5)
+    with pytest.raises(ValueError, match="dt_orbit = 0.001 is out of range"):
+        NBodyOptions(impacts="viscoelastic", dt_orbit=1e-3)
+    with pytest.raises(ValueError, match="impacts"):
+        NBodyOptions(impacts="soft")
+    with pytest.raises(ValueError, match="contact_duration"):
+        NBodyOptions(impacts="viscoelastic", contact_duration=0.5)
+
+
+def test_restart_from_run_file_continues_bit_for_bit(tmp_path):
+    """Contact memory travels with the state: a run saved mid-contacts continues identically."""
+    o = NBodyOptions(L_x=20, L_y=12, impacts="viscoelastic", contact_duration=2e-3, record_every=0.01,
+                     profile_every=0.02)
+    box = ShearingBox(TAU15.with_sigma0(300), o, seed=3)
+    box.advance(0.03)
+    assert (box._contacts[1] == box.steps - 1).sum() > 5  # contacts in progress at the save
+    path = tmp_path / "v.nc"
+    box.save(path)
+    again = ShearingBox.load(path)
+    snap = ShearingBox.restore(box.snapshot())
+    for b in (box, again, snap):
+        b.advance(0.02)
+    for b in (again, snap):
+        np.testing.assert_array_equal(b.pos, box.pos)
+        np.testing.assert_array_equal(b.vel, box.vel)
+        for c, c0 in zip(b._contacts, box._contacts):
+            np.testing.assert_array_equal(c, c0)
+        np.testing.assert_array_equal(b.acc, box.acc)
+    assert again.options == box.options and again.options.impacts == "viscoelastic"
+
+
+def test_calls_split_anyhow_are_bit_identical():
+    o = NBodyOptions(L_x=16, L_y=16, impacts="viscoelastic", contact_duration=2e-3)
+    a = ShearingBox(TAU15, o, seed=2)
+    b = ShearingBox(TAU15, o, seed=2)
+    a._advance_steps(300)
+    for n in (1, 7, 92, 200):
+        b._advance_steps(n)
+    np.testing.assert_array_equal(a.pos, b.pos)
+    np.testing.assert_array_equal(a.vel, b.vel)
+
+
+@pytest.mark.slow  # about 1 min on a quiet core (11 orbits of 20,000 steps, 191 particles)
+def test_ground_state_matches_table_viscoelastic():
+    """tau = 1.5, Omega_z = 3.6, Bridges law, 20 m x 20 m box: T, nu, c0 of Table "Hydrodynamic Parameters"."""
+    box = ShearingBox(TAU15, NBodyOptions(L_x=20, L_y=20, impacts="viscoelastic"), seed=1)
+    box.advance(3)
+    box.reset_accumulators()
+    box.advance(8)
+    tr = box.transport()
+    assert tr["T"] == pytest.approx(TAU15.T0, rel=0.03)  # measured +2.1 % (instantaneous impacts: -1.2 %)
+    assert tr["nu"] == pytest.approx(TAU15.nu0, rel=0.03)  # -1.0 % (-2.2 %)
+    assert tr["c_eff"] == pytest.approx(TAU15.c0, rel=0.03)  # +0.2 % (-0.9 %)
+    assert tr["unresolved"] == 0 and 0 < tr["max_overlap"] < 0.05  # 0.016 R_p (instantaneous: 0.087 R_p)
+
+
+def test_cli_impacts_option_states_the_time_step(tmp_path, capsys):
+    import json
+
+    import xarray as xr
+
+    from ringcore.cli.main import main
+    out = tmp_path / "v.nc"
+    rc = main(["nbody", "--impacts", "viscoelastic", "--L-x", "12", "--L-y", "12", "--orbits", "0.01",
+               "--record-every", "0.005", "--profile-every", "0.01", "--out", str(out), "--no-progress"])
+    assert rc == 0
+    text = capsys.readouterr().out
+    assert "time step 5e-05 orbits (20 steps per contact" in text
+    ds = xr.load_dataset(out, engine="h5netcdf")
+    assert ds.attrs["option_impacts"] == "viscoelastic" and ds.attrs["option_dt_orbit"] == pytest.approx(5e-5)
+    assert "contact_eps" in ds and ds.attrs["step_count"] == 200
+    rc = main(["nbody", "--from", str(out), "--orbits", "0.005", "--out", str(tmp_path / "w.nc"), "--no-progress",
+               "--json"])
+    assert rc == 0 and json.loads(capsys.readouterr().out)["impacts"] == "viscoelastic"
+    for argv, msg in ((["--impacts", "soft"], "--impacts"),
+                      (["--contact-duration", "2e-3"], "--contact-duration has no effect with --impacts instant"),
+                      (["--impacts", "viscoelastic", "--dt", "1e-3"], "--dt = 0.001 orbits is out of range"),
+                      (["--impacts", "viscoelastic", "--contact-duration", "1"], "--contact-duration")):
+        assert main(["nbody", *argv, "--orbits", "0.01", "--no-progress", "--out", str(tmp_path / "x.nc")]) == 2
+        err = capsys.readouterr().err
+        assert msg in err and len(err.strip().splitlines()) == 1, err
