@@ -32,6 +32,26 @@ STAGE_I = np.array([(st[0], st[1], st[2], st[3], st[5], st[7]) for st in STAGES]
 STAGE_F = np.array([(st[4], st[6], st[8], st[9], st[10]) for st in STAGES], dtype=float)
 
 
+def check_dt_cap(dt_cap) -> float:
+    """``dt_cap`` [1/Omega] as a float in 0 < dt_cap <= inf (inf: no cap); any real number is taken (numpy
+    scalars, 0-d arrays, ``Decimal``).  TypeError for what is not one number (None, a string, a bool, an array
+    of other shape), ValueError for a value out of range; both name dt_cap, the value and the range."""
+    rng = "allowed 0 < dt_cap <= inf [1/Omega] (inf: no cap)"
+    shape = getattr(dt_cap, "shape", ())
+    if dt_cap is None or isinstance(dt_cap, (bool, np.bool_, str, bytes)) or shape != ():
+        shown = f"an array of shape {shape}" if shape != () else repr(dt_cap)
+        raise TypeError(f"dt_cap = {shown} ({type(dt_cap).__name__}) is not a number: {rng}")
+    try:
+        x = float(dt_cap)
+    except OverflowError:  # an integer beyond the float range: no cap
+        x = math.inf if dt_cap > 0 else -math.inf
+    except (TypeError, ValueError):
+        raise TypeError(f"dt_cap = {dt_cap!r} ({type(dt_cap).__name__}) is not a number: {rng}") from None
+    if not x > 0.0:
+        raise ValueError(f"dt_cap = {x!r} is out of range: {rng}")
+    return x
+
+
 class HydroBlowUp(BlowUp):
     """A step produced a non-finite or non-positive field; the solver keeps the last good state.
 
@@ -88,8 +108,8 @@ class Stepping:
         The stages follow :data:`STAGES` (the tableau of :mod:`.timestep`).  On failure raises
         :class:`HydroBlowUp` and leaves the state, time, counters and floor hits untouched.
         """
-        if not dt_cap > 0.0:
-            raise ValueError(f"dt_cap = {dt_cap!r} is invalid: the step cap must be > 0 [1/Omega]")
+        if type(dt_cap) is not float or not dt_cap > 0.0:  # (a plain positive float needs no conversion)
+            dt_cap = check_dt_cap(dt_cap)
         if self.fast_step:
             grav = self.gravity
             dt, hits, field, j, k = ssprk_step(self._Ustack, self._slot, self._Lstack, self._W, self._beta, self._par,
