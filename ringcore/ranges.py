@@ -190,7 +190,8 @@ def check_sigma0(sigma0, Omega: float, c0: float, label: str = "sigma0", set_nam
     """``sigma0`` [kg/m^2]: 0 (no self-gravity) or :data:`SIGMA0_MIN` .. :func:`sigma0_max`; the message
     says which limit binds and why."""
     s_max = sigma0_max(Omega, c0)
-    plain = isinstance(sigma0, (int, float)) and not isinstance(sigma0, bool) and abs(sigma0) <= 1e300
+    plain = isinstance(sigma0, float) or (isinstance(sigma0, int) and not isinstance(sigma0, bool) and
+                                          abs(sigma0) <= 10**300)  # (math.isfinite(10**400) overflows)
     x = float(sigma0) if plain and math.isfinite(sigma0) and sigma0 >= 0 else \
         check_real(label, sigma0, 0.0, s_max, unit="kg/m^2", allow_str=False)  # (10**400: out of range)
     x += 0.0  # -0.0 -> 0.0 (no self-gravity either way)
