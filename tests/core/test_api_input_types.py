@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 hypothesis = pytest.importorskip("hypothesis")
-from hypothesis import given, settings  # noqa: E402
+from hypothesis import given  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
 from ringcore import linear, params, wavetrain  # noqa: E402
@@ -59,7 +59,6 @@ def test_sigma0_beyond_the_float_range_is_a_value_error():
             P400.with_sigma0(v)
 
 
-@settings(max_examples=60, deadline=None)
 @given(value=ODD_TYPES, which=st.sampled_from(["sigma0", "with_sigma0", "beta", "p_s", "ps_scale"]))
 def test_ring_params_numbers(value, which):
     calls = {"sigma0": lambda v: params.get("tau15", sigma0=v), "with_sigma0": P400.with_sigma0,
@@ -127,7 +126,6 @@ def test_step_dt_cap_any_real_number_taken(value):
     assert np.array_equal(snap(a)[2], snap(b)[2])
 
 
-@settings(max_examples=40, deadline=None)
 @given(value=ODD_TYPES)
 def test_step_dt_cap_hypothesis(sim, value):
     named_or_ok(lambda v: sim.step(dt_cap=v), value, "dt_cap")
@@ -138,7 +136,6 @@ HYDRO_FIELDS = ("L_x", "h", "replicas", "dt_factor", "buffer_on_orbit", "samples
                 "spacetime_rows_per_orbit", "T_floor")
 
 
-@settings(max_examples=80, deadline=None)
 @given(field=st.sampled_from(HYDRO_FIELDS), value=ODD_TYPES)
 def test_hydro_options_odd_types(field, value):
     o = named_or_ok(lambda v: HydroOptions(**{**SMALL_H, field: v}), value, field)
@@ -165,7 +162,6 @@ HYDRO_INIT = {
 }
 
 
-@settings(max_examples=60, deadline=None)
 @given(which=st.sampled_from(sorted(HYDRO_INIT)), value=ODD_TYPES)
 def test_hydro_constructor_odd_types(which, value):
     named_or_ok(HYDRO_INIT[which], value, which)
