@@ -123,3 +123,25 @@ def check_bool(name: str, value) -> bool:
     if not isinstance(value, bool):
         raise ValueError(f"{name} = {value!r} is not valid: choose one of True, False")
     return value
+
+
+def check_cap(name: str, value, unit: str = "") -> float:
+    """``value`` as a float in 0 < value <= inf (inf: no cap), e.g. a largest time step; any real number is taken
+    (numpy scalars, 0-d arrays, ``Decimal``; an integer beyond the float range is inf).  TypeError for what is not
+    one number (None, a string, a bool, an array of other shape), ValueError for a value out of range; both name
+    ``name``, the value and the range."""
+    rng = f"allowed 0 < {name} <= inf{f' [{unit}]' if unit else ''} (inf: no cap)"
+    shape = getattr(value, "shape", ())
+    if value is None or isinstance(value, (bool, str, bytes)) or getattr(getattr(value, "dtype", None), "kind", "") == "b" \
+            or shape != ():  # (numpy bools too)
+        shown = f"an array of shape {shape}" if shape != () else _short(value)
+        raise TypeError(f"{name} = {shown} ({type(value).__name__}) is not a number: {rng}")
+    try:
+        x = float(value)
+    except OverflowError:
+        x = math.inf if value > 0 else -math.inf
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} = {_short(value)} ({type(value).__name__}) is not a number: {rng}") from None
+    if not x > 0.0:
+        raise ValueError(f"{name} = {x!r} is out of range: {rng}")
+    return x

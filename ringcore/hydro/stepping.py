@@ -14,7 +14,7 @@ import time
 import numpy as np
 
 from .. import ranges
-from ..checks import check_real
+from ..checks import check_cap, check_real
 from ..deprecation import E_KIN_RP_KEY, DeprecatedKeys, warn_once
 from ..engine import BlowUp
 from . import kernels as K
@@ -30,26 +30,6 @@ STAGES = tuple((i, li, lp, *terms[0], *terms[1], *terms[2], b1, b2) for i, li, l
 # the same table as arrays for the one-call step of :mod:`.stepper`
 STAGE_I = np.array([(st[0], st[1], st[2], st[3], st[5], st[7]) for st in STAGES], dtype=np.int64)
 STAGE_F = np.array([(st[4], st[6], st[8], st[9], st[10]) for st in STAGES], dtype=float)
-
-
-def check_dt_cap(dt_cap) -> float:
-    """``dt_cap`` [1/Omega] as a float in 0 < dt_cap <= inf (inf: no cap); any real number is taken (numpy
-    scalars, 0-d arrays, ``Decimal``).  TypeError for what is not one number (None, a string, a bool, an array
-    of other shape), ValueError for a value out of range; both name dt_cap, the value and the range."""
-    rng = "allowed 0 < dt_cap <= inf [1/Omega] (inf: no cap)"
-    shape = getattr(dt_cap, "shape", ())
-    if dt_cap is None or isinstance(dt_cap, (bool, np.bool_, str, bytes)) or shape != ():
-        shown = f"an array of shape {shape}" if shape != () else repr(dt_cap)
-        raise TypeError(f"dt_cap = {shown} ({type(dt_cap).__name__}) is not a number: {rng}")
-    try:
-        x = float(dt_cap)
-    except OverflowError:  # an integer beyond the float range: no cap
-        x = math.inf if dt_cap > 0 else -math.inf
-    except (TypeError, ValueError):
-        raise TypeError(f"dt_cap = {dt_cap!r} ({type(dt_cap).__name__}) is not a number: {rng}") from None
-    if not x > 0.0:
-        raise ValueError(f"dt_cap = {x!r} is out of range: {rng}")
-    return x
 
 
 class HydroBlowUp(BlowUp):
@@ -109,7 +89,7 @@ class Stepping:
         :class:`HydroBlowUp` and leaves the state, time, counters and floor hits untouched.
         """
         if type(dt_cap) is not float or not dt_cap > 0.0:  # (a plain positive float needs no conversion)
-            dt_cap = check_dt_cap(dt_cap)
+            dt_cap = check_cap("dt_cap", dt_cap, "1/Omega")
         if self.fast_step:
             grav = self.gravity
             dt, hits, field, j, k = ssprk_step(self._Ustack, self._slot, self._Lstack, self._W, self._beta, self._par,

@@ -104,6 +104,7 @@ def sim():
 
 
 @pytest.mark.parametrize("value, err", [(np.array([0.1, 0.2]), TypeError), (np.array([0.1]), TypeError),
+                                        (np.bool_(True), TypeError), (np.array(True), TypeError),
                                         (None, TypeError), ("0.1", TypeError), (True, TypeError),
                                         ([0.1], TypeError), (0.0, ValueError), (-1.0, ValueError),
                                         (math.nan, ValueError), pytest.param(-10**400, ValueError, id="-10**400")])
