@@ -132,8 +132,8 @@ def check_cap(name: str, value, unit: str = "") -> float:
     ``name``, the value and the range."""
     rng = f"allowed 0 < {name} <= inf{f' [{unit}]' if unit else ''} (inf: no cap)"
     shape = getattr(value, "shape", ())
-    if value is None or isinstance(value, (bool, str, bytes)) or getattr(getattr(value, "dtype", None), "kind", "") == "b" \
-            or shape != ():  # (numpy bools too)
+    is_bool = isinstance(value, bool) or getattr(getattr(value, "dtype", None), "kind", "") == "b"  # numpy too
+    if value is None or is_bool or isinstance(value, (str, bytes)) or shape != ():
         shown = f"an array of shape {shape}" if shape != () else _short(value)
         raise TypeError(f"{name} = {shown} ({type(value).__name__}) is not a number: {rng}")
     try:

@@ -85,8 +85,9 @@ def _free_space(d: Path, label: str, name: str, nbytes: float, what: str = "") -
 
 
 FILE_INCREMENT = 65536  # [bytes] run files are serialised in memory (HDF5 core driver) in steps of 64 KiB
-PER_VARIABLE = 1024  # [bytes] HDF5 object header and dimension scale of one variable (1 KiB: never below the
-# serialised size, at most one 64 KiB step above it, for hydro grids of 16 .. 2000 nodes and N-body boxes of 95 .. 9549 particles)
+# [bytes] HDF5 object header and dimension scale of one variable (1 KiB: never below the serialised size, at most
+# one 64 KiB step above it, for hydro grids of 16 .. 2000 nodes and N-body boxes of 95 .. 9549 particles)
+PER_VARIABLE = 1024
 
 
 def record_rates(model) -> dict:

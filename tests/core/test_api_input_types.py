@@ -174,7 +174,8 @@ def test_hydro_constructor_odd_types(which, value):
                                 dict(initial="mode", wavelength=np.array(50.0))])
 def test_hydro_constructor_converts_real_numbers(kw):
     """The same initial state as with plain floats and ints (was: TypeError float / Decimal)."""
-    plain = {k: (float(v) if k in ("lambda_min", "wavelength") else int(v) if k == "seed" else v) for k, v in kw.items()}
+    plain = {k: (float(v) if k in ("lambda_min", "wavelength") else int(v) if k == "seed" else v)
+             for k, v in kw.items()}
     a = Hydro1D(P400, HydroOptions(**SMALL_H), **kw)
     b = Hydro1D(P400, HydroOptions(**SMALL_H), **plain)
     assert np.array_equal(snap(a)[2], snap(b)[2])
