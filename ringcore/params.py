@@ -252,3 +252,14 @@ def get(name: str = "tau15", sigma0: float = 0.0, isothermal: bool | None = None
     if isothermal and not iso_only:
         p = p.isothermal_limit(1.0)
     return p.with_sigma0(sigma0)
+
+
+def require(p, label: str = "p") -> RingParams:
+    """``p`` if it is a :class:`RingParams`; else a ``TypeError`` naming ``label``, what was given and how
+    to make one (a set's name is the common mistake: ``params.get('tau15')`` builds its RingParams)."""
+    if isinstance(p, RingParams):
+        return p
+    hint = f"params.get({p!r})" if isinstance(p, str) and p in SET_NAMES else "params.get('tau15', sigma0=400)"
+    shown = repr(p) if len(repr(p)) <= 60 else repr(p)[:57] + "..."
+    raise TypeError(f"{label} = {shown} ({type(p).__name__}) is not valid: give a RingParams parameter set, "
+                    f"e.g. {hint} (sets: {', '.join(SET_NAMES)})")

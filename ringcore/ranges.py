@@ -23,6 +23,10 @@ Where the bounds come from
   tau = 1 .. 2, i.e. surface densities of some hundred to ~2,000 kg/m^2 (Saturn's A and B
   rings); besides, the ground state must be gravitationally followable, Q0 >= :data:`Q0_MIN`
   (:func:`sigma0_max`), which is the binding limit for every set (4,000 .. 18,000 kg/m^2).
+- The pressure exponent p_s >= 0.5 (half the smallest of the tables, 1 .. 2.72; also the factor on the
+  tables' p_s): with p_s -> 0 the pressure no longer holds short waves against self-gravity (at
+  sigma0 = 400 kg/m^2 and p_s = 0.01 the linear theory has an "overstable" band at 0.5 .. 4 m, below the
+  particle size) and the wave-train continuation from it runs to negative wavelengths.
 - Lengths: a local (shearing-sheet) model needs lengths far below the orbital radius
   (~1e8 m), so boxes are at most 1e6 m; grid and particle sizes at least 1 mm.
 
@@ -39,6 +43,7 @@ from .units import G
 ORBITS_MAX = 1.0e6  # [orbits] longest duration / latest end time of a run
 OPEN_END_ORBITS = 1.0e12  # [orbits] duration allowed with a wall-time budget (live runs: "until stopped")
 Q0_MIN = 0.1  # engines and tables: stronger self-gravity collapses the ground state within an orbit
+PS_MIN = 0.5  # smallest pressure exponent p_s (and factor on the tables' p_s >= 1): see the p_s range
 SIGMA0_MIN = 1.0e-3  # [kg/m^2] smallest non-zero sigma0 (see check_sigma0)
 SEED_MAX = 2**63 - 1  # numpy's default_rng and the N-body generator take 64-bit seeds
 
@@ -103,9 +108,11 @@ _RANGES = (
     Range("sigma0", 0.0, 1.0e4, "kg/m^2", "the parameter tables describe dense rings of ~1 m particles at "
           "tau 1-2, sigma0 of some hundred to ~2,000 kg/m^2; the lower limit Q0 >= 0.1 of sigma0_max() binds first "
           "for every set but st99"),
-    Range("ps_scale", 0.0, 10.0, "", "the paper scales p_s by 1.4 and 2; beyond 10x the pressure law "
-          "has no basis in the tables", lo_open=True),
-    Range("p_s", 0.0, 100.0, "", "pressure exponent of Eq. (8); the tables have 1 .. 2.7", lo_open=True),
+    Range("ps_scale", PS_MIN, 10.0, "", "the paper scales p_s by 1.4 and 2; beyond 10x the pressure law "
+          "has no basis in the tables, and below 0.5x (p_s < 0.5) neither (see p_s)"),
+    Range("p_s", PS_MIN, 100.0, "", "pressure exponent of Eq. (8); the tables have 1 .. 2.7; below 0.5 the pressure "
+          "(effective Toomre parameter ~ Q0 sqrt(p_s)) no longer holds short waves against self-gravity: the linear "
+          "theory finds spurious bands below the particle size and wave-train branches run to negative wavelengths"),
     Range("beta", -1.0, 20.0, "", "viscosity exponent beta of the transport coefficients (nu, kappa proportional "
           "to T^beta): the tables have 1.06 .. 1.55, buffer zones use -0.5, and the search for beta_c spans up to 20",
           lo_open=True),
@@ -183,8 +190,10 @@ def check_sigma0(sigma0, Omega: float, c0: float, label: str = "sigma0", set_nam
     """``sigma0`` [kg/m^2]: 0 (no self-gravity) or :data:`SIGMA0_MIN` .. :func:`sigma0_max`; the message
     says which limit binds and why."""
     s_max = sigma0_max(Omega, c0)
-    x = check_real(label, sigma0, 0.0, s_max, unit="kg/m^2", allow_str=False) if not isinstance(sigma0, (int, float)) or \
-        isinstance(sigma0, bool) or not math.isfinite(sigma0) or sigma0 < 0 else float(sigma0)
+    plain = isinstance(sigma0, float) or (isinstance(sigma0, int) and not isinstance(sigma0, bool) and
+                                          abs(sigma0) <= 10**300)  # (math.isfinite(10**400) overflows)
+    x = float(sigma0) if plain and math.isfinite(sigma0) and sigma0 >= 0 else \
+        check_real(label, sigma0, 0.0, s_max, unit="kg/m^2", allow_str=False)  # (10**400: out of range)
     x += 0.0  # -0.0 -> 0.0 (no self-gravity either way)
     if 0.0 < x < SIGMA0_MIN:
         raise ValueError(f"{label} = {x:g} kg/m^2 is out of range: allowed {label} = 0 (no self-gravity) or "
@@ -212,6 +221,9 @@ def check_work(label: str, orbits: float, steps_per_orbit: float, size: float, w
     particles needs more than :data:`WORK_MAX` node-steps: it could not finish (1e14 node-steps are
     about 3 years of one core; the 14,000-orbit hydro run of 2,000 nodes took 1.8e10 in 5 h)."""
     work = orbits * steps_per_orbit * size
+    if not math.isfinite(steps_per_orbit):  # no duration helps: the state itself gives no positive time step
+        raise ValueError(f"{label} = {orbits:g} orbits cannot be run: the current state gives no positive finite "
+                         "time step (its values are out of any run's range: a damaged or edited state)")
     if not work <= WORK_MAX:
         allowed = WORK_MAX / (steps_per_orbit * size) if steps_per_orbit * size > 0 else 0.0
         raise ValueError(f"{label} = {orbits:g} orbits is out of reach: about {steps_per_orbit:.3g} steps per orbit "

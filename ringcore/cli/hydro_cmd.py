@@ -14,7 +14,7 @@ from .archive_opt import add_archive_arguments, start_archive
 from .common import (add_ring_arguments, check_flag, check_ring_flags, check_self_gravity, flag,
                      ring_params_from_args, refuse_with)
 from .errors import UsageError, is_blowup
-from .safety import check_fallback_dir, check_memory, reserve_output_file
+from .safety import check_fallback_dir, check_memory, check_run_fits, reserve_output_file
 
 # options that define a new run: refused with --init FILE.nc (the file's settings win)
 NEW_RUN_OPTIONS = ("set", "sigma0", "isothermal", "ps", "ps_scale", "beta", "lx", "h", "seed", "amplitude",
@@ -188,6 +188,7 @@ def run(args) -> int:
         with reserve_output_file(args.out, overwrite=args.overwrite, size=size):  # the name is ours until the end
             sim = make()
             _check_duration(sim, args)
+            check_run_fits(sim, args.out, args.orbits, every=args.checkpoint_every)
             start_archive(sim, args, args.orbits)
             run_checkpointed(sim, args.orbits, out=args.out, every=args.checkpoint_every,
                              progress=not args.no_progress, fallback=fallback)

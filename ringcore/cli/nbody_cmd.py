@@ -17,7 +17,7 @@ from ..units import E_KIN_UNIT
 from .archive_opt import add_archive_arguments, start_archive
 from .common import check_flag, check_self_gravity, refuse_with
 from .errors import UsageError
-from .safety import check_fallback_dir, check_memory, reserve_output_file
+from .safety import check_fallback_dir, check_memory, check_run_fits, reserve_output_file
 
 # options that define a new box: refused with --from FILE (the file's box wins)
 NEW_BOX_OPTIONS = ("set", "L_x", "L_y", "R_p", "restitution", "epsilon", "impacts", "contact_duration", "dt", "seed",
@@ -200,7 +200,9 @@ def _reserved(args, size: float, make) -> tuple:
     """(box, reservation of --out): the name is taken before the box is built, and given back if that fails."""
     res = reserve_output_file(args.out, overwrite=args.overwrite, size=size)
     try:
-        return make(), res
+        box = make()
+        check_run_fits(box, args.out, args.equilibrate + args.orbits, every=args.checkpoint_every)
+        return box, res
     except BaseException:
         res.release()
         raise

@@ -9,7 +9,7 @@ from ..io import reserve_output
 from ..paperlabels import to_published
 from ..paperrefs import ref
 from .common import refuse_with
-from .safety import check_new_files, check_output_dir
+from .safety import FILE_INCREMENT, check_new_files, check_output_dir
 
 
 def register(sub) -> None:
@@ -46,8 +46,8 @@ def run(args) -> int:
             print(f"{n:<{w}}  {ref(r.figure):<13} {r.quick_cost:>8} {r.full_cost:>10}  {to_published(r.title)}")
         return 0
     recipe = get_recipe(args.name)
-    check_output_dir(args.out)
     files = outputs(args.name, args.out)
+    check_output_dir(args.out, size=len(files) * FILE_INCREMENT)  # at least 64 KiB per file (figure, data)
     check_new_files(files, overwrite=args.overwrite, label=f"reproduce {args.name}")
     with contextlib.ExitStack() as held:  # both outputs are this run's until it ends (a second run is refused)
         for f in files:

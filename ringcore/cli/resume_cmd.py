@@ -12,9 +12,10 @@ from .common import check_flag
 from ..units import E_KIN_UNIT
 from .errors import UsageError
 from .errors import is_blowup
-from .safety import check_fallback_dir, reserve_output_file
+from .safety import check_fallback_dir, check_run_fits, reserve_output_file
 
 PLAN_ATTR = "equilibrate_until"  # written by ``ringcore nbody --equilibrate`` (see nbody_cmd)
+ROUND_OFF = 1e-9  # relative: an end time this close below the run's time is that time (the run loop's tolerance)
 
 
 def register(sub) -> None:
@@ -53,9 +54,13 @@ def run(args) -> int:
     out = args.file if args.out is None else args.out  # --out "" is refused, not read as "in place"
     start = model.orbits
     until = start + args.orbits if args.until is None else args.until
+    if start - ROUND_OFF * max(1.0, start) <= until < start:  # 30 for a run at 30.000000000000004: already there
+        sys.stderr.write(f"ringcore resume: note: {args.file} is already at orbit {start:.17g}, which is --until = "
+                         f"{until:.17g} up to round-off: nothing to compute, the file is written as it is\n")
+        until = start
     if until < start:
-        raise UsageError(f"--until = {until:g} orbits is before the run's time {start:g} orbits: "
-                         f"allowed --until >= {start:g} (or give --orbits N to add N orbits)")
+        raise UsageError(f"--until = {until:.10g} orbits is before the run's time {start:.10g} orbits: "
+                         f"allowed --until >= {start:.10g} (or give --orbits N to add N orbits)")
     if until > ranges.ORBITS_MAX:
         raise UsageError(f"--orbits = {args.orbits:.7g} from orbit {start:.10g} ends at orbit {until:.7g}, out of range: "
                          f"allowed --orbits <= {ranges.ORBITS_MAX - start:.10g} ({ranges.RANGES['until'].why})")
@@ -67,6 +72,12 @@ def run(args) -> int:
     fallback = check_fallback_dir(args.fallback_dir)
     res = reserve_output_file(out, overwrite=args.overwrite, label="FILE" if args.out is None else "--out",
                               same_as=args.file)
+    try:
+        check_run_fits(model, out, until - start, every=args.checkpoint_every,
+                       label="FILE" if args.out is None else "--out")
+    except BaseException:
+        res.release()
+        raise
     with res:  # the output name is this run's until it ends
         status, s = _continue(args, model, attrs, out, until, fallback)
     if status:

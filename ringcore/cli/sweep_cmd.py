@@ -23,7 +23,7 @@ from ..provenance import software_attrs
 from .common import refuse_with
 from .common import check_flag
 from .errors import EnvironmentProblem, UsageError
-from .safety import check_output_dir
+from .safety import FILE_INCREMENT, check_output_dir
 
 # options that do nothing for an engine (refused when given)
 UNUSED = {"linear": ("lx", "h", "orbits", "seed"), "nbody": ("h",), "hydro": ()}
@@ -173,7 +173,7 @@ def run(args) -> int:
         check_int("--workers", args.workers, 1, 512)
     check_int("--retries", args.retries, 0, 20)
     tasks = tasks_of(args)
-    check_output_dir(args.out)
+    check_output_dir(args.out, size=(len(tasks) + 2) * FILE_INCREMENT)  # at least: a file per run, sweep.nc, figure
     check_name(Path(args.out) / "sweep.nc", label="--out", utf8=True)  # task file names go into sweep.nc
     try:
         Path(args.out).mkdir(parents=True, exist_ok=True)

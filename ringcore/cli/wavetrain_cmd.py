@@ -6,7 +6,8 @@ import math
 
 from ..checks import check_int, check_real
 from .. import wavetrain as wtm
-from .common import add_ring_arguments, check_self_gravity, ring_params_from_args
+from ..wavetrain.branch import LAMBDA_MAX_OVER_C, check_max_wavelength
+from .common import add_ring_arguments, check_self_gravity, refuse_with, ring_params_from_args
 from .errors import UsageError
 
 
@@ -34,7 +35,18 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
+def check_options(args) -> None:
+    """Options that would have no effect are refused (UsageError), as in ``ringcore hydro``: a run that
+    silently ignores what was asked gives an answer to another question."""
+    if args.no_self_gravity:
+        refuse_with(args, ("sigma0",), "with --no-self-gravity (it sets sigma0 = 0; give one of the two)")
+    if not args.stability_boundary:
+        refuse_with(args, ("lambda_max",), "without --stability-boundary (it bounds that scan; for one wave "
+                    "train give --wavelength alone)")
+
+
 def _params(args):
+    check_options(args)
     if args.no_self_gravity:
         args.sigma0 = 0.0
     p = ring_params_from_args(args)
@@ -59,8 +71,8 @@ def _run(args) -> int:
         raise UsageError(f"--n-fourier = {N}, --n-max = {N_max} are not valid: both must be odd")
     head = dict(set=p.name, model=p.model, p_s=p.p_s, sigma0_kg_m2=p.sigma0)
     if args.stability_boundary:
-        lam_max = None if args.lambda_max is None else check_real("--lambda-max", args.lambda_max, 0.0, math.inf,
-                                                                  lo_open=True, unit="m")
+        lam_max = None if args.lambda_max is None else \
+            check_max_wavelength("--lambda-max", args.lambda_max, wtm.neutral_wavelength(p))
         r = wtm.stability_boundary(p, lam_max_m=lam_max, N=N, N_max=N_max)
         out = dict(head, **r.to_json_dict())
         if args.json:
@@ -80,7 +92,8 @@ def _run(args) -> int:
     if lam <= lam_c * (1 + 1e-6):
         raise UsageError(f"--wavelength = {lam:g} m is not valid: wave trains exist above the neutral wavelength "
                          f"lambda_c = {lam_c:.2f} m")
-    br = wtm.compute_branch(p, lam * 1.0001, N=N, N_max=N_max)
+    lam = check_max_wavelength("--wavelength", lam, lam_c)
+    br = wtm.compute_branch(p, min(lam * 1.0001, LAMBDA_MAX_OVER_C * lam_c), N=N, N_max=N_max)
     if br.trains and br.trains[-1].wavelength_m < lam:
         out = dict(head, lambda_c_m=lam_c, wave_train=None, reason=br.stop_reason)
         print(json.dumps(out) if args.json else f"no wave train at {lam:g} m: {br.stop_reason}")

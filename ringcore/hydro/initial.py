@@ -147,7 +147,7 @@ def check_initial_arguments(kind, L_x_m: float, h_m: float, kw: dict, state=None
     for key, who in (("wavelength", "mode"), ("lambda_min", "noise")):
         if kind == who and kw.get(key) is not None:
             try:
-                check_real(key, kw[key], h2, L_x_m, unit="m", allow_str=False)
+                kw[key] = check_real(key, kw[key], h2, L_x_m, unit="m", allow_str=False)  # Decimal, 0-d array -> float
             except ValueError as exc:
                 if "out of range" not in str(exc):
                     raise

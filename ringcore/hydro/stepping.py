@@ -14,7 +14,7 @@ import time
 import numpy as np
 
 from .. import ranges
-from ..checks import check_real
+from ..checks import check_cap, check_real
 from ..deprecation import E_KIN_RP_KEY, DeprecatedKeys, warn_once
 from ..engine import BlowUp
 from . import kernels as K
@@ -88,8 +88,8 @@ class Stepping:
         The stages follow :data:`STAGES` (the tableau of :mod:`.timestep`).  On failure raises
         :class:`HydroBlowUp` and leaves the state, time, counters and floor hits untouched.
         """
-        if not dt_cap > 0.0:
-            raise ValueError(f"dt_cap = {dt_cap!r} is invalid: the step cap must be > 0 [1/Omega]")
+        if type(dt_cap) is not float or not dt_cap > 0.0:  # (a plain positive float needs no conversion)
+            dt_cap = check_cap("dt_cap", dt_cap, "1/Omega")
         if self.fast_step:
             grav = self.gravity
             dt, hits, field, j, k = ssprk_step(self._Ustack, self._slot, self._Lstack, self._W, self._beta, self._par,

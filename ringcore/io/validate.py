@@ -70,6 +70,10 @@ CHECKSUM_ATTRS = {"hydro": ("params_json", "options_json", "time_dimensionless",
                             "dt_dimensionless", "floor_hits", "buffer_active", "buffer", "n"),
                   "nbody": ("params_json", "options_json", "seed", "rng_state_json", "t0_kernel", "step_count",
                             "t_kernel", "N")}
+# largest |value| of the dimensionless hydro state (sigma, sigma u, sigma v, e in sigma0, c0 units): the saturated waves
+# of the paper reach a few sigma0 and c0; a state beyond this never comes from a run (a time step of ~1e-6 of the
+# ground state's or less), and 1e308 would make every duration look out of reach
+HYDRO_STATE_MAX = 1.0e6
 STATE_ARRAYS = {"hydro": ("state",), "nbody": ("state_pos", "state_vel")}
 # recorded series that a run always writes finite (summaries average them): NaN or inf there is damage.
 # (N-body lambda_p is nan while no wave stands out, so it is not listed.)
@@ -206,8 +210,16 @@ def _check_hydro(ds, source):
     _attr_number(ds, "dt_dimensionless", float, source)
     if _attr_number(ds, "steps", int, source) < 0:
         _fail(source, f"attribute steps = {ds.attrs['steps']} is negative")
-    if not np.all(np.asarray(ds.variables["state"].values)[0] > 0):
+    state = np.asarray(ds.variables["state"].values)
+    if not np.all(state[0] > 0):
         _fail(source, "state array 'state' has non-positive surface density")
+    big = np.abs(state) > HYDRO_STATE_MAX
+    if big.any():
+        i, j = (int(k) for k in np.argwhere(big)[0])
+        names = [str(v) for v in np.asarray(ds.variables["var"].values)]
+        _fail(source, f"state array 'state' has {names[i] if i < len(names) else i} = {state[i, j]:g} at x index {j}: "
+                      f"allowed |value| <= {HYDRO_STATE_MAX:g} (units sigma0, c0; a run stops as a blow-up long "
+                      "before), so the file is damaged or edited")
 
 
 def _check_nbody(ds, source):

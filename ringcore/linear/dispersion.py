@@ -10,7 +10,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import ranges
-from ..params import RingParams
+from ..params import RingParams, require
 from .matrix import track_overstable
 
 
@@ -109,6 +109,7 @@ class Dispersion:
 
 def wavelengths_to_k(p: RingParams, wavelength_m) -> np.ndarray:
     """Dimensionless k of wavelengths in meters (each must be finite and > 0)."""
+    require(p)
     if isinstance(wavelength_m, (str, bytes)) or np.asarray(wavelength_m).dtype.kind not in "iuf":
         raise ValueError(f"wavelength_m = {wavelength_m!r} is not valid: give a number or an array of numbers [m]")
     lam = np.asarray(wavelength_m, float)
@@ -133,6 +134,7 @@ def dispersion(p: RingParams, wavelength_m=None) -> Dispersion:
     -------
     Dispersion
     """
+    require(p)
     if wavelength_m is None:
         wavelength_m = np.geomspace(10.0, 1.0e4, 400)
     k = wavelengths_to_k(p, wavelength_m)
@@ -143,6 +145,7 @@ def dispersion(p: RingParams, wavelength_m=None) -> Dispersion:
 
 def approx_growth_rate(p: RingParams, k, F3: float | None = None) -> np.ndarray:
     """k^2 approximation of omega_R [Omega], eq. (osgrate); F3 default from the table (0 if isothermal)."""
+    require(p)
     d = p.dimensionless()
     if F3 is None:
         F3 = 0.0 if p.isothermal else p.F3
@@ -152,6 +155,7 @@ def approx_growth_rate(p: RingParams, k, F3: float | None = None) -> np.ndarray:
 
 def approx_frequency(p: RingParams, k, F2: float | None = None) -> np.ndarray:
     """k^2 approximation of omega_I [Omega], eq. (osfreq); F2 default from the table (0 if isothermal)."""
+    require(p)
     if F2 is None:
         F2 = 0.0 if p.isothermal else p.F2
     q = p.inv_Q0

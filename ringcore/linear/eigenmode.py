@@ -10,7 +10,7 @@ import numpy as np
 
 from .. import ranges
 from ..checks import check_choice
-from ..params import RingParams
+from ..params import RingParams, require
 from .dispersion import wavelengths_to_k
 from .matrix import track_overstable
 
@@ -52,6 +52,7 @@ class Eigenmode:
 
 def eigenmode(p: RingParams, wavelength_m: float, direction: str = "left") -> Eigenmode:
     """The overstable eigenmode of wavelength ``wavelength_m`` [m]."""
+    require(p)
     wavelength_m = ranges.check("wavelength_m", wavelength_m)
     check_choice("direction", direction, ("left", "right"))
     k = float(wavelengths_to_k(p, wavelength_m))

@@ -13,7 +13,7 @@ from dataclasses import asdict, dataclass, replace
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
 
-from ..params import RingParams
+from ..params import RingParams, require
 from ..units import G
 from .matrix import refine_branch, track_overstable
 
@@ -28,6 +28,7 @@ def small_k_coefficients(p: RingParams):
     Extracted by a least-squares polynomial fit of the exact eigenvalue at
     k = 2e-3 ... 1.6e-2 (dimensionless).  c1 = -i/Q0 exactly; c2 gives F2, F3.
     """
+    require(p)
     k = 2e-3 * np.arange(1, 9)
     om, _, _ = track_overstable(p, k)
     X = np.stack([k**j for j in range(1, 7)], axis=1).astype(complex)
@@ -41,6 +42,7 @@ def thermal_coefficients(p: RingParams):
 
     Both vanish in the isothermal model.  Computed without self-gravity, as in the table.
     """
+    require(p)
     q = p.with_sigma0(0.0)
     _, c2, _ = small_k_coefficients(q)
     d = q.dimensionless()
@@ -56,6 +58,7 @@ def beta_c(p: RingParams) -> float:
     (root found with brentq in -0.99 < beta < 20).  nan if there is no sign change.
     Independent of sigma0 (computed without self-gravity; cached).
     """
+    require(p)
     return _beta_c(p.with_sigma0(0.0))
 
 
@@ -74,6 +77,7 @@ def _beta_c(q0: RingParams) -> float:
 
 def beta_c_approx(p: RingParams, F3: float | None = None) -> float:
     """beta_c = (gamma - 2/3 - F3/nu0)/3 from eq. (osgrate) (F3 = 0 when isothermal)."""
+    require(p)
     if F3 is None:
         F3 = 0.0 if p.isothermal else p.F3
     nu0 = p.dimensionless()["nu0"]
@@ -94,6 +98,7 @@ def _to_lambda(p, k):
 
 def max_growth(p: RingParams):
     """(wavelength [m], omega_R [Omega]) of the largest growth rate; (nan, value) if none > 0."""
+    require(p)
     k, om, _ = _grid(p)
     i = int(np.argmax(om.real))
     if om.real[i] <= 0:
@@ -112,6 +117,7 @@ def max_growth(p: RingParams):
 
 def overstable_band(p: RingParams):
     """Wavelength intervals [m] where omega_R > 0, as a list of (short, long); long may be inf."""
+    require(p)
     k, om, _ = _grid(p)
     gr = om.real
     pos = gr > 0
@@ -150,6 +156,7 @@ def lambda_zero(p: RingParams) -> float:
 
     References: eq. (vg), Figure "vgroup".
     """
+    require(p)
     if p.sigma0 == 0:
         return math.nan
     k, om, dom = _grid(p)
@@ -254,6 +261,7 @@ class LinearSummary:
 
 def summary(p: RingParams) -> LinearSummary:
     """All characteristic numbers of the linear theory for ``p``."""
+    require(p)
     F2, F3 = thermal_coefficients(p)
     lam_max, gmax = max_growth(p)
     return LinearSummary(
@@ -267,5 +275,6 @@ def summary(p: RingParams) -> LinearSummary:
 
 def with_thermal_coefficients(p: RingParams) -> RingParams:
     """Copy of ``p`` whose F2, F3 are the exactly extracted values instead of the rounded table."""
+    require(p)
     F2, F3 = thermal_coefficients(p)
     return replace(p, F2=F2, F3=F3)

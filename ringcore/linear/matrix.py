@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..params import RingParams
+from ..params import RingParams, require
 
 
 def coefficient_matrices(p: RingParams):
@@ -25,6 +25,7 @@ def coefficient_matrices(p: RingParams):
     n = 4 (sigma, u, v, T) for the non-isothermal model, 3 (sigma, u, v) for the
     isothermal one.  References: eq. (matni).
     """
+    require(p)
     d = p.dimensionless()
     nu0, gam, beta, ps = d["nu0"], d["gamma"], d["beta"], d["p_s"]
     n = 3 if d["isothermal"] else 4
@@ -57,6 +58,7 @@ def coefficient_matrices(p: RingParams):
 
 def system_matrix(p: RingParams, k) -> np.ndarray:
     """``A(k)`` for an array of dimensionless wavenumbers k > 0, shape (nk, n, n)."""
+    require(p)
     A0, A1, A2 = coefficient_matrices(p)
     k = np.asarray(k, float)[..., None, None]
     return A0 + k * A1 + k * k * A2
@@ -64,6 +66,7 @@ def system_matrix(p: RingParams, k) -> np.ndarray:
 
 def all_modes(p: RingParams, k) -> np.ndarray:
     """All eigenfrequencies omega (units of Omega) at each k, shape (nk, n), unordered."""
+    require(p)
     return np.linalg.eigvals(system_matrix(p, k))
 
 
@@ -97,6 +100,7 @@ def track_overstable(p: RingParams, k):
     vectors : ndarray, shape k.shape + (n,)
         Right eigenvectors (unnormalized).
     """
+    require(p)
     k = np.asarray(k, float)
     if k.size == 0:
         n = 3 if p.isothermal else 4

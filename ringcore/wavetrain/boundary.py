@@ -24,7 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..params import RingParams
+from ..params import RingParams, require
 from .branch import compute_branch, neutral_wavelength, solve_at
 from .floquet import COARSE_Q, DEFAULT_Q, FloquetSpectrum, floquet
 
@@ -95,6 +95,7 @@ def stability_boundary(p: RingParams, lam_max_m: float | None = None, N: int = 6
     confirm : float
         The scan ends once the wave trains have been stable from some lambda to ``confirm`` times it.
     """
+    require(p)
     t0 = time.perf_counter()
     lam_c = neutral_wavelength(p)
     if not math.isfinite(lam_c):

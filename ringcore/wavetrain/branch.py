@@ -16,16 +16,21 @@ import numpy as np
 
 from .. import linear
 from ..checks import check_int, check_real
-from ..params import RingParams
+from ..params import RingParams, require
 from .model import Model
 from .newton import NewtonFailure, newton
 from .result import WaveTrain
 
 TAIL_MAX = 1e-6  # spectral tail above this: the wave train is not resolved by N nodes
+# longest wavelength of a branch, in units of lambda_c: the continuation steps at most 0.1 lambda_c, so the
+# cost grows with the length (25 lambda_c, the default scan of lambda_st, took ~1 min, 50 lambda_c ~2 min on
+# a loaded 2-core machine; 1e6 m would take days); the saturated waves of the paper lie within a few lambda_c
+LAMBDA_MAX_OVER_C = 50.0
 
 
 def neutral_wavelength(p: RingParams) -> float:
     """lambda_c [m]: shortest neutral wavelength of the overstable mode (omega_R = 0); nan if none."""
+    require(p)
     bands = linear.overstable_band(p)
     return float(bands[0][0]) if bands else math.nan
 
@@ -94,6 +99,20 @@ def _physical(model, w):
     return ok and (model.isothermal or np.all(w[3] > 0))
 
 
+def check_max_wavelength(label: str, wavelength_m, lam_c_m: float) -> float:
+    """``wavelength_m`` [m] within lambda_c < wavelength <= :data:`LAMBDA_MAX_OVER_C` lambda_c (ValueError naming
+    ``label``, the value and the range otherwise)."""
+    try:
+        return check_real(label, wavelength_m, lam_c_m, LAMBDA_MAX_OVER_C * lam_c_m, lo_open=True, unit="m",
+                          allow_str=False)
+    except ValueError as exc:
+        if "out of range" not in str(exc):
+            raise
+        raise ValueError(f"{exc} (wave trains start at the neutral wavelength lambda_c = {lam_c_m:.2f} m; the "
+                         f"branch is continued at most to {LAMBDA_MAX_OVER_C:g} lambda_c, beyond which it takes "
+                         "hours to days)") from None
+
+
 def compute_branch(p: RingParams, lam_max_m: float, N: int = 65, N_max: int = 301, amp0: float = 1e-3,
                    dell: float = 0.03, dell_max: float = 0.1, tol: float = 1e-11, stop=None,
                    tail_max: float = TAIL_MAX) -> Branch:
@@ -120,6 +139,7 @@ def compute_branch(p: RingParams, lam_max_m: float, N: int = 65, N_max: int = 30
         ``stop(train) -> str or None`` called with each new continuation point; a string ends the
         continuation with that reason.
     """
+    require(p)
     N = check_int("N", N, 9, 1001)
     N_max = check_int("N_max", N_max, N, 1001)
     for nm, v in (("N", N), ("N_max", N_max)):
@@ -129,7 +149,7 @@ def compute_branch(p: RingParams, lam_max_m: float, N: int = 65, N_max: int = 30
     if not math.isfinite(lam_c_m):
         raise ValueError(f"parameter set {p.name!r} ({p.model}, sigma0 = {p.sigma0:g} kg/m^2) is not valid for "
                          "wave trains: it has no overstable band (no neutral wavelength)")
-    check_real("lam_max_m", lam_max_m, lam_c_m, math.inf, lo_open=True, unit="m")
+    check_max_wavelength("lam_max_m", lam_max_m, lam_c_m)
     model = Model(p)
     nv = model.nv
     lam_ref = lam_c_m / p.scales.length

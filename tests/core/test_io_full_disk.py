@@ -12,6 +12,7 @@ import errno
 import os
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import numpy as np
@@ -84,7 +85,74 @@ def small_run_file(path: Path) -> Path:
     return sim.save(path)
 
 
-# ------------------------------------------------------------------ full disk: command line
+@pytest.fixture
+def disk_fills_during_the_run(monkeypatch):
+    """The start-up check sees a roomy disk (as if the disk filled up while the run computed): the tests of what
+    happens when a save fails after computing."""
+    import shutil
+    from collections import namedtuple
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda p: usage(10**12, 0, 10**12))
+
+
+# ------------------------------------------------------------------ full disk: refused before computing
+FULL_DISK_CASES = {  # the command, and what must stay as it was
+    "hydro": ["hydro", "--orbits", "0.05", *SMALL, "--out", "{fs}/run.nc", "--overwrite"],
+    "hydro-checkpoints": ["hydro", "--orbits", "0.1", "--checkpoint-every", "0.05", *SMALL, "--out", "{fs}/run.nc",
+                          "--overwrite"],
+    "nbody": ["nbody", "--L-x", "20", "--L-y", "10", "--orbits", "0.02", "--no-progress", "--out", "{fs}/run.nc",
+              "--overwrite"],
+    "resume-in-place": ["resume", "{fs}/small.nc", "--orbits", "0.05", "--no-progress"],
+    "resume-out": ["resume", "{fs}/small.nc", "--orbits", "0.05", "--no-progress", "--out", "{fs}/r.nc"],
+    "sweep": ["sweep", "--engine", "linear", "--sigma0", "100,200", "--workers", "1", "--out", "{fs}/sw"],
+    "reproduce": ["reproduce", "omega", "--out", "{fs}/rep"],
+}
+
+
+@pytest.mark.parametrize("case", sorted(FULL_DISK_CASES))
+def test_cli_full_disk_refused_before_computing(tmp_path, capfd, case):
+    """The run file's size is estimated from the built model (64 KiB for this grid, twice that with checkpoints)
+    and compared with the free space before the first step: one line, exit status 1, nothing computed, nothing
+    written (was: the run computed, then could not be saved)."""
+    with tiny_fs(tmp_path, size="256k") as fs:
+        small = small_run_file(fs / "small.nc")
+        (fs / "run.nc").write_bytes(b"my old results " * 100)
+        before = {p.name: p.read_bytes() for p in fs.iterdir()}
+        fill(fs, 40 * 1024)  # 40 KiB left: less than one run file
+        argv = [a.format(fs=fs) for a in FULL_DISK_CASES[case]]
+        t0 = time.perf_counter()
+        rc = main(argv)
+        seconds = time.perf_counter() - t0
+        line = one_error_line(capfd.readouterr().err, "needs about", "KiB are free", "nothing was computed")
+        assert rc == 1 and seconds < 60, (rc, seconds)
+        if case.startswith(("hydro", "nbody", "resume")):  # the estimate from the built model
+            assert "the run file after" in line and ("two copies" in line) == (case == "hydro-checkpoints")
+        assert {p.name: p.read_bytes() for p in fs.iterdir() if p.name != "filler"} == before
+        assert small.exists() and leftovers(fs) == []
+
+
+def test_run_file_size_estimate_is_never_below_the_file(tmp_path):
+    """The estimate of :func:`ringcore.cli.safety.run_file_bytes` against the files written (hydro with space-time
+    rows, modes and probes; N-body): never below, at most one 64 KiB step above."""
+    from ringcore.cli.safety import FILE_INCREMENT, record_rates, run_file_bytes
+    from ringcore.nbody import NBodyOptions, ShearingBox
+
+    models = [Hydro1D(params.get("tau15", sigma0=400), HydroOptions(L_x=5.0 * n, h=5.0, spacetime_rows_per_orbit=r,
+                                                                    track_modes=(1, 2), probes_m=(0.0, 10.0)),
+                      initial="noise", seed=1, lambda_min=20.0) for n, r in ((20, 0), (200, 2), (800, 4))]
+    models.append(ShearingBox(params.get("tau15"), NBodyOptions(L_x=40, L_y=20, record_every=0.01, profile_every=0.05),
+                              seed=1))
+    for m in models:
+        orbits = 0.2 if hasattr(m.options, "L_y") else 3.0
+        est = run_file_bytes(m.to_dataset(), orbits, record_rates(m))
+        m.advance(orbits)
+        size = m.save(tmp_path / "m.nc").stat().st_size
+        assert size <= est <= size + FILE_INCREMENT, (m, est, size)
+
+
+# ------------------------------------------------------------------ full disk while the run computed
+@pytest.mark.usefixtures("disk_fills_during_the_run")
 @pytest.mark.parametrize("argv", [["hydro", "--orbits", "0.05", *SMALL],
                                   ["hydro", "--orbits", "0.1", "--checkpoint-every", "0.05", *SMALL],
                                   ["nbody", "--L-x", "20", "--L-y", "10", "--orbits", "0.02", "--no-progress"]],
@@ -104,6 +172,7 @@ def test_cli_full_disk_is_one_line_and_keeps_the_existing_file(tmp_path, capfd, 
             assert "checkpoint at orbit 0.0500 not written" in err and "goes on with its state in memory" in err
 
 
+@pytest.mark.usefixtures("disk_fills_during_the_run")
 def test_cli_full_disk_fallback_keeps_the_last_good_state(tmp_path, capfd):
     fallback = tmp_path / "elsewhere"
     fallback.mkdir()
@@ -120,6 +189,7 @@ def test_cli_full_disk_fallback_keeps_the_last_good_state(tmp_path, capfd):
     assert ds.attrs["complete"] == 1 and abs(ds.attrs["time_orbits"] - 0.1) < 1e-9
 
 
+@pytest.mark.usefixtures("disk_fills_during_the_run")
 def test_cli_resume_in_place_on_a_full_disk_keeps_the_file(tmp_path, capfd):
     with tiny_fs(tmp_path, size="256k") as fs:
         f = small_run_file(fs / "run.nc")
@@ -133,6 +203,7 @@ def test_cli_resume_in_place_on_a_full_disk_keeps_the_file(tmp_path, capfd):
         assert rc == 1 and not (fs / "r.nc").exists() and leftovers(fs) == []
 
 
+@pytest.mark.usefixtures("disk_fills_during_the_run")
 def test_cli_sweep_and_reproduce_on_a_full_disk(tmp_path, capfd):
     with tiny_fs(tmp_path, free=8192) as fs:
         rc = main(["sweep", "--engine", "linear", "--sigma0", "100,200", "--workers", "1", "--out", str(fs / "sw")])
@@ -146,12 +217,18 @@ def test_cli_sweep_and_reproduce_on_a_full_disk(tmp_path, capfd):
         assert rc == 1 and leftovers(fs / "rep") == [] and not list((fs / "rep").glob("omega.*"))
 
 
+# ``ringcore`` in a process of its own whose start-up check sees a roomy disk (the disk fills while it computes)
+ROOMY_DISK_MAIN = ("import shutil, sys, collections; u = collections.namedtuple('u', 'total used free'); "
+                   "shutil.disk_usage = lambda p: u(10**12, 0, 10**12); from ringcore.cli.main import main; "
+                   "sys.exit(main(sys.argv[1:]))")
+
+
 def test_cli_full_disk_does_not_crash_the_interpreter(tmp_path):
     """In a process of its own: exit status 1, not 139 (SIGSEGV from HDF5 objects freed after a failed write)."""
     with tiny_fs(tmp_path, free=8192) as fs:
         for argv in (["hydro", "--orbits", "0.05", *SMALL], ["nbody", "--L-x", "20", "--L-y", "10", "--orbits", "0.02",
                                                              "--no-progress"]):
-            r = subprocess.run([sys.executable, "-m", "ringcore.cli.main", *argv, "--out", str(fs / "x.nc")],
+            r = subprocess.run([sys.executable, "-c", ROOMY_DISK_MAIN, *argv, "--out", str(fs / "x.nc")],
                                capture_output=True, text=True, timeout=300)
             assert r.returncode == 1, (r.returncode, r.stderr)
             one_error_line(r.stderr, "ENOSPC")
