@@ -1,0 +1,114 @@
+"""Where an N-body step goes: the cost of each phase of :func:`ringcore.nbody.integrator.advance`, measured
+by calling its kernels one at a time on an equilibrated box, with the floor of each part.
+
+    .venv/bin/python scripts/nbody_phase_cost.py [--boxes 10k,75k] [--reps 5] [--threads 1]
+
+Boxes of ``ringcore bench nbody`` (tau = 1.5, Omega_z = 3.6, Bridges law, 1,000 steps per orbit), each first
+equilibrated (0.3 orbits from the bench's seed; the collision rate is then within a few per cent of steady).
+Per phase: microseconds per step and nanoseconds per particle (min over ``--reps`` repeats of a few steps,
+wall time), and for reference the floors: a pure memory pass over pos/vel (``copy``), and the pair search
+alone (every neighbour pair's distance, no response).  Phases: drift (both halves), wrap, cell list,
+impacts (search and response, in the engine's order), sort (its cost per step: every 20th step), local
+stress sample; the whole step from :func:`advance` for comparison.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import time
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+from ringcore import params  # noqa: E402
+from ringcore.nbody import NBodyOptions, ShearingBox  # noqa: E402
+from ringcore.nbody import integrator as I  # noqa: E402
+from ringcore.nbody import kernels as K  # noqa: E402
+from ringcore.nbody.bench import BOXES  # noqa: E402
+
+
+def _best(fn, reps, n):
+    best = math.inf
+    for _ in range(reps):
+        t0 = time.perf_counter()
+        for _ in range(n):
+            fn()
+        best = min(best, (time.perf_counter() - t0) / n)
+    return best
+
+
+def phases(label: str, reps: int) -> dict:
+    L_x, L_y = {b[0]: b[1:] for b in BOXES}[label]
+    box = ShearingBox(params.get("tau15"), NBodyOptions(L_x=L_x, L_y=L_y, restitution="bridges"), seed=1)
+    box._advance_steps(300)
+    fpar, ipar = box._params()
+    w = box._work
+    pos, vel, N = box.pos, box.vel, box.N
+    dt, L_x, L_y = box.dt, box.L_x, box.L_y
+    D = K.shear_offset(box.t, L_x, L_y)
+    mode, eps, v_c = int(ipar[I.I_MODE]), fpar[I.P_EPS], fpar[I.P_VC]
+    n_cx, n_cy = box.n_cx, box.n_cy
+    acc = K.new_accumulators()
+    nstep = max(3, 200_000 // N)
+    out = {}
+    v0 = vel.copy()
+    p0 = pos.copy()
+
+    def cells():
+        return K.build_cell_list(pos, L_x, L_y, D, n_cx, n_cy, w[I.W_GPOS], w[I.W_GSRC], w[I.W_CELL_START],
+                                 w[I.W_CELL_ENTRIES], w[I.W_CELL_OF])
+
+    def impacts():
+        vel[:] = v0  # the same impacts every repeat (the copy is timed as "copy" and subtracted)
+        K.resolve_collisions(pos, vel, w[I.W_GPOS], w[I.W_GSRC], w[I.W_CELL_START], w[I.W_CELL_ENTRIES],
+                             n_cx, n_cy, L_x, L_y, dt, mode, eps, v_c, acc)
+
+    def copy():
+        vel[:] = v0
+
+    ng = cells()
+    out["drift (2 halves)"] = 2 * _best(lambda: K.drift_epicycle(pos, vel, 0.5 * dt, 3.6), reps, nstep)
+    pos[:], vel[:] = p0, v0
+    out["wrap"] = _best(lambda: K.wrap_shear_periodic(pos, vel, L_x, L_y, D, 1e9), reps, nstep)
+    out["cell list"] = _best(cells, reps, nstep)
+    t_copy = _best(copy, reps, nstep)
+    acc[:] = 0.0
+    out["impacts (search + response)"] = _best(impacts, reps, nstep) - t_copy
+    out["stress sample"] = _best(lambda: K.sample_local_stress(pos, vel, acc), reps, nstep)
+    sp, sv, si = w[I.W_SPOS], w[I.W_SVEL], w[I.W_SIDS]
+    ids = box.ids
+
+    def sort():
+        K.sort_by_cell(pos, vel, ids, w[I.W_CELL_ENTRIES], N + ng, sp, sv, si)
+    out["sort (per step, 1/20)"] = _best(sort, reps, nstep) / 20.0
+    out["floor: copy of vel"] = t_copy
+    vel[:] = v0
+    out["total of phases"] = sum(v for k, v in out.items() if not k.startswith("floor"))
+    state = (pos.copy(), vel.copy(), box.ids.copy(), box.acc.copy(), box._steps)
+
+    def whole():
+        box.pos[:], box.vel[:], box.ids[:], box.acc[:] = state[:4]
+        I.advance(box.pos, box.vel, box.ids, box.acc, fpar, ipar, w, state[4], 20)
+    out["advance (20 steps, per step)"] = _best(whole, reps, 1) / 20.0
+    print(f"{label}: N = {N}, cells {n_cx} x {n_cy}, {acc[K.A_NCOLL] / (reps * nstep):.0f} impacts per step, "
+          f"{acc[K.A_NOVERLAP] / (reps * nstep):.0f} overlapping pairs per step")
+    for k, v in out.items():
+        print(f"  {k:32s} {v * 1e6:10.1f} us/step {v / N * 1e9:8.1f} ns/particle")
+    return out
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--boxes", default="10k,75k")
+    ap.add_argument("--reps", type=int, default=5)
+    a = ap.parse_args(argv)
+    for label in a.boxes.split(","):
+        phases(label, a.reps)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
