@@ -11,6 +11,8 @@ import os
 
 import numba
 
+ENV = "RINGCORE_THREADS"  # the default thread count of runs started in this process and its children
+
 
 def available() -> int:
     """The cores this process may use (``os.sched_getaffinity``; ``os.cpu_count`` where that is missing),
@@ -28,12 +30,32 @@ def maximum() -> int:
     return int(numba.config.NUMBA_NUM_THREADS)
 
 
+def default() -> int:
+    """The thread count of a run that does not give one: ``RINGCORE_THREADS`` if set (``ringcore ...
+    --threads N`` sets it for the command and the processes it starts), else :func:`available`."""
+    env = os.environ.get(ENV, "").strip()
+    if not env:
+        return available()
+    try:
+        n = int(env)
+    except ValueError:
+        raise ValueError(f"{ENV} = {env!r} is not valid: give a whole number 1 <= {ENV} <= {maximum()}") from None
+    return check(n, ENV)
+
+
+def set_default(threads: int) -> int:
+    """Make ``threads`` (validated) the default of the runs of this process and of the processes it starts."""
+    n = check(threads)
+    os.environ[ENV] = str(n)
+    return n
+
+
 def check(threads, name: str = "threads") -> int:
-    """``threads`` validated (None: :func:`available`); ValueError/TypeError naming ``name``, the value and
+    """``threads`` validated (None: :func:`default`); ValueError/TypeError naming ``name``, the value and
     the allowed range."""
     if threads is None:
-        return available()
-    if isinstance(threads, bool) or not isinstance(threads, (int,)) and not hasattr(threads, "__index__"):
+        return default()
+    if isinstance(threads, bool) or not hasattr(threads, "__index__"):
         raise TypeError(f"{name} = {threads!r} is not valid: give a whole number of threads, "
                         f"1 <= {name} <= {maximum()} (or None: the {available()} cores this process may use)")
     n = int(threads.__index__())

@@ -13,6 +13,7 @@ from ..units import E_KIN_UNIT
 from .errors import UsageError
 from .errors import is_blowup
 from .safety import check_fallback_dir, reserve_output_file
+from . import threads_opt
 
 PLAN_ATTR = "equilibrate_until"  # written by ``ringcore nbody --equilibrate`` (see nbody_cmd)
 
@@ -38,6 +39,7 @@ def register(sub) -> None:
                         "checkpoints only warn and are tried again at the next one")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+    threads_opt.add(p)
     p.set_defaults(func=run)
 
 

@@ -16,6 +16,7 @@ from numba import njit, prange
 from .kernels import drift_epicycle, wrap_shear_periodic
 
 BLOCKS_PER_THREAD = 4  # blocks per thread (a thread slowed by another job leaves little work behind)
+MIN_PARTICLES = 8192  # smaller boxes drift on one thread (a parallel launch costs more than it saves)
 
 
 @njit(nogil=True, cache=True, parallel=True)
@@ -52,8 +53,10 @@ def drift_wrap_blocks(pos, vel, dt, omega_z, L_x, L_y, D, x_max, first_drift, nb
 
 
 def blocks_for(threads: int, n: int) -> int:
-    """Blocks of the per-particle phases for ``threads`` threads and ``n`` particles (>= 1)."""
-    return int(max(1, min(n, threads * BLOCKS_PER_THREAD)))
+    """Blocks of the per-particle phases for ``threads`` threads and ``n`` particles (1: serial)."""
+    if threads <= 1 or n < MIN_PARTICLES:
+        return 1
+    return int(min(n, threads * BLOCKS_PER_THREAD))
 
 
 def new_counts(threads: int) -> np.ndarray:

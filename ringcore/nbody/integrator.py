@@ -149,7 +149,7 @@ def advance(pos, vel, ids, acc, fpar, ipar, work, step0, nsteps):
     for k in range(nsteps):
         t = t0 + (step0 + k + 1) * dt
         D = shear_offset(t, L_x, L_y)
-        if threads > 1:
+        if nblk > 1:
             if g != 0.0:
                 drift_blocks(pos, vel, half, omega_z, nblk)
                 kick_selfgravity(pos, vel, dt, g, L_x, m_lo, m_hi, rho, force, coef)

@@ -30,7 +30,7 @@ from .kernels import (A_MAXDEPTH, A_NCOLL, A_NOVERLAP, A_NRECEDE, A_NUNRES, A_PX
                       A_PZZ_NL, N_ACC, coefficient_of_restitution)
 
 STRIP_COLS = 16  # cell columns per strip (32 R_p)
-MIN_STRIPS = 4  # boxes of fewer strips (n_cx < 64 columns, L_x < 128 R_p) are searched as one strip
+MIN_STRIPS = 5  # boxes of fewer strips (n_cx <= 64 columns, L_x < 130 R_p) are searched as one strip
 SUMMED = (A_NCOLL, A_NRECEDE, A_NUNRES, A_PXX_NL, A_PXY_NL, A_PYY_NL, A_PZZ_NL, A_NOVERLAP)
 
 
