@@ -49,7 +49,7 @@ def _measure(iso: bool, n: int, quick: bool) -> dict:
                 orbits_per_minute_fast=round(60.0 / (spo_fast * best), 2))
 
 
-def run_bench(as_json: bool = False, quick: bool = False) -> int:
+def run_bench(as_json: bool = False, quick: bool = False, threads=None) -> int:
     """Run the benchmark and print a table (or one JSON object); returns the exit status 0."""
     configs = [_measure(iso, n, quick) for iso in (True, False) for n in (2000, 8000)]
     if as_json:
