@@ -72,7 +72,7 @@ def phases(label: str, reps: int, threads=(1,)) -> dict:
 
     def impacts(th):
         vel[:] = v0
-        P.resolve_strips(th, w[I.W_EC], vel, w[I.W_GSRC], w[I.W_CELL_START], w[I.W_CELL_ENTRIES], N, n_cx, n_cy,
+        P.resolve_strips(th, P.n_strips(n_cx), w[I.W_EC], vel, w[I.W_GSRC], w[I.W_CELL_START], w[I.W_CELL_ENTRIES], N, n_cx, n_cy,
                          L_x, L_y, dt, mode, eps, v_c, w[I.W_ACCS], acc)
 
     def copy():
@@ -121,11 +121,11 @@ def phases(label: str, reps: int, threads=(1,)) -> dict:
     pos[:], vel[:] = p0, v0
     acc[:] = 0.0
     impacts(1)
-    print(f"{label}: N = {N}, cells {n_cx} x {n_cy}, {P.n_strips(n_cx)} strips, {acc[K.A_NCOLL]:.0f} impacts and "
-          f"{acc[K.A_NOVERLAP]:.0f} overlapping pairs in the step measured")
+    print(f"{label}: N = {N}, cells {n_cx} x {n_cy}, {P.n_strips(n_cx)} strips, {acc[K.A_NCOLL]:.0f} "
+          f"impacts and {acc[K.A_NOVERLAP]:.0f} overlapping pairs in the step measured")
     for k, v in out.items():
-        print(f"  {k:32s} {v * 1e6:10.1f} us/step {v / N * 1e9:8.1f} ns/particle")
-    return out
+        print(f"  {k:40s} {v * 1e6:10.1f} us/step {v / N * 1e9:8.1f} ns/particle")
+    return dict(box=label, N=N, strips=P.n_strips(n_cx), reps=reps, seconds=out)
 
 
 def main(argv=None) -> int:
@@ -133,9 +133,14 @@ def main(argv=None) -> int:
     ap.add_argument("--boxes", default="10k,75k")
     ap.add_argument("--reps", type=int, default=5)
     ap.add_argument("--threads", default="1", help="thread counts, e.g. 1,2")
+    ap.add_argument("--record", metavar="JSON", help="merge the result into this record (key 'phases'), e.g. "
+                    "docs/benchmarks/data/nbody_phases.json")
     a = ap.parse_args(argv)
-    for label in a.boxes.split(","):
-        phases(label, a.reps, tuple(TH.check(int(t)) for t in a.threads.split(",")))
+    rows = [phases(label, a.reps, tuple(TH.check(int(t)) for t in a.threads.split(",")))
+            for label in a.boxes.split(",")]
+    if a.record:
+        from bench_merge import record
+        record(a.record, "phases", rows, sys.argv)
     return 0
 
 

@@ -61,6 +61,8 @@ def main(argv=None) -> int:
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--equilibrate", type=float, default=0.3, help="orbits before the timing")
     ap.add_argument("--threads", type=int, default=1, help="threads of B")
+    ap.add_argument("--record", metavar="JSON", help="merge the result into this record (key 'ab'), e.g. "
+                    "docs/benchmarks/data/nbody_phases.json")
     ap.add_argument("--child", help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
     if a.child:
@@ -68,6 +70,7 @@ def main(argv=None) -> int:
         return 0
     if not a.base:
         ap.error("--base is required")
+    rows = []
     for label in a.boxes.split(","):
         _run(a.base, label, 0.002, 0)  # warm-up: compile or load each side's cache
         _run(HERE, label, 0.002, a.threads)
@@ -87,6 +90,12 @@ def main(argv=None) -> int:
                   f"{wall[s]:.3g}; checksum {', '.join(sums[s])}")
         print(f"  B/A: median {med['B'] / med['A']:.2f}x, best {best['B'] / best['A']:.2f}x (CPU), "
               f"wall best {wall['B'] / wall['A']:.2f}x; bit-identical: {sums['A'] == sums['B']}")
+        rows.append(dict(box=label, N=res["A"][0]["N"], A=med["A"], B=med["B"], ratio=med["B"] / med["A"],
+                         identical=sums["A"] == sums["B"], threads_B=a.threads, reps=a.reps))
+    if a.record:
+        sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+        from bench_merge import record
+        record(a.record, "ab", rows, sys.argv)
     return 0
 
 

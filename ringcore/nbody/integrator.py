@@ -33,10 +33,11 @@ import numpy as np
 from numba import njit
 
 from .gravity import kick_selfgravity
-from .blocks import blocks_for, drift_blocks, drift_wrap_blocks, new_counts
+from .blocks import (blocks_for, drift_blocks, drift_wrap_blocks, entry_coords_blocks, new_counts, new_sample_parts,
+                     sample_blocks)
 from .kernels import (A_CROSS, A_TIME, build_cell_list, drift_epicycle, sample_local_stress, shear_offset,
                       sort_by_cell, wrap_shear_periodic)
-from .pairs import entry_coords, new_strip_accumulators, resolve_strips
+from .pairs import entry_coords, n_strips, new_strip_accumulators, resolve_strips
 
 # float parameters fpar[P_*] (kernel units)
 P_T0 = 0  # time of step 0 [1/Omega]
@@ -59,11 +60,12 @@ I_MHI = 5  # highest self-gravity mode
 I_SORT_EVERY = 6  # steps between reorderings into cell order (0: never)
 I_THREADS = 7  # numba threads of the drifts, wrap and impacts (1: serial; the same bits for any number)
 I_NBLK = 8  # particle blocks of the threaded per-particle phases
-N_IPAR = 9
+I_STRIPS = 9  # strips of the impact search (1: the reference order; :func:`ringcore.nbody.pairs.n_strips`)
+N_IPAR = 10
 # work arrays work[W_*]
 W_RHO, W_FORCE, W_COEF, W_GPOS, W_SPOS, W_SVEL = 0, 1, 2, 3, 4, 5
 W_GSRC, W_CELL_START, W_CELL_ENTRIES, W_CELL_OF, W_SIDS = 6, 7, 8, 9, 10
-W_EC, W_ACCS, W_COUNTS = 11, 12, 13
+W_EC, W_ACCS, W_COUNTS, W_PARTS = 11, 12, 13, 14
 
 # status codes returned by :func:`advance`
 OK = 0
@@ -83,6 +85,7 @@ def pack_params(t0, dt, omega_z, L_x, L_y, eps, v_c, g, x_max, n_cx, n_cy, colli
                                                                               mode, m_lo, m_hi, sort_every)
     ipar[I_THREADS] = threads
     ipar[I_NBLK] = blocks_for(threads, n)
+    ipar[I_STRIPS] = n_strips(n_cx)
     return fpar, ipar
 
 
@@ -92,7 +95,7 @@ def new_work(n, n_cx, n_cy, n_bins, n_modes, threads=1):
     return (np.zeros(n_bins), np.zeros(n_bins), np.zeros((2, n_modes)), np.zeros((n, 3)), np.zeros((n, 3)),
             np.zeros((n, 3)), np.zeros(n, np.int64), np.zeros(ncell + 1, np.int64), np.zeros(2 * n, np.int64),
             np.zeros(2 * n, np.int64), np.zeros(n, np.int64), np.zeros((2 * n, 3)), new_strip_accumulators(n_cx),
-            new_counts(threads))
+            new_counts(threads), new_sample_parts())
 
 
 @njit(nogil=True, cache=True)
@@ -144,7 +147,10 @@ def advance(pos, vel, ids, acc, fpar, ipar, work, step0, nsteps):
     ec = work[W_EC]
     accs = work[W_ACCS]
     counts = work[W_COUNTS]
+    parts = work[W_PARTS]
     N = pos.shape[0]
+    ns = ipar[I_STRIPS]  # the box's choice, never the threads'
+    strips = ns > 1
     half = 0.5 * dt
     for k in range(nsteps):
         t = t0 + (step0 + k + 1) * dt
@@ -165,12 +171,18 @@ def advance(pos, vel, ids, acc, fpar, ipar, work, step0, nsteps):
         acc[A_CROSS] += nc
         if collisions:
             ng = build_cell_list(pos, L_x, L_y, D, n_cx, n_cy, gpos, gsrc, cell_start, cell_entries, cell_of)
-            entry_coords(pos, gpos, cell_entries, N + ng, ec)
-            resolve_strips(threads, ec, vel, gsrc, cell_start, cell_entries, N, n_cx, n_cy, L_x, L_y, dt, mode,
+            if nblk > 1:
+                entry_coords_blocks(pos, gpos, cell_entries, N + ng, ec, nblk)
+            else:
+                entry_coords(pos, gpos, cell_entries, N + ng, ec)
+            resolve_strips(threads, ns, ec, vel, gsrc, cell_start, cell_entries, N, n_cx, n_cy, L_x, L_y, dt, mode,
                            eps_const, v_c, accs, acc)
             if sort_every > 0 and (step0 + k) % sort_every == 0:
                 sort_by_cell(pos, vel, ids, cell_entries, pos.shape[0] + ng, spos, svel, sids)
-        sample_local_stress(pos, vel, acc)
+        if strips:
+            sample_blocks(pos, vel, acc, parts)
+        else:
+            sample_local_stress(pos, vel, acc)
         acc[A_TIME] += dt
     return OK, nsteps
 

@@ -159,13 +159,12 @@ def _phase(first, step, count, ns, n_cx, ec, vel, gsrc, cell_start, cell_entries
 
 
 @njit(nogil=True, cache=True)
-def resolve_strips(threads, ec, vel, gsrc, cell_start, cell_entries, N, n_cx, n_cy, L_x, L_y, dt, mode, eps_const,
-                   v_c, accs, acc):
-    """Resolve all impacts once (strips as the module docstring says); ``threads`` > 1 runs a phase's strips
-    on numba's threads, 1 runs them one after another (the same bits).  ``accs`` (>= strips, N_ACC) is
-    scratch; the sums go to ``acc``."""
-    ns = -(-n_cx // STRIP_COLS)
-    if ns < MIN_STRIPS:
+def resolve_strips(threads, ns, ec, vel, gsrc, cell_start, cell_entries, N, n_cx, n_cy, L_x, L_y, dt, mode,
+                   eps_const, v_c, accs, acc):
+    """Resolve all impacts once in ``ns`` strips (:func:`n_strips`; 1: the reference order) as the module
+    docstring says; ``threads`` > 1 runs a phase's strips on numba's threads, 1 runs them one after another
+    (the same bits).  ``accs`` (>= ns, N_ACC) is scratch; the sums go to ``acc``."""
+    if ns <= 1:
         resolve_columns(0, n_cx, ec, vel, gsrc, cell_start, cell_entries, N, n_cy, L_x, L_y, dt, mode,
                         eps_const, v_c, acc)
         return

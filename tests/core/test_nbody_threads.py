@@ -64,7 +64,7 @@ def _search(box, multi):
                              box.n_cx, box.n_cy, box.L_x, box.L_y, box.dt, 1, 0.5, v_c, acc)
         return vel, acc
     pairs.entry_coords(box.pos, w[I.W_GPOS], w[I.W_CELL_ENTRIES], box.N + ng, w[I.W_EC])
-    pairs.resolve_strips(1, w[I.W_EC], vel, w[I.W_GSRC], w[I.W_CELL_START], w[I.W_CELL_ENTRIES], box.N, box.n_cx,
+    pairs.resolve_strips(1, pairs.n_strips(box.n_cx), w[I.W_EC], vel, w[I.W_GSRC], w[I.W_CELL_START], w[I.W_CELL_ENTRIES], box.N, box.n_cx,
                          box.n_cy, box.L_x, box.L_y, box.dt, 1, 0.5, v_c, w[I.W_ACCS], acc)
     return vel, acc
 
