@@ -206,6 +206,11 @@ def nbody_phase_tables(d: dict) -> str:
     """Markdown of ``scripts/nbody_phase_cost.py --json`` (where an N-body step goes) and
     ``scripts/nbody_step_ab.py --json`` (one thread, the code before against this one)."""
     text = _recorded(d)
+    loads = d.get("recorded", {}).get("load_average", {})
+    if loads:
+        text += ("5-minute load average when each part was recorded (more than the cores: a busy machine, wall "
+                 "times inflated and thread speed-ups meaningless): "
+                 + ", ".join(f"{k} {v}" for k, v in loads.items()) + ".\n")
     for box in d.get("phases", []):
         text += (f"\n{box['box']} box ({_fmt(box['N'])} particles, {box['strips']} strips), per step "
                  f"(wall time, best of {box.get('reps', '?')}):\n\n")
