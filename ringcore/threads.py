@@ -72,5 +72,7 @@ def check(threads, name: str = "threads") -> int:
 
 
 def use(threads: int) -> None:
-    """Make numba's parallel regions started from the calling thread use ``threads`` threads (thread-local)."""
-    numba.set_num_threads(threads)
+    """Make numba's parallel regions started from the calling thread use ``threads`` threads (thread-local),
+    at most :func:`maximum` (an engine unpickled on a machine with fewer cores runs on those; the results
+    do not depend on the number)."""
+    numba.set_num_threads(max(1, min(int(threads), maximum())))

@@ -17,6 +17,7 @@ from .kernels import A_NSAMP, A_SWX, A_SWXX, A_SWXY, A_SWY, A_SWYY, A_SWZ, A_SWZ
 
 BLOCKS_PER_THREAD = 4  # blocks per thread (a thread slowed by another job leaves little work behind)
 MIN_PARTICLES = 8192  # smaller boxes drift on one thread (a parallel launch costs more than it saves)
+MAX_BLOCKS = 512  # the scratch of the crossing counts holds this many (any thread count, any machine)
 SAMPLE_BLOCKS = 64  # blocks of the velocity-moment sums of the strip boxes (fixed: the sums' order is the box's)
 
 
@@ -123,10 +124,11 @@ def blocks_for(threads: int, n: int) -> int:
     """Blocks of the per-particle phases for ``threads`` threads and ``n`` particles (1: serial)."""
     if threads <= 1 or n < MIN_PARTICLES:
         return 1
-    return int(min(n, threads * BLOCKS_PER_THREAD))
+    return int(min(n, threads * BLOCKS_PER_THREAD, MAX_BLOCKS))
 
 
-def new_counts(threads: int) -> np.ndarray:
-    """Scratch for :func:`drift_wrap_blocks`."""
-    return np.zeros(max(1, threads * BLOCKS_PER_THREAD), np.int64)
+def new_counts(threads: int = 0) -> np.ndarray:
+    """Scratch for :func:`drift_wrap_blocks` (``MAX_BLOCKS`` entries whatever ``threads``: a box unpickled
+    on a machine with more cores may use them all)."""
+    return np.zeros(MAX_BLOCKS, np.int64)
 
