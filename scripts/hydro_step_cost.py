@@ -130,10 +130,11 @@ def floor(root: str, baseline_ms: float | None) -> dict:
         sim = default_box(root)
         sim.advance(until=start)
         g = sim.gravity
+        tw = (sim._thread_work(),) if hasattr(sim, "_thread_work") else ()  # the code before threads: none
         c = time.process_time()
         t, dt, n, hits, field, j, k = ssprk_steps(
             sim._Ustack, sim._slot, sim._Lstack, sim._W, sim._beta, sim._par, g.enabled, *g.kernel_args,
-            STAGE_I, STAGE_F, sim._T_floor, sim.t, math.inf, math.inf, 1000)
+            STAGE_I, STAGE_F, sim._T_floor, sim.t, math.inf, math.inf, 1000, *tw)
         per[start] = 1e6 * (time.process_time() - c) / n
     sim = default_box(root)
     c = time.process_time()

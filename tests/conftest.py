@@ -30,7 +30,8 @@ os.environ.setdefault("RINGLAB_COMPUTE", "threads")
 # other: the wave-train stability scan (dense eigenvalue problems) took 31.7 s of CPU with two OpenBLAS threads
 # against 16.9 s with one (15.9 against 16.9 s of wall time on an idle machine).  Set here, before the xdist
 # workers and the tests' subprocesses start (they inherit it); an explicit setting in the environment wins.
-for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+# RINGCORE_THREADS: the engines' runs on one thread too (the thread tests give their thread counts explicitly).
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS", "RINGCORE_THREADS"):
     os.environ.setdefault(_var, "1")
 
 TIERS = ("core", "app", "browser", "notebooks", "install")

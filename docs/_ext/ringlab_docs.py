@@ -162,6 +162,12 @@ def hydro_tables(d: dict) -> str:
     text = _recorded(d) + _table(d.get("configs", []), cols)
     text += (f"\nnumba {d.get('numba', '?')}, pyFFTW {'used' if d.get('pyfftw') else 'not installed (numpy FFT)'}."
              + (f" Further keys per row in the JSON: {', '.join(f'`{k}`' for k in extra)}." if extra else "") + "\n")
+    thr = d.get("threads")
+    if thr:
+        text += (f"\nThreads: the non-isothermal box of {_fmt(thr.get('n', '?'))} cells (h = {thr.get('h_m', '?')} m), "
+                 "wall time per step (the states are the same bits for every thread count):\n\n")
+        text += _table([dict(threads=k, **v) for k, v in thr.get("by_threads", {}).items()],
+                       [("threads", "threads"), ("us_per_step", "µs per step"), ("speedup", "speed-up")])
     return text
 
 
@@ -184,12 +190,42 @@ def nbody_tables(d: dict) -> str:
         text += "\nSpeed of the app's N-body boxes:\n\n"
         text += _table([dict(box=k, **v) for k, v in app.items()],
                        [("box", "box"), ("N", "particles"), ("orbits_per_s", "orbits per second")])
+    by = [dict(box=r["box"], N=r["N"], threads=k, **v) for r in d.get("boxes", []) for k, v in
+          (r.get("by_threads") or {}).items()]
+    if by:
+        text += ("\nThreads (wall time from the same state, alternated, best of three; the results are the same bits "
+                 "for every thread count):\n\n")
+        text += _table(by, [("box", "box"), ("N", "particles"), ("threads", "threads"),
+                            ("particle_steps_per_s", "particle-steps/s"), ("speedup", "speed-up")])
     if not d.get("rebound_available"):
         text += "\nREBOUND was not installed when this was recorded (`pip install .[bench]`): no reference columns.\n"
     return text
 
 
-RENDERERS = {"hydro": hydro_tables, "nbody": nbody_tables}
+def nbody_phase_tables(d: dict) -> str:
+    """Markdown of ``scripts/nbody_phase_cost.py --json`` (where an N-body step goes) and
+    ``scripts/nbody_step_ab.py --json`` (one thread, the code before against this one)."""
+    text = _recorded(d)
+    loads = d.get("recorded", {}).get("load_average", {})
+    if loads:
+        text += ("5-minute load average when each part was recorded (more than the cores: a busy machine, wall "
+                 "times inflated and thread speed-ups meaningless): "
+                 + ", ".join(f"{k} {v}" for k, v in loads.items()) + ".\n")
+    for box in d.get("phases", []):
+        text += (f"\n{box['box']} box ({_fmt(box['N'])} particles, {box['strips']} strips), per step "
+                 f"(wall time, best of {box.get('reps', '?')}):\n\n")
+        text += _table([dict(phase=k, us=v * 1e6, ns=v / box["N"] * 1e9) for k, v in box["seconds"].items()],
+                       [("phase", "phase"), ("us", "µs per step"), ("ns", "ns per particle")])
+    ab = d.get("ab", [])
+    if ab:
+        text += ("\nOne thread, A/B in one command (fresh processes alternated, particle-steps per CPU second, "
+                 "median of the repeats; A: the code before, B: this one):\n\n")
+        text += _table(ab, [("box", "box"), ("N", "particles"), ("A", "A particle-steps/s"),
+                            ("B", "B particle-steps/s"), ("ratio", "B / A"), ("identical", "same bits")])
+    return text
+
+
+RENDERERS = {"hydro": hydro_tables, "nbody": nbody_tables, "nbody_phases": nbody_phase_tables}
 
 
 def write_bench_tables(app=None) -> list:

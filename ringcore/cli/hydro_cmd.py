@@ -15,6 +15,7 @@ from .common import (add_ring_arguments, check_flag, check_ring_flags, check_sel
                      ring_params_from_args, refuse_with)
 from .errors import UsageError, is_blowup
 from .safety import check_fallback_dir, check_memory, check_run_fits, reserve_output_file
+from . import threads_opt
 
 # options that define a new run: refused with --init FILE.nc (the file's settings win)
 NEW_RUN_OPTIONS = ("set", "sigma0", "isothermal", "ps", "ps_scale", "beta", "lx", "h", "seed", "amplitude",
@@ -68,6 +69,7 @@ def register(sub) -> None:
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true",
                    help="print the result (orbits, steps, e_kin, lambda_p, file) as one JSON object")
+    threads_opt.add(p)
     p.set_defaults(func=run)
 
 

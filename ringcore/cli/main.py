@@ -22,7 +22,7 @@ import warnings
 
 from .. import __version__
 from ..io.signals import graceful_interrupt
-from . import _startup_stop
+from . import _startup_stop, threads_opt
 from .errors import status_and_message
 
 SLOW_EXIT_COMMANDS = ("sweep",)  # interrupted, these still exit normally (dask/multiprocessing clean-up)
@@ -134,6 +134,7 @@ def _run(argv: list, debug: bool) -> int:
         _STATE["command"] = args.command
         args._given = _given_dests(build_parser(only), argv)
         args._argv = list(argv)  # the command line as given (provenance of output files)
+        threads_opt.apply(args)  # --threads: checked before anything runs, the default of every run
         return int(args.func(args) or 0)
     except KeyboardInterrupt as exc:
         name = str(exc) if str(exc).startswith("SIG") else "SIGINT"

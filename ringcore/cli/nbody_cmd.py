@@ -18,6 +18,7 @@ from .archive_opt import add_archive_arguments, start_archive
 from .common import check_flag, check_self_gravity, refuse_with
 from .errors import UsageError
 from .safety import check_fallback_dir, check_memory, check_run_fits, reserve_output_file
+from . import threads_opt
 
 # options that define a new box: refused with --from FILE (the file's box wins)
 NEW_BOX_OPTIONS = ("set", "L_x", "L_y", "R_p", "restitution", "epsilon", "impacts", "contact_duration", "dt", "seed",
@@ -80,6 +81,7 @@ def register(sub) -> None:
     add_archive_arguments(p)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="print the final diagnostics as one JSON object")
+    threads_opt.add(p)
     p.set_defaults(func=run)
 
 

@@ -10,6 +10,7 @@ from ..paperlabels import to_published
 from ..paperrefs import ref
 from .common import refuse_with
 from .safety import FILE_INCREMENT, check_new_files, check_output_dir
+from . import threads_opt
 
 
 def register(sub) -> None:
@@ -26,6 +27,7 @@ def register(sub) -> None:
     p.add_argument("--overwrite", action="store_true", help="replace OUT/NAME.png and OUT/NAME.nc if they exist")
     p.add_argument("--json", action="store_true",
                    help="print the result (or with --list the recipes) as one JSON object")
+    threads_opt.add(p)
     p.set_defaults(func=run, mode="quick")
 
 

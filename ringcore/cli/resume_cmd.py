@@ -13,6 +13,7 @@ from ..units import E_KIN_UNIT
 from .errors import UsageError
 from .errors import is_blowup
 from .safety import check_fallback_dir, check_run_fits, reserve_output_file
+from . import threads_opt
 
 PLAN_ATTR = "equilibrate_until"  # written by ``ringcore nbody --equilibrate`` (see nbody_cmd)
 ROUND_OFF = 1e-9  # relative: an end time this close below the run's time is that time (the run loop's tolerance)
@@ -39,6 +40,7 @@ def register(sub) -> None:
                         "checkpoints only warn and are tried again at the next one")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--json", action="store_true", help="print the summary as one JSON object")
+    threads_opt.add(p)
     p.set_defaults(func=run)
 
 

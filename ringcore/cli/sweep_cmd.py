@@ -24,6 +24,7 @@ from .common import refuse_with
 from .common import check_flag
 from .errors import EnvironmentProblem, UsageError
 from .safety import FILE_INCREMENT, check_output_dir
+from . import threads_opt
 
 # options that do nothing for an engine (refused when given)
 UNUSED = {"linear": ("lx", "h", "orbits", "seed"), "nbody": ("h",), "hydro": ()}
@@ -60,6 +61,7 @@ def register(sub) -> None:
     p.add_argument("--out", default="sweep-out", help="output folder")
     p.add_argument("--json", action="store_true",
                    help="print the result as one JSON object (runs, failures, files, wall time)")
+    threads_opt.add(p)
     p.set_defaults(func=run)
 
 

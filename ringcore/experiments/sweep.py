@@ -254,9 +254,14 @@ def local_cluster(n_workers: int, dashboard: bool = True):
     """
     from dask.distributed import LocalCluster  # deferred on purpose: dask.distributed is slow to import
 
+    from .. import threads
+
     extra = {} if dashboard else {"scheduler_kwargs": {"dashboard": False, "dashboard_address": "127.0.0.1:0"}}
+    # each run's threads: the machine's cores shared among the workers (more threads than cores would make
+    # every run wait for the others), unless RINGCORE_THREADS (ringcore sweep --threads) says otherwise
+    per_run = os.environ.get(threads.ENV) or str(max(1, threads.available() // max(1, n_workers)))
     return LocalCluster(n_workers=n_workers, threads_per_worker=1, processes=True, host="127.0.0.1",
-                        dashboard_address="127.0.0.1:0" if dashboard else None, **extra)
+                        dashboard_address="127.0.0.1:0" if dashboard else None, env={threads.ENV: per_run}, **extra)
 
 
 def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int | None = None, progress: bool = True,

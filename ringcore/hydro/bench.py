@@ -1,15 +1,19 @@
-"""``ringcore bench hydro [--json] [--quick]``: speed of the 1D hydro scheme.
+"""``ringcore bench hydro [--json] [--quick] [--threads 1,2]``: speed of the 1D hydro scheme.
 
 For the isothermal and the non-isothermal model (tau15, sigma0 = 400 kg/m^2, self-gravity by
 the FFT mode method, h = 2.5 m) at n = 2,000 and 8,000 nodes: nanoseconds per node per RK
 stage (full steps including the FFTs; CPU time of the process, best of several repeats, so that
 other jobs on a shared machine do not inflate it; the code is single-threaded), time steps per orbit of
 the paper's criterion (f_t = 0.1) and of the fast "cfl" option, both for the weakly perturbed
-initial state (nonlinear states need more), and simulated orbits per wall-clock minute.
+initial state (nonlinear states need more), and simulated orbits per wall-clock minute; these on one
+thread.  Then the threads: the non-isothermal 10 km box at h = 2.5 m (4,000 nodes), wall time per step
+at each of ``threads`` (default 1 and the cores this process may use), alternated, best of several
+repeats, and the speed-up over the first (the states are the same bits; measure on a quiet machine).
 
 JSON (one object): ``{"engine": "hydro", "quick": bool, "numba": str, "pyfftw": bool,
 "configs": [{"model", "n", "h_m", "ns_per_cell_stage", "steps_per_orbit",
-"orbits_per_minute", "steps_per_orbit_fast", "orbits_per_minute_fast"}, ...]}``.
+"orbits_per_minute", "steps_per_orbit_fast", "orbits_per_minute_fast"}, ...],
+"threads": {"n": 4000, "h_m": 2.5, "by_threads": {"1": {"us_per_step", "speedup"}, ...}}}``.
 """
 from __future__ import annotations
 
@@ -20,6 +24,7 @@ import time
 import numba
 
 from .. import params
+from .. import threads as TH
 from .gravity import HAVE_PYFFTW
 from .options import HydroOptions
 from .solver import Hydro1D
@@ -31,7 +36,7 @@ H_M = 2.5  # [m]
 def _measure(iso: bool, n: int, quick: bool) -> dict:
     p = params.get("tau15", sigma0=400.0, isothermal=iso)
     opt = HydroOptions(L_x=n * H_M, h=H_M, gravity="mode")
-    sim = Hydro1D(p, opt, initial="noise", seed=1)
+    sim = Hydro1D(p, opt, initial="noise", seed=1, threads=1)
     sim.step()  # compile / warm up
     reps, nstep = (3, 20) if quick else (7, 60)
     best = math.inf
@@ -49,12 +54,33 @@ def _measure(iso: bool, n: int, quick: bool) -> dict:
                 orbits_per_minute_fast=round(60.0 / (spo_fast * best), 2))
 
 
-def run_bench(as_json: bool = False, quick: bool = False) -> int:
+def _threads(threads: tuple, quick: bool, n: int = 4000) -> dict:
+    """Wall time per step of the non-isothermal n-node box at h = 2.5 m per thread count (alternated)."""
+    p = params.get("tau15", sigma0=400.0, isothermal=False)
+    sims = {th: Hydro1D(p, HydroOptions(L_x=n * H_M, h=H_M), initial="noise", seed=1, threads=th) for th in threads}
+    for sim in sims.values():
+        sim.step()  # compile / warm up
+    reps, nstep = (3, 20) if quick else (7, 60)
+    best = {th: math.inf for th in threads}
+    for r in range(reps):
+        for th in (threads if r % 2 == 0 else threads[::-1]):
+            t0 = time.perf_counter()
+            for _ in range(nstep):
+                sims[th].step()
+            best[th] = min(best[th], (time.perf_counter() - t0) / nstep)
+    first = best[threads[0]]
+    return dict(n=n, h_m=H_M, by_threads={str(th): dict(us_per_step=round(b * 1e6, 1), speedup=round(first / b, 3))
+                                          for th, b in best.items()})
+
+
+def run_bench(as_json: bool = False, quick: bool = False, threads=None) -> int:
     """Run the benchmark and print a table (or one JSON object); returns the exit status 0."""
+    threads = tuple(dict.fromkeys(TH.check(t, "--threads") for t in (threads or (1, TH.available()))))
     configs = [_measure(iso, n, quick) for iso in (True, False) for n in (2000, 8000)]
+    thr = _threads(threads, quick)
     if as_json:
         print(json.dumps(dict(engine="hydro", quick=bool(quick), numba=numba.__version__, pyfftw=HAVE_PYFFTW,
-                              fast_dt_factor=FAST_DT_FACTOR, configs=configs)))
+                              fast_dt_factor=FAST_DT_FACTOR, configs=configs, threads=thr)))
         return 0
     print(f"ringcore hydro benchmark (tau15, sigma0 = 400 kg/m^2, self-gravity, h = {H_M} m; "
           f"fast = 'cfl' f_t = {FAST_DT_FACTOR})")
@@ -63,4 +89,6 @@ def run_bench(as_json: bool = False, quick: bool = False) -> int:
     for c in configs:
         print(f"{c['model']:14s} {c['n']:6d} {c['ns_per_cell_stage']:14.1f} {c['steps_per_orbit']:12.0f} "
               f"{c['orbits_per_minute']:11.1f} {c['steps_per_orbit_fast']:17.0f} {c['orbits_per_minute_fast']:16.1f}")
+    print(f"threads, non-isothermal, n = {thr['n']} (10 km at h = {H_M} m), wall time per step: "
+          + "  ".join(f"{th}: {v['us_per_step']:.0f} us ({v['speedup']:.2f}x)" for th, v in thr["by_threads"].items()))
     return 0

@@ -221,7 +221,7 @@ def _gradients(W, iso, inv60h, inv180h2, n):
 
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
-def compute_rhs(U, W, beta, g, par, L, maxima=True):
+def compute_rhs(U, W, beta, g, par, L, maxima=True, fill=True):
     """Right-hand side L(U) = -dF/dx + S of eq. (hcl) at the interior nodes.
 
     Parameters
@@ -239,6 +239,9 @@ def compute_rhs(U, W, beta, g, par, L, maxima=True):
         Output, interior nodes only.
     maxima : bool, optional
         Compute the grid maxima the time step needs (default); False returns zeros for them.
+    fill : bool, optional
+        Fill the periodic ghost nodes first (default); False: ``U`` is a window of a larger grid whose
+        ghost nodes are its neighbours' nodes (:mod:`ringcore.hydro.threaded`).
 
     Returns
     -------
@@ -258,7 +261,8 @@ def compute_rhs(U, W, beta, g, par, L, maxima=True):
     nv, N = U.shape
     n = N - 2 * NG
     iso = nv == 3
-    fill_ghosts(U, n)
+    if fill:
+        fill_ghosts(U, n)
     _primitives(U, W, beta, par)
     vmax, numax, rmax = _grid_maxima(U, W, par, n) if maxima else (0.0, 0.0, 0.0)
     _split_fluxes(U, W)

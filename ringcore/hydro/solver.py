@@ -61,6 +61,9 @@ class Hydro1D(Stepping, StateIO, PhysicalFields):
         eigenmode (``wavelength`` [m], ``direction``, ``amplitude`` default 1e-3, ``phase``);
         ``"state"`` with ``state=(sigma, u, v, T)`` dimensionless arrays of length n; or a
         dataset written by :meth:`to_dataset` (its last state; time restarts at 0).
+    threads : int, optional
+        Threads of the fast step (default: :func:`ringcore.threads.default`, the cores this process may
+        use; also the settable attribute :attr:`threads`); the states are the same bits for any number.
 
     Attributes
     ----------
@@ -80,8 +83,10 @@ class Hydro1D(Stepping, StateIO, PhysicalFields):
     def __init__(self, params: RingParams, options: HydroOptions | None = None, initial="ground", *,
                  seed: int | None = None, amplitude: float | None = None, lambda_min: float | None = None,
                  wavelength: float | None = None, direction: str = "left", phase: float = 0.0, state=None,
-                 max_samples: int | None = None, max_rows: int | None = None):
+                 max_samples: int | None = None, max_rows: int | None = None, threads: int | None = None):
         self._allocate(params, options)
+        if threads is not None:
+            self.threads = threads
         self.limit_records(max_samples, max_rows)
         self._set_initial(initial, seed=seed, amplitude=amplitude, lambda_min=lambda_min,
                           wavelength=wavelength, direction=direction, phase=phase, state=state)
@@ -133,6 +138,7 @@ class Hydro1D(Stepping, StateIO, PhysicalFields):
         self.gravity = SelfGravity(n, self.h, d["inv_Q0"], opt.gravity, opt.replicas, opt.bin_correction)
         # one compiled call per step (.stepper), wherever the FFTW library was found; False: the reference path
         self.fast_step = self.gravity.kernel_args is not None
+        self.threads = None  # the default (ringcore.threads.default); the threads do not change the results
         self.t = 0.0  # [1/Omega]
         self._steps = 0
         self.dt = 0.0  # last time step [1/Omega]

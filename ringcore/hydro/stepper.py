@@ -19,13 +19,14 @@ import numpy as np
 from numba import njit
 
 from . import kernels as K
+from . import threaded
 from .fftw import convolve
 
 NG = K.NG
 
 
 @njit(nogil=True, cache=True, error_model="numpy")
-def ssprk_step(U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stage_i, stage_f, dt_cap, T_floor):
+def ssprk_step(U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stage_i, stage_f, dt_cap, T_floor, tw):
     """One SSPRK step; returns ``(dt, floor_hits, field, index, stage)``.
 
     Parameters
@@ -51,6 +52,9 @@ def ssprk_step(U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stag
         Largest allowed dt [1/Omega].
     T_floor : float
         Temperature floor [c0^2] applied after every stage (0: off).
+    tw : tuple
+        Windows of the threaded stage (:func:`ringcore.hydro.threaded.new_work`); with one window the
+        stages run on one thread as :func:`ringcore.hydro.kernels.rk_stage` (the same bits either way).
 
     Returns
     -------
@@ -73,6 +77,12 @@ def ssprk_step(U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stag
         if gravity_on:
             convolve(Uin[0, NG:NG + n], fwd, bwd, G, s, sk, g)
         out = U[slot[i + 1]]
+        if tw[3].shape[0] > 1:
+            dt, h = threaded.stage(Uin, beta, g, par, li, lp, U[slot[ja]], stage_f[st, 0], U[slot[jb]],
+                                   stage_f[st, 1], U[slot[jc]], stage_f[st, 2], stage_f[st, 3], stage_f[st, 4],
+                                   dt, dt_cap, out, T_floor, tw)
+            hits += h
+            continue
         dt = K.rk_stage(Uin, W, beta, g, par, L[li], L[lp], U[slot[ja]], stage_f[st, 0], U[slot[jb]],
                         stage_f[st, 1], U[slot[jc]], stage_f[st, 2], stage_f[st, 3], stage_f[st, 4],
                         dt, dt_cap, out)
@@ -91,7 +101,7 @@ def ssprk_step(U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stag
 
 @njit(nogil=True, cache=True, error_model="numpy")
 def ssprk_steps(U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stage_i, stage_f, T_floor, t,
-                t_event, t_stop, max_steps):
+                t_event, t_stop, max_steps, tw):
     """Steps of :func:`ssprk_step` up to the next event, in one call (the loop of
     :meth:`ringcore.hydro.Hydro1D.advance` between two of its events, without a crossing between Python
     and compiled code per step).
@@ -103,7 +113,7 @@ def ssprk_steps(U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, sta
 
     Parameters
     ----------
-    U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stage_i, stage_f, T_floor
+    U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stage_i, stage_f, T_floor, tw
         As in :func:`ssprk_step`.
     t : float
         Time of the state [1/Omega].
@@ -136,7 +146,7 @@ def ssprk_steps(U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, sta
     while True:
         cap = t_event - t
         dt, h, field, j, k = ssprk_step(U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stage_i,
-                                        stage_f, cap, T_floor)
+                                        stage_f, cap, T_floor, tw)
         if field >= 0:
             return t, dt_good, steps, hits, field, j, k
         if not (dt > 0.0 and dt < np.inf):

@@ -15,9 +15,11 @@ import numpy as np
 
 from .. import ranges
 from ..checks import check_cap, check_real
+from .. import threads as _threads
 from ..deprecation import E_KIN_RP_KEY, DeprecatedKeys, warn_once
 from ..engine import BlowUp
 from . import kernels as K
+from . import threaded
 from .convert import cons_to_prim
 from .stepper import ssprk_step, ssprk_steps
 from .timestep import stage_plan
@@ -79,6 +81,28 @@ class Stepping:
         node-steps (a run that could not finish), naming ``label`` and the allowed duration."""
         ranges.check_work(label, orbits, self.estimate_steps(orbits) / max(orbits, 1e-300), self.n, "nodes")
 
+    # ------------------------------------------------------------------ threads
+    @property
+    def threads(self) -> int:
+        """Threads of the fast step (1 <= threads <= :func:`ringcore.threads.maximum`; setting None gives
+        :func:`ringcore.threads.default`).  Grids of fewer than 2,000 nodes step on one thread; the results
+        are the same bits for every number (:mod:`ringcore.hydro.threaded`)."""
+        return self._threads
+
+    @threads.setter
+    def threads(self, value: int | None) -> None:
+        self._threads = _threads.check(value)
+        self._tw = None
+
+    def _thread_work(self) -> tuple:
+        """The windows of the threaded stage for the current thread count (made on first use); sets numba's
+        thread count for the calling thread."""
+        if getattr(self, "_tw", None) is None:
+            chunks = threaded.chunks_for(self._threads, self.n)
+            self._tw = threaded.new_work(chunks, self.n if chunks > 1 else 1, self.nv, self._Lstack.shape[0])
+        _threads.use(self._threads)
+        return self._tw
+
     # ------------------------------------------------------------------ stepping
     def step(self, dt_cap: float = math.inf) -> float:
         """Advance one SSPRK(5,4) step (dt from the criterion, at most ``dt_cap``); returns dt.
@@ -94,7 +118,7 @@ class Stepping:
             grav = self.gravity
             dt, hits, field, j, k = ssprk_step(self._Ustack, self._slot, self._Lstack, self._W, self._beta, self._par,
                                                grav.enabled, *grav.kernel_args, STAGE_I, STAGE_F, dt_cap,
-                                               self._T_floor)
+                                               self._T_floor, self._thread_work())
             bad = self._U[k] if field >= 0 else None
         else:
             dt, hits, field, j, bad = self._step_reference(dt_cap)
@@ -117,7 +141,7 @@ class Stepping:
         grav, sl, U = self.gravity, self._slot, self._U
         t, dt, n, hits, field, j, k = ssprk_steps(
             self._Ustack, sl, self._Lstack, self._W, self._beta, self._par, grav.enabled, *grav.kernel_args,
-            STAGE_I, STAGE_F, self._T_floor, self.t, t_event, t_stop, max_steps)
+            STAGE_I, STAGE_F, self._T_floor, self.t, t_event, t_stop, max_steps, self._thread_work())
         if n:
             U[0], U[5] = self._Ustack[sl[0]], self._Ustack[sl[5]]  # the views follow the slots
             self.floor_hits += hits

@@ -21,6 +21,7 @@ import math
 import numpy as np
 
 from .. import ranges
+from .. import threads as _threads
 from ..analysis.spectra import power_spectrum
 from ..checks import check_int, check_real
 from ..deprecation import E_KIN_RP_KEY, DeprecatedKeys
@@ -62,6 +63,10 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
         Start from this state instead (kernel units); used by :meth:`from_dataset`.
     ids : array of int, optional
         Particle labels of ``state`` (particles are reordered in memory; ``ids`` follows them).
+    threads : int, optional
+        Threads of the time stepping (default: the cores this process may use,
+        :func:`ringcore.threads.available`; also settable later as :attr:`threads`).  The results are
+        the same bits for every number of threads.
 
     Time is ``t = t0 + steps * dt`` and the box means are recorded when ``steps`` is a multiple
     of ``record_every``: a run split into pieces (checkpoints, interruptions, ``max_wall_s``) is
@@ -72,7 +77,8 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
     kind = "nbody"
 
     def __init__(self, params: RingParams, options: NBodyOptions | None = None, seed: int = 0, *,
-                 state=None, ids=None):
+                 state=None, ids=None, threads: int | None = None):
+        self.threads = threads
         if not isinstance(params, RingParams):
             raise ValueError(f"params = {params!r} is not valid: pass a ringcore.params.RingParams")
         self.params = params
@@ -116,7 +122,7 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
         self.n_cx, self.n_cy = int(self.L_x // 2.0), int(self.L_y // 2.0)
         self._g = -2.0 * math.pi * G * self.params.sigma0 / (self.R_p * self.Omega**2)
         self._mode = 1 if o.restitution == "bridges" else 0
-        self._work = w = I.new_work(n, self.n_cx, self.n_cy, o.bins, o.m_hi - o.m_lo + 1)
+        self._work = w = I.new_work(n, self.n_cx, self.n_cy, o.bins, o.m_hi - o.m_lo + 1, _threads.maximum())
         self._gpos, self._gsrc, self._cell_start = w[I.W_GPOS], w[I.W_GSRC], w[I.W_CELL_START]
         self._cell_entries, self._cell_of = w[I.W_CELL_ENTRIES], w[I.W_CELL_OF]
         self._good = (np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n, np.int64), K.new_accumulators())
@@ -135,7 +141,17 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
         o = self.options
         return I.pack_params(self._t0, self.dt, self.params.omega_z, self.L_x, self.L_y, o.epsilon,
                              o.v_c / self.v_unit, self._g, sanity.X_MAX_BOXES * self.L_x, self.n_cx, self.n_cy,
-                             o.collisions, self._mode, o.m_lo, o.m_hi, SORT_EVERY)
+                             o.collisions, self._mode, o.m_lo, o.m_hi, SORT_EVERY, self._threads, self.N)
+
+    @property
+    def threads(self) -> int:
+        """Threads of the time stepping (1 <= threads <= :func:`ringcore.threads.maximum`; setting None gives
+        :func:`ringcore.threads.available`); the results do not depend on it."""
+        return self._threads
+
+    @threads.setter
+    def threads(self, value: int | None) -> None:
+        self._threads = _threads.check(value)
 
     @property
     def v_unit(self) -> float:

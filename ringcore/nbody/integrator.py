@@ -6,10 +6,15 @@ One step of length dt (kernel units, see :mod:`ringcore.nbody.kernels`):
 2. kick v_x += dt F_g(x) with the collective radial self-gravity eq. (sgmodes) (if g != 0),
 3. exact drift over dt/2 (Strang splitting: the SEI scheme of Rein & Tremaine 2011),
 4. shear-periodic wrap with the offset D(t + dt),
-5. cell-list search and resolution of the overlapping, approaching pairs (as REBOUND does),
+5. cell-list search and resolution of the overlapping, approaching pairs (as REBOUND does;
+   :mod:`ringcore.nbody.pairs`, in column strips on threads),
 6. sampling of the peculiar-velocity moments for the local stress,
 7. every ``sort_every`` steps, reordering of the particles into cell order (cache locality;
    ``ids`` follows the particles).
+
+With ``ipar[I_THREADS]`` > 1 the drifts, the wrap and the impacts run on numba's threads
+(:mod:`ringcore.nbody.blocks`, :mod:`ringcore.nbody.pairs`); the results are the same bits for every
+number of threads.
 
 Without self-gravity and collisions the scheme is the exact flow of eq. (hill); the
 splitting is symplectic, second order in dt for the self-gravity force.
@@ -28,8 +33,11 @@ import numpy as np
 from numba import njit
 
 from .gravity import kick_selfgravity
-from .kernels import (A_CROSS, A_TIME, build_cell_list, drift_epicycle, resolve_collisions,
-                      sample_local_stress, shear_offset, sort_by_cell, wrap_shear_periodic)
+from .blocks import (blocks_for, drift_blocks, drift_wrap_blocks, entry_coords_blocks, new_counts, new_sample_parts,
+                     sample_blocks)
+from .kernels import (A_CROSS, A_TIME, build_cell_list, drift_epicycle, sample_local_stress, shear_offset,
+                      sort_by_cell, wrap_shear_periodic)
+from .pairs import entry_coords, n_strips, new_strip_accumulators, resolve_strips
 
 # float parameters fpar[P_*] (kernel units)
 P_T0 = 0  # time of step 0 [1/Omega]
@@ -50,10 +58,14 @@ I_MODE = 3  # restitution law: 0 constant, 1 Bridges et al.
 I_MLO = 4  # lowest self-gravity mode
 I_MHI = 5  # highest self-gravity mode
 I_SORT_EVERY = 6  # steps between reorderings into cell order (0: never)
-N_IPAR = 7
+I_THREADS = 7  # numba threads of the drifts, wrap and impacts (1: serial; the same bits for any number)
+I_NBLK = 8  # particle blocks of the threaded per-particle phases
+I_STRIPS = 9  # strips of the impact search (1: the reference order; :func:`ringcore.nbody.pairs.n_strips`)
+N_IPAR = 10
 # work arrays work[W_*]
 W_RHO, W_FORCE, W_COEF, W_GPOS, W_SPOS, W_SVEL = 0, 1, 2, 3, 4, 5
 W_GSRC, W_CELL_START, W_CELL_ENTRIES, W_CELL_OF, W_SIDS = 6, 7, 8, 9, 10
+W_EC, W_ACCS, W_COUNTS, W_PARTS = 11, 12, 13, 14
 
 # status codes returned by :func:`advance`
 OK = 0
@@ -61,23 +73,29 @@ RUNAWAY_X = 1  # a particle left the box by more than P_XMAX (or became non-fini
 
 
 def pack_params(t0, dt, omega_z, L_x, L_y, eps, v_c, g, x_max, n_cx, n_cy, collisions, mode, m_lo, m_hi,
-                sort_every):
-    """The packed parameter vectors ``(fpar, ipar)`` (kernel units; see the ``P_*``/``I_*`` constants)."""
+                sort_every, threads=1, n=1):
+    """The packed parameter vectors ``(fpar, ipar)`` (kernel units; see the ``P_*``/``I_*`` constants);
+    ``threads`` and the particle count ``n`` set the threaded phases (the work arrays of :func:`new_work`
+    must be made for at least that many threads)."""
     fpar = np.zeros(N_FPAR)
     fpar[[P_T0, P_DT, P_OMEGA_Z, P_LX, P_LY, P_EPS, P_VC, P_G, P_XMAX]] = (t0, dt, omega_z, L_x, L_y, eps,
                                                                            v_c, g, x_max)
     ipar = np.zeros(N_IPAR, np.int64)
     ipar[[I_NCX, I_NCY, I_COLLISIONS, I_MODE, I_MLO, I_MHI, I_SORT_EVERY]] = (n_cx, n_cy, int(bool(collisions)),
                                                                               mode, m_lo, m_hi, sort_every)
+    ipar[I_THREADS] = threads
+    ipar[I_NBLK] = blocks_for(threads, n)
+    ipar[I_STRIPS] = n_strips(n_cx)
     return fpar, ipar
 
 
-def new_work(n, n_cx, n_cy, n_bins, n_modes):
-    """The work-array tuple for ``n`` particles (order of the ``W_*`` constants)."""
+def new_work(n, n_cx, n_cy, n_bins, n_modes, threads=1):
+    """The work-array tuple for ``n`` particles and up to ``threads`` threads (order of the ``W_*`` constants)."""
     ncell = (n_cx + 1) * n_cy
     return (np.zeros(n_bins), np.zeros(n_bins), np.zeros((2, n_modes)), np.zeros((n, 3)), np.zeros((n, 3)),
             np.zeros((n, 3)), np.zeros(n, np.int64), np.zeros(ncell + 1, np.int64), np.zeros(2 * n, np.int64),
-            np.zeros(2 * n, np.int64), np.zeros(n, np.int64))
+            np.zeros(2 * n, np.int64), np.zeros(n, np.int64), np.zeros((2 * n, 3)), new_strip_accumulators(n_cx),
+            new_counts(threads), new_sample_parts())
 
 
 @njit(nogil=True, cache=True)
@@ -113,6 +131,8 @@ def advance(pos, vel, ids, acc, fpar, ipar, work, step0, nsteps):
     m_lo = ipar[I_MLO]
     m_hi = ipar[I_MHI]
     sort_every = ipar[I_SORT_EVERY]
+    threads = ipar[I_THREADS]
+    nblk = ipar[I_NBLK]
     rho = work[W_RHO]
     force = work[W_FORCE]
     coef = work[W_COEF]
@@ -124,25 +144,45 @@ def advance(pos, vel, ids, acc, fpar, ipar, work, step0, nsteps):
     cell_entries = work[W_CELL_ENTRIES]
     cell_of = work[W_CELL_OF]
     sids = work[W_SIDS]
+    ec = work[W_EC]
+    accs = work[W_ACCS]
+    counts = work[W_COUNTS]
+    parts = work[W_PARTS]
+    N = pos.shape[0]
+    ns = ipar[I_STRIPS]  # the box's choice, never the threads'
+    strips = ns > 1
     half = 0.5 * dt
     for k in range(nsteps):
-        drift_epicycle(pos, vel, half, omega_z)
-        if g != 0.0:
-            kick_selfgravity(pos, vel, dt, g, L_x, m_lo, m_hi, rho, force, coef)
-        drift_epicycle(pos, vel, half, omega_z)
         t = t0 + (step0 + k + 1) * dt
         D = shear_offset(t, L_x, L_y)
-        nc = wrap_shear_periodic(pos, vel, L_x, L_y, D, x_max)
+        if nblk > 1:
+            if g != 0.0:
+                drift_blocks(pos, vel, half, omega_z, nblk)
+                kick_selfgravity(pos, vel, dt, g, L_x, m_lo, m_hi, rho, force, coef)
+            nc = drift_wrap_blocks(pos, vel, half, omega_z, L_x, L_y, D, x_max, g == 0.0, nblk, counts)
+        else:
+            drift_epicycle(pos, vel, half, omega_z)
+            if g != 0.0:
+                kick_selfgravity(pos, vel, dt, g, L_x, m_lo, m_hi, rho, force, coef)
+            drift_epicycle(pos, vel, half, omega_z)
+            nc = wrap_shear_periodic(pos, vel, L_x, L_y, D, x_max)
         if nc < 0:
             return RUNAWAY_X, k
         acc[A_CROSS] += nc
         if collisions:
             ng = build_cell_list(pos, L_x, L_y, D, n_cx, n_cy, gpos, gsrc, cell_start, cell_entries, cell_of)
-            resolve_collisions(pos, vel, gpos, gsrc, cell_start, cell_entries, n_cx, n_cy, L_x, L_y, dt,
-                               mode, eps_const, v_c, acc)
+            if nblk > 1:
+                entry_coords_blocks(pos, gpos, cell_entries, N + ng, ec, nblk)
+            else:
+                entry_coords(pos, gpos, cell_entries, N + ng, ec)
+            resolve_strips(threads, ns, ec, vel, gsrc, cell_start, cell_entries, N, n_cx, n_cy, L_x, L_y, dt, mode,
+                           eps_const, v_c, accs, acc)
             if sort_every > 0 and (step0 + k) % sort_every == 0:
                 sort_by_cell(pos, vel, ids, cell_entries, pos.shape[0] + ng, spos, svel, sids)
-        sample_local_stress(pos, vel, acc)
+        if strips:
+            sample_blocks(pos, vel, acc, parts)
+        else:
+            sample_local_stress(pos, vel, acc)
         acc[A_TIME] += dt
     return OK, nsteps
 

@@ -16,6 +16,7 @@ import numpy as np
 from tqdm.auto import tqdm
 
 from .. import ranges
+from .. import threads as _threads
 from ..checks import check_int, check_real
 from ..deprecation import E_KIN_RP_KEY, DeprecatedKeys, warn_once
 from ..engine import BlowUp
@@ -50,6 +51,7 @@ class Stepping:
         nsteps = check_int("nsteps", nsteps, 0, 10**12)
         done = 0
         fpar, ipar = self._params()
+        _threads.use(self._threads)
         while done < nsteps:
             n = min(self._chunk_max, nsteps - done)
             if deadline is not None:  # size the call to the time left (one step to measure the cost first)
