@@ -20,7 +20,7 @@ replaced run restorable; buffer-zone changes apply to the running state; invalid
 the run untouched and set ``problems``.  A :class:`ringcore.hydro.HydroBlowUp` pauses the
 run and keeps the last good state.
 
-References: Section "Numerical Methods / Hydrodynamic Scheme"; eqs. (ekin), (fourier).
+References: Section 4.1; Eqs. (39), (38).
 """
 from __future__ import annotations
 

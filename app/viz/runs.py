@@ -5,7 +5,7 @@ of :func:`ringcore.io.read_run` (or of a compact long-run file), or an engine in
 :func:`ringlab.viz.data.open_run`.  Each returns a HoloViews object (rendered with Bokeh: display it in a
 notebook, ``hv.save`` it, or ``hv.render(obj)`` for the Bokeh figure).
 
-References: eqs. (ekin), (fourier); Section "strob".
+References: Eqs. (39), (38); Appendix A.
 """
 from __future__ import annotations
 
@@ -53,7 +53,7 @@ def space_time(run, field: str = "sigma", rows: str | None = None, rasterize: bo
         An ``Image`` (evenly spaced rows, not rasterized), a ``QuadMesh`` (uneven rows, ``rasterize=False``),
         or the ``DynamicMap`` of the rasterized diagram; colour range: the 1st to 99th percentile.
 
-    References: Section "strob".
+    References: Appendix A.
     """
     if rasterize is not None and not isinstance(rasterize, (bool, np.bool_)):
         raise ValueError(f"rasterize = {rasterize!r} is not valid: allowed True, False or None (automatic)")
@@ -88,7 +88,7 @@ def e_kin(run):
     -------
     holoviews.Curve
 
-    References: eq. (ekin).
+    References: Eq. (39).
     """
     ds = data.open_run(run)
     t, e = data.series(ds, "e_kin")
@@ -107,7 +107,7 @@ def lambda_p(run):
     -------
     holoviews.Curve
 
-    References: eq. (fourier).
+    References: Eq. (38).
     """
     ds = data.open_run(run)
     t, lam = data.series(ds, "lambda_p")
@@ -125,7 +125,7 @@ def psd(run):
     -------
     holoviews.Curve
 
-    References: eq. (fourier).
+    References: Eq. (38).
     """
     ds = data.open_run(run)
     kind = data.run_kind(ds)
@@ -185,7 +185,7 @@ def longrun(run, rasterize: bool | None = None):
     -------
     holoviews.Layout
 
-    References: Figures "ekinisonosg", "tau15nga", "tau15bufnosg", "tau20nonisonosga".
+    References: Figures 8, 7, 9, 11.
     """
     ds = data.open_run(run)
     if data.run_kind(ds) != data.COMPACT:

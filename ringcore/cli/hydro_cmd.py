@@ -25,8 +25,8 @@ BYTES_PER_CELL = 400  # state, five SSPRK stage copies, fluxes, stresses, gravit
 
 def register(sub) -> None:
     p = sub.add_parser("hydro", help="1D axisymmetric hydrodynamics (writes a NetCDF run file)",
-                       description="Integrate the 1D shearing-sheet hydrodynamics of Section 'Numerical "
-                                   "Methods' and write the run (state, e_kin(t), lambda_p(t), space-time "
+                       description="Integrate the 1D shearing-sheet hydrodynamics of Section 4 (Numerical "
+                                   "Methods) and write the run (state, e_kin(t), lambda_p(t), space-time "
                                    "rows, PSD) to a NetCDF file.")
     add_ring_arguments(p)
     p.add_argument("--lx", type=float, default=5000.0, metavar="M", help="box size L_x [m] (default 5000)")

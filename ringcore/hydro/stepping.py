@@ -4,7 +4,7 @@ Python; the same kernels and the same FFTW self-gravity, so the same bits), :met
 
 :class:`Stepping` is a mixin of :class:`ringcore.hydro.solver.Hydro1D`, which owns the state and the work arrays.
 
-References: eqs. (nleq), (hcl), (timestep); Section "Numerical Methods".
+References: Eqs. (1), (26), (32); Section 4.
 """
 from __future__ import annotations
 

@@ -15,7 +15,7 @@ import numpy as np
 from ..params import RingParams
 from ..units import E_KIN_DIMLESS_UNIT, E_KIN_UNIT, e_kin_public
 
-LONG_NAME = "mean kinetic energy density, eq. (ekin)"
+LONG_NAME = "mean kinetic energy density, Eq. (39)"
 
 
 def _c0_omega(ds) -> tuple:

@@ -2,8 +2,8 @@
 
 One step of length dt (kernel units, see :mod:`ringcore.nbody.kernels`):
 
-1. exact epicyclic/vertical drift over dt/2 (eq. (hill) without forces),
-2. kick v_x += dt F_g(x) with the collective radial self-gravity eq. (sgmodes) (if g != 0),
+1. exact epicyclic/vertical drift over dt/2 (Eq. (49) without forces),
+2. kick v_x += dt F_g(x) with the collective radial self-gravity Eq. (54) (if g != 0),
 3. exact drift over dt/2 (Strang splitting: the SEI scheme of Rein & Tremaine 2011),
 4. shear-periodic wrap with the offset D(t + dt),
 5. cell-list search and resolution of the overlapping, approaching pairs (as REBOUND does),
@@ -11,14 +11,14 @@ One step of length dt (kernel units, see :mod:`ringcore.nbody.kernels`):
 7. every ``sort_every`` steps, reordering of the particles into cell order (cache locality;
    ``ids`` follows the particles).
 
-Without self-gravity and collisions the scheme is the exact flow of eq. (hill); the
+Without self-gravity and collisions the scheme is the exact flow of Eq. (49); the
 splitting is symplectic, second order in dt for the self-gravity force.
 
 The kernel takes packed parameters: a float64 vector ``fpar`` (indices ``P_*``), an int64
 vector ``ipar`` (indices ``I_*``) and the tuple ``work`` of work arrays (indices ``W_*``);
 build them with :func:`pack_params` / :func:`new_work`.
 
-References: eqs. (hill), (bridges), (sgmodes).
+References: Eqs. (49), (48), (54).
 """
 from __future__ import annotations
 

@@ -5,7 +5,7 @@
 :class:`Stepping` is a mixin of :class:`ringcore.nbody.box.ShearingBox`, which owns the particles, the work
 arrays and the recorder.
 
-References: eqs. (hill), (bridges), (ekin).
+References: Eqs. (49), (48), (39).
 """
 from __future__ import annotations
 
