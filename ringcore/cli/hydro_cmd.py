@@ -196,14 +196,17 @@ def run(args) -> int:
             raise
         sys.stderr.write(f"ringcore hydro: error: {exc} (saved to {args.out}, complete = 0)\n")
         return 1
+    # the run's lambda_p (its summary's, ringcore.analysis.lambda_p) and the current state's, named as such
+    lam, now = float(sim.summary()["lambda_p_m"]), float(sim.prevalent_wavelength())
     if args.json:
         import json
 
-        e_kin, lam = float(sim.e_kin()), float(sim.prevalent_wavelength())
+        e_kin = float(sim.e_kin())
         print(json.dumps({"kind": "hydro", "file": str(args.out), "orbits": float(sim.orbits), "steps": int(sim.steps),
                           "e_kin": e_kin if math.isfinite(e_kin) else None, "e_kin_units": E_KIN_UNIT,
-                          "lambda_p_m": lam if math.isfinite(lam) else None}))
+                          "lambda_p_m": lam if math.isfinite(lam) else None,
+                          "lambda_p_instantaneous_m": now if math.isfinite(now) else None}))
         return 0
     print(f"{sim.orbits:.2f} orbits, {sim.steps} steps, e_kin = {sim.e_kin():.4e} {E_KIN_UNIT}, "
-          f"lambda_p = {sim.prevalent_wavelength():.1f} m -> {args.out}")
+          f"lambda_p = {lam:.1f} m (instantaneous {now:.1f} m) -> {args.out}")
     return 0

@@ -22,6 +22,7 @@ import traceback
 import warnings
 
 from .. import __version__
+from ..log import cli_handler, logger
 from ..provenance import set_command
 from ..io.signals import graceful_interrupt
 from . import _startup_stop
@@ -106,10 +107,12 @@ def main(argv=None) -> int:
         if not debug:  # numerical RuntimeWarnings etc. would break the one-line messages; --debug shows them
             warnings.simplefilter("ignore")
         with graceful_interrupt():  # SIGTERM stops like SIGINT (clean-ups run, one line, status 130)
+            handler = cli_handler()  # progress lines of a batch job (stderr not a terminal) on the logger
             try:
                 status = _run(argv, debug)
             finally:
                 set_command(None)
+                logger.removeHandler(handler)
     if status == 130 and top and _STATE.get("command") not in SLOW_EXIT_COMMANDS:
         # interrupted: the state is saved and the files are closed; skip the interpreter's teardown
         # (freeing numba/llvm, xarray, FFTW: up to seconds on a loaded machine) so the prompt comes back at once

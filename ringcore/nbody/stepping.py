@@ -13,7 +13,7 @@ import math
 import time
 
 import numpy as np
-from tqdm.auto import tqdm
+from ..log import progress_bar as tqdm
 
 from .. import ranges
 from ..checks import check_int, check_real
