@@ -242,7 +242,8 @@ def load(path, kind: str | None = None, index: int | None = None):
     Parameters
     ----------
     path : str or path-like
-        A run file (:func:`ringcore.io.read_run`).
+        A run file (:func:`ringcore.io.read_run`), or an archive file written while a run went
+        (:mod:`ringcore.archive_file`: its last snapshot unless ``index`` is given).
     kind : str, optional
         ``"hydro"`` or ``"nbody"``: refuse a file of another kind.
     index : int, optional
