@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 
 from ringcore.experiments.longruns import run_title
+from ringcore.io.cf import native_units
 from ringcore.units import E_KIN_UNIT
 
 from ringlab.viz import data
@@ -62,7 +63,7 @@ def space_time(run, field: str = "sigma", rows: str | None = None, rasterize: bo
     hv = holoviews()
     tname = da.dims[0]
     x, t, z = ds["x"].values.astype(float), ds[tname].values.astype(float), np.asarray(da.values, np.float32)
-    unit = "dimensionless" if field == "sigma" else da.attrs.get("units")
+    unit = "dimensionless" if field == "sigma" else native_units(da)
     vdim = dimension(field, "σ/σ₀" if field == "sigma" else _LABELS[field], unit)
     even = _evenly_spaced(t) and _evenly_spaced(x)
     shade = (z.size > RASTERIZE_CELLS or not even) if rasterize is None else bool(rasterize)
@@ -159,7 +160,7 @@ def profiles(run, fields=None):
     arrays = data.profile_arrays(ds, fields)
     hv = holoviews()
     curves = [hv.Curve((ds["x"].values, da.values), x_dim(),
-                       dimension(f, _LABELS.get(f, f), da.attrs.get("units"))).opts(
+                       dimension(f, _LABELS.get(f, f), native_units(da))).opts(
                   width=WIDTH // 2 + 60, height=HEIGHT - 60, title=f"{_LABELS.get(f, f)} (final state)",
                   tools=["hover"])
               for f, da in arrays.items()]

@@ -31,8 +31,16 @@ CONVENTIONS = "CF-1.10"
 REFERENCES = ("Lehmann, M., Schmidt, J. & Salo, H. (2017), Viscous Overstability in Saturn's Rings: Influence of "
               "Collective Self-gravity, ApJ 851, 125 (ADS 2017ApJ...851..125L; arXiv:1804.07968)")
 LABEL_SUFFIX = "_label"
-# units that UDUNITS knows (the SI units ringcore writes)
-_SI = re.compile(r"^(1|m|s|kg|rad|K|J|W|N|Pa|Hz|bytes?|(?:(?:kg|m|s|J|rad|K)(?:-?\d)?)(?: (?:kg|m|s|J|rad|K)(?:-?\d)?)*)$")
+# units that UDUNITS knows (the SI and common units ringcore writes): products, quotients and powers of these
+_UNIT_TOKEN = re.compile(r"^(?:m|s|kg|g|J|W|N|Pa|Hz|K|rad|km|mm|cm|h|min|day|bytes?|1)(?:\^?-?\d+)?$|^-?\d+(?:\.\d+)?$")
+
+
+def is_udunits(units: str) -> bool:
+    """True if ``units`` is built from the units UDUNITS knows that ringcore writes (``"m s-1"``, ``"kg/m^2"``)."""
+    tokens = [tok for tok in re.split(r"[\s/.*()]+", units.strip()) if tok]
+    return bool(tokens) and all(_UNIT_TOKEN.match(tok) for tok in tokens)
+
+
 _TIME_UNITS = {"orbits", "orbit"}
 
 
@@ -69,7 +77,7 @@ def _cf_units(name: str, attrs: dict, omega: float) -> dict:
         out["units"] = f"{1.0 / omega:.10g} s"
         out["ringcore_units"] = units
         long_name += " in units of 1/Omega"
-    elif units and not _SI.match(units):
+    elif units and not is_udunits(units):
         out["units"] = "1"
         out["ringcore_units"] = units
         scale = units[len("dimensionless"):].strip(" ()") if units.startswith("dimensionless") else units

@@ -170,3 +170,18 @@ def test_the_commit_is_a_plain_git_hash():
 
     assert _plain_hash("g3f0122f44") == "3f0122f44" and _plain_hash("3f0122f44") == "3f0122f44"
     assert _plain_hash("unknown") == "unknown" and _plain_hash("gone") == "gone"
+
+
+@pytest.mark.parametrize("kind", ["hydro", "nbody", "sweep", "recipe", "compact"])
+def test_every_unit_is_one_udunits_knows_and_the_original_stays_readable(files, kind):
+    """Valid units stay as written (m/s stays m/s); only the paper's scaled units become "1" or seconds."""
+    from cfunits import Units
+
+    from ringcore.io.cf import is_udunits
+
+    with xr.open_dataset(files[kind]) as ds:
+        for name, v in ds.variables.items():
+            if "units" in v.attrs:
+                assert Units(v.attrs["units"]).isvalid, (name, v.attrs["units"])
+            if "ringcore_units" in v.attrs:
+                assert not is_udunits(v.attrs["ringcore_units"]), (name, v.attrs["ringcore_units"])
