@@ -10,7 +10,7 @@ BIN     = $(VENV)/bin
 STAMP   = $(VENV)/.installed
 CHROMIUM ?= /usr/bin/chromium
 
-.PHONY: app test test-fast slow-list lint-imports install clean bench browser tutorials-html docs bench-record
+.PHONY: app test test-fast slow-list lint-imports install clean bench browser udunits tutorials-html docs bench-record
 
 # The venv gets uv (https://docs.astral.sh/uv/), which installs the same releases as pip in a fraction of the time
 # (measured on the 2-core machine: 32 s against 116 s for ".[app,test,docs]", bytecode compiled by both, as
@@ -40,6 +40,12 @@ browser:
 	@test -x $(CHROMIUM) || { command -v apt-get >/dev/null && \
 	  (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq chromium >/dev/null) || \
 	  echo "warning: could not install chromium; browser tests will be skipped"; }
+
+# UDUNITS-2 for cfchecks (the test of the files' CF conventions, tests/core/test_cf_files.py): Debian's library
+udunits:
+	@test -f /usr/share/xml/udunits/udunits2.xml || { command -v apt-get >/dev/null && \
+	  (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libudunits2-0 udunits-bin >/dev/null) || \
+	  echo "warning: could not install udunits2; the CF test of the written files will fail"; }
 
 # `make app` installs only what the app needs (".[app]") and starts the lab with `ringlab serve`; the
 # documentation site in $(DOCS_SITE) (`make docs`, or just the tutorial pages: `make tutorials-html`) is served
@@ -71,7 +77,7 @@ lint-imports: $(STAMP)
 
 # the install tier runs while `make docs` builds (one core each: Sphinx runs on one); it installs the fresh venv's
 # packages first and waits for the docs build (RINGLAB_DOCS_PID) before it builds the wheel with the site inside
-test: $(STAMP) browser lint-imports
+test: $(STAMP) browser udunits lint-imports
 	$(BIN)/python -m pytest $(PYTEST_XDIST) --ignore=tests/install
 	@$(MAKE) docs & docs_pid=$$!; \
 	RINGLAB_DOCS_PID=$$docs_pid $(BIN)/python -m pytest tests/install; rc=$$?; \
@@ -79,7 +85,7 @@ test: $(STAMP) browser lint-imports
 
 # the developer's check: the core and app tiers without the `slow` tests (marked in their files, or listed in
 # tests/slow_tests.txt: 2 s or more each here; `make slow-list` re-measures and updates the list)
-test-fast: $(STAMP) lint-imports
+test-fast: $(STAMP) udunits lint-imports
 	$(BIN)/python -m pytest $(PYTEST_XDIST) -m "not slow" tests/core tests/app
 
 slow-list: $(STAMP)

@@ -150,7 +150,7 @@ def _orbit_of(kind: str, final: State, meta: dict) -> float:
 class ArchiveMixin:
     """``keep_archive``, ``archive`` of both engines (the snapshots are taken in an ``on_sample`` callback)."""
 
-    def keep_archive(self, every: float, *, max_bytes: int = MAX_BYTES) -> None:
+    def keep_archive(self, every: float, *, max_bytes: int = MAX_BYTES, file=None) -> None:
         """Keep the full state at the first sample at or after each multiple of ``every`` orbits.
 
         Parameters
@@ -160,7 +160,11 @@ class ArchiveMixin:
             (hydro: 1/``samples_per_orbit``; N-body: ``record_every``) times them exactly.
         max_bytes : int
             Limit of the archive's size [bytes] (default :data:`MAX_BYTES`); a snapshot that would pass it is
-            not taken (one :class:`UserWarning`).
+            not taken (one :class:`UserWarning`).  It limits the copy in memory; ``file`` has no limit.
+        file : str or path-like, optional
+            Also append every snapshot to this archive file the moment it is taken
+            (:mod:`ringcore.archive_file`; continued after its last complete snapshot if it exists): a run
+            that is killed keeps every snapshot written; ``ringcore.engine.open_archive(file)`` reopens them.
 
         The current state is the first snapshot if it lies on a multiple of ``every``.  Calling again
         changes the interval and limit and keeps the snapshots taken so far.
@@ -171,6 +175,10 @@ class ArchiveMixin:
         if rec is None:
             rec = self._archiver = _Archiver(self)
         rec.every, rec.max_bytes = every, max_bytes
+        if file is not None:
+            from .archive_file import ArchiveWriter
+
+            rec.writer = ArchiveWriter(file)
         tol = 1e-9 * max(1.0, abs(self.orbits))
         rec.next = math.ceil((self.orbits - tol) / every) * every
         rec.take(self)
@@ -197,11 +205,18 @@ class _Archiver:
 
     def __init__(self, engine):
         self.entries, self.every, self.max_bytes, self.next, self.full = [], 1.0, MAX_BYTES, 0.0, False
+        self.writer, self.written_steps = None, None
         self.handle = engine.on_sample(lambda eng, sample: self.take(eng))
 
     def take(self, engine) -> None:
         o = engine.orbits
-        if o < self.next - 1e-9 * max(1.0, abs(o)) or self.full:
+        if o < self.next - 1e-9 * max(1.0, abs(o)):
+            return
+        if self.writer is not None and self.written_steps != engine.steps:
+            self.writer.append(engine)  # on disk at once: a killed run keeps it
+            self.written_steps = engine.steps
+        if self.full:
+            self.next = (math.floor(o / self.every + 1e-9) + 1) * self.every
             return
         if self.entries and self.entries[-1][1]["steps"] == engine.steps:
             # this very state is archived already (keep_archive called again, or after a resume)

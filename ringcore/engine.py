@@ -242,7 +242,8 @@ def load(path, kind: str | None = None, index: int | None = None):
     Parameters
     ----------
     path : str or path-like
-        A run file (:func:`ringcore.io.read_run`).
+        A run file (:func:`ringcore.io.read_run`), or an archive file written while a run went
+        (:mod:`ringcore.archive_file`: its last snapshot unless ``index`` is given).
     kind : str, optional
         ``"hydro"`` or ``"nbody"``: refuse a file of another kind.
     index : int, optional
@@ -254,6 +255,9 @@ def load(path, kind: str | None = None, index: int | None = None):
     Hydro1D or ShearingBox
         A running engine that continues bit for bit.
     """
+    if _is_archive_file(path):  # an archive file appended while a run went (ringcore.archive_file)
+        arc = open_archive(path, kind)
+        return arc[-1 if index is None else index]
     ds = read_dataset(path, kind)
     if ds.attrs.get("kind") not in ENGINES:
         # deferred: ringcore.io loads xarray (~1 s); see read_dataset
@@ -272,5 +276,17 @@ def load(path, kind: str | None = None, index: int | None = None):
 
 def open_archive(path, kind: str | None = None):
     """The archive of states of the run file ``path`` (:class:`ringcore.archive.Archive`: ``len()``,
-    ``orbits`` [orbits], ``arc[i]`` a running engine); empty if the run kept none."""
+    ``orbits`` [orbits], ``arc[i]`` a running engine); empty if the run kept none.  ``path`` may also be an
+    archive file written while a run went (``keep_archive(file=...)``, ``--archive-every``:
+    :class:`ringcore.archive_file.FileArchive`)."""
+    if _is_archive_file(path):
+        arc = importlib.import_module("ringcore.archive_file").FileArchive(path)
+        if kind is not None and len(arc) and arc.dataset(0).attrs.get("kind") != kind:
+            raise ValueError(f"kind = {kind!r} is not valid for {path}: it archives a "
+                             f"{arc.dataset(0).attrs.get('kind')!r} run")
+        return arc
     return importlib.import_module(ARCHIVE).archive_from_dataset(read_dataset(path, kind), source=str(path))
+
+
+def _is_archive_file(path) -> bool:
+    return importlib.import_module("ringcore.archive_file").is_archive_file(path)

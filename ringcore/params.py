@@ -1,4 +1,4 @@
-"""The paper's hydrodynamic parameter sets (Table "Hydrodynamic Parameters").
+"""The paper's hydrodynamic parameter sets (Table 2).
 
 A :class:`RingParams` is a frozen dataclass holding one parameter set in
 physical units, plus the surface density ``sigma0`` and the model choice
@@ -12,7 +12,7 @@ wrappers around :func:`dataclasses.replace`) and are validated on creation.
 >>> p.isothermal_limit().p_s
 1.0
 
-References: Table "Hydrodynamic Parameters", eqs. (pres)-(coolfunc), (ptot), (jeans).
+References: Table 2, Eqs. (8)-(11), (12), (57).
 """
 from __future__ import annotations
 
@@ -37,7 +37,7 @@ class RingParams:
     omega_z : float
         Vertical frequency enhancement Omega_z / Omega used by Salo et al. (2001).
     c0 : float
-        Effective ground-state velocity dispersion [m/s], eq. (ptot).
+        Effective ground-state velocity dispersion [m/s], Eq. (12).
     nu0 : float
         Kinematic shear viscosity [m^2/s].
     kappa0 : float
@@ -45,9 +45,9 @@ class RingParams:
     T0 : float
         Ground-state granular temperature [m^2/s^2] (nan for isothermal-only sets).
     gamma, beta, n_T, p_s, p_T, G_s, G_T : float
-        Exponents and ratios of eqs. (pres)-(coolfunc); ``gamma`` = bulk/shear viscosity.
+        Exponents and ratios of Eqs. (8)-(11); ``gamma`` = bulk/shear viscosity.
     F2, F3 : float
-        Tabulated thermal corrections of eqs. (osgrate), (osfreq) (nan where not given).
+        Tabulated thermal corrections of Eqs. (21), (22) (nan where not given).
     sigma0 : float
         Ground-state surface density [kg/m^2]; 0 switches radial self-gravity off.  At most
         ``ringcore.ranges.sigma0_max`` (1e4 kg/m^2 and Q0 >= 0.1; see :mod:`ringcore.ranges`).
@@ -148,7 +148,7 @@ class RingParams:
 
     @property
     def lambda_J(self) -> float:
-        """Jeans wavelength c0^2 / (G sigma0) [m], eq. (jeans); inf for sigma0 = 0."""
+        """Jeans wavelength c0^2 / (G sigma0) [m], Eq. (57); inf for sigma0 = 0."""
         return math.inf if self.sigma0 == 0 else self.c0**2 / (G * self.sigma0)
 
     @property
@@ -158,7 +158,7 @@ class RingParams:
 
     @property
     def p0(self) -> float:
-        """Ground-state total pressure sigma0 c0^2 [kg/s^2], eq. (ptot)."""
+        """Ground-state total pressure sigma0 c0^2 [kg/s^2], Eq. (12)."""
         return self.sigma0 * self.c0**2
 
     @property
@@ -198,7 +198,7 @@ class RingParams:
 
 _NAN = math.nan
 # name: tau, Omega_z, c0 [1e-3 m/s], nu0 [1e-3 m^2/s], kappa0 [1e-3 m^2/s], T0 [1e-8 m^2/s^2],
-#       gamma, beta, n_T, p_s, p_T, G_s, G_T, F2, F3      (Table "Hydrodynamic Parameters")
+#       gamma, beta, n_T, p_s, p_T, G_s, G_T, F2, F3      (Table 2)
 _TABLE = {
     "tau10": (1.0, 3.6, 0.64, 0.75, 3.14, 6.56, 2.14, 1.15, -0.13, 2.19, 0.22, 2.17, 0.62, -0.28, -0.35),
     "tau15": (1.5, 3.6, 0.86, 1.30, 5.38, 6.72, 1.99, 1.19, -0.10, 2.41, 0.15, 2.19, 0.57, -0.28, -0.26),

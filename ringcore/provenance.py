@@ -54,7 +54,45 @@ def commit() -> str:
         if head:
             dirty = _git("status", "--porcelain", "--untracked-files=no")
             return head + ("+dirty" if dirty else "")
-    return str(_built_commit) if _built_commit else "unknown"
+    return _plain_hash(str(_built_commit)) if _built_commit else "unknown"
+
+
+def _plain_hash(c: str) -> str:
+    """setuptools-scm records the commit as ``g`` + short hash; git (``git rev-parse``) wants the hash alone."""
+    return c[1:] if len(c) > 1 and c[0] == "g" and all(ch in "0123456789abcdef" for ch in c[1:]) else c
+
+
+_COMMAND: list = []  # the command line of the running ringcore command (set by ringcore.cli.main)
+
+
+def set_command(line: str | None) -> None:
+    """Record ``line`` as the command writing files from now on (None: back to the Python call)."""
+    _COMMAND[:] = [line] if line else []
+
+
+def command() -> str:
+    """What is writing a file now: the ``ringcore`` command line (:func:`set_command`), else the Python call
+    (the first caller outside ringcore: ``script.py:12 in main``, and the ringcore function it called)."""
+    if _COMMAND:
+        return _COMMAND[0]
+    import inspect
+    import sys
+
+    inner, frame = None, inspect.currentframe()
+    pkg = str(_ROOT / "ringcore")
+    while frame is not None:
+        fname = frame.f_code.co_filename
+        if not fname.startswith(pkg) and "xarray" not in fname:
+            if inner is None:
+                break
+            where = f"{Path(fname).name}:{frame.f_lineno} in {frame.f_code.co_name}"
+            return f"python {' '.join(sys.argv[:1]) or '-'}: {where} called {inner}"
+        if fname.startswith(pkg):
+            self_obj = frame.f_locals.get("self")
+            inner = (f"{type(self_obj).__name__}.{frame.f_code.co_name}" if self_obj is not None
+                     else f"{frame.f_globals.get('__name__', '?')}.{frame.f_code.co_name}")
+        frame = frame.f_back
+    return f"python {' '.join(sys.argv[:1]) or '-'}"
 
 
 def software_attrs() -> dict:

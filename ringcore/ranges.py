@@ -30,7 +30,7 @@ Where the bounds come from
 - Lengths: a local (shearing-sheet) model needs lengths far below the orbital radius
   (~1e8 m), so boxes are at most 1e6 m; grid and particle sizes at least 1 mm.
 
-References: Table "Hydrodynamic Parameters"; eqs. (ptot), (jeans); Section "Numerical Methods".
+References: Table 2; Eqs. (12), (57); Section 4.
 """
 from __future__ import annotations
 

@@ -14,7 +14,7 @@ The rule (documented once, applied everywhere)
    command line's ``--isothermal`` flag and a sweep task's ``isothermal`` key give True or None; the
    app's check box gives True or False.  Asking
    for the non-isothermal model of an isothermal-only set is an error.  Booleans must be bools.
-2. ``p_s`` (absolute pressure exponent) belongs to the isothermal model (eq. ideal; default 1, the
+2. ``p_s`` (absolute pressure exponent) belongs to the isothermal model (Eq. (20); default 1, the
    ideal gas).  Giving it for the non-isothermal model is an error (use ``ps_scale`` there) - it is
    never silently ignored.
 3. ``ps_scale`` (> 0) multiplies whichever p_s the model has (after rule 2), in both models.
@@ -26,7 +26,7 @@ The rule (documented once, applied everywhere)
 >>> round(p.p_s, 3)
 3.374
 
-References: Table "Hydrodynamic Parameters"; eqs. (pres), (ideal).
+References: Table 2; Eqs. (8), (20).
 """
 from __future__ import annotations
 
@@ -107,7 +107,7 @@ def resolve(spec: RunSpec) -> tuple:
     p = params.get(name, sigma0=sigma0, isothermal=bool(iso))
     if spec.p_s is not None:
         if not p.isothermal:
-            raise ValueError(f"p_s = {spec.p_s!r} is only valid for the isothermal model (eq. ideal); "
+            raise ValueError(f"p_s = {spec.p_s!r} is only valid for the isothermal model (Eq. (20)); "
                              "for the non-isothermal model scale the table's p_s with ps_scale instead")
         p = p.isothermal_limit(check_real("p_s", spec.p_s, 0.0, math.inf, lo_open=True))
     scale = check_real("ps_scale", spec.ps_scale, 0.0, math.inf, lo_open=True)

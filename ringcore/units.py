@@ -1,6 +1,6 @@
 """Physical constants and the paper's dimensionless scalings.
 
-All kernels work in the units of Table "List of Symbols and their Scalings"
+All kernels work in the units of Table 1
 (Lehmann, Schmidt & Salo 2017): lengths in ``c0 / Omega``, times in
 ``1 / Omega``, velocities in ``c0``, surface densities in ``sigma0``,
 temperatures in ``c0**2``, pressures in ``sigma0 * c0**2``, kinematic

@@ -7,8 +7,8 @@ is not far enough yet, or there is none: the message says what is missing) or ``
 not one of the choices: it is not judged).  :data:`CHECKS` maps the names used
 in :mod:`ringlab.lessons.content` to the functions.
 
-References: eqs. (osgrate), (vg), (ekin), (fourier), (lambdasigma), (ptot);
-Table "Hydrodynamic Parameters".
+References: Eqs. (21), (23), (39), (38), (55), (12);
+Table 2.
 """
 from __future__ import annotations
 
@@ -89,7 +89,7 @@ def _choice(answer, choices, correct_index: int, why: str, hint: str = "") -> Re
 def linear_values(controls) -> dict:
     """Characteristic numbers of the Linear tab's settings plus ``efold_orbits`` and
     ``tenfold_orbits`` (the amplitude grows tenfold) and ``lambda_p_empirical_m`` = 1.4 lambda_zero [m]
-    (eq. lambdasigma)."""
+    (Eq. (55))."""
     n = dict(characteristic_numbers(controls.settings()))
     g = n["max_growth_rate"]
     n["efold_orbits"] = 1.0 / (2.0 * math.pi * g) if g > 0 else math.nan
@@ -134,7 +134,7 @@ def is_saturated(t: np.ndarray, e: np.ndarray) -> bool:
 def growth_fit(t: np.ndarray, e: np.ndarray) -> float:
     """Growth rate omega_R [Omega] of the wave amplitude from the linear phase of e_kin(t) (t in orbits):
     half the slope of ln e_kin between 1e-3 and 3e-2 of the saturated level, before e_kin first reaches
-    0.1 of it (eq. ekin: e_kin ~ amplitude^2).  nan if that phase has fewer than 4 samples."""
+    0.1 of it (Eq. (39): e_kin ~ amplitude^2).  nan if that phase has fewer than 4 samples."""
     e_sat = float(np.median(e[t >= t[-1] - SETTLE_WINDOW]))
     first = np.argmax(e >= 0.1 * e_sat)
     mask = (e > 1e-3 * e_sat) & (e < 3e-2 * e_sat) & (np.arange(e.size) < first)
@@ -215,7 +215,7 @@ def hydro_lambda_p(targets, answer, rel_tol: float = 0.1, min_orbits: float = 60
         ratio = now / emp
         msg += f" 1.4 λ_zero = {emp:.4g} m, so λ_p = {ratio:.2f} × 1.4 λ_zero"
         if abs(ratio - 1.0) <= 0.2:
-            msg += ": the paper's relation, eq. (lambdasigma)."
+            msg += ": the paper's relation, Eq. (55)."
         elif ratio < 1.0:
             msg += (": still below it. λ_p climbs for hundreds to thousands of orbits (the paper ran 20,000); "
                     "let it run and compare the shipped 1,000-orbit runs in the Saturation tab.")
@@ -238,7 +238,7 @@ def strobe_concept(targets, answer, right: str, choices=(), min_orbits: float = 
 
 
 # ---------------------------------------------------------------- stability boundary
-LO2009_M = dict(tau15=233.0, tau20=455.0, st99=659.0)  # [m] Section "Isothermal Model", Figure "ekinisonosg"
+LO2009_M = dict(tau15=233.0, tau20=455.0, st99=659.0)  # [m] Section 5.1.1, Figure 8
 
 
 def lambda_st_number(targets, answer, set: str, isothermal: bool, sigma0: float, rel_tol: float = 0.05,
@@ -289,7 +289,7 @@ def buffer_amplitude(targets, answer, choices=(), min_orbits: float = 80.0, hint
                               "let the run go on.")
     return _choice(answer, choices, 0 if a_in < a_out else 1,
                    f"rms of σ/σ₀: {a_in:.3f} inside the buffer against {a_out:.3f} outside — with β < β_c the "
-                   "growth rate is negative there, eq. (osgrate).", hint)
+                   "growth rate is negative there, Eq. (21).", hint)
 
 
 def travel_direction(rows: np.ndarray, dx_m: float, smooth_m: float = 150.0, smooth_rows: int = 5) -> np.ndarray:
@@ -340,7 +340,7 @@ def buffer_role(targets, answer, choices=(), min_orbits: float = 80.0, hint: str
         return Result("wait", "The stripes beside the buffer do not show one clear direction yet (the pattern "
                               "is reorganising): look again in 20-30 orbits.")
     why = (f"Beside the buffer {f:.0%} of the wave pattern travels into it: it is the sink, with the source "
-           "at the far side of the periodic box — one source and one sink, as in Figure 'tau15bufnosg'."
+           "at the far side of the periodic box — one source and one sink, as in Figure 9."
            if f >= 0.65 else
            f"Beside the buffer {1 - f:.0%} of the wave pattern travels away from it: right now it acts as a "
            "source (the paper saw waves 'tunnel' through buffers too).")
@@ -380,7 +380,7 @@ def nbody_nonlocal(targets, answer, choices=(), hint: str = "", **kw) -> Result:
     frac = tr["nu_nonlocal"] / tr["nu"]
     return _choice(answer, choices, 1 if frac > 0.5 else 0,
                    f"In your box {frac:.0%} of ν is nonlocal: collisions pass momentum across the particle "
-                   "diameter, which is also why c_eff (with the nonlocal pressure, eq. (ptot)) is so much larger "
+                   "diameter, which is also why c_eff (with the nonlocal pressure, Eq. (12)) is so much larger "
                    "than ⟨c⟩.", hint)
 
 

@@ -6,7 +6,7 @@ Lessons side panel and the worksheets); :class:`GlossaryPanel` is the searchable
 Citations go through :func:`ringlab.lessons.refs.cite`, so published numbers replace the labels
 in one place.
 
-References: Table "List of Symbols and their Scalings"; Table "Hydrodynamic Parameters".
+References: Table 1; Table 2.
 """
 from __future__ import annotations
 

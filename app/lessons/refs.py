@@ -42,7 +42,7 @@ def cite(label: str, html_out: bool = True) -> str:
 
 def render(text: str, html_out: bool = True) -> str:
     """``text`` with every ``[[label]]`` replaced by :func:`cite` (HTML-escaped if ``html_out``), and any
-    citation by label written inline (``eq. (ekin)``) by its published number."""
+    citation by label written inline (``Eq. (39)``) by its published number."""
     parts = re.split(r"\[\[([^\]]+)\]\]", text)
     out = []
     for i, part in enumerate(parts):

@@ -13,7 +13,7 @@ The two runners share this controller's ``compute_lock``: a setting changed in o
 chunk computes waits for the chunk; the change restarts *both* runs at orbit 0, so the two
 stay comparable.  :meth:`CompareRunner.close` (the browser tab closed) frees both runs.
 
-References: Figures "tau15nga", "ekinisonosg", "lambdap", "enbody"; eqs. (ekin), (fourier).
+References: Figures 7, 8, 20, 17; Eqs. (39), (38).
 """
 from __future__ import annotations
 

@@ -2,8 +2,8 @@
 and the hydro noise level that starts a hydro run at an N-body box's e_kin: :func:`matched_amplitude`.
 
 Units: time [orbits], e_kin [sigma0 (R_p Omega)^2] with R_p = 1 m (:data:`ringcore.units.E_KIN_UNIT`, both
-engines' e_kin, eq. (ekin)), wavelengths [m], the PSD of sigma normalised to a maximum of 1 (both engines,
-:func:`ringcore.analysis.power_spectrum`), eq. (fourier).
+engines' e_kin, Eq. (39)), wavelengths [m], the PSD of sigma normalised to a maximum of 1 (both engines,
+:func:`ringcore.analysis.power_spectrum`), Eq. (38).
 """
 from __future__ import annotations
 

@@ -20,7 +20,7 @@ replaced run restorable; buffer-zone changes apply to the running state; invalid
 the run untouched and set ``problems``.  A :class:`ringcore.hydro.HydroBlowUp` pauses the
 run and keeps the last good state.
 
-References: Section "Numerical Methods / Hydrodynamic Scheme"; eqs. (ekin), (fourier).
+References: Section 4.1; Eqs. (39), (38).
 """
 from __future__ import annotations
 
@@ -33,6 +33,7 @@ import numpy as np
 import panel as pn
 import param
 
+from ringcore.analysis import lambda_p
 from ringcore.engine import state_to_dataset
 from ringcore.hydro import Hydro1D, HydroBlowUp
 
@@ -273,12 +274,11 @@ class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
         return self.strobe_image if self.settings.spacetime == "stroboscopic" else self.orbit_image
 
     def saturated_lambda_p(self, last_fraction: float = 0.25) -> float:
-        """Median lambda_p [m] over the last ``last_fraction`` of the run (nan before 1 orbit)."""
-        s = self.series
-        t, lam = s.get("t"), s.get("lambda_p")
-        if t.size == 0 or t[-1] < 1.0:
+        """The run's lambda_p [m] (:func:`ringcore.analysis.lambda_p`: the most frequent sampled value in the last
+        ``last_fraction`` of the run, the ``lambda_p_m`` of its summary and run file); nan before 1 orbit."""
+        if self.sim is None or self.sim.orbits < 1.0:
             return math.nan
-        return float(np.median(lam[t >= t[-1] * (1.0 - last_fraction)]))
+        return float(lambda_p(self.sim, last_fraction=last_fraction))
 
     # ------------------------------------------------------------------ export
     def to_dataset(self):

@@ -8,7 +8,7 @@ and thins its own history.
 Transport coefficients (effective dispersion c_eff, viscosity nu) are averaged over
 windows of ``TRANSPORT_WINDOW`` orbits and compared with the parameter set's c0 and nu0,
 which the hydrodynamic model takes from N-body simulations of the same tau and
-Omega_z (Table "Hydrodynamic Parameters").
+Omega_z (Table 2).
 
 The runner holds the student's settings in ``settings`` (a :class:`ringlab.model.nbody_settings.NBodySettings`,
 e.g. ``runner.settings.L_x = 200``) and resolves them once per rebuild
@@ -16,7 +16,7 @@ e.g. ``runner.settings.L_x = 200``) and resolves them once per rebuild
 watcher on the settings, and the runner's :class:`ringlab.live.keeper.RunKeeper` (``keeper``) keeps the
 replaced box restorable.
 
-References: Section "N-Body Simulations"; eqs. (hill), (bridges), (sgmodes), (ekin).
+References: Section 4.2; Eqs. (49), (48), (54), (39).
 """
 from __future__ import annotations
 

@@ -7,7 +7,7 @@ white noise of amplitude 1e-4); the N-body box is 200 m x 20 m (about 1,900 part
 1.5 orbits per second on one core), and the hydro run of the same preset gets the same 200 m and
 white noise of the box's own initial e_kin (``match_noise``).
 
-References: Table "Hydrodynamic Parameters"; Figures "lambdap", "enbody", "ekinisonosg".
+References: Table 2; Figures 20, 17, 8.
 """
 from __future__ import annotations
 

@@ -6,7 +6,7 @@
   the exact dispersion relation for the fastest-growing wavelength the periodic box allows.
 * :func:`allowed_wavelengths` — the wavelengths L_x/n a periodic box can hold, near lambda_p.
 
-References: eqs. (evp), (matni), (osgrate), (ekin), (fourier).
+References: Eqs. (16), (17), (21), (39), (38).
 """
 from __future__ import annotations
 
@@ -90,8 +90,8 @@ def fastest_allowed_mode(params, L_x_m: float, n_cells: int) -> dict:
     -------
     dict
         ``wavelength_m`` [m], ``n`` (waves in the box), ``growth_rate`` omega_R [Omega] of the
-        amplitude (eq. osgrate; exact, eq. matni) and ``slope_per_orbit`` = 2 omega_R * 2 pi,
-        the growth rate of ln e_kin per orbit (e_kin ~ amplitude^2, eq. ekin).  Memoized (a
+        amplitude (Eq. (21); exact, Eq. (17)) and ``slope_per_orbit`` = 2 omega_R * 2 pi,
+        the growth rate of ln e_kin per orbit (e_kin ~ amplitude^2, Eq. (39)).  Memoized (a
         fresh dict per call is not needed: treat it as read-only).
     """
     n = np.arange(1, max(1, int(n_cells) // 2) + 1)

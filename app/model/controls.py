@@ -5,7 +5,7 @@ density, pressure exponent, isothermal or not, the surface densities to compare)
 and turns them into a validated :class:`ringcore.params.RingParams`.  It holds no
 widgets: the views build them with ``Widget.from_param``.
 
-References: Table "Hydrodynamic Parameters"; eqs. (pres), (ideal), (jeans).
+References: Table 2; Eqs. (8), (20), (57).
 """
 from __future__ import annotations
 
@@ -45,7 +45,7 @@ def build_params(name: str, sigma0: float, isothermal: bool, ps_scale: float = 1
     sigma0 : float
         Ground-state surface density [kg/m^2], >= 0.
     isothermal : bool
-        Isothermal model (G_T -> infinity, eq. ideal) or, unchecked, explicitly the non-isothermal
+        Isothermal model (G_T -> infinity, Eq. (20)) or, unchecked, explicitly the non-isothermal
         one (so an isothermal-only set such as st99 asks the student to check the box).
     ps_scale : float
         Factor (> 0) on the table's pressure exponent p_s; applied when ``isothermal`` is unchecked
@@ -83,17 +83,17 @@ class RingControls(param.Parameterized):
     """The model settings of one browser session (one instance per session)."""
 
     param_set = param.Selector(default="tau15", objects=list(ring_params.SET_NAMES), label="Parameter set",
-                               doc=publish("Row of Table 'Hydrodynamic Parameters' of the paper (st99: isothermal only).",
+                               doc=publish("Row of Table 2 of the paper (st99: isothermal only).",
                                            html_out=False))
     sigma0 = param.Number(default=400.0, bounds=(0.0, SIGMA0_MAX), step=10.0,
                           label="Surface density σ₀ [kg/m²]",
                           doc="Ground-state surface density; 0 switches self-gravity off.")
     isothermal = param.Boolean(default=False, label="Isothermal model (G_T → ∞)",
-                               doc=publish("Drop the temperature equation (eq. (ideal)).", html_out=False))
+                               doc=publish("Drop the temperature equation (Eq. (20)).", html_out=False))
     ps_scale = param.Number(default=1.0, bounds=PS_SCALE_BOUNDS, step=0.05, label="Scale the table's p_s by",
-                            doc=publish("Factor on the pressure exponent p_s of eq. (pres), non-isothermal model.", html_out=False))
+                            doc=publish("Factor on the pressure exponent p_s of Eq. (8), non-isothermal model.", html_out=False))
     iso_p_s = param.Number(default=1.0, bounds=ISO_PS_BOUNDS, step=0.01, label="Isothermal p_s",
-                           doc=publish("Pressure exponent of the isothermal model: 1 = ideal gas (eq. (ideal)).", html_out=False))
+                           doc=publish("Pressure exponent of the isothermal model: 1 = ideal gas (Eq. (20)).", html_out=False))
     compare_sigma0 = param.String(default="0, 400, 800", label="Compare with σ₀ [kg/m²]",
                                   doc="Comma-separated surface densities drawn as thin curves.")
 

@@ -9,8 +9,8 @@ turns a valid combination into a frozen :class:`HydroSetup`, the values one run 
 :class:`ringlab.live.hydro.HydroRunner` holds a ``HydroSettings`` (``runner.settings``) and resolves
 it once per rebuild, so its engine never reads the settings object.
 
-References: eqs. (timestep), (shearvis); Table "Hydrodynamic Parameters";
-Section "Hydrodynamical Integrations with a Buffer-Zone".
+References: Eqs. (32), (9); Table 2;
+Section 6.2.
 """
 from __future__ import annotations
 
@@ -103,7 +103,7 @@ class HydroSettings(RingControls):
                                                        "single overstable mode": "mode"},
                              label="Initial perturbation",
                              doc=publish("White noise (every wavelength ≥ 50 m, random phases) or a single "
-                                         "overstable wave (a linear eigenmode of eq. (matni)).", html_out=False))
+                                         "overstable wave (a linear eigenmode of Eq. (17)).", html_out=False))
     wavelength = param.Number(default=100.0, bounds=(5.0, 20000.0), step=5.0, label="Mode wavelength λ [m]",
                               doc="Wavelength of the single mode; the box must hold a whole number of them.")
     amplitude = param.Number(default=1e-4, bounds=(1e-6, 0.5), step=1e-4, label="Amplitude δσ/σ₀",
@@ -111,7 +111,7 @@ class HydroSettings(RingControls):
     seed = param.Integer(default=1, bounds=(0, 2**31 - 1), label="Random seed",
                          doc="Seed of the white-noise phases (same seed, same run).")
     timestep = param.Selector(default="cfl", objects={"fast (about 10 times larger steps)": "cfl",
-                                                      publish("the paper's (eq. (timestep), smaller)",
+                                                      publish("the paper's (Eq. (32), smaller)",
                                                               html_out=False): "paper"},
                               label="Time step",
                               doc="How long each step is. 'fast': the largest step that stays stable, about 10 "

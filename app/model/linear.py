@@ -6,10 +6,10 @@ oscillation frequency and group velocity of the overstable mode against
 wavelength for the current surface density and the comparison ones, plus Q0,
 lambda_J, lambda_zero, the fastest-growing wavelength, its growth rate and
 beta_c.  Everything is computed by :mod:`ringcore.linear` (exact relation,
-eq. matni); results are memoized with ``pn.cache`` (pure functions of the
+Eq. (17)); results are memoized with ``pn.cache`` (pure functions of the
 settings, shared between sessions), so moving a slider back and forth is cheap.
 
-References: eqs. (evp), (matni), (osgrate), (osfreq), (vg); Figures "omega", "vgroup".
+References: Eqs. (16), (17), (21), (22), (23); Figures 1, 2.
 """
 from __future__ import annotations
 
@@ -21,7 +21,7 @@ from ringcore import linear
 
 from ringlab.model.controls import RingControls, build_params
 
-WAVELENGTH_RANGE_M = (10.0, 1.0e4)  # [m] plotted range, as in Figures "omega" and "vgroup"
+WAVELENGTH_RANGE_M = (10.0, 1.0e4)  # [m] plotted range, as in Figures 1 and 2
 N_WAVELENGTHS = 400
 
 
@@ -35,7 +35,7 @@ def branch(settings: tuple) -> dict:
     """Overstable branch on :func:`wavelength_grid` for ``build_params(*settings)``.
 
     Returns a dict of read-only arrays: ``growth_rate`` omega_R [Omega], ``frequency``
-    omega_I [Omega], ``group_velocity_mm_s`` v_g = d omega_I/dk [mm/s] (eq. vg).
+    omega_I [Omega], ``group_velocity_mm_s`` v_g = d omega_I/dk [mm/s] (Eq. (23)).
     """
     d = linear.dispersion(build_params(*settings), wavelength_grid())
     out = dict(growth_rate=d.growth_rate, frequency=d.frequency, group_velocity_mm_s=d.group_velocity_m_s * 1e3)

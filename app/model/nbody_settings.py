@@ -8,7 +8,7 @@ combination into a frozen :class:`NBodySetup`, the values one box is built from.
 :class:`ringlab.live.nbody.NBodyRunner` holds an ``NBodySettings`` (``runner.settings``) and
 resolves it once per rebuild.
 
-References: Section "N-Body Simulations"; eqs. (hill), (bridges), (sgmodes); Table "Hydrodynamic Parameters".
+References: Section 4.2; Eqs. (49), (48), (54); Table 2.
 """
 from __future__ import annotations
 
@@ -67,7 +67,7 @@ class NBodySettings(param.Parameterized):
                                doc="Optical depth τ and vertical frequency enhancement of the box (and the "
                                    "hydrodynamic parameters used for the predictions).")
     sigma0 = param.Number(default=400.0, bounds=(0.0, SIGMA0_MAX), step=10.0, label="Surface density σ₀ [kg/m²]",
-                          doc=publish("Sets the radial self-gravity, eq. (sgmodes); 0 switches it off.",
+                          doc=publish("Sets the radial self-gravity, Eq. (54); 0 switches it off.",
                                       html_out=False))
     L_x = param.Number(default=140.0, bounds=(20.0, 500.0), step=5.0, label="Radial size L_x [m]",
                        doc="Radial size of the particle box.")
@@ -76,7 +76,7 @@ class NBodySettings(param.Parameterized):
     restitution = param.Selector(default="bridges", objects={"Bridges et al. (velocity-dependent)": "bridges",
                                                              "constant ε = 0.5": "constant"},
                                  label="Coefficient of restitution",
-                                 doc=publish("The velocity-dependent law of Bridges et al., eq. (bridges), or a "
+                                 doc=publish("The velocity-dependent law of Bridges et al., Eq. (48), or a "
                                              "constant 0.5.", html_out=False))
     seed = param.Integer(default=1, bounds=(0, 2**31 - 1), label="Random seed", doc="Seed of the initial state.")
 

@@ -7,7 +7,7 @@ for the given parameters and its Floquet-Bloch spectrum with :mod:`ringcore.wave
 here) at the app's modest resolution, reporting progress; it takes seconds, so a server session runs
 it off the event loop (:mod:`ringlab.live.wave_train`).  No widgets.
 
-References: Section "Isothermal Model" (Latter & Ogilvie's lambda_st), Figure "ekinisonosg".
+References: Section 5.1.1 (Latter & Ogilvie's lambda_st), Figure 8.
 """
 from __future__ import annotations
 

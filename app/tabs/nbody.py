@@ -5,8 +5,8 @@ of sigma with the linear-theory wavelengths, e_kin(t), <c>(t) with the parameter
 and the collision frequency; readouts compare measured transport with the hydrodynamic
 parameters of the same set.
 
-References: Section "N-Body Simulations"; eqs. (hill), (bridges), (sgmodes), (ekin);
-Table "Hydrodynamic Parameters"; Figure "fluctnb".
+References: Section 4.2; Eqs. (49), (48), (54), (39);
+Table 2; Figure 16.
 """
 from __future__ import annotations
 
@@ -39,19 +39,18 @@ C0_COLOR = "#c2185b"
 
 EXPLANATION = publish("""
 ### What am I looking at?
-A small patch of the ring that moves with the orbit (a *shearing box*, Section "N-Body Simulations"): a few thousand
-identical ice spheres of radius R<sub>p</sub> = 1 m follow Hill's equations, **eq. (hill)**, and collide inelastically
-with the velocity-dependent coefficient of restitution of Bridges et al., **eq. (bridges)**. The optical depth τ
+A small patch of the ring that moves with the orbit (a *shearing box*, Section 4.2): a few thousand
+identical ice spheres of radius R<sub>p</sub> = 1 m follow Hill's equations, **Eq. (49)**, and collide inelastically
+with the velocity-dependent coefficient of restitution of Bridges et al., **Eq. (48)**. The optical depth τ
 (number of particles) and the vertical frequency Ω<sub>z</sub>/Ω come from the chosen parameter set; σ₀ switches on the
-radial self-gravity of the particle layer, **eq. (sgmodes)**.
+radial self-gravity of the particle layer, **Eq. (54)**.
 
 * **From above / edge-on**: particle positions; the box is shear-periodic (particles leaving at one radial edge come back
   at the other, shifted by the shear).
-* **σ and u profiles**: particle counts and mean radial velocity in radial zones of about 5 m, as in Figure "fluctnb".
+* **σ and u profiles**: particle counts and mean radial velocity in radial zones of about 5 m, as in Figure 16.
 * **⟨c⟩ and collisions**: the velocity dispersion settles where collisional heating (by the shear) balances the energy
-  lost in collisions. The hydrodynamic model of the other tabs takes its c<sub>0</sub> and ν<sub>0</sub> (Table
-  "Hydrodynamic Parameters") from N-body runs like this one: compare the readouts.
-* **PSD**: overstable waves need boxes of several hundred metres to kilometres (thousands of orbits, Figure "enbody");
+  lost in collisions. The hydrodynamic model of the other tabs takes its c<sub>0</sub> and ν<sub>0</sub> (Table 2) from N-body runs like this one: compare the readouts.
+* **PSD**: overstable waves need boxes of several hundred metres to kilometres (thousands of orbits, Figure 17);
   the marked linear wavelengths show which of them would fit into this box.
 """)
 
@@ -124,7 +123,7 @@ class NBodyView(pn.viewable.Viewer):
         self.series_source = ColumnDataSource(dict(t=[], ekin=[], c_mean=[], collision_frequency=[]),
                                               name="nbody-series-source")
         self.t_range = time_range()  # the time axes follow the run and start again with a new one
-        self.ekin_fig = new_figure(publish("Kinetic energy e_kin, eq. (ekin)", html_out=False), "time [orbits]", "e_kin [σ₀ (R_p Ω)²]",
+        self.ekin_fig = new_figure(publish("Kinetic energy e_kin, Eq. (39)", html_out=False), "time [orbits]", "e_kin [σ₀ (R_p Ω)²]",
                                    x_range=self.t_range,
                                    height=230, y_axis_type="log")
         self.ekin_fig.line("t", "ekin", source=self.series_source, line_width=2, color=LINE_COLOR)

@@ -134,7 +134,31 @@ def publish(text: str, html_out: bool = True) -> str:
                         text)
     text = _SECTION.sub(section, _TABLE.sub(table, text))
     text = _QUOTED_AFTER.sub(lambda m: m.group(1) if m.group(3) in _LABELS else m.group(0), text)
-    return to_published(text)  # the remaining forms (``eq. matni`` without parentheses)
+    text = to_published(text)  # the remaining forms (``eq. matni`` without parentheses)
+    return _span_numbers(text) if html_out else text
+
+
+# citations written with their published numbers get the same tooltip as a converted label
+_NUM_EQ = re.compile(r"\b([Ee]qs?\.\s*)(\(\d+[a-z]?\)(?:\s*(?:,|-|–|and)\s*\(\d+[a-z]?\))*)")
+_NUM_FIG = re.compile(r"\b(Figures?\s+)(\d+(?:\s*(?:,|and)\s*\d+)*)\b")
+_NUM_WHOLE = re.compile(r"\b(?:Tables? \d+|Sections? \d+(?:\.\d+)*|Appendix [A-C](?:\.\d+)?)\b")
+_TAG = re.compile(r"(<[^>]*>)")
+
+
+def _span_numbers(text: str) -> str:
+    """``text`` (HTML or plain) with each published citation outside tags and cite spans in a cite span."""
+    parts, inside_cite = _TAG.split(text), False
+    for i, part in enumerate(parts):
+        if i % 2:  # a tag
+            inside_cite = part.startswith('<span class="cite"') or (inside_cite and not part.startswith("</span"))
+            continue
+        if inside_cite or not part:
+            continue
+        part = _NUM_EQ.sub(lambda m: m.group(1) + re.sub(r"\(\d+[a-z]?\)", lambda n: span(n.group(0)), m.group(2)),
+                           part)
+        part = _NUM_FIG.sub(lambda m: m.group(1) + re.sub(r"\d+", lambda n: span(n.group(0)), m.group(2)), part)
+        parts[i] = _NUM_WHOLE.sub(lambda m: span(m.group(0)), part)
+    return "".join(parts)
 
 
 def raw_labels(text: str, quoted: bool = True) -> list:

@@ -5,13 +5,14 @@ of :func:`ringcore.io.read_run` (or of a compact long-run file), or an engine in
 :func:`ringlab.viz.data.open_run`.  Each returns a HoloViews object (rendered with Bokeh: display it in a
 notebook, ``hv.save`` it, or ``hv.render(obj)`` for the Bokeh figure).
 
-References: eqs. (ekin), (fourier); Section "strob".
+References: Eqs. (39), (38); Appendix A.
 """
 from __future__ import annotations
 
 import numpy as np
 
 from ringcore.experiments.longruns import run_title
+from ringcore.io.cf import native_units
 from ringcore.units import E_KIN_UNIT
 
 from ringlab.viz import data
@@ -53,7 +54,7 @@ def space_time(run, field: str = "sigma", rows: str | None = None, rasterize: bo
         An ``Image`` (evenly spaced rows, not rasterized), a ``QuadMesh`` (uneven rows, ``rasterize=False``),
         or the ``DynamicMap`` of the rasterized diagram; colour range: the 1st to 99th percentile.
 
-    References: Section "strob".
+    References: Appendix A.
     """
     if rasterize is not None and not isinstance(rasterize, (bool, np.bool_)):
         raise ValueError(f"rasterize = {rasterize!r} is not valid: allowed True, False or None (automatic)")
@@ -62,7 +63,7 @@ def space_time(run, field: str = "sigma", rows: str | None = None, rasterize: bo
     hv = holoviews()
     tname = da.dims[0]
     x, t, z = ds["x"].values.astype(float), ds[tname].values.astype(float), np.asarray(da.values, np.float32)
-    unit = "dimensionless" if field == "sigma" else da.attrs.get("units")
+    unit = "dimensionless" if field == "sigma" else native_units(da)
     vdim = dimension(field, "σ/σ₀" if field == "sigma" else _LABELS[field], unit)
     even = _evenly_spaced(t) and _evenly_spaced(x)
     shade = (z.size > RASTERIZE_CELLS or not even) if rasterize is None else bool(rasterize)
@@ -88,7 +89,7 @@ def e_kin(run):
     -------
     holoviews.Curve
 
-    References: eq. (ekin).
+    References: Eq. (39).
     """
     ds = data.open_run(run)
     t, e = data.series(ds, "e_kin")
@@ -107,7 +108,7 @@ def lambda_p(run):
     -------
     holoviews.Curve
 
-    References: eq. (fourier).
+    References: Eq. (38).
     """
     ds = data.open_run(run)
     t, lam = data.series(ds, "lambda_p")
@@ -125,7 +126,7 @@ def psd(run):
     -------
     holoviews.Curve
 
-    References: eq. (fourier).
+    References: Eq. (38).
     """
     ds = data.open_run(run)
     kind = data.run_kind(ds)
@@ -159,7 +160,7 @@ def profiles(run, fields=None):
     arrays = data.profile_arrays(ds, fields)
     hv = holoviews()
     curves = [hv.Curve((ds["x"].values, da.values), x_dim(),
-                       dimension(f, _LABELS.get(f, f), da.attrs.get("units"))).opts(
+                       dimension(f, _LABELS.get(f, f), native_units(da))).opts(
                   width=WIDTH // 2 + 60, height=HEIGHT - 60, title=f"{_LABELS.get(f, f)} (final state)",
                   tools=["hover"])
               for f, da in arrays.items()]
@@ -185,7 +186,7 @@ def longrun(run, rasterize: bool | None = None):
     -------
     holoviews.Layout
 
-    References: Figures "ekinisonosg", "tau15nga", "tau15bufnosg", "tau20nonisonosga".
+    References: Figures 8, 7, 9, 11.
     """
     ds = data.open_run(run)
     if data.run_kind(ds) != data.COMPACT:

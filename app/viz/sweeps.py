@@ -10,6 +10,7 @@ import numpy as np
 import pandas as pd
 
 from ringcore.checks import check_choice
+from ringcore.io.cf import native_units
 
 from ringlab.viz import data
 from ringlab.viz.backend import HEIGHT, WIDTH, dimension, holoviews
@@ -23,7 +24,7 @@ KINDS = ("scatter", "line")
 
 def _dim(flat, name, legend: bool = False):
     """The dimension of column ``name``; in a legend (``legend``) a ratio's values stand without "dimensionless"."""
-    units = flat[name].attrs.get("units")
+    units = native_units(flat[name]) or None
     if legend and str(units).strip() == "1":
         units = None
     return dimension(name, LABELS.get(name, name), units)

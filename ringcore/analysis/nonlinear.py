@@ -1,10 +1,10 @@
-"""Nonlinear dispersion relation of saturated overstable wave trains (Section "Nonlinear Dispersion Relation").
+"""Nonlinear dispersion relation of saturated overstable wave trains (Section 6.1).
 
 For each wavelength lambda a periodic box of radial size L_x = lambda holds one seeded,
 large-amplitude overstable mode; after the transient (the seed adjusting to the nonlinear
 wave shape) is discarded, the oscillation frequency omega_I^nl is the peak of the Lomb
 normalised periodogram of the radial velocity u at a fixed point (x = 0), as for the linear
-frequencies of Section "Tests".
+frequencies of Section 4.1.3.
 
 Hydrodynamics (:func:`hydro_frequency`)
     Seed: the exact linear eigenmode (:func:`ringcore.linear.eigenmode`) scaled up to a relative
@@ -18,13 +18,13 @@ Hydrodynamics (:func:`hydro_frequency`)
     the mode response as replicas -> infinity with the bin correction (:mod:`ringcore.hydro.gravity`).
 N-body (:func:`nbody_frequency`)
     Box L_x = lambda, equilibrated, then an m = 1 radial-velocity wave of amplitude ~10 R_p Omega;
-    the radial self-gravity (eq. sgmodes) uses all modes down to ``resolve_m`` (10 m).  The
+    the radial self-gravity (Eq. (54)) uses all modes down to ``resolve_m`` (10 m).  The
     frequency is the Lomb peak of Re U_1(t), the m = 1 Fourier amplitude of the particle radial
     velocities (the fundamental of u at x = 0).
 
 :func:`frequency_minimum` locates lambda_zero^nl (vertex of the 3-point Lagrange parabola in
 ln lambda around the smallest sampled frequency); :func:`group_velocity` is d omega/dk by 3-point
-Lagrangian differentiation (Appendix "Group Velocities of Saturated Wave Trains").
+Lagrangian differentiation (Appendix C).
 
 Units: frequencies in Omega, wavelengths in m, group velocities in m/s.
 """
@@ -62,7 +62,7 @@ class NonlinearFrequency:
         Cross-check: slope of the unwrapped phase of the m = 1 Fourier amplitude of u [Omega]
         (nan for N-body).
     linear_frequency : float
-        omega_I of eq. (matni) at this wavelength [Omega].
+        omega_I of Eq. (17) at this wavelength [Omega].
     seed_amplitude : float
         Hydro: relative sigma amplitude of the seed; N-body: radial-velocity amplitude [R_p Omega].
     amplitude : float

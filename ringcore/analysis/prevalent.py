@@ -1,18 +1,22 @@
-"""The prevalent wavelength lambda_p of a run, named by the method that measures it.
+"""The prevalent wavelength lambda_p of a run: one documented value, the other measurements named by method.
 
 The paper's lambda_p is the wavelength of the maximum of the power spectral density of sigma (Section 5.1.1,
 Figures 7 and 8).  A run offers three measurements of it, which differ on a run whose waves still coarsen or
 fluctuate (e.g. 62.5, 66.7 and 71.4 m in one 20-orbit hydro run):
 
-``"psd"`` (the default, :data:`DEFAULT_METHOD`)
+``"most_frequent"`` (the default, :data:`DEFAULT_METHOD`): **the lambda_p** of ringcore
+    The most frequent of the sampled instantaneous values (the PSD peak of sigma at each sample time) in the last
+    ``last_fraction`` (a quarter) of the run.  It is the ``lambda_p_m`` of every run summary
+    (:func:`ringcore.analysis.summary.series_summary`, ``summary()`` of both engines, the run files'
+    ``summary_json``, ``ringcore info``, the sweeps), the value the README and ``ringcore hydro`` print and the
+    point the app's saturation tab plots for a run.
+``"psd"``
     Peak of the PSD averaged over the recorded sigma rows of the last ``last_fraction`` of the run (hydro:
-    the stroboscopic rows, one per orbit; N-body: the recorded radial profiles).  The steadiest value and the
-    paper's definition applied to the saturated state; nan without recorded rows.
-``"most_frequent"``
-    The most frequent of the sampled instantaneous values in the last ``last_fraction`` (the ``lambda_p_m`` of
-    the run summaries, :func:`ringcore.analysis.summary.series_summary`).
+    the stroboscopic rows, one per orbit; N-body: the recorded radial profiles); the steadiest value; nan
+    without two recorded rows (summary key ``lambda_p_psd_m``).
 ``"instantaneous"``
-    The PSD peak of the current state only (the ``lambda_p_m`` of ``diagnostics()`` and of each sample).
+    The PSD peak of the current state only: ``prevalent_wavelength()`` of the engines, the ``lambda_p_m`` of
+    ``diagnostics()`` and of each sample, and the app's live readout "λ_p now".
 """
 from __future__ import annotations
 
@@ -26,7 +30,7 @@ from .spectra import prevalent_wavelength
 from .summary import series_summary, strobe_wavelength
 
 METHODS = ("psd", "most_frequent", "instantaneous")
-DEFAULT_METHOD = "psd"
+DEFAULT_METHOD = "most_frequent"
 
 
 def lambda_p(run, method: str = DEFAULT_METHOD, last_fraction: float = 0.25) -> float:
@@ -36,8 +40,8 @@ def lambda_p(run, method: str = DEFAULT_METHOD, last_fraction: float = 0.25) -> 
     ----------
     run : Hydro1D, ShearingBox or State
         An engine or its :class:`~ringcore.engine.State`.
-    method : {"psd", "most_frequent", "instantaneous"}
-        How lambda_p is measured; default ``"psd"``.
+    method : {"most_frequent", "psd", "instantaneous"}
+        How lambda_p is measured; default ``"most_frequent"``, the lambda_p of the run summaries.
     last_fraction : float
         Fraction (by time) of the recorded run used by ``"psd"`` and ``"most_frequent"``, in (0, 1].
 

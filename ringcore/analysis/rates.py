@@ -1,7 +1,7 @@
 """Growth rates and oscillation frequencies of modes with stated uncertainties.
 
-References: Section "Tests" (linear fit to log Fourier amplitude; Lomb periodogram of u at a point) and
-Section "Growth Rates and Oscillation Frequencies" (the N-body box's complex mode amplitude).
+References: Section 4.1.3 (linear fit to log Fourier amplitude; Lomb periodogram of u at a point) and
+Section 4.2.2 (the N-body box's complex mode amplitude).
 """
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Saturation wavelength relations of Section "Saturation Wavelength of Viscous Overstability"."""
+"""Saturation wavelength relations of Section 6."""
 from __future__ import annotations
 
 import numpy as np
@@ -7,16 +7,16 @@ from ..checks import check_real
 from ..linear import lambda_zero
 from ..params import RingParams
 
-C_EMPIRICAL = 1.4  # eq. (lambdasigma)
+C_EMPIRICAL = 1.4  # Eq. (55)
 
 
 def lambda_p_empirical(p: RingParams, C: float = C_EMPIRICAL) -> float:
-    """lambda_p = C lambda_zero(sigma0) [m], eq. (lambdasigma); nan without self-gravity."""
+    """lambda_p = C lambda_zero(sigma0) [m], Eq. (55); nan without self-gravity."""
     return _C(C) * lambda_zero(p)
 
 
 def _C(C) -> float:
-    """The factor C of eq. (lambdasigma), > 0 (the paper: 1.4)."""
+    """The factor C of Eq. (55), > 0 (the paper: 1.4)."""
     return check_real("C", C, 0.0, 100.0, lo_open=True, allow_str=False)
 
 
@@ -27,13 +27,13 @@ def _F2(p: RingParams, F2: float | None) -> float:
 
 
 def lambda_zero_approx(p: RingParams, F2: float | None = None) -> float:
-    """lambda_zero ~ 2 (p_s + F2) lambda_J [m]: eq. (osfreq) for Q0 >> 1.
+    """lambda_zero ~ 2 (p_s + F2) lambda_J [m]: Eq. (22) for Q0 >> 1.
 
-    The zero of the group velocity d omega_I/dk of the k^2 approximation eq. (osfreq),
+    The zero of the group velocity d omega_I/dk of the k^2 approximation Eq. (22),
     omega_I = 1 - k/Q0 + (p_s + F2 - 1/Q0^2) k^2 / 2, is k = 1/(Q0 (p_s + F2) - 1/Q0) in the
     paper's units (length c0/Omega), i.e. lambda_zero -> 2 (p_s + F2) lambda_J with
-    lambda_J = c0^2/(G sigma0) (eq. jeans) for Q0 >> 1.  Agrees with the exact lambda_zero of
-    eq. (evp) (:func:`ringcore.linear.lambda_zero`) within 0.1 % for the non-isothermal sets at
+    lambda_J = c0^2/(G sigma0) (Eq. (57)) for Q0 >> 1.  Agrees with the exact lambda_zero of
+    Eq. (16) (:func:`ringcore.linear.lambda_zero`) within 0.1 % for the non-isothermal sets at
     Q0 >= 20 with the tabulated F2 (tau20: 0.4 %, its tabulated F2 = 0.08 against the exact 0.09);
     the isothermal sets (F2 = 0) within 1 % at Q0 >= 32.
 
@@ -42,7 +42,7 @@ def lambda_zero_approx(p: RingParams, F2: float | None = None) -> float:
     p : RingParams
         Parameter set with sigma0 > 0 (lambda_J is inf without self-gravity).
     F2 : float, optional
-        Thermal correction of eq. (osfreq); default the tabulated value (0 if isothermal).
+        Thermal correction of Eq. (22); default the tabulated value (0 if isothermal).
 
     Returns
     -------
@@ -53,10 +53,10 @@ def lambda_zero_approx(p: RingParams, F2: float | None = None) -> float:
 
 
 def lambda_p_approx(p: RingParams, C: float = C_EMPIRICAL, F2: float | None = None) -> float:
-    """lambda_p ~ 2 C (p_s + F2) lambda_J [m]: eq. (lambdasigmaap) with the sign of eq. (osfreq).
+    """lambda_p ~ 2 C (p_s + F2) lambda_J [m]: Eq. (56) with the sign of Eq. (22).
 
-    The paper prints eq. (lambdasigmaap) as 2 C (p_s - F2) lambda_J, but it says the relation
-    "follows directly from Equation (osfreq) for Q0 >> 1", and eq. (osfreq) gives
+    The paper prints Eq. (56) as 2 C (p_s - F2) lambda_J, but it says the relation
+    "follows directly from Eq. (22) for Q0 >> 1", and Eq. (22) gives
     lambda_zero ~ 2 (p_s + F2) lambda_J (:func:`lambda_zero_approx`).  The "+" form is the one
     that agrees with C times the exact lambda_zero (tau15, Q0 = 32: exact lambda_zero 1,892 m,
     "+" 1,892 m, printed "-" 2,387 m, +26 %).  For the isothermal model F2 = 0 and both agree.
@@ -66,9 +66,9 @@ def lambda_p_approx(p: RingParams, C: float = C_EMPIRICAL, F2: float | None = No
     p : RingParams
         Parameter set with sigma0 > 0.
     C : float
-        Factor of eq. (lambdasigma) (1.4).
+        Factor of Eq. (55) (1.4).
     F2 : float, optional
-        Thermal correction of eq. (osfreq); default the tabulated value (0 if isothermal).
+        Thermal correction of Eq. (22); default the tabulated value (0 if isothermal).
 
     Returns
     -------
@@ -83,7 +83,7 @@ def lagrange_derivative(x, y) -> np.ndarray:
 
     Interior points use the three-point Lagrange polynomial through (i-1, i, i+1); the end
     points use the same polynomial through the first / last three points
-    (Appendix "Group Velocities of Saturated Wave Trains").
+    (Appendix C).
     """
     x = np.asarray(x, float)
     y = np.asarray(y, float)

@@ -1,10 +1,10 @@
-"""Fourier amplitudes (eq. fourier), the power spectral density (PSD) of a profile and its prevalent wavelength.
+"""Fourier amplitudes (Eq. (38)), the power spectral density (PSD) of a profile and its prevalent wavelength.
 
 The one spectral convention of ringcore (hydro engine, N-body box, run files, command line, recipes and app):
 
 - a profile ``f`` of ``n`` samples on a uniform periodic grid of length ``L_x`` [m] has modes
   m = 1 .. n//2 of wavelength ``L_x / m`` [m] (the mean, m = 0, is left out);
-- the amplitude of mode m is U^m in ``f = sum_m U^m cos(k_m x + phi_m)``, eq. (fourier): U^m = 2 |F_m| / n
+- the amplitude of mode m is U^m in ``f = sum_m U^m cos(k_m x + phi_m)``, Eq. (38): U^m = 2 |F_m| / n
   for 0 < m < n/2 and, for even n, U^m = |F_m| / n for the Nyquist mode m = n/2 (the amplitude of the
   cosine the nodes sample; it has no sine partner, so it is not doubled);
 - the power of mode m is its share of the variance of the profile (one-sided, Parseval: the powers sum to
@@ -31,7 +31,7 @@ def _max_wavelength(value):
 
 
 def fourier_amplitudes(field, axis: int = -1) -> np.ndarray:
-    """Real amplitudes U^m of eq. (fourier), m = 0 .. n//2, along ``axis`` (periodic samples).
+    """Real amplitudes U^m of Eq. (38), m = 0 .. n//2, along ``axis`` (periodic samples).
 
     Parameters
     ----------

@@ -4,7 +4,7 @@
 engine; :func:`summary` applies them to a hydro :class:`ringcore.engine.State` (or to a
 :class:`~ringcore.hydro.Hydro1D`, through its ``snapshot()``).
 
-References: Section "Saturation Wavelength"; eqs. (ekin), (fourier).
+References: Section 6; Eqs. (39), (38).
 """
 from __future__ import annotations
 

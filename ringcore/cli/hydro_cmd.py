@@ -26,8 +26,8 @@ BYTES_PER_CELL = 400  # state, five SSPRK stage copies, fluxes, stresses, gravit
 
 def register(sub) -> None:
     p = sub.add_parser("hydro", help="1D axisymmetric hydrodynamics (writes a NetCDF run file)",
-                       description="Integrate the 1D shearing-sheet hydrodynamics of Section 'Numerical "
-                                   "Methods' and write the run (state, e_kin(t), lambda_p(t), space-time "
+                       description="Integrate the 1D shearing-sheet hydrodynamics of Section 4 (Numerical "
+                                   "Methods) and write the run (state, e_kin(t), lambda_p(t), space-time "
                                    "rows, PSD) to a NetCDF file.")
     add_ring_arguments(p)
     p.add_argument("--lx", type=float, default=5000.0, metavar="M", help="box size L_x [m] (default 5000)")
@@ -199,14 +199,17 @@ def run(args) -> int:
             raise
         sys.stderr.write(f"ringcore hydro: error: {exc} (saved to {args.out}, complete = 0)\n")
         return 1
+    # the run's lambda_p (its summary's, ringcore.analysis.lambda_p) and the current state's, named as such
+    lam, now = float(sim.summary()["lambda_p_m"]), float(sim.prevalent_wavelength())
     if args.json:
         import json
 
-        e_kin, lam = float(sim.e_kin()), float(sim.prevalent_wavelength())
+        e_kin = float(sim.e_kin())
         print(json.dumps({"kind": "hydro", "file": str(args.out), "orbits": float(sim.orbits), "steps": int(sim.steps),
                           "e_kin": e_kin if math.isfinite(e_kin) else None, "e_kin_units": E_KIN_UNIT,
-                          "lambda_p_m": lam if math.isfinite(lam) else None}))
+                          "lambda_p_m": lam if math.isfinite(lam) else None,
+                          "lambda_p_instantaneous_m": now if math.isfinite(now) else None}))
         return 0
     print(f"{sim.orbits:.2f} orbits, {sim.steps} steps, e_kin = {sim.e_kin():.4e} {E_KIN_UNIT}, "
-          f"lambda_p = {sim.prevalent_wavelength():.1f} m -> {args.out}")
+          f"lambda_p = {lam:.1f} m (instantaneous {now:.1f} m) -> {args.out}")
     return 0

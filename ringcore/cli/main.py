@@ -15,12 +15,15 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import shlex
 import signal
 import sys
 import traceback
 import warnings
 
 from .. import __version__
+from ..log import cli_handler, logger
+from ..provenance import set_command
 from ..io.signals import graceful_interrupt
 from . import _startup_stop, threads_opt
 from .errors import status_and_message
@@ -104,7 +107,12 @@ def main(argv=None) -> int:
         if not debug:  # numerical RuntimeWarnings etc. would break the one-line messages; --debug shows them
             warnings.simplefilter("ignore")
         with graceful_interrupt():  # SIGTERM stops like SIGINT (clean-ups run, one line, status 130)
-            status = _run(argv, debug)
+            handler = cli_handler()  # progress lines of a batch job (stderr not a terminal) on the logger
+            try:
+                status = _run(argv, debug)
+            finally:
+                set_command(None)
+                logger.removeHandler(handler)
     if status == 130 and top and _STATE.get("command") not in SLOW_EXIT_COMMANDS:
         # interrupted: the state is saved and the files are closed; skip the interpreter's teardown
         # (freeing numba/llvm, xarray, FFTW: up to seconds on a loaded machine) so the prompt comes back at once
@@ -135,6 +143,7 @@ def _run(argv: list, debug: bool) -> int:
         args._given = _given_dests(build_parser(only), argv)
         args._argv = list(argv)  # the command line as given (provenance of output files)
         threads_opt.apply(args)  # --threads: checked before anything runs, the default of every run
+        set_command(shlex.join(["ringcore", *argv]))  # the history and command of every file it writes
         return int(args.func(args) or 0)
     except KeyboardInterrupt as exc:
         name = str(exc) if str(exc).startswith("SIG") else "SIGINT"

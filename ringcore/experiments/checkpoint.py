@@ -141,7 +141,7 @@ def run_checkpointed(model, orbits: float | None = None, *, out, until: float | 
         The final (or interrupted, or blow-up) save failed; the message says whether and where the state
         was saved instead.
     """
-    from tqdm.auto import tqdm
+    from ..log import progress_bar as tqdm
 
     if (orbits is None) == (until is None):
         raise ValueError("give exactly one of orbits (duration) or until (end time), in orbits")

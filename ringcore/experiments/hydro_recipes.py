@@ -1,7 +1,7 @@
 """Recipes for the hydrodynamic figures without radial self-gravity and the scheme test.
 
-"grates" (Section "Tests"), "tau15nga", "ekinisonosg", "tau15bufnosg" (Section "Isothermal Model"),
-"tau20nonisonosga" (Section "Non-isothermal Model").  Quick mode: smaller boxes and fewer orbits,
+"grates" (Section 4.1.3), "tau15nga", "ekinisonosg", "tau15bufnosg" (Section 5.1.1),
+"tau20nonisonosga" (Section 5.1.2).  Quick mode: smaller boxes and fewer orbits,
 same physics and scheme; full mode: the paper's boxes, resolutions and durations (cluster).
 Non-isothermal long runs use the documented temperature floor T_floor = 0.01 T0 (see README).
 """
@@ -25,7 +25,7 @@ GRATES_SIGMAS = (0.0, 350.0, 600.0)
 
 def _grates_growth(p, h, orbits):
     """Growth rates of all modes of a 1-km box seeded with white noise down to 38 m (wire kernel,
-    5 replicas, bin correction), from log-linear fits to the Fourier amplitudes (Section "Tests")."""
+    5 replicas, bin correction), from log-linear fits to the Fourier amplitudes (Section 4.1.3)."""
     L = 1000.0
     ms = (1, 2, 3, 4, 5, 6, 8, 10, 12, 15, 20, 25)
     opt = HydroOptions(L_x=L, h=h, timestep="cfl", gravity="wire", replicas=5, bin_correction=True,
@@ -92,7 +92,7 @@ def grates(mode, out):
     ax2.set_xlabel("wavelength [m]")
     ax2.set_ylabel(r"$\omega_I$ [$\Omega$]")
     ax2.set_ylim(0.85, 1.15)
-    fig.suptitle("Figure 3 (grates): hydro (symbols) vs exact linear theory eq. (evp) (lines), tau15 non-isothermal",
+    fig.suptitle("Figure 3 (grates): hydro (symbols) vs exact linear theory Eq. (16) (lines), tau15 non-isothermal",
                  fontsize=10)
     ds = xr.Dataset(data, coords={"wavelength_growth": ("wavelength_growth", lam_g, {"units": "m"}),
                                   "wavelength_frequency": ("wavelength_frequency", lam_f, {"units": "m"})})

@@ -1,8 +1,7 @@
 """Recipes for the hydrodynamic figures with radial self-gravity and the appendix integrations.
 
 "ekincompare", "sgstable" (isothermal), "etauhydro", "tau15nonisoweaksg" (non-isothermal),
-"boxsizecomp01" (Appendix "Influence of the Radial Domain Size") and "vgpert" (Appendix "Group
-Velocities of Saturated Wave Trains").  Quick: smaller boxes / fewer orbits, same physics; full:
+"boxsizecomp01" (Appendix B.1) and "vgpert" (Appendix C).  Quick: smaller boxes / fewer orbits, same physics; full:
 the paper's settings.  Non-isothermal runs use the temperature floor 0.01 T0 (see README).
 """
 from __future__ import annotations
@@ -35,7 +34,7 @@ def _ekin_panels(mode, out, name, panels, L, orbits, iso, title, paper, grid=Non
         for s, c in zip(sigmas, cols):
             p = params.get(set_name, sigma0=s, isothermal=iso or None)
             k = f"{set_name} {s:g}"
-            # the paper needed ~10x smaller steps for the largest isothermal sigma0 (Section "Isothermal Model")
+            # the paper needed ~10x smaller steps for the largest isothermal sigma0 (Section 5.2.1)
             small_dt = iso and mode == "full" and s == max(sigmas)
             L_run, h_run = grid(set_name, s)
             used.add((L_run, h_run))
@@ -66,7 +65,7 @@ def _grid_text(used) -> str:
 def etau_grid(mode: str, set_name: str, sigma0: float) -> tuple[float, float]:
     """(L_x [m], h [m]) of one run of recipe "etauhydro".
 
-    Quick: 1 km at h = 2.5 m.  Full, as the paper (Section "nonisosg"): 20 km at h = 2.5 m, and 5 km at h = 1 m
+    Quick: 1 km at h = 2.5 m.  Full, as the paper (Section 5.2.2): 20 km at h = 2.5 m, and 5 km at h = 1 m
     for sigma0 >= 700 kg/m^2; the non-isothermal tau20 model gets at least the grid it needs
     (:func:`~ringcore.experiments.resolution.resolved_h`).
     """

@@ -1,5 +1,5 @@
-"""Recipe "lambdap" of Section "Saturation Wavelength of Viscous Overstability": Figure 20's hydrodynamic
-panels, lambda_p(sigma0) against 1.4 lambda_zero (eq. lambdasigma), from the sweeps shipped with the app
+"""Recipe "lambdap" of Section 6: Figure 20's hydrodynamic
+panels, lambda_p(sigma0) against 1.4 lambda_zero (Eq. (55)), from the sweeps shipped with the app
 (``app/data/saturation_sweep*.nc``, written by ``ringcore sweep``) or from in-process hydro runs.
 """
 from __future__ import annotations
@@ -151,7 +151,7 @@ def lambdap(mode, out):
         base = params.get(set_name, isothermal=iso)
         emp = np.array([lambda_p_empirical(base.with_sigma0(v)) for v in s])
         fast = np.array([linear.max_growth(base.with_sigma0(v))[0] for v in s])
-        ax.plot(s, emp, "k--", label=f"{C_EMPIRICAL:g} $\\lambda_{{zero}}$, eq. (lambdasigma)")
+        ax.plot(s, emp, "k--", label=f"{C_EMPIRICAL:g} $\\lambda_{{zero}}$, Eq. (55)")
         ax.plot(s, fast, "k:", label="fastest-growing (linear)")
         ax.plot(sig[sat], lam_p[sat], "o", color="C3", label=r"measured $\lambda_p$ (Hydro)")
         if (~sat).any():
@@ -183,6 +183,6 @@ def lambdap(mode, out):
     return finish(fig, ds, out, "lambdap", cap, dict(sources=srcs))
 
 
-# Figure "nlvg" panels: (letter, parameter set, isothermal, label).  The paper names the tau15 and tau20 sets for
+# Figure 21 panels: (letter, parameter set, isothermal, label).  The paper names the tau15 and tau20 sets for
 # (a), (b) and only "Omega_z = 2" (non-isothermal) and "isothermal" for (c), (d), without their optical depth:
 # tau = 1.5 is assumed there, as in panel (a) (sets tau15_oz2 and tau15 in the isothermal limit, p_s = 1).

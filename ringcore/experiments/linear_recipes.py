@@ -34,7 +34,7 @@ def _curves(set_name: str, lam) -> xr.Dataset:
     for m in ("nonisothermal", "isothermal"):
         ds[f"growth_rate_{m}"].attrs.update(units="Omega", long_name="omega_R")
         ds[f"frequency_{m}"].attrs.update(units="Omega", long_name="omega_I")
-        ds[f"group_velocity_{m}"].attrs.update(units="m s-1", long_name="v_g, eq. (vg)")
+        ds[f"group_velocity_{m}"].attrs.update(units="m s-1", long_name="v_g, Eq. (23)")
         ds[f"phase_velocity_strobe_{m}"].attrs.update(units="m s-1", long_name="(omega_I - Omega)/k")
     ds.attrs.update(attrs_from_dict("param", base.as_dict()))
     return ds
@@ -50,7 +50,7 @@ def _save(ds, out, name, caption):
 def omega(mode, out):
     lam = np.geomspace(20, 3000, 300 if mode == "quick" else 1500)
     png = out / "omega.png"
-    cap = (f"Exact eq. (matni), tau15, {lam.size} wavelengths 20 m - 3 km: black non-isothermal, red dashed "
+    cap = (f"Exact Eq. (17), tau15, {lam.size} wavelengths 20 m - 3 km: black non-isothermal, red dashed "
            "isothermal p_s = 1, blue dashed isothermal p_s = 2.41 at sigma0 = 800 kg/m^2.")
     figure_omega(png, wavelength_m=lam, caption=cap)
     data = _save(_curves("tau15", lam), out, "omega", cap)
@@ -61,7 +61,7 @@ def omega(mode, out):
 def vgroup(mode, out):
     lam = np.geomspace(20, 3000, 300 if mode == "quick" else 1500)
     png = out / "vgroup.png"
-    cap = ("Exact eq. (matni), tau15: group velocity eq. (vg) for sigma0 = 0..1000 kg/m^2 (dashed: isothermal "
+    cap = ("Exact Eq. (17), tau15: group velocity Eq. (23) for sigma0 = 0..1000 kg/m^2 (dashed: isothermal "
            "p_s = 1) and lambda_zero(sigma0) from the omega_I minimum at 40 values of sigma0.")
     figure_vgroup(png, caption=cap)
     data = _save(_curves("tau15", lam), out, "vgroup", cap)
@@ -87,9 +87,9 @@ def vgph(mode, out):
     axes[0].set_ylim(-0.6, 1.0)
     axes[0].legend(title="sigma0 [kg/m^2]", fontsize=7)
     cap = ("Solid: v_g = d omega_I/dk; dashed: (omega_I - Omega)/k, the apparent speed in a 1/orbit "
-           "stroboscopic diagram; dotted: twice the latter at sigma0 = 0 (Appendix 'Stroboscopic Space-Time Diagram').")
+           "stroboscopic diagram; dotted: twice the latter at sigma0 = 0 (Appendix A).")
     fig.suptitle("tau15: group velocity (solid) and effective stroboscopic phase velocity (dashed)")
-    add_caption(fig, "Exact eq. (matni). " + cap)
+    add_caption(fig, "Exact Eq. (17). " + cap)
     png = out / "vgph.png"
     save_figure(fig, png, dpi=110)
     data = _save(ds, out, "vgph", cap)

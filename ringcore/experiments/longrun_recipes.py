@@ -1,8 +1,8 @@
 """Recipes of the paper's long hydro runs without self-gravity: ``ringcore reproduce NAME --full``.
 
 One recipe per run of :data:`ringcore.experiments.longruns.LONG_RUNS` (the isothermal 100 m-seed runs
-tau15, tau20, st99 of Figure "ekinisonosg", the non-isothermal white-noise runs of Section "nonisonosg" and
-the buffer-zone run of Figure "tau15bufnosg").  ``--full``: the paper's scale (L_x = 10 km, h = 2.5 m, fast
+tau15, tau20, st99 of Figure 8, the non-isothermal white-noise runs of Section 5.1.2 and
+the buffer-zone run of Figure 9).  ``--full``: the paper's scale (L_x = 10 km, h = 2.5 m, fast
 "cfl" step, 20,000 or 14,000 orbits), exactly the settings of the background runs of ``campaigns/longruns/``;
 ``--quick``: L_x = 2 km, 1,500 orbits, same physics (the buffer scaled with the box).
 
@@ -11,7 +11,7 @@ interrupted recipe started again continues it bit for bit), ``OUT/NAME.nc`` (the
 :func:`ringcore.experiments.longruns.compact`, the format the app's "Paper results" tab replays) and
 ``OUT/NAME.png`` (stroboscopic diagram, e_kin(t), lambda_p(t), final PSD, the paper's number).
 
-References: Figures "ekinisonosg", "tau15bufnosg", "tau20nonisonosga"; Section "nonisonosg".
+References: Figures 8, 9, 11; Section 5.1.2.
 """
 from __future__ import annotations
 

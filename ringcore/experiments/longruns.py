@@ -1,6 +1,6 @@
 """The paper's long hydro runs without self-gravity: their settings, published numbers and compact results.
 
-:data:`LONG_RUNS` describes each run of Section "Hydrodynamical Integrations Without Self-Gravity" that
+:data:`LONG_RUNS` describes each run of Section 5.1 that
 ``ringcore reproduce NAME --full`` recomputes at the paper's scale (L_x = 10 km, h = 2.5 m, fast "cfl"
 step, 20,000 or 14,000 orbits; the settings of the background runs in ``campaigns/longruns/``), with the
 paper's number to compare with.  :func:`compact` turns a run file (complete, or a checkpoint of a run still
@@ -18,7 +18,7 @@ and as attributes the settings (``params_json``, ``options_json``), the orbit re
 status line ("run reached N of 20,000 orbits; still computing"), the computed and the paper's wavelength,
 and the commands that recompute (``ringcore reproduce NAME --full``) and continue the run.
 
-References: Figures "ekinisonosg", "tau15nga", "tau15bufnosg", "tau20nonisonosga"; Section "nonisonosg".
+References: Figures 8, 7, 9, 11; Section 5.1.2.
 """
 from __future__ import annotations
 
@@ -243,7 +243,7 @@ def compact(path, rows: int = 800, cols: int = 1000, name: str | None = None) ->
         {"strobe": (("t_strobe", "x"), strobe, {"long_name": "sigma/sigma0, stroboscopic (one row per orbit, thinned)",
                                                "units": "sigma0"}),
          "e_kin": ("t", e_kin.astype(np.float32), {"units": E_KIN_UNIT,
-                                                   "long_name": "wave kinetic energy, eq. (ekin)"}),
+                                                   "long_name": "wave kinetic energy, Eq. (39)"}),
          "lambda_p": ("t", lam.astype(np.float32), {"units": "m", "long_name": "prevalent wavelength"}),
          "psd": ("wavelength", P.astype(np.float32), {"long_name": "normalised PSD of sigma, final state"})},
         coords={"t": ("t", t.astype(np.float32), {"units": "orbits"}),

@@ -1,9 +1,9 @@
 """Recipes for the saturated N-body figures: "vdispnb" (velocity dispersion and collision frequency,
 with the hydro points), "boxdouble" (box-size tests: a tiled saturated box, and two box sizes) and
-"radvar" (saturation wavelength vs particle radius, periodic and spreading boundaries, eq. lambdasigmaap).
+"radvar" (saturation wavelength vs particle radius, periodic and spreading boundaries, Eq. (56)).
 
 Quick: boxes of a few hundred metres and tens to a hundred orbits (same physics: Bridges law,
-Omega_z of the parameter set, radial self-gravity eq. sgmodes); full: Table "tab:nbstat" boxes and
+Omega_z of the parameter set, radial self-gravity Eq. (54)); full: Table 3 boxes and
 thousands of orbits.
 """
 from __future__ import annotations
@@ -28,9 +28,9 @@ from .registry import recipe
 def hydro_dispersion(p, L_x, orbits, *, h=2.5, initial="noise", seed=1):
     """Velocity dispersion <c> of a hydro run, as the N-body <c>: mass-weighted sqrt(T) [m/s].
 
-    <c> = sum(sigma sqrt(T)) / sum(sigma) c0 (T in units of c0^2, eq. temp), sampled over the second
-    half of ``orbits`` (the saturated wave train; Figure "vdispnb"'s hydro points).  This is the
-    local (translational) dispersion; the nonlocal pressure, part of c0 (eq. ptot), is not in it.
+    <c> = sum(sigma sqrt(T)) / sum(sigma) c0 (T in units of c0^2, Eq. (3)), sampled over the second
+    half of ``orbits`` (the saturated wave train; Figure 19's hydro points).  This is the
+    local (translational) dispersion; the nonlocal pressure, part of c0 (Eq. (12)), is not in it.
 
     Returns ``(c_mean [m/s], status, sim)``; ``status`` is ``"ok"`` or the blow-up message (then
     the mean is over the samples before it, nan if none).
@@ -61,7 +61,7 @@ def run_box(p, L_x, L_y, orbits, *, R_p=1.0, record_every=0.5, profile_every=0.0
 
 def final_psd(box):
     """(wavelength [m], PSD normalised to max 1) of the box's radial surface number density profile
-    (zones of ~5 R_p; the inset of Figure "boxdouble", right)."""
+    (zones of ~5 R_p; the inset of Figure 18, right)."""
     return power_spectrum(box.profiles().sigma, box.options.L_x, normalise=True)
 
 
@@ -208,7 +208,7 @@ def _radvar_box(p, R, L1, Ly1, orbits, fill=1.0):
 
 
 @recipe("radvar", "fig:radvar", "N-body saturation wavelength vs particle radius, sigma0 = 900, periodic and "
-        "spreading boundaries (eq. lambdasigmaap)", "2.7 min", "210 h, beyond 2 cores")
+        "spreading boundaries (Eq. (56))", "2.7 min", "210 h, beyond 2 cores")
 def radvar(mode, out):
     radii = np.array(pick(mode, (1.0, 1.5, 2.0), (1.0, 1.5, 2.0, 2.5, 3.0, 4.0)))
     sb_radii = np.array(pick(mode, (1.0, 1.5), (1.0, 2.0)))
@@ -217,7 +217,7 @@ def radvar(mode, out):
     p = params.get("tau15", sigma0=900.0)
     pb = np.array([_radvar_box(p, R, L1, Ly1, orbits) for R in radii])
     sb = np.array([_radvar_box(p, R, L1, Ly1, sb_orbits, fill) for R in sb_radii])
-    # c0 ~ R_p => lambda_J ~ R_p^2; eq. (lambdasigmaap) with the sign of eq. (osfreq), 2C(p_s + F2) lambda_J
+    # c0 ~ R_p => lambda_J ~ R_p^2; Eq. (56) with the sign of Eq. (22), 2C(p_s + F2) lambda_J
     # (the paper prints p_s - F2; see ringcore.analysis.saturation.lambda_p_approx)
     approx = np.array([lambda_p_approx(p) * R**2 for R in radii])
     fig, ax = subplots(figsize=(7, 5))
@@ -226,7 +226,7 @@ def radvar(mode, out):
     ax.plot(sb_radii[filled], sb[filled, 0], "D", ms=8, color="C3", label="N-body, spreading boundaries (SB)")
     if (~filled).any():
         ax.plot(sb_radii[~filled], sb[~filled, 0], "D", ms=8, mfc="none", color="C3", label="SB, box not yet filled")
-    ax.plot(radii, approx, "k--", label=r"eq. (lambdasigmaap), $2C(p_s+F_2)\lambda_J \times (R_p/1\,$m$)^2$")
+    ax.plot(radii, approx, "k--", label=r"Eq. (56), $2C(p_s+F_2)\lambda_J \times (R_p/1\,$m$)^2$")
     ax.set_xlabel(r"$R_p$ [m]")
     ax.set_ylabel(r"$\lambda_p$ [m]")
     ax.legend(fontsize=8)
@@ -241,8 +241,8 @@ def radvar(mode, out):
            f"of the box (tau = {1.5 / fill:g}, sigma = {900 / fill:g} kg/m^2 there; filled, the box is the PB system), "
            f"{sb_orbits:g} orbits (filled: the initially empty zones hold >= 0.5 x the box-mean count from orbit "
            f"{', '.join(f'{v:.0f}' for v in sb[:, 2])}). lambda_p = most frequent prevalent wavelength of the second "
-           "half (SB: once filled). Dashed: eq. (lambdasigmaap) as 2C(p_s + F2) lambda_J (R_p/1 m)^2, the sign that "
-           "follows from eq. (osfreq) (the paper prints p_s - F2; at sigma0 = 900, Q0 = 0.9, the estimate is rough "
+           "half (SB: once filled). Dashed: Eq. (56) as 2C(p_s + F2) lambda_J (R_p/1 m)^2, the sign that "
+           "follows from Eq. (22) (the paper prints p_s - F2; at sigma0 = 900, Q0 = 0.9, the estimate is rough "
            "either way). Paper: L_x = 2 km (R_p/1 m)^2, R_p = 1-4 m, thousands of orbits, two SB runs (radii not "
            "given).")
     return finish(fig, ds, out, "radvar", cap, dict(L_x=L1, L_y=Ly1, orbits=orbits, fill_fraction=fill,

@@ -79,7 +79,7 @@ def hydro_run(p, L_x, h, orbits, *, initial="noise", seed=1, wavelength=None, am
 def series_dataset(runs: dict) -> xr.Dataset:
     """e_kin(t) and lambda_p(t) of several hydro runs {label: sim} on a common run dimension (nan-padded)."""
     labels = list(runs)
-    tt = [runs[k].e_kin_series() for k in labels]  # e_kin in sigma0 (R_p Omega)^2 (Figure "ekinisonosg" units)
+    tt = [runs[k].e_kin_series() for k in labels]  # e_kin in sigma0 (R_p Omega)^2 (Figure 8 units)
     n = max(len(t) for t, _ in tt)
     T = np.full((len(labels), n), np.nan)
     E = np.full_like(T, np.nan)
@@ -139,7 +139,7 @@ def plot_psd(ax, wl, P, title="final PSD of sigma"):
 
 
 def strobe_psd_figure(sim, suptitle: str, lam_max=None):
-    """Figure "tau15nga"-type: stroboscopic space-time diagram (left) and final PSD (right)."""
+    """Figure 7-type: stroboscopic space-time diagram (left) and final PSD (right)."""
     a = sim.series()
     fig, (ax1, ax2) = subplots(1, 2, figsize=(11, 5))
     plot_spacetime(ax1, a["t_strobe"] / (2 * math.pi), sim.x_m, a["strobe"], "stroboscopic (1/orbit) sigma/sigma0")

@@ -3,7 +3,7 @@
 The paper's nonlinear runs use h = 2.5 m.  The non-isothermal tau20 model is under-resolved there (e_kin grows
 without bound, the temperature floor heats the wave troughs, the 10 km run blows up at orbit 2,436) and needs
 h = 1.25 m (README, "Departures"; ``scripts/probe_tau20_floor.py``); tau15 non-isothermal is converged at 2.5 m.
-The paper, too, refines its grid (h = 1 m) for non-isothermal runs with sharp transitions (Section "nonisosg").
+The paper, too, refines its grid (h = 1 m) for non-isothermal runs with sharp transitions (Section 5.2.2).
 """
 from __future__ import annotations
 

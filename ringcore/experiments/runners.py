@@ -75,7 +75,7 @@ def run_linear_task(task: dict, path) -> dict:
 
 
 def _theory(p) -> dict:
-    """lambda_zero and C_EMPIRICAL lambda_zero (eq. lambdasigma) of the task's parameters, for comparison."""
+    """lambda_zero and C_EMPIRICAL lambda_zero (Eq. (55)) of the task's parameters, for comparison."""
     if p.sigma0 <= 0:
         return {"lambda_zero_m": math.nan, "lambda_p_empirical_m": math.nan}
     try:

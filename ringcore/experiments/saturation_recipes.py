@@ -1,4 +1,4 @@
-"""Recipes of Section "Saturation Wavelength of Viscous Overstability".
+"""Recipes of Section 6.
 
 "nlvg" (hydro nonlinear dispersion relation and
 group velocities), "nbvga" (N-body nonlinear dispersion relation), "osfrat" (lambda_zero^nl,
@@ -50,7 +50,7 @@ NLVG_LAMBDAS_QUICK = (60.0, 85.0, 120.0, 170.0, 240.0, 340.0, 480.0)  # panel (a
 # quick: five wavelengths around each set's lambda_zero at its two sigma0; full: 25 geometric between the bounds.
 # sigma0 stays low in (c), (d): tau15_oz2 has Q0 = 1.12 at 500 and 0.80 at 700 (there the seeded waves are
 # overtaken by short modes of amplitude ~0.8); the isothermal tau15 model has Q0 = 1.14 at 700, where the seeded
-# waves of lambda >= 55 m blow up within 4-6 orbits with the fast time step (paper, Section "isosg": beyond
+# waves of lambda >= 55 m blow up within 4-6 orbits with the fast time step (paper, Section 5.2.1: beyond
 # sigma0 ~ 600 its isothermal scheme was unstable unless the time step was cut to f_t ~ 0.01).
 NLVG_QUICK = {"b": ((400.0, 700.0), (110.0, 170.0, 260.0, 400.0, 600.0)),
               "c": ((200.0, 400.0), (45.0, 60.0, 80.0, 115.0, 165.0)),
@@ -62,7 +62,7 @@ NLVG_FULL = {"a": ((100.0, 200.0, 300.0, 400.0, 500.0, 600.0, 700.0, 800.0), (40
 
 
 def nlvg_params(letter: str, sigma0: float):
-    """:class:`~ringcore.params.RingParams` of panel ``letter`` ("a"-"d") of Figure "nlvg" at ``sigma0`` [kg/m^2]."""
+    """:class:`~ringcore.params.RingParams` of panel ``letter`` ("a"-"d") of Figure 21 at ``sigma0`` [kg/m^2]."""
     check_choice("panel", letter, tuple(row[0] for row in NLVG_PANELS))
     _, name, iso, _ = next(row for row in NLVG_PANELS if row[0] == letter)
     return params.get(name, sigma0=sigma0, isothermal=iso)
@@ -117,7 +117,7 @@ def _nlvg_panel(ax, letter, sigmas, lams, mode, data, axv=None):
 @recipe("nlvg", "fig:nlvg", "Nonlinear hydro dispersion relation (tau15, tau20, Omega_z = 2, isothermal) and "
         "group velocities", "3.5 min", "5-21 h")
 def nlvg(mode, out, sigmas=None, wavelengths=None, panels="abcd", panel_sigmas=None, panel_wavelengths=None):
-    """Figure "nlvg", panels (a)-(d) (``panels``): ``sigmas``/``wavelengths`` set panel (a),
+    """Figure 21, panels (a)-(d) (``panels``): ``sigmas``/``wavelengths`` set panel (a),
     ``panel_sigmas``/``panel_wavelengths`` ({letter: tuple}) the others (defaults: ``NLVG_QUICK``,
     ``NLVG_FULL``)."""
     panels = [check_choice("panel", x, tuple(row[0] for row in NLVG_PANELS)) for x in panels]
@@ -160,7 +160,7 @@ def nlvg(mode, out, sigmas=None, wavelengths=None, panels="abcd", panel_sigmas=N
         axv.set_ylim(-0.5, 0.5)
         _wavelength_axis(axv)
         axv.set_ylabel(r"$v_g$ [mm/s]")
-        axv.set_title("(a) group velocity: 3-point Lagrange d omega/dk (o) vs linear eq. (vg) (dashed)", fontsize=8)
+        axv.set_title("(a) group velocity: 3-point Lagrange d omega/dk (o) vs linear Eq. (23) (dashed)", fontsize=8)
     else:
         axv.set_axis_off()
     axr = axes[2, 1]
@@ -173,7 +173,7 @@ def nlvg(mode, out, sigmas=None, wavelengths=None, panels="abcd", panel_sigmas=N
     axr.set_title("nonlinear shift of the frequency minimum (v symbols / linear minimum)", fontsize=8)
     axr.legend(fontsize=8)
     fig.suptitle("Figure 21 (nlvg): saturated wave trains in boxes L_x = lambda\nnonlinear (o; open: seeded mode "
-                 "overtaken; x: linearly damped, seed decays; v: minimum; *: lambda_p), linear eq. (evp) (dashed)",
+                 "overtaken; x: linearly damped, seed decays; v: minimum; *: lambda_p), linear Eq. (16) (dashed)",
                  fontsize=9)
     sett = pick(mode, "40 nodes per wavelength, 32 orbits (first 12 discarded)", "h = 1 m, 80 orbits (30 discarded)")
     sett += ", T floor 0.01 T0 (non-isothermal)"
@@ -218,7 +218,7 @@ def _overplot_lambda_p(ax, out, sigmas, cols, lams, data) -> str:
 @recipe("nbvga", "fig:nbvga", "N-body nonlinear and linear dispersion relation vs linear hydro (p_s and 2 p_s), tau15",
         "2.5 min", "3-7 h")
 def nbvga(mode, out):
-    """Figure "nbvga": filled circles = saturated (nonlinear) N-body frequencies
+    """Figure 22: filled circles = saturated (nonlinear) N-body frequencies
     (:func:`~ringcore.analysis.nonlinear.nbody_frequency`); open boxes = linear N-body frequencies of a
     small seed at the same wavelengths, measured as in recipe "nblin2" (same function and settings)."""
     sigmas = pick(mode, (350.0, 900.0), (150.0, 350.0, 600.0, 900.0))
@@ -289,7 +289,7 @@ def osfrat(mode, out):
     ax = axes[0, 0]
     ax.plot(s, lnl, "o-", label="nl")
     ax.plot(s, lz, "s-", label="lin")
-    ax.plot(s, C_EMPIRICAL * lz, "r--", label=f"{C_EMPIRICAL:g} lin (eq. lambdasigma)")
+    ax.plot(s, C_EMPIRICAL * lz, "r--", label=f"{C_EMPIRICAL:g} lin (Eq. (55))")
     ax.plot(s, lp, "k*", ms=10, label=r"$\lambda_p$ (buffer)")
     ax.set_ylabel("wavelength [m]")
     ax.legend(fontsize=8)

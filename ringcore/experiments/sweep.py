@@ -215,7 +215,7 @@ def _collect(client, tasks, outdir: str, retries: int, progress: bool) -> list:
     """Submit every task and gather the summaries; a task lost to the cluster is submitted again up to
     ``retries`` times (dask's own ``retries=`` covers an exception raised on the worker outside the task)."""
     from dask.distributed import as_completed
-    from tqdm.auto import tqdm
+    from ..log import progress_bar as tqdm
 
     futures = client.map(execute_task, tasks, outdir=outdir, pure=False, retries=retries)
     which = {f.key: (i, 0) for i, f in enumerate(futures)}

@@ -1,4 +1,4 @@
-"""1D axisymmetric shearing-sheet hydrodynamics (Section "Numerical Methods / Hydrodynamic Scheme").
+"""1D axisymmetric shearing-sheet hydrodynamics (Section 4.1).
 
 >>> from ringcore import params
 >>> from ringcore.hydro import Hydro1D, HydroOptions

@@ -1,12 +1,12 @@
 """Conservative <-> primitive variables: the one place the temperature formula is written.
 
-``e = sigma (u^2/2 + 3T/2)`` (eq. energy), hence ``T = (2/3) (e/sigma - u^2/2)``.
+``e = sigma (u^2/2 + 3T/2)`` (Eq. (25)), hence ``T = (2/3) (e/sigma - u^2/2)``.
 :func:`temperature` takes the specific energy ``e/sigma`` so callers keep their own
 (fast) way of dividing by sigma; :func:`temperature_nb` is the same function compiled
 for inlining into the kernels of :mod:`ringcore.hydro.kernels`, :func:`cons_to_prim` the
 numpy version for whole states.
 
-References: eqs. (convar), (energy).
+References: Eqs. (24), (25).
 """
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ from numba import njit
 
 
 def temperature(eps, u):
-    """T [c0^2] from the specific energy ``eps = e/sigma`` [c0^2] and u [c0], eq. (energy)."""
+    """T [c0^2] from the specific energy ``eps = e/sigma`` [c0^2] and u [c0], Eq. (25)."""
     return (2.0 / 3.0) * (eps - 0.5 * u * u)
 
 

@@ -7,11 +7,11 @@ space-time rows.
 
 Units: the recorder keeps e_kin in sigma0 c0^2 (dimensionless, the kernels' unit);
 :func:`ringcore.units.e_kin_rp` converts it to the public unit :data:`ringcore.units.E_KIN_UNIT`,
-sigma0 (R_p Omega)^2 with the paper's R_p = 1 m (Figure "ekinisonosg").  Spectra, lambda_p, growth rates
+sigma0 (R_p Omega)^2 with the paper's R_p = 1 m (Figure 8).  Spectra, lambda_p, growth rates
 and Lomb frequencies are :mod:`ringcore.analysis`'s; the old functions here (``psd``,
 ``prevalent_wavelength``, ``growth_rate``, ``lomb_frequency``, ``e_kin``) are deprecated aliases that warn once.
 
-References: eqs. (ekin), (fourier).
+References: Eqs. (39), (38).
 """
 from __future__ import annotations
 
@@ -22,13 +22,13 @@ from ..deprecation import warn_once
 
 
 def e_kin_dimless(sigma, u, v) -> float:
-    """Mean kinetic energy density (1/L_x) int sigma (u^2 + v^2)/2 dx [sigma0 c0^2], eq. (ekin), of
+    """Mean kinetic energy density (1/L_x) int sigma (u^2 + v^2)/2 dx [sigma0 c0^2], Eq. (39), of
     dimensionless fields (the kernels' unit; :func:`ringcore.units.e_kin_rp` converts to the public unit)."""
     return float(np.mean(0.5 * sigma * (u * u + v * v)))
 
 
 def fourier_coefficients(f):
-    """Complex coefficients c_m (m = 0 .. n/2) with f = sum_m |c_m| cos(k_m x + arg c_m), eq. (fourier), for
+    """Complex coefficients c_m (m = 0 .. n/2) with f = sum_m |c_m| cos(k_m x + arg c_m), Eq. (38), for
     0 < m < n/2 (the tracked modes' amplitudes and phases; spectra: :mod:`ringcore.analysis.spectra`).
 
     Phases refer to the first node.

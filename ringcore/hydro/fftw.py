@@ -23,7 +23,7 @@ threads; ringcore makes no plan through pyfftw's own lock).
 Without the library (pyfftw missing) :data:`HAVE_FFTW` is False and the solver takes its reference path
 with ``numpy.fft``.
 
-References: eqs. (conv), (convol), (backconvol).
+References: Eqs. (44), (46), (47).
 """
 from __future__ import annotations
 

@@ -2,19 +2,19 @@
 
 Two response functions, both applied as a periodic convolution
 ``g = IFFT[ FFT(s) * G_k ]`` of the dimensionless density s = sigma/sigma0
-(eqs. conv, convol, backconvol), giving the force per unit mass -d(phi)/dx in
+(Eqs. (44), (46), (47)), giving the force per unit mass -d(phi)/dx in
 units of c0 Omega:
 
-``"mode"``  exact Fourier-mode response phi_k = -2 pi G sigma_k/|k| (eq. wkbsg), i.e.
+``"mode"``  exact Fourier-mode response phi_k = -2 pi G sigma_k/|k| (Eq. (15)), i.e.
             G_k = i (2/Q0) sign(k) (cf. ``ringcore.linear.matrix``, A0[1, 0]).
-``"wire"``  the straight-wire kernel of eq. (kernel), f_{j-l} = -2 G h sigma0 / (x_j - x_l),
+``"wire"``  the straight-wire kernel of Eq. (45), f_{j-l} = -2 G h sigma0 / (x_j - x_l),
             dimensionless K_d = -(2/(pi Q0)) / d for node offset d != 0, summed over
             ``replicas`` extra periodic images on each side of the box (d + m n,
-            |m| <= replicas), and optionally the self-bin correction of eq. (cbin),
+            |m| <= replicas), and optionally the self-bin correction of Eq. (43),
             +(2/(pi Q0)) h ds/dx with ds/dx from 6th-order central differences.
 
 With infinitely many replicas and the bin correction the wire kernel tends to the
-mode response (the discrete sum of 1/d gives the factor 1 - |k| h/pi that eq. cbin
+mode response (the discrete sum of 1/d gives the factor 1 - |k| h/pi that Eq. (43)
 restores).  sigma0 = 0 (1/Q0 = 0) switches self-gravity off.
 
 FFTs use FFTW (the library pyfftw ships) from compiled code, with plans made once per solver with
@@ -37,8 +37,8 @@ GRAVITY_METHODS = ("mode", "wire")
 def wire_kernel(n: int, inv_Q0: float, replicas: int = 0) -> np.ndarray:
     """Real-space wire kernel K_d, d = 0 .. n-1 (offset j - l mod n), dimensionless.
 
-    K_0 = 0 (self-bin excluded, eq. sgsum); the minimal image d' in (-n/2, n/2) plus
-    ``replicas`` images on each side; K_{n/2} = 0 by antisymmetry.  References: eq. (kernel).
+    K_0 = 0 (self-bin excluded, Eq. (42)); the minimal image d' in (-n/2, n/2) plus
+    ``replicas`` images on each side; K_{n/2} = 0 by antisymmetry.  References: Eq. (45).
     """
     d = np.arange(n, dtype=float)
     d = np.where(d < n / 2.0, d, d - n)
@@ -65,7 +65,7 @@ def response(n: int, h: float, inv_Q0: float, method: str = "mode", replicas: in
     replicas : int
         Extra kernel images on each side (wire only).
     bin_correction : bool
-        Add the self-bin term of eq. (cbin) (wire only).
+        Add the self-bin term of Eq. (43) (wire only).
     """
     m = np.arange(n // 2 + 1)
     if method == "mode":

@@ -3,7 +3,7 @@
 All functions return four arrays of length n (T is filled with T0 also for the
 isothermal model, where it is unused).
 
-References: eqs. (linper), (matni), (fourier).
+References: Eqs. (14), (17), (38).
 """
 from __future__ import annotations
 

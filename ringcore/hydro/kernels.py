@@ -1,9 +1,9 @@
 """Compiled kernels of the conservative finite-difference hydro scheme.
 
 One call of :func:`rk_stage` evaluates the right-hand side ``L(U) = -dF/dx + S`` of
-eq. (hcl) and performs one stage of the SSPRK(5,4) update (coefficients in
+Eq. (26) and performs one stage of the SSPRK(5,4) update (coefficients in
 :mod:`ringcore.hydro.timestep`).  Everything is in the paper's dimensionless units
-(Table "List of Symbols and their Scalings"): x in c0/Omega, t in 1/Omega,
+(Table 1): x in c0/Omega, t in 1/Omega,
 sigma in sigma0, u, v in c0, T in c0^2.
 
 Array layout: :mod:`ringcore.hydro.layout` (``U`` (nv, N) with ``NG`` ghost nodes per side, scratch ``W``
@@ -12,15 +12,14 @@ floor, conversion) are in :mod:`ringcore.hydro.state_kernels`; both are re-expor
 
 Scheme
 ------
-Flux vector splitting F = F+ + F- of Liou & Steffen (1993, AUSM) (eqs. fvs1, fvs2);
+Flux vector splitting F = F+ + F- of Liou & Steffen (1993, AUSM) (Eqs. (36), (37));
 F+ is reconstructed at x_{j+1/2} with MP5 (Suresh & Huynh 1997) from nodes j-2..j+2,
 F- from nodes j+3..j-1 (mirrored), giving the conservative difference of
-eq. (defnumflux) (Shu & Osher 1988).  Stress tensor (eq. pten) and heat-flux (eq.
-heatflux) divergences use 6th-order central differences in expanded form,
+Eq. (28) (Shu & Osher 1988).  Stress tensor (Eq. (6)) and heat-flux (Eq. (5)) divergences use 6th-order central differences in expanded form,
 d/dx (eta u_x) = eta u_xx + eta_x u_x (compact second-derivative stencil).
 
-References: eqs. (nleq), (convar), (energy), (hcl), (physflux), (pten), (du), (pres)-(coolfunc),
-(heatflux), (defnumflux), (fvs1), (fvs2), (timestep), (evalni), (evali).
+References: Eqs. (1), (24), (25), (26), (27), (6), (7), (8)-(11),
+(5), (28), (36), (37), (32), (34), (35).
 """
 from __future__ import annotations
 
@@ -41,7 +40,7 @@ from .state_kernels import (apply_temperature_floor, check_state, fill_ghosts, s
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
 def _primitives(U, W, beta, par):
-    """Loop A: u, v, T, p, c, eta and Gamma (eqs. pres-coolfunc) at every node."""
+    """Loop A: u, v, T, p, c, eta and Gamma (Eqs. (8)-(11)) at every node."""
     nv, N = U.shape
     nu0, T0 = par[P_NU0], par[P_T0]
     ps, pT, nT, Gs, GT = par[P_PS], par[P_PT], par[P_NT], par[P_GS], par[P_GT]
@@ -222,7 +221,7 @@ def _gradients(W, iso, inv60h, inv180h2, n):
 
 @njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
 def compute_rhs(U, W, beta, g, par, L, maxima=True, fill=True):
-    """Right-hand side L(U) = -dF/dx + S of eq. (hcl) at the interior nodes.
+    """Right-hand side L(U) = -dF/dx + S of Eq. (26) at the interior nodes.
 
     Parameters
     ----------
@@ -246,13 +245,13 @@ def compute_rhs(U, W, beta, g, par, L, maxima=True, fill=True):
     Returns
     -------
     vmax, numax, rmax : float
-        max |u| + c over the grid (eqs. evalni / evali), the largest diffusivity
+        max |u| + c over the grid (Eqs. (34) / evali), the largest diffusivity
         max((4/3 + gamma) eta/sigma, 2 kappa_D/(3 sigma)) [c0^2/Omega] and the largest
         cooling relaxation rate [Omega] (0 if isothermal).
 
     Notes
     -----
-    Sources (the energy row derived from eq. nleq; e holds only the radial kinetic energy,
+    Sources (the energy row derived from Eq. (1); e holds only the radial kinetic energy,
     hence the 2 Omega sigma u v term):
     S = (0, 2 sigma v + sigma g + d Pi_xx, -sigma u/2 + d Pi_xy,
     2 sigma u v + Pi:grad u - Gamma + d(kappa_D T_x) + sigma u g + u d Pi_xx) with
@@ -311,10 +310,10 @@ def compute_rhs(U, W, beta, g, par, L, maxima=True, fill=True):
 def stable_dt(vmax, numax, rmax, h, mode, factor):
     """Time step from the grid maxima.
 
-    mode 0 ("paper", eq. timestep): factor * min(h^2/(2 nu), 2 nu/lambda^2, 1/r);
+    mode 0 ("paper", Eq. (32)): factor * min(h^2/(2 nu), 2 nu/lambda^2, 1/r);
     mode 1 ("cfl"): factor * min(h^2/(2 nu), h/lambda, 1/r);
     r = max (2/3) G_T Gamma/(sigma T), the relaxation rate of the cooling term (an addition to
-    eq. timestep: it is 5.6 Omega in the tau15 ground state but grows like T^(G_T - 1) as T -> 0).
+    Eq. (32): it is 5.6 Omega in the tau15 ground state but grows like T^(G_T - 1) as T -> 0).
     """
     a = h * h / (2.0 * numax) if numax > 0.0 else math.inf
     if mode == 0:

@@ -5,7 +5,7 @@ Array layout (all C-contiguous float64)
 ---------------------------------------
 ``U``        (nv, N): conservative variables (sigma, sigma u, sigma v[, e]) with
              nv = 4 (non-isothermal) or 3 (isothermal), ``e = sigma (u^2/2 + 3T/2)``
-             (eq. energy).  N = n + 2 NG: the n interior nodes are ``U[:, NG:NG+n]``,
+             (Eq. (25)).  N = n + 2 NG: the n interior nodes are ``U[:, NG:NG+n]``,
              node j sits at x_j = -L_x/2 + j h; ``NG`` periodic ghost nodes on each side
              are refilled by the kernels themselves.
 

@@ -1,4 +1,4 @@
-"""MP5 reconstruction (Suresh & Huynh 1997) of the split fluxes: the numerical flux of eq. (defnumflux).
+"""MP5 reconstruction (Suresh & Huynh 1997) of the split fluxes: the numerical flux of Eq. (28).
 
 :func:`mp5` is the scalar reconstruction at the right interface of a node from its five-point
 stencil.  :func:`numerical_flux` applies it to F+ and (mirrored) F- at every interface of the grid,
@@ -17,7 +17,7 @@ minmod has ordered arguments (fmin <= f0 <= fmax), so it needs one comparison ea
 limiter, evaluated at every interface, costs about 0.85 of the textbook form evaluated only where the
 accuracy-preserving check fails (the earlier kernel).
 
-References: eqs. (halfnodes), (defnumflux).
+References: Eqs. (31), (28).
 """
 from __future__ import annotations
 
@@ -66,7 +66,7 @@ def _limit(forig, fm1, f0, fp1, dm4m, dm4p):
 def mp5(fm2, fm1, f0, fp1, fp2):
     """MP5 value at the right interface x_{j+1/2} of node j from f_{j-2} .. f_{j+2}.
 
-    Fifth-order upwind-biased interpolation of the flux primitive (eq. halfnodes, r = 3)
+    Fifth-order upwind-biased interpolation of the flux primitive (Eq. (31), r = 3)
     with the monotonicity-preserving bounds of Suresh & Huynh (1997), alpha = 4.
     Written branch-free so that loops over nodes vectorize.
     """

@@ -27,7 +27,7 @@ class HydroOptions:
     replicas : int
         Extra wire-kernel images on each side (paper's tests: 5). Wire only.
     bin_correction : bool
-        Self-bin correction of eq. (cbin). Wire only.
+        Self-bin correction of Eq. (43). Wire only.
     timestep : {"paper", "cfl"}
         Criterion (see :mod:`ringcore.hydro.timestep`).
     dt_factor : float or None

@@ -19,7 +19,7 @@ run files are written from it by :mod:`ringcore.hydro.runfile` (this module does
 The time integration (the step, :meth:`Hydro1D.advance`, the sample callbacks) is the mixin
 :class:`ringcore.hydro.stepping.Stepping`; this module holds the set-up, the state and the output.
 
-References: eqs. (nleq), (hcl), (timestep); Section "Numerical Methods".
+References: Eqs. (1), (26), (32); Section 4.
 """
 from __future__ import annotations
 
@@ -243,12 +243,12 @@ class Hydro1D(Stepping, StateIO, PhysicalFields):
         return cons_to_prim(self.U, self._par[K.P_T0])
 
     def e_kin(self) -> float:
-        """Current mean kinetic energy density, eq. (ekin), in :data:`ringcore.units.E_KIN_UNIT`,
+        """Current mean kinetic energy density, Eq. (39), in :data:`ringcore.units.E_KIN_UNIT`,
         sigma0 (R_p Omega)^2 with R_p = 1 m (the unit of the N-body box, the command line, run files and app)."""
         return float(self._e_kin_public(self.e_kin_dimless()))
 
     def e_kin_dimless(self) -> float:
-        """Current mean kinetic energy density, eq. (ekin), in the kernels' unit sigma0 c0^2 (dimensionless)."""
+        """Current mean kinetic energy density, Eq. (39), in the kernels' unit sigma0 c0^2 (dimensionless)."""
         return e_kin_dimless(self.U[0], self.u_dimless, self.v_dimless)
 
     def _e_kin_public(self, e_kin_dimless):

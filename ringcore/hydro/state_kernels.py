@@ -2,7 +2,7 @@
 check for a bad node, the optional temperature floor, primitive -> conservative.  Layout as in
 :mod:`ringcore.hydro.layout` (:mod:`ringcore.hydro.kernels` re-exports these kernels).
 
-References: eqs. (convar), (energy).
+References: Eqs. (24), (25).
 """
 from __future__ import annotations
 

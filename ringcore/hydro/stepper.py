@@ -11,7 +11,7 @@ sample time: the stages, the self-gravity convolution (FFTW called from compiled
 :func:`ringcore.hydro.fftw.convolve`), the floor and the final check are the same compiled functions, so
 both paths give the same states bit for bit (``tests/core/test_hydro_fastpath.py``).
 
-References: eqs. (hcl), (conv) and Section "Numerical Methods".
+References: Eqs. (26), (44) and Section 4.
 """
 from __future__ import annotations
 

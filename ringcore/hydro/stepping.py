@@ -4,7 +4,7 @@ Python; the same kernels and the same FFTW self-gravity, so the same bits), :met
 
 :class:`Stepping` is a mixin of :class:`ringcore.hydro.solver.Hydro1D`, which owns the state and the work arrays.
 
-References: eqs. (nleq), (hcl), (timestep); Section "Numerical Methods".
+References: Eqs. (1), (26), (32); Section 4.
 """
 from __future__ import annotations
 
@@ -228,7 +228,7 @@ class Stepping:
                                                   and opt.buffer_on_orbit * TWO_PI >= self.t) else math.inf
         bar = None
         if progress:
-            from tqdm.auto import tqdm
+            from ..log import progress_bar as tqdm
             bar = tqdm(total=round(max(until - self.orbits, 0.0), 6), unit="orbit", desc="hydro")
         o0, steps0 = self.orbits, self._steps
         t_wall = time.perf_counter() + max_wall_s if max_wall_s is not None else math.inf

@@ -14,7 +14,7 @@ states are the same bits for any number of threads and windows (``tests/core/tes
 One parallel region per stage (two in the stage that chooses dt: the maxima come before the update);
 the self-gravity FFT, the ghost filling and the final state check stay on one thread.
 
-References: eqs. (hcl), (timestep); Section "Numerical Methods".
+References: Eqs. (26), (32); Section 4.
 """
 from __future__ import annotations
 

@@ -17,11 +17,11 @@ Fourth-order accuracy is checked on linear and nonlinear ODEs in
 
 Time-step criteria (dimensionless, evaluated every step from the current state):
 
-``"paper"``  eq. (timestep): dt = f_t min(h^2/(2 nu), 2 nu/lambda^2), f_t = 0.1 by default;
+``"paper"``  Eq. (32): dt = f_t min(h^2/(2 nu), 2 nu/lambda^2), f_t = 0.1 by default;
 ``"cfl"``    dt = f_t min(h^2/(2 nu), h/lambda), f_t = :data:`FAST_DT_FACTOR` by default;
 
-lambda = max |u| + c over the grid, the largest Jacobian eigenvalue of eqs. (evalni),
-(evali) (c^2 = p_s p/sigma + 2 p_T p^2/(3 sigma^2 T), which equals the paper's
+lambda = max |u| + c over the grid, the largest Jacobian eigenvalue of Eqs. (34),
+(35) (c^2 = p_s p/sigma + 2 p_T p^2/(3 sigma^2 T), which equals the paper's
 closed form); nu = max over the grid of the largest diffusivity
 max((4/3 + gamma) eta/sigma, 2 kappa_D/(3 sigma)).
 For all tabulated sets at h <= 5 m both criteria are set by the diffusive term.

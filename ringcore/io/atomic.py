@@ -150,15 +150,22 @@ def write_bytes(path, data, overwrite: bool | None = None) -> Path:
 
 def netcdf_bytes(ds) -> memoryview:
     """``ds`` serialised as a NetCDF-4 (HDF5) file in memory (engine :data:`ringcore.io.engines.WRITE_ENGINE`:
-    netCDF-C when installed, else h5netcdf)."""
+    netCDF-C when installed, else h5netcdf), with the CF-1.10 attributes and layout of :mod:`ringcore.io.cf`
+    (``history`` and, unless set, ``command``: what wrote it, :func:`ringcore.provenance.command`)."""
     try:  # inside a dask.distributed worker xarray would ask the cluster for a lock named after the buffer
         import dask
 
         ctx = dask.config.set(scheduler="synchronous")
     except ImportError:  # pragma: no cover - dask is a dependency
         ctx = contextlib.nullcontext()
+    from ..provenance import command
+    from .cf import cf_attrs, file_layout
+
+    cmd = command()
+    ds = cf_attrs(ds, history=cmd)
+    ds.attrs.setdefault("command", cmd)
     with ctx:
-        return ds.to_netcdf(engine=WRITE_ENGINE)
+        return file_layout(ds).to_netcdf(engine=WRITE_ENGINE)
 
 
 def save_figure(fig, path, overwrite: bool | None = None, **kwargs) -> Path:

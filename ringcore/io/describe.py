@@ -17,6 +17,7 @@ import xarray as xr
 from .schema import SCHEMA, RunFileError
 from .validate import LAYOUTS, validate_run
 from ..experiments.sweep_grid import LAYOUT, as_runs
+from .cf import memory_layout, native_units
 from .ekin import upgrade_e_kin
 from .engines import READ_ENGINE
 
@@ -63,7 +64,7 @@ def _orbits(ds, summary: dict):
 
 
 def _variables(ds) -> dict:
-    return {k: {"dims": list(v.dims), "units": str(v.attrs.get("units", ""))} for k, v in ds.data_vars.items()}
+    return {k: {"dims": list(v.dims), "units": native_units(v)} for k, v in ds.data_vars.items()}
 
 
 def _sweep(ds, out: dict) -> dict:
@@ -75,7 +76,7 @@ def _sweep(ds, out: dict) -> dict:
                grid={d: [_plain(x) for x in ds[d].values] if d in ds.coords else int(n) for d, n in ds.sizes.items()},
                parameters={k: _plain(ds.attrs[k]) for k in ("engine", "set", "isothermal") if k in ds.attrs}
                | {k: _plain(v.values) for k, v in ds.coords.items() if v.ndim == 0},
-               e_kin_units=str(ds["e_kin"].attrs.get("units", "")) if "e_kin" in ds else None)
+               e_kin_units=native_units(ds["e_kin"]) if "e_kin" in ds else None)
     if "orbits" in flat and flat.sizes.get("run", 0):
         o = flat["orbits"].values
         out["orbits"] = _plain(float(np.nanmax(o))) if np.isfinite(o).any() else None
@@ -111,7 +112,7 @@ def describe(path) -> dict:
         raise RunFileError(f"{path}: no such file")
     try:
         with xr.open_dataset(path, engine=READ_ENGINE) as f:
-            ds = f.load()
+            ds = memory_layout(f.load())
     except Exception as exc:  # the engines raise many types for damaged files
         first = str(exc).splitlines()[0] if str(exc) else ""
         raise RunFileError(f"{path}: not a readable NetCDF/HDF5 file ({type(exc).__name__}: {first})") from None

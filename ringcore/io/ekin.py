@@ -14,8 +14,9 @@ import numpy as np
 
 from ..params import RingParams
 from ..units import E_KIN_DIMLESS_UNIT, E_KIN_UNIT, e_kin_public
+from .cf import native_units
 
-LONG_NAME = "mean kinetic energy density, eq. (ekin)"
+LONG_NAME = "mean kinetic energy density, Eq. (39)"
 
 
 def _c0_omega(ds) -> tuple:
@@ -31,7 +32,7 @@ def e_kin_of(ds) -> np.ndarray:
     """The ``e_kin`` series of a hydro run file or a compact long-run file (a Dataset, new or old layout) in
     :data:`E_KIN_UNIT`, from the variable's ``units`` attribute (and the file's c0 and Omega if it must convert)."""
     var = ds["e_kin"]
-    units = str(var.attrs.get("units", "")).strip()
+    units = native_units(var)
     values = np.asarray(var.values, float)
     if units.startswith(E_KIN_UNIT):
         return values
@@ -55,7 +56,7 @@ def upgrade_e_kin(ds):
     file's sigma0 c0^2 series becomes ``e_kin_dimless`` (kept bit for bit) and ``e_kin`` its conversion, its
     ``e_kin_rp`` is dropped and its ``summary_json`` speaks the same unit (:func:`ringcore.io.validate_run`, which
     applies it to a file that passed its checks, then re-stamps the checksums)."""
-    if "e_kin" not in ds.data_vars or str(ds["e_kin"].attrs.get("units", "")).strip() != E_KIN_DIMLESS_UNIT:
+    if "e_kin" not in ds.data_vars or native_units(ds["e_kin"]) != E_KIN_DIMLESS_UNIT:
         return ds
     c0, Omega = _c0_omega(ds)
     raw = np.asarray(ds["e_kin"].values, float)
@@ -73,11 +74,12 @@ def upgrade_sweep_e_kin(ds):
     """``ds`` (a sweep Dataset) with ``e_kin`` in :data:`E_KIN_UNIT`: an older flat sweep file held the hydro runs'
     ``e_kin`` in sigma0 c0^2 and the public value as ``e_kin_rp``; that one becomes ``e_kin`` (the others are
     returned unchanged)."""
-    if "e_kin" not in ds.data_vars or not str(ds["e_kin"].attrs.get("units", "")).startswith(E_KIN_DIMLESS_UNIT):
+    if "e_kin" not in ds.data_vars or not native_units(ds["e_kin"]).startswith(E_KIN_DIMLESS_UNIT):
         return ds
     if "e_kin_rp" not in ds.data_vars:
         return ds  # no public value stored: leave it as written (its units attribute says which)
     ds = ds.drop_vars("e_kin").rename({"e_kin_rp": "e_kin"})
+    ds["e_kin"].attrs.pop("ringcore_units", None)
     ds["e_kin"].attrs.update(units=E_KIN_UNIT, note="read from the older file's e_kin_rp")
     ds.attrs["e_kin_units"] = E_KIN_UNIT
     return ds

@@ -26,6 +26,7 @@ from .schema import MIGRATIONS as _MIGRATIONS  # noqa: F401 (older callers)
 from .schema import SCHEMA, SCHEMA_VERSION, RunFileError
 from ..provenance import software_attrs
 from .atomic import netcdf_bytes, write_bytes
+from .cf import memory_layout
 from .engines import READ_ENGINE
 from .errors import output_error
 from .validate import checksum_attrs, validate_run
@@ -105,7 +106,7 @@ def stamp_run(ds: xr.Dataset, kind: str) -> xr.Dataset:
     """A copy of ``ds`` with the schema attributes and (engine kinds) a fresh state checksum: what
     :func:`write_run` stores, so an in-memory run Dataset passes :func:`validate_run` like its file."""
     ds = ds.copy()
-    for key in ("state_sha256", "state_checksums"):  # never carry over a stale checksum
+    for key in ("state_sha256", "state_checksums", "command"):  # never carry over a stale checksum or command
         ds.attrs.pop(key, None)
     ds.attrs.update(schema=SCHEMA, schema_version=SCHEMA_VERSION, kind=kind, **software_attrs(),
                     created=datetime.now(timezone.utc).isoformat(timespec="seconds"), written_on=written_on())
@@ -162,7 +163,7 @@ def read_run(path, kind: str | None = None) -> xr.Dataset:
         raise RunFileError(f"{path}: no such file" if not path.exists() else f"{path}: not a regular file")
     try:
         with xr.open_dataset(path, engine=READ_ENGINE) as f:
-            ds = f.load()
+            ds = memory_layout(f.load())
     except Exception as exc:  # the engines raise many types for damaged files
         first = str(exc).splitlines()[0] if str(exc) else ""
         raise RunFileError(f"{path}: not a readable NetCDF/HDF5 file ({type(exc).__name__}: {first})") from None

@@ -6,8 +6,19 @@ and :mod:`ringcore.io.validate` (checking), so that neither needs the other's in
 from __future__ import annotations
 
 SCHEMA = "ringlab-run"
-SCHEMA_VERSION = 1
-MIGRATIONS: dict = {}  # version -> function(Dataset) -> Dataset of version + 1
+SCHEMA_VERSION = 2
+
+
+def _cf(ds):
+    """Version 1 -> 2: the CF-1.10 attributes (units, long_names, axes; values unchanged)."""
+    from .cf import cf_attrs  # deferred: this module stays a leaf for the readers that import it
+
+    ds = cf_attrs(ds)
+    ds.attrs["schema_version"] = 2
+    return ds
+
+
+MIGRATIONS: dict = {1: _cf}  # version -> function(Dataset) -> Dataset of version + 1
 
 
 class RunFileError(ValueError):

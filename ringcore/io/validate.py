@@ -27,6 +27,7 @@ import numpy as np
 from .schema import MIGRATIONS as _MIGRATIONS
 from .schema import SCHEMA, SCHEMA_VERSION, RunFileError
 from ..params import RingParams
+from .cf import memory_layout
 from .ekin import upgrade_e_kin
 
 # name -> (dims, dtype kinds, required); required variables are what a restore reads.
@@ -297,7 +298,7 @@ def validate_run(ds, kind: str | None = None, source: str = "<dataset>"):
     """
     if not hasattr(ds, "data_vars") or not hasattr(ds, "attrs"):
         _fail(source, f"not an xarray.Dataset (got {type(ds).__name__})")
-    ds = _check_schema(ds, kind, source)
+    ds = _check_schema(memory_layout(ds), kind, source)
     kind = ds.attrs["kind"]
     if kind not in LAYOUTS:
         return ds

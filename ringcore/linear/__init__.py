@@ -6,7 +6,7 @@
 >>> d.growth_rate, d.frequency            # in units of Omega
 >>> linear.summary(p).lambda_zero_m       # [m]
 
-References: eqs. (evp), (matni), (osmode1), (osgrate), (osfreq), (vg).
+References: Eqs. (16), (17), (19b), (21), (22), (23).
 """
 from .dispersion import Dispersion, approx_frequency, approx_growth_rate, dispersion, wavelengths_to_k
 from .eigenmode import Eigenmode, eigenmode

@@ -1,7 +1,6 @@
 """Dispersion curves of the overstable mode in physical and dimensionless units.
 
-References: eqs. (evp), (matni), (vg), (osgrate), (osfreq); Appendix
-"Stroboscopic Space-Time Diagram".
+References: Eqs. (16), (17), (23), (21), (22); Appendix A.
 """
 from __future__ import annotations
 
@@ -61,7 +60,7 @@ class Dispersion:
 
     @property
     def group_velocity(self) -> np.ndarray:
-        """v_g = d omega_I / dk [c0], eq. (vg)."""
+        """v_g = d omega_I / dk [c0], Eq. (23)."""
         return self.domega_dk.imag
 
     @property
@@ -144,7 +143,7 @@ def dispersion(p: RingParams, wavelength_m=None) -> Dispersion:
 
 
 def approx_growth_rate(p: RingParams, k, F3: float | None = None) -> np.ndarray:
-    """k^2 approximation of omega_R [Omega], eq. (osgrate); F3 default from the table (0 if isothermal)."""
+    """k^2 approximation of omega_R [Omega], Eq. (21); F3 default from the table (0 if isothermal)."""
     require(p)
     d = p.dimensionless()
     if F3 is None:
@@ -154,7 +153,7 @@ def approx_growth_rate(p: RingParams, k, F3: float | None = None) -> np.ndarray:
 
 
 def approx_frequency(p: RingParams, k, F2: float | None = None) -> np.ndarray:
-    """k^2 approximation of omega_I [Omega], eq. (osfreq); F2 default from the table (0 if isothermal)."""
+    """k^2 approximation of omega_I [Omega], Eq. (22); F2 default from the table (0 if isothermal)."""
     require(p)
     if F2 is None:
         F2 = 0.0 if p.isothermal else p.F2

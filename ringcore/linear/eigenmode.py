@@ -1,6 +1,6 @@
 """Linear eigenvector of the overstable mode, for seeding clean single-mode runs.
 
-References: eqs. (linper), (matni).
+References: Eqs. (14), (17).
 """
 from __future__ import annotations
 

@@ -1,6 +1,6 @@
 """Characteristic numbers of the exact linear theory.
 
-F2, F3 from the small-k expansion of the exact relation (eq. osmode1), beta_c,
+F2, F3 from the small-k expansion of the exact relation (Eq. (19b)), beta_c,
 the wavelength and value of the largest growth rate, the overstable band and
 lambda_zero (minimum of omega_I, where the group velocity changes sign).
 """
@@ -38,7 +38,7 @@ def small_k_coefficients(p: RingParams):
 
 @functools.lru_cache(maxsize=256)
 def thermal_coefficients(p: RingParams):
-    """(F2, F3) of eqs. (osmode1), (osgrate), (osfreq), from the exact relation.
+    """(F2, F3) of Eqs. (19b), (21), (22), from the exact relation.
 
     Both vanish in the isothermal model.  Computed without self-gravity, as in the table.
     """
@@ -76,7 +76,7 @@ def _beta_c(q0: RingParams) -> float:
 
 
 def beta_c_approx(p: RingParams, F3: float | None = None) -> float:
-    """beta_c = (gamma - 2/3 - F3/nu0)/3 from eq. (osgrate) (F3 = 0 when isothermal)."""
+    """beta_c = (gamma - 2/3 - F3/nu0)/3 from Eq. (21) (F3 = 0 when isothermal)."""
     require(p)
     if F3 is None:
         F3 = 0.0 if p.isothermal else p.F3
@@ -154,7 +154,7 @@ def lambda_zero(p: RingParams) -> float:
     no local minimum inside a shearing sheet).  The later sign changes at wavelengths of a few
     metres (present also without self-gravity) are not lambda_zero.
 
-    References: eq. (vg), Figure "vgroup".
+    References: Eq. (23), Figure 2.
     """
     require(p)
     if p.sigma0 == 0:

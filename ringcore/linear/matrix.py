@@ -1,13 +1,13 @@
-"""The linear eigenvalue problem Det[M] = 0 of eq. (matni) and its branch tracking.
+"""The linear eigenvalue problem Det[M] = 0 of Eq. (17) and its branch tracking.
 
-Perturbations ``(sigma, u, v, T) = ground + amp * exp(omega t + i k x)`` (eq. linper)
-with the self-gravity potential of eq. (wkbsg) give ``omega`` as the eigenvalues
-of ``A(k) = A0 + k A1 + k^2 A2`` (eq. matni with omega removed from the diagonal).
-Everything here is dimensionless (Table "List of Symbols and their Scalings"):
+Perturbations ``(sigma, u, v, T) = ground + amp * exp(omega t + i k x)`` (Eq. (14))
+with the self-gravity potential of Eq. (15) give ``omega`` as the eigenvalues
+of ``A(k) = A0 + k A1 + k^2 A2`` (Eq. (17) with omega removed from the diagonal).
+Everything here is dimensionless (Table 1):
 k in Omega/c0, omega in Omega.
 
 The overstable mode is the eigenvalue that starts at ``omega = i`` as k -> 0
-(eq. osmode1).  It is followed in k by continuation: a first-order predictor from
+(Eq. (19b)).  It is followed in k by continuation: a first-order predictor from
 the exact eigenvalue derivative ``d omega/dk = (V^-1 A'(k) V)_jj`` and a
 nearest-eigenvalue corrector on a fine logarithmic grid, so that other modes
 crossing it in the complex plane at large k cannot make it jump.
@@ -23,7 +23,7 @@ def coefficient_matrices(p: RingParams):
     """Return ``(A0, A1, A2)`` with ``A(k) = A0 + k A1 + k^2 A2`` (complex, n x n).
 
     n = 4 (sigma, u, v, T) for the non-isothermal model, 3 (sigma, u, v) for the
-    isothermal one.  References: eq. (matni).
+    isothermal one.  References: Eq. (17).
     """
     require(p)
     d = p.dimensionless()
@@ -34,7 +34,7 @@ def coefficient_matrices(p: RingParams):
     A2 = np.zeros((n, n), complex)
     # continuity
     A1[0, 1] = -1j
-    # radial momentum: pressure, self-gravity (2/Q0 from eq. wkbsg), viscosity, Coriolis
+    # radial momentum: pressure, self-gravity (2/Q0 from Eq. (15)), viscosity, Coriolis
     A0[1, 0] = 2j * d["inv_Q0"]
     A1[1, 0] = -1j * ps
     A2[1, 1] = -(4.0 / 3.0 + gam) * nu0
@@ -96,7 +96,7 @@ def track_overstable(p: RingParams, k):
     omega : ndarray of complex, same shape as k
         omega_R + i omega_I in units of Omega.
     domega_dk : ndarray of complex
-        Exact derivative d omega / dk (its imaginary part is the group velocity, eq. vg).
+        Exact derivative d omega / dk (its imaginary part is the group velocity, Eq. (23)).
     vectors : ndarray, shape k.shape + (n,)
         Right eigenvectors (unnormalized).
     """
@@ -115,7 +115,7 @@ def track_overstable(p: RingParams, k):
     allk = np.union1d(grid, flat)
     w, V, dw = _eig_with_derivative(p, allk)
     idx = np.empty(allk.size, int)
-    # start: omega ~ i (1 - k/Q0) at tiny k (eq. osmode1)
+    # start: omega ~ i (1 - k/Q0) at tiny k (Eq. (19b))
     guess = 1j * (1.0 - allk[0] * p.inv_Q0)
     idx[0] = np.argmin(np.abs(w[0] - guess))
     rows = np.arange(allk.size)

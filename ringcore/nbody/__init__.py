@@ -1,4 +1,4 @@
-"""Local N-body shearing box (Section "N-Body Simulations" of the paper).
+"""Local N-body shearing box (Section 4.2 of the paper).
 
 >>> from ringcore import params
 >>> from ringcore.nbody import ShearingBox, NBodyOptions

@@ -6,7 +6,7 @@ the results are the bits of the serial kernels of :mod:`ringcore.nbody.kernels` 
 threads and any blocks.  The drift of the second half step and the boundary wrap are fused into one
 pass (one parallel launch per step instead of two).  Kernel units as in :mod:`ringcore.nbody.kernels`.
 
-References: eq. (hill).
+References: Eq. (49).
 """
 from __future__ import annotations
 

@@ -12,7 +12,7 @@ Physical units at the API (meters, seconds, orbits); the state is held in kernel
 The time integration (steps, :meth:`ShearingBox.advance`, recording) is the mixin
 :class:`ringcore.nbody.stepping.Stepping`; this module holds the set-up, the state and the results.
 
-References: eqs. (hill), (bridges), (fdecomp)-(sgmodes), (ekin); Table "tab:nbstat".
+References: Eqs. (49), (48), (52)-(54), (39); Table 3.
 """
 from __future__ import annotations
 
@@ -318,7 +318,7 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
 
         Keys: ``T``, ``C_xx``, ``C_yy``, ``C_zz``, ``C_xy`` [m^2/s^2]; ``nu_local``,
         ``nu_nonlocal``, ``nu`` [m^2/s]; ``P_xx_local``, ``P_xx_nonlocal``, ``P_yy_nonlocal``,
-        ``P_zz_nonlocal`` (per unit sigma) [m^2/s^2]; ``c_eff`` = (tr P / 3 sigma)^(1/2), eq. (ptot),
+        ``P_zz_nonlocal`` (per unit sigma) [m^2/s^2]; ``c_eff`` = (tr P / 3 sigma)^(1/2), Eq. (12),
         and ``c_eff_xx`` = (P_xx / sigma)^(1/2) [m/s]; ``collision_frequency`` [1/orbit];
         ``collisions``, ``unresolved``, ``unresolved_fraction``, ``max_overlap`` [R_p], ``orbits``.
         """
@@ -348,7 +348,7 @@ class ShearingBox(Stepping, ArchiveMixin, PhysicalParticles):
                      options: NBodyOptions | None = None) -> "ShearingBox":
         """Restore a box saved with :meth:`to_dataset` (a Dataset or a run-file path), optionally with a
         new ``sigma0`` [kg/m^2] and/or tiled to twice its radial size (``tile_x``; as in the paper's
-        Figure "boxdouble").  Without changes, the run continues bit-for-bit."""
+        Figure 18).  Without changes, the run continues bit-for-bit."""
         # deferred: the run-file layout (.store) loads xarray (~1 s); `import ringcore.nbody` does not
         from .store import from_dataset
 

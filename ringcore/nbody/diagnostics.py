@@ -1,11 +1,11 @@
-"""Diagnostics of the shearing box as the paper defines them (Section "N-Body Simulations" of Results).
+"""Diagnostics of the shearing box as the paper defines them (Section 5.3).
 
 Radial tabulation into n zones of width L_x / n over the whole azimuthal and vertical
 extent: sigma/sigma0 (counts over the mean count), u(x), v(x) (mean radial and azimuthal
 velocity relative to the Keplerian shear), the diagonal of the velocity dispersion tensor
 C_xx, C_yy, C_zz (variances about the zone means, C_ij = <w_i w_j>), the velocity
 dispersion c = [(C_xx + C_yy + C_zz)/3]^(1/2) = T^(1/2), and the vertical extent (rms z).
-Box means: e_kin, eq. (ekin), <c>, the prevalent wavelength lambda_p of sigma/sigma0 (its PSD and
+Box means: e_kin, Eq. (39), <c>, the prevalent wavelength lambda_p of sigma/sigma0 (its PSD and
 lambda_p by :mod:`ringcore.analysis.spectra`, the one convention of both engines; ``psd`` here is a
 deprecated alias); ground-state transport from the accumulators of :mod:`ringcore.nbody.kernels`.
 
@@ -57,7 +57,7 @@ def tabulate(pos, vel, L_x: float, n_zones: int) -> Profiles:
 
 
 def e_kin(prof: Profiles) -> float:
-    """Mean kinetic energy density of the collective motion, eq. (ekin), in units of sigma0 (R_p Omega)^2.
+    """Mean kinetic energy density of the collective motion, Eq. (39), in units of sigma0 (R_p Omega)^2.
 
     e_kin = (1/L_x) int dx sigma (u^2 + v^2) / 2 evaluated on the zones.
     """
@@ -103,8 +103,8 @@ def transport(acc, n_particles: int) -> dict:
     parts from the momentum exchanged across particle pairs, sum_impacts dv_i (x_i - x_j)
     per particle and time. Viscosity nu = (P_xy^l + P_xy^nl) / (1.5 Omega sigma) with
     P_xy^l = sigma <w_x w_y> (Wisdom & Tremaine 1988; Salo et al. 2001). Effective
-    dispersion, eqs. (ploc), (ptot): p0 = p^l + p^nl = sigma c0^2 with the isotropic local
-    pressure p^l = sigma T, T = (C_xx + C_yy + C_zz)/3, eq. (temp), and likewise the
+    dispersion, Eqs. (4), (12): p0 = p^l + p^nl = sigma c0^2 with the isotropic local
+    pressure p^l = sigma T, T = (C_xx + C_yy + C_zz)/3, Eq. (3), and likewise the
     isotropic nonlocal part tr(P^nl)/3: ``c_eff`` = [T + tr(P^nl)/(3 sigma)]^(1/2);
     ``c_eff_xx`` = [P_xx/sigma]^(1/2) = [C_xx + P_xx^nl/sigma]^(1/2) is the radial
     component. Collision frequency: impacts per particle per orbit (2 per impact).

@@ -1,4 +1,4 @@
-"""Growth rate and frequency of a seeded linear mode (Section "Growth Rates and Oscillation Frequencies").
+"""Growth rate and frequency of a seeded linear mode (Section 4.2.2).
 
 The complex Fourier amplitude of the radial velocity field, U_m(t) = (2/N) sum_i v_x,i
 exp(-i k_m x_i), is sampled while the box runs. Growth rate and

@@ -2,8 +2,8 @@
 
 One step of length dt (kernel units, see :mod:`ringcore.nbody.kernels`):
 
-1. exact epicyclic/vertical drift over dt/2 (eq. (hill) without forces),
-2. kick v_x += dt F_g(x) with the collective radial self-gravity eq. (sgmodes) (if g != 0),
+1. exact epicyclic/vertical drift over dt/2 (Eq. (49) without forces),
+2. kick v_x += dt F_g(x) with the collective radial self-gravity Eq. (54) (if g != 0),
 3. exact drift over dt/2 (Strang splitting: the SEI scheme of Rein & Tremaine 2011),
 4. shear-periodic wrap with the offset D(t + dt),
 5. cell-list search and resolution of the overlapping, approaching pairs (as REBOUND does;
@@ -16,14 +16,14 @@ With ``ipar[I_THREADS]`` > 1 the drifts, the wrap and the impacts run on numba's
 (:mod:`ringcore.nbody.blocks`, :mod:`ringcore.nbody.pairs`); the results are the same bits for every
 number of threads.
 
-Without self-gravity and collisions the scheme is the exact flow of eq. (hill); the
+Without self-gravity and collisions the scheme is the exact flow of Eq. (49); the
 splitting is symplectic, second order in dt for the self-gravity force.
 
 The kernel takes packed parameters: a float64 vector ``fpar`` (indices ``P_*``), an int64
 vector ``ipar`` (indices ``I_*``) and the tuple ``work`` of work arrays (indices ``W_*``);
 build them with :func:`pack_params` / :func:`new_work`.
 
-References: eqs. (hill), (bridges), (sgmodes).
+References: Eqs. (49), (48), (54).
 """
 from __future__ import annotations
 

@@ -13,7 +13,7 @@ particles near the inner edge, placed beyond the outer edge ``x >= L_x/2``) live
 ``cell_start`` has shape ((n_cx+1) n_cy + 1,), ``cell_entries`` (N + cap,) holds entry
 indices (``e < N``: particle ``e``; ``e >= N``: ghost ``e - N``).
 
-References: eq. (hill) with kappa = Omega; eq. (bridges); Rein & Tremaine (2011) for
+References: Eq. (49) with kappa = Omega; Eq. (48); Rein & Tremaine (2011) for
 the exact epicyclic drift of the symplectic epicycle integrator (SEI).
 """
 from __future__ import annotations
@@ -48,7 +48,7 @@ N_ACC = 19
 
 @njit(nogil=True, cache=True)
 def drift_epicycle(pos, vel, dt, omega_z):
-    """Exact free motion of eq. (hill) (kappa = Omega = 1, no forces) over ``dt``.
+    """Exact free motion of Eq. (49) (kappa = Omega = 1, no forces) over ``dt``.
 
     Planar: guiding centre x_g = 4 x + 2 v_y; x = x_g + (x0 - x_g) cos t + v_x0 sin t,
     y = y0 - 1.5 x_g t - 2 (x0 - x_g) sin t - 2 v_x0 (1 - cos t), v_y = x_g / 2 - 2 x.
@@ -121,7 +121,7 @@ def wrap_shear_periodic(pos, vel, L_x, L_y, D, x_max=math.inf):
 def coefficient_of_restitution(vn, mode, eps_const, v_c):
     """Normal coefficient of restitution of an impact with normal speed ``vn`` >= 0.
 
-    mode 0: constant ``eps_const``; mode 1: Bridges et al. law eq. (bridges),
+    mode 0: constant ``eps_const``; mode 1: Bridges et al. law Eq. (48),
     (vn / v_c)^-0.234 capped at 1 below ``v_c`` (same units as ``vn``).
     """
     if mode == 0:
@@ -258,7 +258,7 @@ def resolve_collisions(pos, vel, gpos, gsrc, cell_start, cell_entries, n_cx, n_c
 
     Half stencil over the cells (same cell, (+1,-1), (+1,0), (+1,+1), (0,+1); y periodic)
     finds every pair once, cross-boundary pairs through the ghost column. Each impact
-    reverses the normal relative velocity and scales it by epsilon (eq. (bridges) or
+    reverses the normal relative velocity and scales it by epsilon (Eq. (48) or
     constant), conserving momentum; the nonlocal momentum flux is accumulated in ``acc``.
     """
     N = pos.shape[0]

@@ -13,7 +13,7 @@ from ..checks import check_bool, check_choice, check_int, check_real
 RESTITUTION_LAWS = ("bridges", "constant")
 IMPACT_MODELS = ("instant", "viscoelastic")
 DT_INSTANT = 1.0e-3  # [orbits] default time step of the instantaneous impacts
-V_C_BRIDGES = 0.077e-3  # [m/s] scale of the Bridges et al. (1984) law, eq. (bridges)
+V_C_BRIDGES = 0.077e-3  # [m/s] scale of the Bridges et al. (1984) law, Eq. (48)
 
 
 @dataclass(frozen=True)
@@ -28,7 +28,7 @@ class NBodyOptions:
     R_p : float
         Particle radius [m] (the paper uses 1 m, and varies it from 1 to 4 m).
     restitution : {"bridges", "constant"}
-        Normal coefficient of restitution: eq. (bridges) capped at 1 below ``v_c``, or ``epsilon``.
+        Normal coefficient of restitution: Eq. (48) capped at 1 below ``v_c``, or ``epsilon``.
     epsilon : float
         Constant coefficient of restitution (0 < epsilon <= 1; the paper uses 0.5).
     v_c : float
@@ -49,7 +49,7 @@ class NBodyOptions:
     collisions : bool
         Resolve collisions (False: free test particles).
     m_max : int
-        Highest Fourier mode of the radial self-gravity, eq. (sgmodes) (used if sigma0 > 0);
+        Highest Fourier mode of the radial self-gravity, Eq. (54) (used if sigma0 > 0);
         capped at L_x / (4 R_p) (shorter waves than two particle diameters carry no signal).
     single_mode : int
         If > 0, only this mode contributes to the self-gravity (linear growth measurements).

@@ -17,7 +17,7 @@ row of accumulators, added in strip order afterwards.  The order of the impacts,
 result, depends on the box only, never on the number of threads (boxes of fewer strips are one strip:
 exactly the reference order, the results of the single-threaded code before strips).
 
-References: eq. (bridges).
+References: Eq. (48).
 """
 from __future__ import annotations
 

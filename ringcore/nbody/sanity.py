@@ -6,7 +6,7 @@ time (hours of a numba loop that never looks at signals); at 1e14 the run "succe
 <c> ~ 500 km/s.  The box therefore refuses such sigma0 up front (:func:`check_sigma0`), and
 the integrator stops a run whose state runs away (:data:`X_MAX_BOXES`, :func:`speed_bound`).
 
-References: eqs. (sgmodes), (wkbsg); Toomre (1964) for Q.
+References: Eqs. (54), (15); Toomre (1964) for Q.
 """
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ def sigma0_max(R_p: float, Omega: float, L_x: float, m_hi: int, dt: float) -> tu
     Two conditions: (1) the Toomre parameter Q = Omega c / (3.36 G sigma0) with the smallest
     velocity dispersion a dense ring of hard spheres has, c = R_p Omega, must be >= ``Q_MIN``
     (below, self-gravity exceeds everything else a hundredfold: no ring, a collapse); (2) the
-    fastest self-gravity oscillation, omega_g^2 = 2 pi G sigma0 k_max (eq. (wkbsg), k_max =
+    fastest self-gravity oscillation, omega_g^2 = 2 pi G sigma0 k_max (Eq. (15), k_max =
     2 pi m_hi / L_x), must be resolved by the time step: omega_g dt <= ``OMEGA_DT_MAX``.
 
     Parameters: R_p [m], Omega [1/s], L_x [m], m_hi (highest mode), dt [1/Omega].

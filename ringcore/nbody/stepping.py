@@ -5,7 +5,7 @@
 :class:`Stepping` is a mixin of :class:`ringcore.nbody.box.ShearingBox`, which owns the particles, the work
 arrays and the recorder.
 
-References: eqs. (hill), (bridges), (ekin).
+References: Eqs. (49), (48), (39).
 """
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import math
 import time
 
 import numpy as np
-from tqdm.auto import tqdm
+from ..log import progress_bar as tqdm
 
 from .. import ranges
 from .. import threads as _threads

@@ -1,6 +1,6 @@
 """Visco-elastic impacts of finite duration (Dilley 1993; Salo 1995), the paper's impact model.
 
-Section "N-Body Simulations" resolves each impact as a contact of finite duration: while two particles
+Section 4.2 resolves each impact as a contact of finite duration: while two particles
 overlap by xi = 2 R_p - r > 0 their normal relative motion obeys the damped linear spring
 
     xi'' + 2 beta xi' + omega_0^2 xi = 0,
@@ -11,7 +11,7 @@ T_c = pi / omega_d with the normal relative speed scaled by exp(-beta T_c).  Wit
     beta = -ln(eps) / T_c,   omega_0^2 = (pi / T_c)^2 + beta^2
 
 every contact lasts exactly T_c and returns the coefficient of restitution eps.  Salo's linear model fixes
-T_c; eps is the chosen law (constant, or the Bridges et al. law eq. (bridges), capped at 1 below v_c) at the
+T_c; eps is the chosen law (constant, or the Bridges et al. law Eq. (48), capped at 1 below v_c) at the
 normal impact speed v_n0 recorded when the contact starts, kept in the contact memory for the whole contact.
 
 Contact memory (arrays of shape (N, K), K = :data:`SLOTS`, rows indexed by the smaller particle label of a

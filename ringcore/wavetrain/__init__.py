@@ -5,7 +5,7 @@
 >>> br = wavetrain.compute_branch(p, lam_max_m=400.0)          # doctest: +SKIP
 >>> wavetrain.stability_boundary(p).lambda_st_m               # doctest: +SKIP
 
-References: eqs. (nleq), (pres)-(coolfunc), (wkbsg); Section "Isothermal Model" (LO2009's lambda_st).
+References: Eqs. (1), (8)-(11), (15); Section 5.1.1 (LO2009's lambda_st).
 """
 from .branch import Branch, compute_branch, neutral_wavelength, solve_at
 from .model import Grid, Model, linear_operator, residual

@@ -1,6 +1,6 @@
 """The hydrodynamic equations of :class:`ringcore.hydro.Hydro1D` in primitive form, Fourier-discretised.
 
-The solver integrates eq. (nleq) in conservative form (eq. hcl); here the same equations are written
+The solver integrates Eq. (1) in conservative form (Eq. (26)); here the same equations are written
 for the primitive fields w = (sigma, u, v[, T]) in the paper's dimensionless units (sigma in sigma0,
 u, v in c0, T in c0^2, x in c0/Omega, t in 1/Omega):
 
@@ -10,16 +10,16 @@ u, v in c0, T in c0^2, x in c0/Omega, t in 1/Omega):
     T_t = -u T_x + 2/(3 sigma) [-p u_x + Pi_xx u_x + Pi_xy (v_x - 3/2) - Gamma + (kappa_D T_x)_x]
 
 with p = sigma^p_s (T/T0)^p_T, eta = nu0 sigma^(beta+1) (T/T0)^n_T, Pi_xx = (4/3 + gamma) eta u_x,
-Pi_xy = eta (v_x - 3/2), Gamma = Gamma0 sigma^G_s (T/T0)^G_T, kappa_D = (kappa0/nu0) eta (eqs. pres-
-coolfunc, heatflux) and g = -d(phi)/dx the radial self-gravity of the solver's ``"mode"`` response
-g_k = 2 i sign(k) sigma_k / Q0 (eq. wkbsg).  Isothermal: 3 fields, p = sigma^p_s.
+Pi_xy = eta (v_x - 3/2), Gamma = Gamma0 sigma^G_s (T/T0)^G_T, kappa_D = (kappa0/nu0) eta (Eqs. (8)-
+(11), (5)) and g = -d(phi)/dx the radial self-gravity of the solver's ``"mode"`` response
+g_k = 2 i sign(k) sigma_k / Q0 (Eq. (15)).  Isothermal: 3 fields, p = sigma^p_s.
 
 The continuity equation stays in flux form, so the mean of sigma is conserved exactly by the
 discretisation.  Everything except the flux term is a pointwise function of (w, w_x, w_xx, g); its
 derivatives come from complex steps (exact to rounding), giving the linearised operator
 ``A0 + A1 D + A2 D^2 + A_g G + D B`` for any Bloch wavenumber q (D -> D + i q).
 
-References: eqs. (nleq), (pres)-(coolfunc), (heatflux), (wkbsg).
+References: Eqs. (1), (8)-(11), (5), (15).
 """
 from __future__ import annotations
 

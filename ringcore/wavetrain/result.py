@@ -86,13 +86,13 @@ class WaveTrain:
 
     @property
     def e_kin_dimless(self) -> float:
-        """Mean kinetic energy density <sigma (u^2 + v^2)/2>, eq. (ekin) [sigma0 c0^2] (dimensionless)."""
+        """Mean kinetic energy density <sigma (u^2 + v^2)/2>, Eq. (39) [sigma0 c0^2] (dimensionless)."""
         s, u, v = self.w[0], self.w[1], self.w[2]
         return float(np.mean(0.5 * s * (u * u + v * v)))
 
     @property
     def e_kin(self) -> float:
-        """Mean kinetic energy density, eq. (ekin), in :data:`ringcore.units.E_KIN_UNIT` (sigma0 (R_p Omega)^2,
+        """Mean kinetic energy density, Eq. (39), in :data:`ringcore.units.E_KIN_UNIT` (sigma0 (R_p Omega)^2,
         R_p = 1 m), the unit of the engines' e_kin."""
         return float(e_kin_rp(self.e_kin_dimless, self.params.c0, self.params.Omega))
 

@@ -62,5 +62,13 @@ def test_no_tab_shows_a_latex_label():
             bad.append(f"Lessons: {m.group(0)!r}")
     # the walk reaches the explanations and the plot titles (else the check above could not fail)
     assert any('title="in Lehmann, Schmidt' in t and ">(39)<" in t for t in seen_texts)
-    assert any(t.startswith("Wave kinetic energy e_kin, eq. (39)") for t in seen_texts)
+    assert any(t.startswith("Wave kinetic energy e_kin, Eq. (39)") for t in seen_texts)
     assert not bad, "\n".join(bad[:30])
+
+
+def test_published_numbers_get_the_paper_tooltip_once():
+    """Text written with published numbers shows the same tooltip as a converted label, never nested."""
+    out = publish("e_kin, Eq. (39); Figures 7 and 8, Section 5.1.1, Table 2")
+    assert out.count('class="cite"') == 5 and ">(39)<" in out and ">Section 5.1.1<" in out
+    assert publish(out) == out  # a second pass adds nothing
+    assert publish('<b title="Eq. (3)">x</b>') == '<b title="Eq. (3)">x</b>'  # attributes untouched

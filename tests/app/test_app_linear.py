@@ -212,7 +212,7 @@ def test_compare_field_applies_typed_list(view):
 def test_plot_titles_name_the_exact_relation(view):
     """The curves solve Det M = 0 exactly; eqs. (21), (22) are long-wave limits."""
     from ringlab.tabs.linear.view import PLOTS
-    titles = {key: view.figures[key].title.text for key, *_ in PLOTS}
+    titles = {key: view.figures[key].title.text.lower() for key, *_ in PLOTS}
     assert "eq. (16)" in titles["growth_rate"] and "eq. (21)" not in titles["growth_rate"]
     assert "eq. (16)" in titles["frequency"] and "eq. (22)" not in titles["frequency"]
     m = view.model

@@ -114,7 +114,7 @@ def test_no_tab_or_lesson_step_shows_a_label_or_jargon():
     assert not bad, "\n".join(sorted(set(bad))[:40])
     # the walk reaches explanations, tooltips, options, legends and every step (else it could not fail)
     joined = "\n".join(seen)
-    for must in ("Wave kinetic energy e_kin, eq. (39)", 'title="in Lehmann, Schmidt', "Row of Table 2",
+    for must in ("Wave kinetic energy e_kin, Eq. (39)", 'title="in Lehmann, Schmidt', "Row of Table 2",
                  "fast (about 10 times larger steps)", "Appendix A", "fastest-growing λ (linear)", "About / Cite",
                  "ADS: 2017ApJ...851..125L",
                  LESSONS[-1].steps[-1].title):

@@ -25,14 +25,15 @@ def _peak(rows, L_x):  # numpy only: the wavelength of the largest mean |FFT|^2,
 def test_hydro_methods_match_independent_values(sim):
     a = sim.series()
     t = a["t"]
-    assert DEFAULT_METHOD == "psd" and set(METHODS) == {"psd", "most_frequent", "instantaneous"}
+    assert DEFAULT_METHOD == "most_frequent" and set(METHODS) == {"psd", "most_frequent", "instantaneous"}
+    assert lambda_p(sim) == sim.summary()["lambda_p_m"]  # the one documented lambda_p of a run
     assert lambda_p(sim, "instantaneous") == _peak([sim.sigma_dimless], 1000.0) == sim.diagnostics()["lambda_p_m"]
     last = t >= t[-1] - 0.25 * (t[-1] - t[0])
     vals, counts = np.unique(a["lambda_p"][last], return_counts=True)
     assert lambda_p(sim, "most_frequent") == vals[np.argmax(counts)] == sim.summary()["lambda_p_most_frequent_m"]
     ts, rows = a["t_strobe"], a["strobe"].astype(float)
     sel = ts >= ts[-1] - 0.25 * (ts[-1] - ts[0])
-    assert lambda_p(sim) == pytest.approx(_peak(rows[sel], 1000.0)) == sim.summary()["lambda_p_psd_m"]
+    assert lambda_p(sim, "psd") == pytest.approx(_peak(rows[sel], 1000.0)) == sim.summary()["lambda_p_psd_m"]
     assert set(all_methods(sim)) == {f"lambda_p_{m}_m" for m in METHODS}
 
 
@@ -46,13 +47,14 @@ def test_single_mode_gives_its_wavelength_by_every_method():
 def test_nbody_methods_and_bad_input():
     box = ShearingBox(params.get("tau15", sigma0=300), NBodyOptions(L_x=30, L_y=12, record_every=0.05,
                                                                     profile_every=0.1), seed=3)
-    assert np.isnan(lambda_p(box)) and np.isnan(lambda_p(box, "most_frequent"))  # nothing recorded yet
+    assert np.isnan(lambda_p(box, "psd")) and np.isnan(lambda_p(box))  # nothing recorded yet
     box.advance(orbits=0.5)
     assert lambda_p(box, "instantaneous") == box.diagnostics()["lambda_p_m"]
     assert lambda_p(box, "most_frequent") == box.summary()["lambda_p_m"]
     rows = np.asarray(box.profile_history["sigma"], float)
     t = np.asarray(box.profile_history["time"], float)
-    assert lambda_p(box) == pytest.approx(_peak(rows[t >= t[-1] - 0.25 * (t[-1] - t[0])], 30.0))
+    assert lambda_p(box, "psd") == pytest.approx(_peak(rows[t >= t[-1] - 0.25 * (t[-1] - t[0])], 30.0))
+    assert lambda_p(box) == box.summary()["lambda_p_m"]
     with pytest.raises(ValueError, match="method"):
         lambda_p(box, "mean")
     with pytest.raises(ValueError, match="last_fraction"):

@@ -6,7 +6,7 @@ of the two runs) and one colour mapper, whose limits are the 1st and 99th percen
 images together: equal colours mean equal sigma/sigma0 in both diagrams.  Sources are written
 in place (``shared/guides/panel-live-app.md``).
 
-References: eqs. (ekin), (fourier), (lambdasigma); Figures "tau15nga", "ekinisonosg", "lambdap".
+References: Eqs. (39), (38), (55); Figures 7, 8, 20.
 """
 from __future__ import annotations
 

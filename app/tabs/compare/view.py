@@ -9,7 +9,7 @@ line plots up to every chunk, the images at most every IMAGE_PERIOD_S, each only
 has drawn the previous one (:class:`ringlab.ui.FrameGate`).  Closing the browser tab frees
 both runs.
 
-References: eqs. (ekin), (fourier), (lambdasigma); Figures "tau15nga", "lambdap", "enbody".
+References: Eqs. (39), (38), (55); Figures 7, 20, 17.
 """
 from __future__ import annotations
 

@@ -7,7 +7,7 @@ and the PSD of sigma with lambda_zero and the fastest-growing wavelength marked.
 The stroboscopic diagram reaches the page as new rows (:class:`ringlab.ui.row_canvas.RowCanvas`); the
 orbit-resolved one, a window moving with the run, whole.
 
-References: eqs. (ekin), (fourier); Figures "tau15nga", "ekinisonosg", "lambdap".
+References: Eqs. (39), (38); Figures 7, 8, 20.
 """
 from __future__ import annotations
 
@@ -89,11 +89,11 @@ class HydroPlots:
         self.series_source = ColumnDataSource(dict(t=[], e_kin=[], lambda_p=[]), name="hydro-series-source")
         self.event_source = ColumnDataSource(dict(x=[], color=[], label=[]))
         self.t_range = time_range()  # shared by the e_kin and lambda_p plots: follows the run, restarts with it
-        fig = new_figure(publish("Wave kinetic energy e_kin, eq. (ekin)", html_out=False), "time [orbits]",
+        fig = new_figure(publish("Wave kinetic energy e_kin, Eq. (39)", html_out=False), "time [orbits]",
                          "e_kin [σ₀ (R_p Ω)²]", height=260, y_axis_type="log", x_range=self.t_range)
         r = fig.line("t", "e_kin", source=self.series_source, line_width=2, color=LINE_COLOR)
         fig.vspan(x="x", line_color="color", line_dash="dashed", line_width=2, source=self.event_source)
-        # linear theory: e_kin ~ amplitude^2 grows as exp(2 omega_R t) (eqs. ekin, osgrate)
+        # linear theory: e_kin ~ amplitude^2 grows as exp(2 omega_R t) (Eqs. (39), (21))
         self.slope_source = ColumnDataSource(dict(t=[], e_kin=[]), name="hydro-slope-source")
         slope = fig.line("t", "e_kin", source=self.slope_source, line_width=3, line_dash="dashed", color=SLOPE_COLOR)
         # the legend under the plot: inside, its long label would cover the curve at one end or the other
@@ -120,7 +120,7 @@ class HydroPlots:
         self.allowed_lp = None  # lambda_p the allowed-wavelength marks and the PSD's markers were drawn for
         self._series_sent = None  # (series buffer, its stride, points) as last sent to the page
         self.psd_markers = ColumnDataSource(dict(x=[], color=[], dash=[], label=[]))
-        fig = new_figure(publish("Power spectrum of σ, eq. (fourier)", html_out=False), "wavelength λ [m]", "PSD",
+        fig = new_figure(publish("Power spectrum of σ, Eq. (38)", html_out=False), "wavelength λ [m]", "PSD",
                          height=260, x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
         r = fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR)
         fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.psd_markers)
@@ -141,7 +141,7 @@ class HydroPlots:
         emp = C_EMPIRICAL * n.get("lambda_zero_m", math.nan)
         rows = [(n.get("lambda_max_growth_m", math.nan), MAXG_COLOR, "dotted", "fastest growth"),
                 (n.get("lambda_zero_m", math.nan), ZERO_COLOR, "dashed", "λ_zero"),
-                (emp, EMP_COLOR, "dashdot", publish(f"{C_EMPIRICAL:g} λ_zero, eq. (lambdasigma)", html_out=False))]
+                (emp, EMP_COLOR, "dashdot", publish(f"{C_EMPIRICAL:g} λ_zero, Eq. (55)", html_out=False))]
         rows = [r for r in rows if math.isfinite(r[0])]
         self.lp_marker_source.data = dict(y=[r[0] for r in rows], color=[r[1] for r in rows],
                                           dash=[r[2] for r in rows], label=[r[3] for r in rows])

@@ -8,7 +8,7 @@ column beside them on wide screens and below them on narrow ones.  The
 space-time image (at most every IMAGE_PERIOD_S) into Bokeh sources, each only once the
 page has drawn the previous frame (:class:`ringlab.ui.FrameGate`).
 
-References: eqs. (nleq), (ekin), (fourier), (lambdasigma); Figures "tau15nga", "tau15bufnosg".
+References: Eqs. (1), (39), (38), (55); Figures 7, 9.
 """
 from __future__ import annotations
 
@@ -40,23 +40,22 @@ READOUT_PERIOD_S = 0.5  # readout cards and the lambda_p note (HTML panes, ~2-5 
 
 EXPLANATION = publish("""
 ### What am I looking at?
-The app integrates the paper's hydrodynamic equations, **eq. (nleq)** (mass, radial and azimuthal momentum and
-— in the non-isothermal model — granular temperature, with the pressure and viscosity laws of **eqs. (pres)-(coolfunc)**
-and radial self-gravity), in a periodic box of radial size L<sub>x</sub>, with the scheme of Section
-"Numerical Methods": conservative finite differences, **eq. (hcl)**, time step **eq. (timestep)**.
+The app integrates the paper's hydrodynamic equations, **Eq. (1)** (mass, radial and azimuthal momentum and
+— in the non-isothermal model — granular temperature, with the pressure and viscosity laws of **Eqs. (8)-(11)**
+and radial self-gravity), in a periodic box of radial size L<sub>x</sub>, with the scheme of Section 4: conservative finite differences, **Eq. (26)**, time step **Eq. (32)**.
 
 * **Space-time diagram**: σ/σ₀ against radius x (across) and time (up). *Stroboscopic* shows one row per orbit at the same
-  orbital phase, like the paper's Figure "tau15nga" (Appendix "Stroboscopic Space-Time Diagram": the apparent motion is
+  orbital phase, like the paper's Figure 7 (Appendix A: the apparent motion is
   the *effective* phase velocity, not the true one); *orbit-resolved* shows 20 rows per orbit, where the fast
   oscillation at about the orbital frequency Ω is visible.
 * **Profiles**: the current σ, u, v, T across the box.
-* **e<sub>kin</sub>(t)**, **eq. (ekin)**: the energy in the wave motion. Small waves grow exponentially (a straight line
+* **e<sub>kin</sub>(t)**, **Eq. (39)**: the energy in the wave motion. Small waves grow exponentially (a straight line
   on this log axis, slope = 2 × growth rate of the Linear-theory tab) until nonlinear effects saturate them.
-* **λ<sub>p</sub>(t)** and the **PSD** (Fourier power of σ, **eq. (fourier)**): the prevalent wavelength starts near the
+* **λ<sub>p</sub>(t)** and the **PSD** (Fourier power of σ, **Eq. (38)**): the prevalent wavelength starts near the
   fastest-growing one (orange, dotted) and in the saturated state moves towards **1.4 λ<sub>zero</sub>**,
-  **eq. (lambdasigma)**, the paper's Figure "lambdap".
+  **Eq. (55)**, the paper's Figure 20.
 * **Buffer zone**: a region with viscosity exponent β below β<sub>c</sub> (purple) where waves are damped, as in
-  Figure "tau15bufnosg" and Section "Hydrodynamical Integrations with a Buffer-Zone"; it creates a source/sink structure.
+  Figure 9 and Section 6.2; it creates a source/sink structure.
 
 The run goes on while you look at other tabs (press Pause to stop it); closing the browser tab stops it.
 If the scheme fails (a "blow-up": a density or temperature turns negative), the run pauses at the last good state.
@@ -206,7 +205,7 @@ class HydroView(pn.viewable.Viewer):
     @staticmethod
     def _key_pane() -> pn.pane.HTML:
         items = [("fastest-growing λ (linear)", MAXG_COLOR, "dotted"), ("λ_zero (v_g = 0)", ZERO_COLOR, "dashed"),
-                 (publish("1.4 λ_zero, eq. (lambdasigma)"), EMP_COLOR, "dashed"), ("λ_p now", LP_COLOR, "solid"),
+                 (publish("1.4 λ_zero, Eq. (55)"), EMP_COLOR, "dashed"), ("λ_p now", LP_COLOR, "solid"),
                  ("buffer zone", BUFFER_COLOR, "solid")]
         html = "".join(f'<span class="key-item"><span class="key-line" style="border-top: 3px {s} {c}"></span>'
                        f'<span>{lab}</span></span>' for lab, c, s in items)
@@ -300,7 +299,7 @@ class HydroView(pn.viewable.Viewer):
             ("hydro-orbits-per-s", "Orbits per second", fmt(orb_s, ".1f"), when),
             ("hydro-steps-per-s", "Steps per second", fmt(steps_s, ".0f"), f"{fr.n} cells"),
             ("hydro-dt", "Time step", fmt(fr.stable_dt_orbits, ".2g", "orbits"),
-             publish("the paper's rule, eq. (timestep)") if r.settings.timestep == "paper" else "fast rule"),
+             publish("the paper's rule, Eq. (32)") if r.settings.timestep == "paper" else "fast rule"),
             ("hydro-lambda-p", "λ<sub>p</sub> now", fmt(fr.lambda_p_m, ".4g", "m"),
              f"fastest growth {fmt(n.get('lambda_max_growth_m', math.nan), '.4g', 'm')}"),
             ("hydro-lambda-zero", "λ<sub>zero</sub>", fmt(n.get("lambda_zero_m", math.nan), ".4g", "m"),

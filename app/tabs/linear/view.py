@@ -2,7 +2,7 @@
 
 Growth rate omega_R, oscillation frequency omega_I and group velocity v_g against
 wavelength (10 m - 10 km, log axis) for the current settings, several surface
-densities overlaid as in Figure "omega", markers at lambda_zero and at the
+densities overlaid as in Figure 1, markers at lambda_zero and at the
 fastest-growing wavelength, and readouts of the characteristic numbers.
 
 Plots are Bokeh figures whose ``ColumnDataSource`` objects are updated in place
@@ -11,7 +11,7 @@ commits on release / key press (``value_throttled``); while it is dragged the cu
 curve and the readouts, markers and legend follow it together (``LinearTheory.preview``,
 cached, ~0.2 s per new value), so they never name different sigma0.
 
-References: eqs. (matni), (osgrate), (osfreq), (vg); Figures "omega", "vgroup".
+References: Eqs. (17), (21), (22), (23); Figures 1, 2.
 """
 from __future__ import annotations
 

@@ -7,7 +7,7 @@ session's clock: the orbit shown advances by ``speed`` orbits per second of wall
 frame is only a look-up in the stored arrays (:func:`frame_at`): replaying costs no simulation, so a
 whole class can watch 20,000 orbits at once.
 
-References: Figures "ekinisonosg", "tau15nga", "tau15bufnosg", "tau20nonisonosga".
+References: Figures 8, 7, 9, 11.
 """
 from __future__ import annotations
 

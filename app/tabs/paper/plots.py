@@ -5,7 +5,7 @@ frame (:meth:`PaperPlots.show`) only moves the diagram's upper time limit (the d
 run), the red cursors and the shading of the future on e_kin(t) and lambda_p(t), the lambda_p marker on the
 PSD, and sends one stroboscopic row (<= 1,000 points) as the profile.
 
-References: eqs. (ekin), (fourier); Figures "tau15nga", "ekinisonosg".
+References: Eqs. (39), (38); Figures 7, 8.
 """
 from __future__ import annotations
 

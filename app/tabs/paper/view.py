@@ -8,7 +8,7 @@ the page receives only the orbit, a 500-point profile and a few numbers (the ima
 gated by the page's acknowledgements (:class:`ringlab.ui.FrameGate`).  Beside each run: the paper's
 number against the computed one and the command that recomputes the run.
 
-References: Figures "ekinisonosg", "tau15nga", "tau15bufnosg", "tau20nonisonosga"; Section "nonisonosg".
+References: Figures 8, 7, 9, 11; Section 5.1.2.
 """
 from __future__ import annotations
 

@@ -4,7 +4,7 @@ The values come from the shipped table (:func:`ringlab.model.wave_trains.load_la
 with dots where lambda_st exists, a cross at the top of the plot (hover: why) where the computation found
 none (a closed stability window, or every wave train unstable), nothing where it was not computed.
 
-References: Section "Isothermal Model"; Figure "ekinisonosg".
+References: Section 5.1.1; Figure 8.
 """
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ ONE_LINE = publish(f"Teal: λ<sub>st</sub>, the stability boundary — wave trai
 
 EXPLANATION = publish(f"""
 * **Teal line with dots: λ<sub>st</sub>**, the stability boundary of nonlinear wave trains (Latter & Ogilvie 2009,
-  used in the paper's {paperrefs.sec("isonosg")} and Figure "ekinisonosg" to explain where runs without
+  used in the paper's {paperrefs.sec("isonosg")} and Figure 8 to explain where runs without
   self-gravity settle). Wave trains longer than λ<sub>st</sub> are stable; shorter ones break up, and the waves
   of a run keep merging into longer ones until they reach λ<sub>st</sub>. The app's values were computed in advance
   (the same calculation as the card below the plot, scanned over wavelength) at the surface densities of the

@@ -1,13 +1,13 @@
-"""The "Saturation" tab: prevalent wavelength lambda_p against sigma0, like Figure "lambdap".
+"""The "Saturation" tab: prevalent wavelength lambda_p against sigma0, like Figure 20.
 
 Theory curves for the chosen parameter set and model: the empirical relation
-lambda_p = 1.4 lambda_zero(sigma0), eq. (lambdasigma), the fastest-growing linear
+lambda_p = 1.4 lambda_zero(sigma0), Eq. (55), the fastest-growing linear
 wavelength and the stability boundary lambda_st of the shipped table (:mod:`.stability`);
 below the plot, one wave train and its stability on request (:mod:`.wave_train`).  Points:
 the sweep shipped with the package (``app/data/saturation_sweep.nc``, the ``sweep.nc``
 written by ``ringcore sweep``) and the student's own hydro runs of this session ("Add my run").
 
-References: eqs. (lambdasigma), (lambdasigmaap), (jeans); Figure "lambdap".
+References: Eqs. (55), (56), (57); Figure 20.
 """
 from __future__ import annotations
 
@@ -50,15 +50,15 @@ FADED = 0.3  # opacity of runs of another parameter set or model
 EXPLANATION = publish("""
 ### What am I looking at?
 When overstable waves have grown and saturated, one wavelength dominates: the *prevalent* wavelength
-λ<sub>p</sub>, the largest Fourier amplitude of σ (Section "Saturation Wavelength of Viscous Overstability").
-The paper's Figure "lambdap" shows λ<sub>p</sub> from many long hydrodynamic and N-body runs against the ring's
+λ<sub>p</sub>, the largest Fourier amplitude of σ (Section 6).
+The paper's Figure 20 shows λ<sub>p</sub> from many long hydrodynamic and N-body runs against the ring's
 surface density σ₀: denser rings have shorter waves, settling at 100-200 m.
 
-* **Dashed blue**: the empirical relation λ<sub>p</sub> = 1.4 λ<sub>zero</sub>(σ₀), **eq. (lambdasigma)**, where
-  λ<sub>zero</sub> is the wavelength at which the linear group velocity vanishes (Linear-theory tab, Figure "vgroup").
+* **Dashed blue**: the empirical relation λ<sub>p</sub> = 1.4 λ<sub>zero</sub>(σ₀), **Eq. (55)**, where
+  λ<sub>zero</sub> is the wavelength at which the linear group velocity vanishes (Linear-theory tab, Figure 2).
   For weak self-gravity (large Q<sub>0</sub>, small σ₀) it is close to 2.8 (p<sub>s</sub> + F<sub>2</sub>) λ<sub>J</sub>,
-  **eq. (lambdasigmaap)** with the sign that follows from eq. (osfreq) (the paper prints p<sub>s</sub> − F<sub>2</sub>;
-  see DEPARTURES), with the Jeans wavelength λ<sub>J</sub> = c<sub>0</sub>²/(Gσ₀), **eq. (jeans)**.
+  **Eq. (56)** with the sign that follows from Eq. (22) (the paper prints p<sub>s</sub> − F<sub>2</sub>;
+  see DEPARTURES), with the Jeans wavelength λ<sub>J</sub> = c<sub>0</sub>²/(Gσ₀), **Eq. (57)**.
 * **Dotted orange**: the fastest-growing linear wavelength. Saturated waves are *longer* than the waves that grow
   fastest at the start.
 * **Purple squares**: long hydrodynamic runs computed in advance and shipped with the app (tau15 and tau20,
@@ -152,7 +152,7 @@ class SaturationView(pn.viewable.Viewer):
     param_set = param.Selector(default="tau15", objects=list(set_labels().values()), label="Parameter set",
                                doc="Set of the theory curves (points of other sets are drawn fainter).")
     isothermal = param.Boolean(default=False, label="Isothermal model (p_s = 1)",
-                               doc="Theory curves of the isothermal model with p_s = 1, as in Figure 'lambdap'.")
+                               doc="Theory curves of the isothermal model with p_s = 1, as in Figure 20.")
     runs = param.ClassSelector(class_=SessionRuns)
 
     def __init__(self, **params):
@@ -190,7 +190,7 @@ class SaturationView(pn.viewable.Viewer):
         self._layout = self._build_layout()
 
     def _figure(self):
-        fig = new_figure("Saturated prevalent wavelength λ_p against surface density (Figure 'lambdap')",
+        fig = new_figure("Saturated prevalent wavelength λ_p against surface density (Figure 20)",
                          "surface density σ₀ [kg/m²]", "λ_p [m]", height=520, y_axis_type="log",
                          x_range=Range1d(-25, 1020), y_range=Range1d(30, 3000))
         fig.line("sigma0", "empirical", source=self.curve_source, line_dash="dashed", line_width=3, color=EMP_COLOR)
@@ -210,7 +210,7 @@ class SaturationView(pn.viewable.Viewer):
 
     @staticmethod
     def _key() -> pn.pane.HTML:
-        lines = [(publish(f"{C_EMPIRICAL:g} λ<sub>zero</sub>, eq. (lambdasigma)"), EMP_COLOR, "dashed"),
+        lines = [(publish(f"{C_EMPIRICAL:g} λ<sub>zero</sub>, Eq. (55)"), EMP_COLOR, "dashed"),
                  ("fastest-growing λ (linear)", MAXG_COLOR, "dotted")]
         dots = [("shipped sweep", SWEEP_COLOR, "2px"), ("my runs", LP_COLOR, "50%")]
         html = "".join(f'<span class="key-item"><span class="key-line" style="border-top: 3px {s} {c}"></span>'

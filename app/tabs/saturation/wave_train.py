@@ -6,7 +6,7 @@ Bloch wavenumber q/k, and readouts (amplitude, phase speed, frequency, verdict w
 computation (:class:`ringlab.live.wave_train.WaveTrainJob`) runs in the server's compute pool; the card
 shows its progress and stays usable meanwhile.
 
-References: Section "Isothermal Model"; Figure "ekinisonosg".
+References: Section 5.1.1; Figure 8.
 """
 from __future__ import annotations
 

@@ -1,4 +1,4 @@
-"""Slow validation (Section "Tests", Figure "grates"): growth rates and frequencies of seeded
+"""Slow validation (Section 4.1.3, Figure 3): growth rates and frequencies of seeded
 single modes versus the exact linear theory, tau15, sigma0 = 0, 350, 600 kg/m^2, h = 1 m,
 wavelengths 50 m .. 1 km, non-isothermal and isothermal, fast time step (f_t = 1.1) and
 self-gravity by the mode method and by the wire kernel (5 replicas + bin correction, box of

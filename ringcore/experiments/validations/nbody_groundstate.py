@@ -1,5 +1,5 @@
-"""Ground-state validation of the N-body shearing box against Table "Hydrodynamic Parameters"
-(Salo et al. 2001): T0, nu0 = nu_local + nu_nonlocal, c0 (eq. ptot), for tau = 1.5 and 2.0
+"""Ground-state validation of the N-body shearing box against Table 2
+(Salo et al. 2001): T0, nu0 = nu_local + nu_nonlocal, c0 (Eq. (12)), for tau = 1.5 and 2.0
 (Omega_z = 3.6, Bridges law) in a 50 m x 25 m box (radially below the overstable band), the
 constant eps = 0.5 state, and the time-step halving test (dt = 1e-3 -> 5e-4 orbit).
 

@@ -1,8 +1,8 @@
 """The two N-body impact models side by side: instantaneous hard-sphere impacts and the paper's
 visco-elastic contacts of finite duration (Dilley 1993; Salo 1995; :mod:`ringcore.nbody.viscoelastic`).
 
-``groundstate``: T, nu = nu_local + nu_nonlocal and c0 (eq. ptot) of the four parameter sets tau = 1.5, 2
-at Omega_z = 3.6, 2 (Bridges law) against Table "Hydrodynamic Parameters" (Salo et al. 2001).
+``groundstate``: T, nu = nu_local + nu_nonlocal and c0 (Eq. (12)) of the four parameter sets tau = 1.5, 2
+at Omega_z = 3.6, 2 (Bridges law) against Table 2 (Salo et al. 2001).
 ``growth``: growth rate and frequency of a seeded m = 1 mode (the set-up of the quick Figure 4 recipe:
 L_x = lambda, L_y = 10 m, 3 orbits of settling, a 2 R_p Omega seed followed for 12 orbits, only the
 seeded self-gravity mode).  Each run prints its cost per step.

@@ -1,6 +1,5 @@
 """Growth rate and frequency of seeded linear overstable modes (tau = 1.5, sigma0 = 0, Omega_z = 3.6,
-Bridges law) against the non-isothermal hydrodynamic prediction (eq. (evp); paper's Figures
-"nblin1", "nblin2"). One wavelength per box (m = 1), box L_x = lambda x L_y, equilibrated for
+Bridges law) against the non-isothermal hydrodynamic prediction (Eq. (16); paper's Figures 4, 5). One wavelength per box (m = 1), box L_x = lambda x L_y, equilibrated for
 EQ orbits, then a radial velocity wave of AMP R_p Omega is seeded and followed for ORBITS orbits.
 
 Usage: ``ringcore validate nbody-linear [--lambdas 100 150 200] [--L-y 25] [--orbits 40]``.
