@@ -34,6 +34,11 @@ from concurrent.futures import ThreadPoolExecutor
 
 from ringlab.server import remote
 
+# A live run computes on one thread: the app already shares the cores between its sessions (one worker process
+# or pool thread each), and a run that took every core (ringcore's default outside the app) would take them
+# from the other students.  Set before the worker processes start, so they inherit it; an explicit setting wins.
+os.environ.setdefault("RINGCORE_THREADS", "1")
+
 ENV_MAX = "RINGLAB_MAX_COMPUTE"
 LAG_TARGET_S = 0.05  # [s] event-loop delay of a finished chunk's callback the pacing of shared runs aims at
 MAX_SLOWDOWN = 10.0

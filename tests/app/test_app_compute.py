@@ -175,3 +175,14 @@ def test_closed_page_frees_the_run_at_the_next_chunk(pool1, cls, monkeypatch):
     assert doc.drain(0.3) == 0  # nothing computes any more
     r.close()  # Bokeh's on_session_destroyed later: nothing more happens
     assert len(logged) == 1 and "closed session freed" in logged[0]
+
+
+def test_live_runs_compute_on_one_thread_each():
+    """The app shares the cores between sessions; a run never takes them all (ringcore's default elsewhere)."""
+    import subprocess
+    import sys
+
+    code = ("import os; os.environ.pop('RINGCORE_THREADS', None); import ringlab.server.compute; "
+            "import ringcore.threads as t; print(t.default())")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "1"
