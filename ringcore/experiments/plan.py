@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Callable
 
 from ..checks import check_real
-from .registry import RECIPES, recipe
+from .registry import recipe
 
 PLANS: dict = {}
 STATUS_DONE, STATUS_SKIPPED = "done", "skipped"
@@ -108,6 +108,7 @@ def runs_dir(name: str, outdir) -> Path:
 
 
 def run_path(outdir, task: dict) -> Path:
+    """The run file of ``task`` in ``outdir``: ``OUTDIR/RECIPE.runs/LABEL_HASH.nc``."""
     return runs_dir(task["recipe"], outdir) / f"{run_name(task)}.nc"
 
 
@@ -130,6 +131,7 @@ def run_in_memory(task: dict):
 
 
 def task_json(task: dict) -> str:
+    """The ``task_json`` attribute of a task's run file (its identity: sorted keys)."""
     return json.dumps(task, sort_keys=True, default=str)
 
 
@@ -210,6 +212,3 @@ def partial_note(models: dict, tasks: list) -> str:
                      else f"{t['label']} not started")
     return "PARTIAL (runs still computing; orbit reached / planned): " + ", ".join(parts)
 
-
-def is_planned(name: str) -> bool:
-    return name in PLANS and name in RECIPES

@@ -40,6 +40,7 @@ class Progress:
         return f"all: {self.done}/{len(self.until)} runs finished, {100 * frac:.0f} % of the orbits"
 
     def line(self, text: str) -> None:
+        """One message: above the bars on a terminal, else a time-stamped log line."""
         if not self.enabled:
             return
         if self.tty:
@@ -94,6 +95,7 @@ class Progress:
             self.line(f"run {label} {what}; {self._total()}")
 
     def close(self) -> None:
+        """Close the bars (log lines need no closing)."""
         for b in self.bars.values():
             b.close()
         self.bars = {}

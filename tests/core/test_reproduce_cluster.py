@@ -137,3 +137,39 @@ def test_partial_without_runs_and_bad_options(tmp_path):
         r = cli(*args, "--out", str(tmp_path)) if args[0] != "--list" else cli(*args)
         assert r.returncode == 2 and word in r.stderr and len(r.stderr.strip().splitlines()) == 1, (args, r.stderr)
     assert not list(Path(tmp_path).iterdir())
+
+
+@pytest.mark.slow  # a LocalCluster start and two runs of 4 orbits, one worker killed on the way
+def test_lost_worker_continues_its_run(tmp_path):
+    import threading
+
+    import psutil
+    from dask.distributed import Client
+
+    from ringcore.experiments.cluster import reproduce
+    from ringcore.experiments.sweep import local_cluster
+
+    ref, tasks = _reference(tmp_path)
+    out = tmp_path / "out"
+    with local_cluster(2, dashboard=False) as cluster, Client(cluster) as client:
+        pids = client.run(os.getpid)
+        box = {}
+        th = threading.Thread(target=lambda: box.update(res=reproduce("enbody", "quick", out, client=client,
+                                                                       orbits=ORBITS, checkpoint_every=1.0,
+                                                                       progress=False)))
+        th.start()
+        deadline, runs = time.monotonic() + 300, out / "enbody.runs"
+        while not (runs.is_dir() and list(runs.glob("*.nc"))):  # a run's first file is its first checkpoint
+            assert th.is_alive() and time.monotonic() < deadline
+            time.sleep(0.05)
+        label = next(runs.glob("*.nc")).name.split("_")[0]
+        addr = next(a for a, keys in client.processing().items() if any(f"-{label}-" in str(k) for k in keys))
+        victim = pids[addr]
+        psutil.Process(victim).kill()  # the worker running that run dies (its nanny starts a new one)
+        th.join(600)
+        assert not th.is_alive()
+    res = box["res"]
+    assert {r["status"] for r in res.rows} == {"done"} and victim not in {r["pid"] for r in res.rows}
+    lost = next(r for r in res.rows if r["label"] == label)
+    assert lost["from_orbit"] >= 1.0 - 1e-9  # continued from its checkpoint on another worker
+    _same(_data(res.result.data), ref)
