@@ -6,12 +6,12 @@ Usage::
     python scripts/project_full.py [--recipes enbody] [--settle-orbits 1] [--measure-orbits 1] [--worker-factor F]
                                    [--thread-factor F] [--node-cores 32] [--out docs/benchmarks/data/projection.json]
 
-For each recipe: the full-setting run with the largest sigma0 (self-gravity on) is built, warmed up for 5
+For each recipe: the full-setting run with the most particles (then the largest sigma0) is built, warmed up for 5
 steps (numba compilation), run ``--settle-orbits`` from its initial state (the uniform state's first steps
 have fewer impacts), then advanced ``--measure-orbits`` orbits in this process on one thread; its CPU
 time per orbit (``time.process_time``, robust to other processes on a shared machine; the wall time is
-recorded beside it) times each run's orbits is that run's cost; every run of the recipe is priced from this
-one run.  The scaling factors default to ``worker_factor`` of ``--busy`` (``scripts/measure_reproduce_busy.py
+recorded beside it) is that run's cost per orbit; every run of the recipe is priced from this one run by its
+particles x orbits.  The scaling factors default to ``worker_factor`` of ``--busy`` (``scripts/measure_reproduce_busy.py
 --json``: 2 concurrent runs over 1 on this machine) for both workers and threads; give ``--thread-factor``
 from a measured 2-thread speed-up when the engines run threads.  Rerun it when the kernels get faster: the
 docs table (benchmarks page) is generated from the JSON.
@@ -53,6 +53,18 @@ def measure_run(task: dict, orbits: float, settle: float) -> dict:
                 cpu_s_per_orbit=(time.process_time() - c0) / done, wall_s_per_orbit=(time.perf_counter() - t0) / done)
 
 
+def particles(task: dict) -> int:
+    """Particles of an N-body task's box, as :class:`ringcore.nbody.ShearingBox` computes them."""
+    import math
+
+    from ringcore import params
+    from ringcore.nbody import NBodyOptions
+
+    o = NBodyOptions(**task["options"])
+    tau = float(task.get("tau", params.get(task["set"]).tau))
+    return int(round(tau * o.fill_fraction * o.L_x * o.L_y / (math.pi * o.R_p**2)))
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--recipes", default=None, help="comma-separated recipes (default: every recipe made of runs)")
@@ -91,13 +103,15 @@ def main(argv=None) -> int:
     old = {r["recipe"]: r for r in json.loads(Path(args.reproject).read_text())["recipes"]} if args.reproject else {}
     for name in (args.recipes.split(",") if args.recipes else sorted(old or PLANS)):
         tasks, _ = plan_tasks(name, "full")
-        probe = max(tasks, key=lambda t: t.get("sigma0", 0.0))
+        probe = max(tasks, key=lambda t: (particles(t), t.get("sigma0", 0.0)))
         keys = ("label", "N", "measured_orbits", "setup_cpu_s", "settle_orbits", "settle_cpu_s_per_orbit",
                 "collision_frequency", "cpu_s_per_orbit", "wall_s_per_orbit")
         m = ({k: old[name][k] for k in keys} if name in old else
              measure_run(probe, args.measure_orbits, args.settle_orbits))
-        costs = [m["setup_cpu_s"] + m["cpu_s_per_orbit"] * float(t["orbits"]) for t in tasks]
+        per = m["cpu_s_per_orbit"] / m["N"]  # the other runs priced by particles x orbits
+        costs = [m["setup_cpu_s"] * particles(t) / m["N"] + per * particles(t) * float(t["orbits"]) for t in tasks]
         row = dict(recipe=name, runs=len(tasks), run_orbits=max(float(t["orbits"]) for t in tasks), **m,
+                   particles=[particles(t) for t in tasks],
                    cpu_h_per_run=max(costs) / 3600.0, cpu_h_total=sum(costs) / 3600.0,
                    projected=projections(costs, wf, tf, machines))
         rows.append(row)

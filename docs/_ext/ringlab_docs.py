@@ -205,7 +205,7 @@ def projection_tables(d: dict) -> str:
             row[p["machine"]] = f"{p['wall_h']:.1f} h ({p['threads']} thr.)"
         rows.append(row)
     machines = [p["machine"] for p in (d.get("recipes") or [{"projected": []}])[0]["projected"]]
-    cols = [("recipe", "recipe"), ("runs", "runs"), ("N", "particles"), ("run_orbits", "orbits per run"),
+    cols = [("recipe", "recipe"), ("runs", "runs"), ("N", "particles (timed run)"), ("run_orbits", "orbits per run"),
             ("measured", "orbits timed (after settling)"), ("cpu_s_per_orbit", "CPU s per orbit"),
             ("cpu_h_per_run", "CPU h per run"), ("cpu_h_total", "CPU h in all")] + [(k, k) for k in machines]
     text += _table(rows, cols)

@@ -1,6 +1,6 @@
 """``ringcore reproduce NAME --quick|--full`` and ``ringcore reproduce --list``.
 
-A recipe made of independent runs (enbody) runs them as tasks on dask.distributed (a LocalCluster sized to
+A recipe made of independent runs (enbody, radvar) runs them as tasks on dask.distributed (a LocalCluster sized to
 the machine, or ``--scheduler ADDRESS``), each with its own checkpoints in ``OUT/NAME.runs/``: re-issuing
 the same command continues the unfinished runs and skips the finished ones.  Other recipes run in this
 process, or as one task on the cluster when ``--scheduler`` or ``--workers`` is given.
@@ -11,7 +11,7 @@ import contextlib
 import json
 
 from ..checks import check_int, check_real
-from ..experiments.plan import get_plan
+from ..experiments.plan import PLANS, get_plan
 from ..experiments.registry import get_recipe, load_all, outputs
 from ..io import reserve_output
 from ..paperlabels import to_published
@@ -62,13 +62,17 @@ def run(args) -> int:
         if args.json:  # the published number for readers; the LaTeX label for scripts that matched it
             print(json.dumps({n: {"figure": ref(recipes[n].figure), "label": recipes[n].figure,
                                   "title": to_published(recipes[n].title), "quick_cost": recipes[n].quick_cost,
-                                  "full_cost": recipes[n].full_cost} for n in sorted(recipes)}))
+                                  "full_cost": recipes[n].full_cost, "runs_as_tasks": n in PLANS}
+                              for n in sorted(recipes)}))
             return 0
         w = max(len(n) for n in recipes)
         print(f"{'name':<{w}}  {'paper':<13} {'quick':>8} {'full':>10}  title")
         for n in sorted(recipes):
             r = recipes[n]
-            print(f"{n:<{w}}  {ref(r.figure):<13} {r.quick_cost:>8} {r.full_cost:>10}  {to_published(r.title)}")
+            mark = " *" if n in PLANS else ""
+            print(f"{n:<{w}}  {ref(r.figure):<13} {r.quick_cost:>8} {r.full_cost:>10}  {to_published(r.title)}{mark}")
+        print("* made of independent runs: on a Dask cluster as tasks with their own checkpoints (--scheduler, "
+              "--workers); a re-issued command continues them")
         return 0
     recipe = get_recipe(args.name)
     planned = get_plan(args.name) is not None
@@ -105,7 +109,8 @@ def _check_cluster_args(args, planned: bool) -> None:
     check_int("--retries", args.retries, 0, 20)
     if not planned:
         refuse_with(args, ("partial", "orbits", "checkpoint_every"),
-                    f"for {args.name} (computed as one piece; only recipes made of runs, enbody, have them)")
+                    f"for {args.name} (computed as one piece; only recipes made of runs have them: "
+                    f"{', '.join(sorted(PLANS))})")
     if args.orbits is not None:
         check_real("--orbits", args.orbits, 0.0, 1e6, lo_open=True, unit="orbits")
     if args.checkpoint_every is not None:

@@ -19,7 +19,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..checks import check_choice, check_int
-from .plan import (STATUS_DONE, checkpoint_interval, execute_run, get_plan, partial_note, plan_tasks, read_runs,
+from .plan import (PLANS, STATUS_DONE, checkpoint_interval, execute_run, get_plan, partial_note, plan_tasks, read_runs,
                    run_path)
 from .registry import MODES, RecipeResult, get_recipe
 from .reproduce_progress import Progress
@@ -167,7 +167,7 @@ def reproduce(name: str, mode: str = "full", outdir=".", *, client=None, schedul
     if plan is None:
         if partial or orbits is not None or checkpoint_every is not None:
             raise ValueError(f"recipe = {name!r} is computed as one piece: partial, orbits and checkpoint_every "
-                             "apply only to recipes made of runs (enbody)")
+                             f"apply only to recipes made of runs ({', '.join(sorted(PLANS))})")
     else:
         tasks, settings = plan_tasks(name, mode, orbits)
         every = checkpoint_interval(name, mode, checkpoint_every)

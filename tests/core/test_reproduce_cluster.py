@@ -173,3 +173,19 @@ def test_lost_worker_continues_its_run(tmp_path):
     lost = next(r for r in res.rows if r["label"] == label)
     assert lost["from_orbit"] >= 1.0 - 1e-9  # continued from its checkpoint on another worker
     _same(_data(res.result.data), ref)
+
+
+@pytest.mark.slow  # a LocalCluster start and five small runs of 2 orbits
+def test_radvar_on_the_cluster_as_in_memory(tmp_path):
+    """Figure 26's runs (periodic and spreading boundaries, radii 1-2 m: boxes of their own size) as tasks."""
+    from ringcore.experiments.cluster import reproduce
+
+    tasks, settings = plan_tasks("radvar", "quick", 2.0)
+    assert len(tasks) == 5 and len({t["label"] for t in tasks}) == 5
+    ref = tmp_path / "ref"
+    ref.mkdir()
+    want = get_plan("radvar").assemble("quick", ref, {t["label"]: run_in_memory(t) for t in tasks}, settings, None)
+    res = reproduce("radvar", "quick", tmp_path / "out", n_workers=2, orbits=2.0, progress=False)
+    assert [r["status"] for r in res.rows] == ["done"] * 5
+    _same(_data(res.result.data), _data(want.data))
+    assert "(--orbits)" in _data(want.data)[1]  # the caption says the runs were shortened
