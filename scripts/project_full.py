@@ -106,8 +106,14 @@ def main(argv=None) -> int:
         probe = max(tasks, key=lambda t: (particles(t), t.get("sigma0", 0.0)))
         keys = ("label", "N", "measured_orbits", "setup_cpu_s", "settle_orbits", "settle_cpu_s_per_orbit",
                 "collision_frequency", "cpu_s_per_orbit", "wall_s_per_orbit")
-        m = ({k: old[name][k] for k in keys} if name in old else
-             measure_run(probe, args.measure_orbits, args.settle_orbits))
+        keys += ("measured_date", "measured_load")
+        if name in old:
+            m = {k: old[name][k] for k in keys if k in old[name]}
+        else:
+            la = os.getloadavg()[0]
+            m = measure_run(probe, args.measure_orbits, args.settle_orbits)
+            m.update(measured_date=datetime.now(timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+                     measured_load=[round(la, 1), round(os.getloadavg()[0], 1)])
         per = m["cpu_s_per_orbit"] / m["N"]  # the other runs priced by particles x orbits
         costs = [m["setup_cpu_s"] * particles(t) / m["N"] + per * particles(t) * float(t["orbits"]) for t in tasks]
         row = dict(recipe=name, runs=len(tasks), run_orbits=max(float(t["orbits"]) for t in tasks), **m,

@@ -192,7 +192,9 @@ def nbody_tables(d: dict) -> str:
 def projection_tables(d: dict) -> str:
     """Markdown of ``scripts/project_full.py``'s JSON: measured per-run cost and projected wall times."""
     r, m = d.get("recorded", {}), d.get("measured") or d.get("recorded", {})
-    text = (f"Per-run costs measured {m.get('date', '?')} (load average {m.get('load_average', '?')}), ringcore "
+    dates = "; ".join(f"{x['recipe']} {x['measured_date']} (load average {x['measured_load'][0]} -> "
+                      f"{x['measured_load'][1]})" for x in d.get("recipes", []) if "measured_date" in x)
+    text = (f"Per-run costs measured {dates or m.get('date', '?')}, ringcore "
             f"{m.get('ringcore_version', '?')}, commit `{str(m.get('ringcore_commit', '?'))[:12]}`, on "
             f"{m.get('machine', '?')}; projected with `{r.get('command', 'python scripts/project_full.py')}`.\n\n")
     rows = []

@@ -120,14 +120,14 @@ def _check_cluster_args(args, planned: bool) -> None:
 
 
 def _on_cluster(args):
-    from ..experiments.cluster import reproduce
+    from ..experiments.cluster import RunsFailed, reproduce
     from ..experiments.sweep import SchedulerUnreachable
 
     try:
         return reproduce(args.name, args.mode, args.out, scheduler=args.scheduler, n_workers=args.workers,
                          retries=args.retries, progress=not args.json, overwrite=bool(args.overwrite),
                          orbits=args.orbits, checkpoint_every=args.checkpoint_every)
-    except SchedulerUnreachable as exc:
+    except (SchedulerUnreachable, RunsFailed) as exc:
         raise EnvironmentProblem(str(exc)) from None
 
 

@@ -70,14 +70,33 @@ def run_task(task: dict, outdir: str, every: float, topic: str | None) -> dict:
     return row
 
 
-def whole_recipe_task(name: str, mode: str, outdir: str, overwrite) -> dict:
-    """The Dask task of a recipe without a plan: the whole recipe in one worker."""
+def whole_recipe_task(name: str, mode: str, outdir: str) -> dict:
+    """The Dask task of a recipe without a plan: the whole recipe on a worker, into ``OUTDIR/NAME.runs/``
+    (the calling process holds the final names; it moves the files there, :func:`_publish`)."""
     import os
 
+    from .plan import runs_dir
+
     t0, c0 = time.perf_counter(), time.process_time()
-    res = get_recipe(name).run(mode, outdir, overwrite=overwrite)
+    res = get_recipe(name).run(mode, runs_dir(name, outdir), overwrite=True)
     return dict(label=name, status=STATUS_DONE, file=str(res.data), result=(str(res.png), str(res.data),
                 res.caption), pid=os.getpid(), wall_s=time.perf_counter() - t0, cpu_s=time.process_time() - c0)
+
+
+def _publish(row: dict, outdir, overwrite) -> RecipeResult:
+    """Move the files a whole-recipe task wrote under ``NAME.runs/`` to ``OUTDIR`` (atomically, each)."""
+    from ..io.atomic import write_bytes
+
+    png, data, cap = row["result"]
+    out = []
+    for src in (Path(png), Path(data)):
+        out.append(write_bytes(Path(outdir) / src.name, src.read_bytes(), overwrite))
+        src.unlink()
+    try:
+        Path(png).parent.rmdir()  # the staging folder, when the recipe left nothing else there
+    except OSError:
+        pass
+    return RecipeResult(out[0], out[1], cap, row["wall_s"])
 
 
 def _gather(client, submit, items: list, labels: list, retries: int, progress: Progress) -> list:
@@ -183,8 +202,8 @@ def reproduce(name: str, mode: str = "full", outdir=".", *, client=None, schedul
     try:
         if plan is None:
             prog = Progress(name, [dict(label=name, orbits=0.0)], progress, stream)
-            rows = _gather(client, lambda _: client.submit(whole_recipe_task, name, mode, str(out), overwrite,
-                                                           pure=False), [name], [name], retries, prog)
+            rows = _gather(client, lambda _: client.submit(whole_recipe_task, name, mode, str(out), pure=False),
+                           [name], [name], retries, prog)
         else:
             topic = f"ringcore-reproduce-{uuid.uuid4().hex}"
             prog = Progress(name, tasks, progress, stream)
@@ -209,9 +228,7 @@ def reproduce(name: str, mode: str = "full", outdir=".", *, client=None, schedul
                          "; ".join(f"{r['label']}: {r['error']}" for r in failed) +
                          " (the finished runs are kept: fix the cause and re-issue the command)")
     if plan is None:
-        png, data, cap = rows[0]["result"]
-        return ReproduceResult(RecipeResult(Path(png), Path(data), cap, rows[0]["wall_s"]), rows,
-                               time.perf_counter() - t0)
+        return ReproduceResult(_publish(rows[0], out, overwrite), rows, time.perf_counter() - t0)
     models, missing = read_runs(out, tasks)
     if missing:  # a run file vanished or was replaced while assembling: never draw a wrong figure
         raise RunsFailed(f"runs {missing} of {name} have no finished run file in {out / (name + '.runs')}")

@@ -189,3 +189,17 @@ def test_radvar_on_the_cluster_as_in_memory(tmp_path):
     assert [r["status"] for r in res.rows] == ["done"] * 5
     _same(_data(res.result.data), _data(want.data))
     assert "(--orbits)" in _data(want.data)[1]  # the caption says the runs were shortened
+
+
+@pytest.mark.slow  # a LocalCluster start and the omega recipe (seconds)
+def test_recipe_without_runs_as_one_task(tmp_path):
+    """A recipe computed as one piece runs on a worker; the files land under the names the command holds."""
+    from ringcore.io import read_run
+
+    r = subprocess.run([sys.executable, "-m", "ringcore.cli.main", "reproduce", "omega", "--workers", "1", "--out",
+                        str(tmp_path), "--json"], capture_output=True, text=True, timeout=600)
+    assert r.returncode == 0, r.stderr
+    got = json.loads(r.stdout.splitlines()[-1])
+    assert [row["status"] for row in got["runs"]] == ["done"] and got["runs"][0]["pid"] != os.getpid()
+    assert read_run(tmp_path / "omega.nc").attrs["kind"] == "linear" and (tmp_path / "omega.png").exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["omega.nc", "omega.png"]
