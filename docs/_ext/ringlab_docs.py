@@ -216,10 +216,14 @@ def projection_tables(d: dict) -> str:
              "'thr.': threads per run the projection chose.\n")
     busy = d.get("busy") or {}
     if busy.get("rows"):
-        text += (f"\nThe worker factor and the busy cores, from `scripts/measure_reproduce_busy.py` ({busy.get('recipe')} "
-                 f"quick runs of {_fmt(busy.get('orbits'))} orbits on a LocalCluster; busy cores = CPU time of the "
-                 "worker processes / wall time; the load average says how many other processes shared the "
-                 "machine):\n\n")
+        how = {"wall": "wall time of 1 worker over 2 workers",
+               "cpu": "2 x the runs' CPU time on 1 worker over that on 2 workers, because the 2 workers did not "
+                      "keep 1.8 cores busy on the shared machine"}.get(busy.get("worker_factor_from"), "?")
+        text += (f"\nThe worker factor ({how}; by wall time it was {_fmt(busy.get('worker_factor_wall'))}, by CPU "
+                 f"time {_fmt(busy.get('worker_factor_cpu'))}) and the busy cores, from "
+                 f"`scripts/measure_reproduce_busy.py` ({busy.get('recipe')} {busy.get('mode', 'quick')} runs of "
+                 f"{_fmt(busy.get('orbits'))} orbits on a LocalCluster; busy cores = CPU time of the worker processes / "
+                 "wall time; the load average says how many other processes shared the machine):\n\n")
         text += _table(busy["rows"], [("workers", "workers"), ("runs", "runs"), ("workers_used", "workers used"),
                                       ("wall_s", "wall [s]"), ("worker_cpu_s", "worker CPU [s]"),
                                       ("busy_cores", "busy cores"), ("load_before", "load before"),

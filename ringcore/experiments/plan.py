@@ -162,7 +162,7 @@ def execute_run(task: dict, outdir: str, every: float, report: Callable | None =
 
     ``report(label, orbit, until)`` is called after each orbit.  Returns ``status`` ("done" or "skipped"),
     ``file``, ``from_orbit``, ``orbits``, ``wall_s``, ``cpu_s`` (CPU time of this process while the run
-    computed) and ``pid``.  The run file is locked while the task runs, so a second copy of the task (a
+    computed), ``began`` and ``ended`` (Unix times [s] of a computed run) and ``pid``.  The run file is locked while the task runs, so a second copy of the task (a
     retried task while its first worker still runs) waits and then skips it.
     """
     from ..io import OutputBusy, reserve_output
@@ -170,7 +170,7 @@ def execute_run(task: dict, outdir: str, every: float, report: Callable | None =
 
     path = run_path(outdir, task)
     path.parent.mkdir(parents=True, exist_ok=True)
-    t0, c0 = time.perf_counter(), time.process_time()
+    t0, c0, began = time.perf_counter(), time.process_time(), time.time()
     until = float(task["orbits"])
     while True:
         try:
@@ -191,7 +191,7 @@ def execute_run(task: dict, outdir: str, every: float, report: Callable | None =
     finally:
         lock.release()
     return {**base, "status": STATUS_DONE, "from_orbit": start, "wall_s": time.perf_counter() - t0,
-            "cpu_s": time.process_time() - c0}
+            "cpu_s": time.process_time() - c0, "began": began, "ended": time.time()}
 
 
 def read_runs(outdir, tasks: list, partial: bool = False) -> tuple:
