@@ -17,6 +17,7 @@ run with other settings (``--orbits``) never continues a file of different ones.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import hashlib
 import json
 import os
@@ -62,6 +63,9 @@ def planned(name: str, figure: str, title: str, quick_cost: str, full_cost: str,
             ts, settings = plan_tasks(name, mode)
             return assemble(mode, out, {t["label"]: run_in_memory(t) for t in ts}, settings, None)
 
+        # the recipe's function is its module's (as an unplanned recipe's), computing in this process
+        functools.update_wrapper(in_process, assemble, assigned=("__module__", "__name__", "__qualname__",
+                                                                 "__doc__"), updated=())
         recipe(name, figure, title, quick_cost, full_cost)(in_process)
         return assemble
     return deco
