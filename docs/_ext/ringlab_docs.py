@@ -225,7 +225,51 @@ def nbody_phase_tables(d: dict) -> str:
     return text
 
 
-RENDERERS = {"hydro": hydro_tables, "nbody": nbody_tables, "nbody_phases": nbody_phase_tables}
+def projection_tables(d: dict) -> str:
+    """Markdown of ``scripts/project_full.py``'s JSON: measured per-run cost and projected wall times."""
+    r, m = d.get("recorded", {}), d.get("measured") or d.get("recorded", {})
+    dates = "; ".join(f"{x['recipe']} {x['measured_date']} (load average {x['measured_load'][0]} -> "
+                      f"{x['measured_load'][1]})" for x in d.get("recipes", []) if "measured_date" in x)
+    text = (f"Per-run costs measured {dates or m.get('date', '?')}, ringcore "
+            f"{m.get('ringcore_version', '?')}, commit `{str(m.get('ringcore_commit', '?'))[:12]}`, on "
+            f"{m.get('machine', '?')}; projected with `{r.get('command', 'python scripts/project_full.py')}`.\n\n")
+    rows = []
+    for rec in d.get("recipes", []):
+        row = dict(recipe=rec["recipe"], runs=rec["runs"], N=rec["N"], run_orbits=rec["run_orbits"],
+                   cpu_s_per_orbit=rec["cpu_s_per_orbit"], measured=f"{_fmt(rec['measured_orbits'])} after "
+                   f"{_fmt(rec.get('settle_orbits', 0.0))}", cpu_h_per_run=rec["cpu_h_per_run"],
+                   cpu_h_total=rec["cpu_h_total"])
+        for p in rec["projected"]:
+            row[p["machine"]] = f"{p['wall_h']:.1f} h ({p['threads']} thr.)"
+        rows.append(row)
+    machines = [p["machine"] for p in (d.get("recipes") or [{"projected": []}])[0]["projected"]]
+    cols = [("recipe", "recipe"), ("runs", "runs"), ("N", "particles (timed run)"), ("run_orbits", "orbits per run"),
+            ("measured", "orbits timed (after settling)"), ("cpu_s_per_orbit", "CPU s per orbit"),
+            ("cpu_h_per_run", "CPU h per run"), ("cpu_h_total", "CPU h in all")] + [(k, k) for k in machines]
+    text += _table(rows, cols)
+    text += (f"\nScaling factors: 2 concurrent runs over 1 (worker factor) {_fmt(d.get('worker_factor'))}, 2 threads "
+             f"over 1 (thread factor) {_fmt(d.get('thread_factor'))} ({d.get('worker_factor_source', '?')}). "
+             "'thr.': threads per run the projection chose.\n")
+    busy = d.get("busy") or {}
+    if busy.get("rows"):
+        how = {"wall": "wall time of 1 worker over 2 workers",
+               "cpu": "2 x the runs' CPU time on 1 worker over that on 2 workers, because the 2 workers did not "
+                      "keep 1.8 cores busy on the shared machine"}.get(busy.get("worker_factor_from"), "?")
+        text += (f"\nThe worker factor ({how}; by wall time it was {_fmt(busy.get('worker_factor_wall'))}, by CPU "
+                 f"time {_fmt(busy.get('worker_factor_cpu'))}) and the busy cores, from "
+                 f"`scripts/measure_reproduce_busy.py` ({busy.get('recipe')} {busy.get('mode', 'quick')} runs of "
+                 f"{_fmt(busy.get('orbits'))} orbits on a LocalCluster; busy cores = CPU time of the worker processes / "
+                 "wall time; the load average says how many other processes shared the machine):\n\n")
+        text += _table(busy["rows"], [("workers", "workers"), ("runs", "runs"), ("workers_used", "workers used"),
+                                      ("wall_s", "wall [s]"), ("worker_cpu_s", "worker CPU [s]"),
+                                      ("busy_cores", "busy cores"), ("load_before", "load before"),
+                                      ("load_after", "load after")])
+    return text
+
+
+RENDERERS = {"hydro": hydro_tables, "nbody": nbody_tables, "nbody_phases": nbody_phase_tables,
+             "projection": projection_tables}
+RECORD_COMMANDS = {"projection": "python scripts/project_full.py"}
 
 
 def write_bench_tables(app=None) -> list:
@@ -235,7 +279,8 @@ def write_bench_tables(app=None) -> list:
     for engine, render in RENDERERS.items():
         src = BENCH_DATA / f"{engine}.json"
         text = (render(json.loads(src.read_text())) if src.is_file() else
-                f"No record yet: run `python docs/_ext/bench_record.py {engine}` to make one.\n")
+                f"No record yet: run `{RECORD_COMMANDS.get(engine, f'python docs/_ext/bench_record.py {engine}')}` "
+                "to make one.\n")
         out = BENCH_OUT / f"{engine}.md"
         if not out.is_file() or out.read_text() != text:  # unchanged files keep their time (no rebuild)
             out.write_text(text)

@@ -128,11 +128,12 @@ def load_model(path):
 
 def run_checkpointed(model, orbits: float | None = None, *, out, until: float | None = None,
                      every: float | None = None, progress: bool = True, finish: bool = True,
-                     fallback=None, **attrs) -> dict:
+                     fallback=None, on_orbit=None, **attrs) -> dict:
     """Run ``model`` for ``orbits`` more orbits (or up to orbit ``until``), writing ``out`` as above.
 
     ``finish=False``: no final file (a first phase of a longer run).  ``fallback``: a folder for the
-    state when ``out`` cannot be written at the end (see the module docstring).  ``attrs`` are added to
+    state when ``out`` cannot be written at the end (see the module docstring).  ``on_orbit(model)`` is
+    called after each whole orbit (and at the end; progress of a run on a cluster).  ``attrs`` are added to
     every file written.  Returns the model's summary.
 
     Raises
@@ -168,6 +169,8 @@ def run_checkpointed(model, orbits: float | None = None, *, out, until: float | 
                 _save(model, out, fallback, complete=False, blowup=str(exc), **attrs)
                 raise
             bar.update(round(model.orbits - start - bar.n, 6))
+            if on_orbit is not None:
+                on_orbit(model)
             if stop.requested:
                 break  # no checkpoint now: the interrupted save below writes this very state
             if model.orbits >= next_ckpt - tol and not (finish and model.orbits >= until - tol):

@@ -16,6 +16,7 @@ from ..figures._mpl import cmap, subplots
 from .. import linear, params
 from ..nbody import NBodyOptions, ShearingBox, growth
 from .recipe_common import finish, pick
+from .plan import planned
 from .registry import recipe
 
 
@@ -118,18 +119,42 @@ def _overstable_runs(mode, sigmas, set_name="tau15"):
 
 
 def _history_dataset(runs, keys=("ekin", "c_mean", "collision_frequency", "lambda_p")):
+    """Records of the runs {sigma0: box} on a common time axis: the longest record's; a shorter record (a
+    partial figure: a run not finished) is padded with nan."""
     units = dict(ekin="sigma0 (R_p Omega)^2", c_mean="m s-1", collision_frequency="1/orbit", lambda_p="m")
     sig = list(runs)
-    t = np.array(runs[sig[0]].history["time"])
-    data = {k: (("sigma0", "time"), np.array([runs[s].history[k] for s in sig]), {"units": units[k]}) for k in keys}
+    t = np.array(max((runs[s].history["time"] for s in sig), key=len))
+
+    def padded(k):
+        rows = np.full((len(sig), t.size), np.nan)
+        for i, s in enumerate(sig):
+            h = np.asarray(runs[s].history[k], float)
+            rows[i, :h.size] = h
+        return rows
+
+    data = {k: (("sigma0", "time"), padded(k), {"units": units[k]}) for k in keys}
     return xr.Dataset(data, coords={"sigma0": ("sigma0", np.array(sig), {"units": "kg m-2"}),
                                     "time": ("time", t, {"units": "orbits"})})
 
 
-@recipe("enbody", "fig:enbody", "N-body e_kin(t) for several sigma0 (tau = 1.5)", "65 s", "730 h")
-def enbody(mode, out):
-    sigmas = pick(mode, (0.0, 800.0), (0.0, 50.0, 100.0, 150.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
-    runs, st = _overstable_runs(mode, sigmas)
+def _overstable_tasks(mode, sigmas, set_name="tau15"):
+    """The runs of :func:`_overstable_runs` as independent tasks (:mod:`ringcore.experiments.plan`)."""
+    L, L_y, orbits = pick(mode, 200.0, 5000.0), pick(mode, 10.0, 31.41), pick(mode, 80.0, 5000.0)
+    tasks = [dict(label=f"s{s:g}", engine="nbody", set=set_name, sigma0=float(s), seed=1, orbits=orbits,
+                  options=dict(L_x=L, L_y=L_y, record_every=1.0, profile_every=0.0)) for s in sigmas]
+    return tasks, dict(L_x=L, L_y=L_y, orbits=orbits)
+
+
+def _enbody_tasks(mode):
+    return _overstable_tasks(mode, pick(mode, (0.0, 800.0),
+                                        (0.0, 50.0, 100.0, 150.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0)))
+
+
+@planned("enbody", "fig:enbody", "N-body e_kin(t) for several sigma0 (tau = 1.5)", "65 s", "730 h",
+         tasks=_enbody_tasks)
+def enbody(mode, out, models, st, partial=None):
+    runs = {float(m.params.sigma0): m for m in models.values()}
+    sigmas = list(runs)
     ds = _history_dataset(runs)
     fig, ax = subplots(figsize=(8, 5.2))
     for i, s in enumerate(sigmas):
@@ -141,4 +166,4 @@ def enbody(mode, out):
     cap = (f"{mode} run: N-body from the uniform state, L_x = {st['L_x']:g} m, L_y = {st['L_y']:g} m, R_p = 1 m, "
            f"{st['orbits']:g} orbits, self-gravity Eq. (54) with all modes down to 4 R_p. "
            "Paper: L_x = 5 km, L_y = 31.4 m (75,000 particles), ~5,000 orbits, tau = 1.5 and 2.")
-    return finish(fig, ds, out, "enbody", cap, st)
+    return finish(fig, ds, out, "enbody", cap, st, partial=partial)

@@ -8,7 +8,6 @@ thousands of orbits.
 """
 from __future__ import annotations
 
-import dataclasses
 import math
 
 import numpy as np
@@ -21,6 +20,7 @@ from ..hydro import HydroBlowUp
 from ..nbody import NBodyOptions, ShearingBox
 from .nbody_recipes import _history_dataset, _overstable_runs
 from .recipe_common import finish, hydro_run, pick
+from .plan import planned
 from .registry import recipe
 
 
@@ -189,16 +189,37 @@ def boxdouble(mode, out):
 
 
 # ---------------------------------------------------------------------------------------- radvar
-def _radvar_box(p, R, L1, Ly1, orbits, fill=1.0):
-    """One radvar run: L_x = L1 (R_p/1 m)^2, L_y = Ly1 (R_p/1 m); returns (lambda_p [m], <c> [m/s], t_fill).
+def _radvar_settings(mode):
+    return dict(radii=pick(mode, (1.0, 1.5, 2.0), (1.0, 1.5, 2.0, 2.5, 3.0, 4.0)),
+                sb_radii=pick(mode, (1.0, 1.5), (1.0, 2.0)), L_x=pick(mode, 150.0, 2000.0),
+                L_y=pick(mode, 6.0, 10.0), orbits=pick(mode, 60.0, 5000.0), fill_fraction=0.75,
+                orbits_sb=pick(mode, 80.0, 5000.0))
+
+
+def _radvar_task(R, L1, Ly1, orbits, fill=1.0):
+    """One radvar run: L_x = L1 (R_p/1 m)^2, L_y = Ly1 (R_p/1 m), tau15 at sigma0 = 900.
 
     Spreading boundaries (``fill`` < 1): the central strip holds all particles at tau / fill; the box's
     self-gravity normalises the density to the box mean, so sigma0 is the box mean (the strip has
     sigma0 / fill) and the filled box is the periodic-boundary system (tau, sigma0)."""
+    task = dict(label=f"{'sb' if fill < 1 else 'pb'}_R{R:g}", engine="nbody", set="tau15", sigma0=900.0, seed=1,
+                orbits=orbits, options=dict(L_x=L1 * R**2, L_y=Ly1 * R, R_p=R, record_every=1.0,
+                                            profile_every=1.0 if fill < 1 else 0.0, fill_fraction=fill))
     if fill < 1:
-        p = dataclasses.replace(p, tau=p.tau / fill)
-    box = run_box(p, L1 * R**2, Ly1 * R, orbits, R_p=R, record_every=1.0, profile_every=1.0 if fill < 1 else 0.0,
-                  fill_fraction=fill)
+        task["tau"] = params.get("tau15").tau / fill
+    return task
+
+
+def _radvar_tasks(mode):
+    st = _radvar_settings(mode)
+    pb = [_radvar_task(R, st["L_x"], st["L_y"], st["orbits"]) for R in st["radii"]]
+    sb = [_radvar_task(R, st["L_x"], st["L_y"], st["orbits_sb"], st["fill_fraction"]) for R in st["sb_radii"]]
+    return pb + sb, dict(L_x=st["L_x"], L_y=st["L_y"], orbits=st["orbits"], fill_fraction=st["fill_fraction"],
+                         orbits_sb=st["orbits_sb"])
+
+
+def _radvar_result(box, fill):
+    """(lambda_p [m], <c> [m/s], t_fill) of a finished radvar run (partial: of its last checkpoint)."""
     h = box.history
     t = np.array(h["time"])
     t_fill = 0.0 if fill >= 1 else filled_from(box.profile_history["time"], box.profile_history["sigma"], fill)
@@ -207,16 +228,17 @@ def _radvar_box(p, R, L1, Ly1, orbits, fill=1.0):
     return most_frequent(np.array(h["lambda_p"])[keep]), float(np.mean(np.array(h["c_mean"])[keep])), t_fill
 
 
-@recipe("radvar", "fig:radvar", "N-body saturation wavelength vs particle radius, sigma0 = 900, periodic and "
-        "spreading boundaries (Eq. (56))", "2.7 min", "210 h, beyond 2 cores")
-def radvar(mode, out):
-    radii = np.array(pick(mode, (1.0, 1.5, 2.0), (1.0, 1.5, 2.0, 2.5, 3.0, 4.0)))
-    sb_radii = np.array(pick(mode, (1.0, 1.5), (1.0, 2.0)))
-    L1, Ly1, orbits = pick(mode, 150.0, 2000.0), pick(mode, 6.0, 10.0), pick(mode, 60.0, 5000.0)
-    fill, sb_orbits = 0.75, pick(mode, 80.0, 5000.0)
+@planned("radvar", "fig:radvar", "N-body saturation wavelength vs particle radius, sigma0 = 900, periodic and "
+         "spreading boundaries (Eq. (56))", "2.7 min", "210 h, beyond 2 cores", tasks=_radvar_tasks)
+def radvar(mode, out, models, st, partial=None):
+    pb_lab = [k for k in models if k.startswith("pb_")]
+    sb_lab = [k for k in models if k.startswith("sb_")]
+    radii = np.array([models[k].options.R_p for k in pb_lab])
+    sb_radii = np.array([models[k].options.R_p for k in sb_lab])
+    L1, Ly1, orbits, fill, sb_orbits = st["L_x"], st["L_y"], st["orbits"], st["fill_fraction"], st["orbits_sb"]
     p = params.get("tau15", sigma0=900.0)
-    pb = np.array([_radvar_box(p, R, L1, Ly1, orbits) for R in radii])
-    sb = np.array([_radvar_box(p, R, L1, Ly1, sb_orbits, fill) for R in sb_radii])
+    pb = np.array([_radvar_result(models[k], 1.0) for k in pb_lab], float).reshape(-1, 3)
+    sb = np.array([_radvar_result(models[k], fill) for k in sb_lab], float).reshape(-1, 3)
     # c0 ~ R_p => lambda_J ~ R_p^2; Eq. (56) with the sign of Eq. (22), 2C(p_s + F2) lambda_J
     # (the paper prints p_s - F2; see ringcore.analysis.saturation.lambda_p_approx)
     approx = np.array([lambda_p_approx(p) * R**2 for R in radii])
@@ -245,5 +267,4 @@ def radvar(mode, out):
            "follows from Eq. (22) (the paper prints p_s - F2; at sigma0 = 900, Q0 = 0.9, the estimate is rough "
            "either way). Paper: L_x = 2 km (R_p/1 m)^2, R_p = 1-4 m, thousands of orbits, two SB runs (radii not "
            "given).")
-    return finish(fig, ds, out, "radvar", cap, dict(L_x=L1, L_y=Ly1, orbits=orbits, fill_fraction=fill,
-                                                    orbits_sb=sb_orbits))
+    return finish(fig, ds, out, "radvar", cap, st, partial=partial)

@@ -42,17 +42,31 @@ def caption_fig(fig, caption: str) -> None:
     fig.text(0.01, 0.01, text, fontsize=7.5, va="bottom", ha="left", color="0.2")
 
 
-def finish(fig, ds: xr.Dataset, out, name: str, caption: str, settings: dict | None = None) -> RecipeResult:
-    """Caption and save the PNG, write the data file; return the RecipeResult."""
+def finish(fig, ds: xr.Dataset, out, name: str, caption: str, settings: dict | None = None,
+           partial: str | None = None) -> RecipeResult:
+    """Caption and save the PNG, write the data file; return the RecipeResult.
+
+    ``partial``: a note saying which runs are unfinished (a figure drawn before the last run ended): it is
+    written across the figure and into the data file's ``partial`` attribute, and the files are
+    ``NAME.partial.png`` / ``NAME.partial.nc``, never the final ones."""
+    if settings and settings.get("orbits_changed"):
+        caption += f" Run lengths changed from the recipe's to {settings['orbits']:g} orbits (--orbits): a trial."
+    if partial:
+        caption = partial + ". " + caption
+        fig.text(0.5, 0.5, "PARTIAL", fontsize=60, color="C3", alpha=0.25, ha="center", va="center",
+                 rotation=25, transform=fig.transFigure)
     caption_fig(fig, caption)
-    png = out / f"{name}.png"
+    stem = f"{name}.partial" if partial else name
+    png = out / f"{stem}.png"
     save_figure(fig, png, dpi=110)
     ds = ds.copy()
     ds.attrs["caption"] = caption
     ds.attrs["recipe"] = name
     if settings is not None:
         ds.attrs["settings_json"] = json.dumps(settings, default=str)
-    data = write_run(ds, out / f"{name}.nc", kind="recipe")
+    if partial:
+        ds.attrs["partial"] = partial
+    data = write_run(ds, out / f"{stem}.nc", kind="recipe")
     return RecipeResult(png, data, caption)
 
 
