@@ -26,6 +26,7 @@ from ringlab.tabs.saturation import SaturationView
 from ringlab.ui.present import page_styles, plain_figure, present_figure
 from ringlab.ui.about import AboutCite
 from ringlab.ui.lazy_tabs import LazyTabs, LazyViews
+from ringlab.ui.reconnect import Reconnect
 
 TABS = [
     ("Linear theory", LinearView),
@@ -103,7 +104,8 @@ def create_app(args: dict | None = None) -> pn.Column:
     side = pn.Column(lessons, AboutCite(), width=SIDE_PX, styles={"flex": f"0 1 {SIDE_PX}px"}, margin=(0, 5),
                      stylesheets=[SIDE_CSS], css_classes=["side-panel"])
     body = pn.FlexBox(tabs, side, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")
-    app = pn.Column(top, body, sizing_mode="stretch_width", margin=0, styles=page_styles(False))
+    # Reconnect: the page reloads itself once a restarted server is back (progress and answers from the browser)
+    app = pn.Column(top, body, Reconnect(), sizing_mode="stretch_width", margin=0, styles=page_styles(False))
     holder["app"] = app
     app.tabs = tabs
     app.lazy = lazy

@@ -13,6 +13,7 @@ import panel as pn
 
 from ringlab.live import roster_store
 from ringlab.live.roster import ROSTER
+from ringlab.ui.reconnect import Reconnect
 from ringlab.teacher.access import ENV_KEY, authorised, given_key
 from ringlab.teacher.dashboard import DASH_CSS, TeacherDashboard
 
@@ -40,7 +41,7 @@ def teacher_page(key: str | None = None):
     header = pn.pane.HTML(f'<header class="app-header" style="background:#1f4e79;color:#fff;padding:8px 16px">'
                           f'<h1 style="font-size:22px;margin:0">{TITLE}</h1></header>', sizing_mode="stretch_width",
                           margin=0)
-    return pn.Column(header, dash, sizing_mode="stretch_width", margin=0)
+    return pn.Column(header, dash, Reconnect(), sizing_mode="stretch_width", margin=0)  # reloads after a restart
 
 
 def page_factory(key: str):
