@@ -64,7 +64,8 @@ class Healer:
             self.cluster.worker_spec.pop(name, None)
             self._missing_since.pop(name, None)
         self.cluster.scale(self.n)
-        for name in set(self.cluster.worker_spec) - (set(spec) - set(lost)):  # the replacements: not replaced while they start
+        # the replacements (new names, or the lost ones' names again): not replaced themselves while they start
+        for name in set(self.cluster.worker_spec) - (set(spec) - set(lost)):
             self._missing_since[name] = now + START_S
         self.replaced += len(lost)
         if lost:

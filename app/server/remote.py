@@ -1,30 +1,31 @@
 """Live simulations computed in other processes: Dask actors that hold each session's engine.
 
-With ``RINGLAB_COMPUTE=processes`` the app starts a ``distributed.LocalCluster`` of one
-single-threaded worker process per core; with ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` it
-uses an existing Dask cluster (its workers need this project installed:
-``pip install -e .`` of the same version).  ``RINGLAB_COMPUTE=threads`` (or unset without a
-scheduler) keeps the in-process thread pool of :mod:`ringlab.server.compute`.
+With ``RINGLAB_COMPUTE=processes`` the app starts a ``distributed.LocalCluster`` of one single-threaded
+worker process per core; with ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` it uses an existing Dask cluster
+(its workers need this project installed: ``pip install -e .`` of the same version).
+``RINGLAB_COMPUTE=threads`` (or unset without a scheduler) keeps the in-process thread pool of
+:mod:`ringlab.server.compute`.  How a session's run is split between the app server and a worker:
 
-How a session's run is split between the app server and a worker:
+* :class:`EngineHost` (a Dask actor, :mod:`ringlab.server.engine_host`, placed on the worker with the fewest
+  engines) holds the authoritative engine while the run lives on the cluster.  A chunk
+  (:meth:`EngineHost.advance`) returns the engine's state *without* its recorder series (the "light"
+  state: ~30 KB), the samples recorded during the chunk (with the sigma row at each sample time, for the
+  orbit-resolved image) and a blow-up, if any.
+* :class:`RemoteSim` (in the app) stands where the runner's ``Hydro1D`` stood.  Reads (``orbits``,
+  ``sigma``, ``psd()``, ``buffer`` ...) go to a local engine restored from the last light state, i.e.
+  exactly the state the worker keeps (Pause shows the kept state); ``snapshot()`` (export) fetches the
+  complete state from the worker; ``set_buffer`` / ``clear_buffer`` run on the worker.  Until the first
+  chunk, and after :meth:`RemoteSim.detach`, a complete local engine is authoritative instead.
+* A worker lost (its process killed: the out-of-memory killer) takes no run with it: the run continues
+  from its last shown chunk in this process and goes to a worker again at its next chunk
+  (:meth:`RemoteSim._recover`); without a worker the runs compute here.
+* Per-worker fair share: a Dask worker runs actor methods in one thread, first in, first out, and every
+  session has at most one chunk in flight (:mod:`ringlab.live.loop`), so the sessions on a worker take
+  turns; sessions are spread evenly over the workers.
 
-* :class:`EngineHost` (a Dask actor, :mod:`ringlab.server.engine_host`, placed on the worker with the fewest engines) holds the
-  authoritative engine while the run lives on the cluster.  A chunk
-  (:meth:`EngineHost.advance`) returns the engine's state *without* its recorder series
-  (the "light" state: ~30 KB), the samples recorded during the chunk (with the sigma row at
-  each sample time, for the orbit-resolved image) and a blow-up, if any.
-* :class:`RemoteSim` (in the app) stands where the runner's ``Hydro1D`` stood.  Reads
-  (``orbits``, ``sigma``, ``psd()``, ``buffer`` ...) go to a local engine restored from the
-  last light state, i.e. exactly the state the worker keeps (Pause shows the kept state);
-  ``snapshot()`` (export) fetches the complete state from the worker; ``set_buffer`` /
-  ``clear_buffer`` run on the worker.  Until the first chunk, and after :meth:`RemoteSim.detach`,
-  a complete local engine is authoritative instead and no worker holds anything.
-* Per-worker fair share: a Dask worker runs actor methods in one thread, first in, first out,
-  and every session has at most one chunk in flight (:mod:`ringlab.live.loop`), so the sessions on
-  a worker take turns; sessions are spread evenly over the workers.
-
-The numbers are those of an in-process run (the engine contract: ``restore`` continues bit
-for bit and the chunking never changes a run), checked in ``tests/app/test_dask_backend.py``.
+The numbers are those of an in-process run (the engine contract: ``restore`` continues bit for bit and
+the chunking never changes a run), checked in ``tests/app/test_dask_backend.py`` and
+``tests/app/test_worker_loss.py``.
 """
 from __future__ import annotations
 
@@ -38,7 +39,8 @@ import weakref
 from ringcore.engine import engine_class
 
 from ringlab.server.cluster import ENV_WORKERS, LOOPBACK, cores, local_cluster, local_workers  # noqa: F401  (re-exported)
-from ringlab.server.engine_host import EngineHost, LightView, blowup, cancel_queued, light, light_snapshot  # noqa: F401  (the worker side; re-exported)
+from ringlab.server.engine_host import (EngineHost, LightView, blowup, cancel_queued, light,  # noqa: F401  (the worker
+                                        light_snapshot)  # side; re-exported)
 from ringlab.server.dask_backend import DaskBackend  # noqa: F401  (re-exported)
 
 ENV_MODE = "RINGLAB_COMPUTE"
@@ -261,8 +263,7 @@ class RemoteSim:
             self._fin = None
 
     def _push(self) -> None:
-        """Hand the run to a worker; without one (none running, or it failed to take the state), the run stays
-        here and asks again after :data:`RETRY_S`."""
+        """Hand the run to a worker; without one, the run stays here and asks again after :data:`RETRY_S`."""
         try:
             b = self._backend()
             self._actor, self._worker, self._key = b.host(self._local.snapshot())
@@ -274,8 +275,7 @@ class RemoteSim:
         self._local = None
 
     def _result(self, call):
-        """``call()`` (a call to the worker); if the worker is lost, the run is brought back here at its last
-        shown chunk (:meth:`_recover`) and :class:`WorkerLost` raised."""
+        """``call()`` to the worker; if it is lost, the run comes back here (:meth:`_recover`): WorkerLost."""
         try:
             return call()
         except Exception as exc:  # the worker process died or its connection broke (killed, out of memory)
