@@ -16,7 +16,7 @@ import panel as pn
 from ringlab.lessons.classroom import join_class
 from ringlab.lessons.view import LessonsPanel
 from ringlab.live.session import SessionRuns
-from ringlab.server import joining
+from ringlab.server import gc_policy, joining
 from ringlab.tabs.compare.view import CompareView
 from ringlab.tabs.hydro.view import HydroView
 from ringlab.tabs.linear.view import LinearView
@@ -181,6 +181,7 @@ def configure() -> None:
     """Panel's settings for the app's pages (before the first session: ``panel serve`` or ``ringlab serve``)."""
     pn.extension(sizing_mode="stretch_width", notifications=False, raw_css=[BODY_CSS])
     joining.install_build_order()  # a class opening the link at once gets its first pages while the rest are built
+    gc_policy.startup_done()  # the imported modules out of the garbage collector's scans
 
 
 if __name__.startswith("bokeh"):  # run by `panel serve app/main.py`

@@ -59,6 +59,13 @@ def session_closed() -> None:
         _STATE["closed"] += 1
 
 
+def startup_done() -> None:
+    """The server has imported everything (modules, compiled kernels: ~390,000 objects): out of every scan from
+    now on, without a collection (``gc.freeze`` alone costs nothing).  Else the first automatic full collection
+    scanned them while the first page was built (1.3-1.7 s measured on a loaded machine)."""
+    gc.freeze()
+
+
 def page_built() -> None:
     """A page was just built: its objects live as long as it does, so they (and everything older) are
     frozen now rather than scanned by the collections of the next pages (cost: a young collection, ~10 ms)."""

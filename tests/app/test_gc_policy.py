@@ -76,3 +76,11 @@ def test_a_built_page_is_frozen_at_once_and_its_young_garbage_collected(policy):
     policy.page_built()
     assert ref() is None
     assert gc.get_freeze_count() > 0 and not any(o is page for o in gc.get_objects())  # out of every scan
+
+
+def test_what_start_up_made_is_out_of_every_scan_without_a_collection(policy):
+    loaded = Node()
+    loaded.self = loaded  # a module's objects: alive as long as the server
+    gc.unfreeze()
+    policy.startup_done()
+    assert gc.get_freeze_count() > 0 and not any(o is loaded for o in gc.get_objects())
