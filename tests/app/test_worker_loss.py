@@ -149,3 +149,33 @@ def test_the_healer_replaces_a_worker_its_nanny_does_not_bring_back(backend):
         heal.registered_names = real
     assert gone in cluster.worker_spec or len(cluster.worker_spec) == 2
     assert wait_workers(backend, 2, HEAL_WITHIN_S) == 2
+
+
+def test_the_cluster_ringlab_serve_shares_replaces_its_killed_workers():
+    """``ringlab serve`` starts one cluster in a child process for its server processes
+    (:class:`ringlab.server.cluster.LocalClusterProcess`): its workers come back after both were killed."""
+    from ringlab.server.cluster import LocalClusterProcess
+    cluster = LocalClusterProcess(2)
+    client = distributed.Client(cluster.address, timeout=30)
+    try:
+        t_end = time.monotonic() + HEAL_WITHIN_S
+        while len(client.nthreads()) < 2 and time.monotonic() < t_end:
+            time.sleep(0.2)
+        before = client.run(os.getpid)
+        assert len(before) == 2
+        for pid in before.values():
+            os.kill(pid, signal.SIGKILL)
+        t_end = time.monotonic() + HEAL_WITHIN_S
+        while time.monotonic() < t_end:
+            try:
+                now = client.run(os.getpid) if client.nthreads() else {}
+            except OSError:  # a dead worker still listed a moment
+                now = {}
+            if len(now) == 2 and not set(now.values()) & set(before.values()):
+                break
+            time.sleep(0.5)
+        else:
+            pytest.fail(f"the shared cluster has {len(client.nthreads())} workers {HEAL_WITHIN_S:g} s after the kill")
+    finally:
+        client.close()
+        cluster.close()
