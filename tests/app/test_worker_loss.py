@@ -21,6 +21,7 @@ from ringlab.server import heal, remote, shared
 from ringlab.server.shared_sim import SharedSim
 
 distributed = pytest.importorskip("distributed")
+pytestmark = [pytest.mark.slow]  # clusters started and killed: 20-100 s each on the shared 2-core machine
 
 SMALL = dict(L_x=500.0, h=2.5)  # 200 cells
 END = 30.0  # [orbits]: many chunks after the kill (a chunk computed ahead must not reach it)
