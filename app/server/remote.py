@@ -268,8 +268,9 @@ class RemoteSim:
             b = self._backend()
             self._actor, self._worker, self._key = b.host(self._local.snapshot())
         except Exception as exc:
+            if not self._retry_at:  # once per run (it asks again every RETRY_S while no worker takes it)
+                log.warning(f"live run computes in the server process: no Dask worker took it ({exc!r})")
             self._retry_at = time.monotonic() + RETRY_S
-            log.warning(f"live run computes in the server process: no Dask worker took it ({exc!r})")
             return
         self._fin = weakref.finalize(self, b.forget, self._worker)
         self._local = None
@@ -283,9 +284,8 @@ class RemoteSim:
             raise WorkerLost(str(exc)) from exc
 
     def _recover(self, exc) -> None:
-        """The worker holding the run is gone: the run continues in a local engine restored from the last
-        light state shown (bit for bit the kept state; the worker's recorder series before it are lost, the
-        samples shown from them are kept by the page), and goes to a worker again at the next chunk."""
+        """The worker is gone: the run continues here from the last light state shown (bit for bit; the worker's
+        recorder series before it are lost, the page keeps its samples), on a worker again at the next chunk."""
         fresh = self._shown.meta is not None  # restored from a light state: no sample callbacks yet
         engine = self._shown.engine()
         if fresh:
