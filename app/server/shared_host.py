@@ -7,9 +7,10 @@ from __future__ import annotations
 import collections
 import logging
 import math
+import time
 
 from ringlab.server.engine_host import EngineHost, cancel_queued
-from ringlab.server.remote import MIN_CHUNK_S, RemoteSim
+from ringlab.server.remote import MIN_CHUNK_S, RETRY_S, RemoteSim
 
 AHEAD = 2  # chunks a worker computes ahead of the sessions following its run
 MAX_AHEAD_WALL_S = 0.5  # [s] longest of those chunks (a session leaving waits for them: Pause, a setting change)
@@ -69,17 +70,22 @@ class _RemoteHost:
         self.arrived = {}  # seq -> chunk result taken from a future but not yet handed on
         self.expect = 1  # seq of the next chunk to hand on
         self.actor = self.worker = self.key = None
+        self.retry_at = 0.0  # time.monotonic() after which an engine computing here asks for a worker again
         self._place(state)
 
     def _place(self, state) -> None:
-        """The engine of ``state`` on a worker, else in this process."""
+        """The engine of ``state`` on a worker; else (no worker took it) it goes on in this process, and asks
+        for a worker again after :data:`ringlab.server.remote.RETRY_S`."""
         try:
             self.actor, self.worker, self.key = self.backend.host(state)
-            self.local, self.remote = None, True
         except Exception as exc:  # no worker (all lost, being replaced): the lab goes on in this process
-            log.warning(f"shared live run computes in the server process: no Dask worker took it ({exc!r})")
-            self.actor = self.worker = self.key = None
-            self.local, self.remote = EngineHost(state, renice=False), False
+            self.retry_at = time.monotonic() + RETRY_S
+            if self.local is None:
+                log.warning(f"shared live run computes in the server process: no Dask worker took it ({exc!r})")
+                self.actor = self.worker = self.key = None
+                self.local, self.remote = EngineHost(state, renice=False), False
+            return
+        self.local, self.remote, self.expect = None, True, 1  # a new actor numbers its chunks from 1
 
     def _rehost(self, exc) -> None:
         """The worker is lost: place the engine again from the newest state handed on (chunks queued on the
@@ -115,6 +121,8 @@ class _RemoteHost:
         each of ``wall_s`` seconds (the followers' period between takes).  Taking all the finished ones keeps
         the worker computing however seldom the pages take: the run's speed does not fall with the frame rate."""
         wall = max(self.max_wall_s, min(wall_s or 0.0, MAX_AHEAD_WALL_S))
+        if self.local is not None and time.monotonic() >= self.retry_at:
+            self._place(self.last)  # back on a worker once the cluster has one again
         if self.local is not None:
             return self._kept([self.local.advance(orbits, until, wall)])
         if not self.pending and self.expect not in self.arrived:
