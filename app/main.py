@@ -16,7 +16,7 @@ import panel as pn
 from ringlab.lessons.classroom import join_class
 from ringlab.lessons.view import LessonsPanel
 from ringlab.live.session import SessionRuns
-from ringlab.server import joining
+from ringlab.server import gc_policy, joining
 from ringlab.tabs.compare.view import CompareView
 from ringlab.tabs.hydro.view import HydroView
 from ringlab.tabs.linear.view import LinearView
@@ -26,6 +26,7 @@ from ringlab.tabs.saturation import SaturationView
 from ringlab.ui.present import page_styles, plain_figure, present_figure
 from ringlab.ui.about import AboutCite
 from ringlab.ui.lazy_tabs import LazyTabs, LazyViews
+from ringlab.ui.reconnect import Reconnect
 
 TABS = [
     ("Linear theory", LinearView),
@@ -103,7 +104,8 @@ def create_app(args: dict | None = None) -> pn.Column:
     side = pn.Column(lessons, AboutCite(), width=SIDE_PX, styles={"flex": f"0 1 {SIDE_PX}px"}, margin=(0, 5),
                      stylesheets=[SIDE_CSS], css_classes=["side-panel"])
     body = pn.FlexBox(tabs, side, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")
-    app = pn.Column(top, body, sizing_mode="stretch_width", margin=0, styles=page_styles(False))
+    # Reconnect: the page reloads itself once a restarted server is back (progress and answers from the browser)
+    app = pn.Column(top, body, Reconnect(), sizing_mode="stretch_width", margin=0, styles=page_styles(False))
     holder["app"] = app
     app.tabs = tabs
     app.lazy = lazy
@@ -182,6 +184,7 @@ def configure() -> None:
     """Panel's settings for the app's pages (before the first session: ``panel serve`` or ``ringlab serve``)."""
     pn.extension(sizing_mode="stretch_width", notifications=False, raw_css=[BODY_CSS])
     joining.install_build_order()  # a class opening the link at once gets its first pages while the rest are built
+    gc_policy.startup_done()  # the imported modules out of the garbage collector's scans
 
 
 if __name__.startswith("bokeh"):  # run by `panel serve app/main.py`

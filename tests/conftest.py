@@ -201,3 +201,10 @@ def pytest_sessionfinish(session):
     import browser_support  # tests/browser_support.py, imported at collection already
 
     browser_support.close_shared()
+
+
+@pytest.fixture(autouse=True)
+def _own_data_folder(tmp_path_factory, monkeypatch):
+    """Every test (and every server it starts) keeps the class roster in a folder of its own
+    (ringlab.live.roster_store), never in the user's ~/.local/share/ringlab nor another test's."""
+    monkeypatch.setenv("RINGLAB_DATA_DIR", str(tmp_path_factory.mktemp("ringlab-data")))

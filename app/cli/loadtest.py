@@ -32,7 +32,9 @@ is the time from opening a page until a message brings it the Hydrodynamics tab'
 browser would show it; this client then builds the document's models, which the server does not pay for),
 ``page_server_cpu_s`` the app processes' CPU seconds per page while they opened (building them, and
 their first frames), ``frames_per_s`` the frames each student received per second (measured window)
-and ``app_process_cores_per_student`` the app process's cores divided by the students.
+and ``app_process_cores_per_student`` the app process's cores divided by the students;
+``event_loop_stall_s`` the longest stop of the server's event loop in the measured window (every page
+waits meanwhile; :mod:`ringlab.server.loop_lag`), with the stalls over 0.2 s and the longest garbage collections.
 Prints one JSON object.
 """
 from __future__ import annotations
@@ -53,6 +55,7 @@ from tornado.ioloop import IOLoop, PeriodicCallback
 
 from ringlab.cli.loadtest_clients import Prober, Student, connect, press, pump
 from ringlab.cli.loadtest_join import join_together, stop_all
+from ringlab.cli import loadtest_lag
 from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.paths import PACKAGE_DIR
 from ringlab.server import fast_defaults, joining
@@ -135,6 +138,7 @@ def run(args) -> dict:
         cluster = LocalCluster(n_workers=2, threads_per_worker=1, processes=True, host="127.0.0.1",
                                dashboard_address="127.0.0.1:0")
         env["RINGLAB_DASK_SCHEDULER"] = cluster.scheduler_address
+    env[loadtest_lag.ENV_FILE] = lag_file = loadtest_lag.lag_path()  # the server's event-loop stalls
     port = free_port()
     server = start_server(port, args.num_procs, env)
     try:
@@ -156,7 +160,7 @@ def run(args) -> dict:
         marks = {}
 
         def mark_start():
-            marks["t0"] = time.perf_counter()
+            marks["t0"], marks["wall0"] = time.perf_counter(), time.time()
             marks["cpu0"], _ = cpu_rss(tree(server.pid) + worker_procs(cluster))
             marks["own0"], _ = cpu_rss(app_procs(server.pid))
             marks["client0"] = time.process_time()
@@ -204,6 +208,9 @@ def run(args) -> dict:
                    frames_per_s=[round(st.frame_rate(marks["t0"], t1), 2) for st in students],
                    app_process_cores_per_student=round(out["server_process_cores"] / max(1, len(students)), 3))
         out["rss_mb_every_30s"] = rss_series
+        time.sleep(1.5)  # the server writes its watch every second
+        # the longest stop of the server's event loop in the measured window (every page waits meanwhile)
+        out["event_loop_stall_s"] = loadtest_lag.read(lag_file, marks["wall0"], marks["wall0"] + (t1 - marks["t0"]))
         if cluster is not None:
             out["dask_worker_rss_mb"] = round(wrss, 0)
             out["server_process_cpu_s_total"] = round(server_only, 1)

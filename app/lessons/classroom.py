@@ -11,6 +11,7 @@ from __future__ import annotations
 import panel as pn
 from panel.io.state import set_curdoc
 
+from ringlab.live import roster_store
 from ringlab.live.roster import ROSTER, Roster, Seat
 from ringlab.server.session_end import on_session_end
 
@@ -40,6 +41,8 @@ def join_class(panel, roster: Roster = ROSTER, session_id: str | None = None, di
         session_id = doc.session_context.id
     if dispatch is None and in_server:
         dispatch = _doc_dispatch(doc)
+    if in_server and roster is ROSTER:
+        roster_store.keep(roster)  # the class's answers survive a restart of the server
 
     def go(lesson: int, step: int, setup: bool = False) -> None:
         panel.goto(lesson, step)
@@ -52,15 +55,22 @@ def join_class(panel, roster: Roster = ROSTER, session_id: str | None = None, di
     panel.param.watch(lambda e: e.new and roster.answered(session_id, e.new["lesson"], e.new["step"],
                                                           e.new["text"], e.new["status"]), "last_answer")
 
+    reported = {}  # "lesson.step" -> the answer last reported from the panel's answers
+
     def identified(*_):
-        if panel.store.browser_key:
-            roster.identify(session_id, panel.store.browser_key)
-            for key, ans in panel.answers.items():  # answers of an earlier visit (restored from the browser)
+        """Report the browser key and the answers of an earlier visit (restored from the browser) once both are
+        here.  The page sends its key, stored text and "loaded" back to back, often in one message: then this
+        runs before the restore has filled the panel's answers, so their arrival is watched too."""
+        if not panel.store.browser_key:
+            return
+        roster.identify(session_id, panel.store.browser_key)
+        for key, ans in list(panel.answers.items()):
+            if reported.get(key) != ans:
                 lesson, step = (int(p) for p in key.split("."))
                 roster.answered(session_id, lesson, step, ans["text"], ans["status"])
+                reported[key] = ans
     panel.store.param.watch(identified, ["browser_key", "loaded"])  # after the restore (attach)
-    # the page may send its key, its storage and "loaded" in one message, and then the restore can come after
-    # identified: the restored answers (judged on the server again, LessonsPanel.restore) are reported when they land
+    # the restored answers (judged on the server again, LessonsPanel.restore) are reported when they land
     panel.param.watch(identified, "answers")
     if in_server:
         on_session_end(lambda: roster.unregister(session_id))

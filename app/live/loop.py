@@ -233,7 +233,8 @@ class LiveLoop:
             self.chunk_waits = (self.chunk_waits + [wait_s])[-20:]
             if error is not None:
                 self.running = False
-                self.status = f"Stopped: the computation failed ({type(error).__name__}: {error})."
+                # the details go to the server's log, never to the page
+                self.status = "Stopped: the computation failed. Press Start to try again, or Reset to begin anew."
                 pn.state.log(f"live run stopped by an error in a chunk: {error!r}{where(error)}")
             if then is not None:
                 then()

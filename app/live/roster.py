@@ -12,9 +12,12 @@ A student is known by a *browser key* when the page reports one (a random id kep
 storage), else by the session id: a reload keeps the student's anonymous name and does not count the
 same student's answer twice.  Answers are kept per student and lesson step (the latest answer counts), so
 the distribution of a question's answers survives a student's reload and is cleared by :meth:`Roster.reset_all`.
+With a store (:meth:`Roster.keep_in`, :mod:`ringlab.live.roster_store`) names and answers are kept on disk as
+well and survive a restart of the server.
 """
 from __future__ import annotations
 
+import logging
 import re
 import threading
 from collections import Counter
@@ -94,11 +97,41 @@ class Roster:
         self._seats: dict[str, Seat] = {}
         self._names: dict[str, int] = {}  # student key -> number of its anonymous name
         self._answers: dict[tuple[int, int], dict[str, Answer]] = {}  # (lesson, step) -> {student key: answer}
+        self._store = None  # a RosterStore keeping names and answers on disk, or None
+
+    # ------------------------------------------------------------ on disk
+    def keep_in(self, store) -> None:
+        """Keep names and answers in ``store`` (a :class:`ringlab.live.roster_store.RosterStore`) from now on,
+        after taking in what it holds (a restarted server's class); stored answers give way to newer ones here."""
+        names, answers = store.load()
+        with self._lock:
+            for key, number in names.items():
+                self._names.setdefault(key, int(number))
+            for step, by_key in answers.items():
+                here = self._answers.setdefault(step, {})
+                for key, (text, status) in by_key.items():
+                    here.setdefault(key, Answer(text, status))
+            self._store = store
+
+    @property
+    def store(self):
+        """The store names and answers are kept in, or None (memory only)."""
+        return self._store
+
+    def _save(self, method: str, *args) -> None:
+        """``store.method(*args)``; a disk that fails is logged, never stops the class (the answers stay here)."""
+        if self._store is None:
+            return
+        try:
+            getattr(self._store, method)(*args)
+        except Exception as exc:
+            logging.getLogger("panel.state").warning(f"class roster not saved to {self._store.path}: {exc!r}")
 
     # ------------------------------------------------------------ sessions
     def _number(self, key: str) -> int:
         if key not in self._names:
             self._names[key] = len(self._names) + 1
+            self._save("name", key, self._names[key])
         return self._names[key]
 
     def register(self, session_id: str, *, lesson: int = 1, step: int = 1, go=None, reset=None,
@@ -126,10 +159,15 @@ class Roster:
             seat.key = browser_key
             if browser_key not in self._names and old in self._names:  # a new browser keeps the page's name
                 self._names[browser_key] = self._names.pop(old)
+                self._save("move_name", old, browser_key)
             seat.name = f"Student {self._number(browser_key)}"
+            moved = False
             for answers in self._answers.values():  # answers given before the key arrived
                 if old in answers:
                     answers[browser_key] = answers.pop(old)
+                    moved = True
+            if moved:
+                self._save("move_answers", old, browser_key)
 
     def unregister(self, session_id: str) -> None:
         """The page left (idempotent); its answers stay in the distributions."""
@@ -154,7 +192,9 @@ class Roster:
         with self._lock:
             seat = self._seats.get(session_id)
             key = seat.key if seat is not None else session_id
-            self._answers.setdefault((lesson, step), {})[key] = Answer(text.strip()[:MAX_TEXT], status)
+            ans = Answer(text.strip()[:MAX_TEXT], status)
+            self._answers.setdefault((lesson, step), {})[key] = ans
+            self._save("answer", lesson, step, key, ans.text, ans.status)
 
     # ------------------------------------------------------------ what the dashboard reads
     def count(self) -> int:
@@ -219,6 +259,7 @@ class Roster:
         """Reset every open page (its lesson progress and its runs) and forget every answer."""
         with self._lock:
             self._answers.clear()
+            self._save("clear_answers")
         return self._send(lambda seat: seat.reset)
 
 

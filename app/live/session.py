@@ -20,7 +20,7 @@ import param
 from panel.io.logging import panel_log_handler
 from tornado.ioloop import IOLoop
 
-from ringlab.server import gc_policy, remote, socket_guard
+from ringlab.server import gc_policy, loop_lag, remote, socket_guard
 
 MAX_POINTS = 200
 
@@ -70,6 +70,7 @@ class SessionRuns(param.Parameterized):
         doc = pn.state.curdoc
         if doc is not None and doc.session_context is not None:  # a served page (not a notebook or a test)
             gc_policy.install(IOLoop.current())  # once per server process: no pauses of seconds with 30 pages
+            loop_lag.install(IOLoop.current())  # the event loop's stalls (logged; read by the load test)
             gc_policy.session_opened()
             pn.state.on_session_destroyed(lambda ctx: gc_policy.session_closed())
 

@@ -84,13 +84,17 @@ class LocalClusterProcess:
 
 def main(argv=None) -> int:
     """Run the cluster: print the scheduler's address, then wait for end of file on standard input."""
-    cluster = local_cluster(int((argv or sys.argv[1:])[0]))
+    from ringlab.server.heal import Healer
+    n = int((argv or sys.argv[1:])[0])
+    cluster = local_cluster(n)
+    healer = Healer(cluster, n)  # lost worker processes are replaced (the server processes recover their runs)
     try:
         print(cluster.scheduler_address, flush=True)
         sys.stdin.read()  # returns when every process holding the pipe's other end has exited
     except KeyboardInterrupt:  # Ctrl-C in the terminal reaches the whole process group
         pass
     finally:
+        healer.stop()
         cluster.close()
     return 0
 

@@ -12,11 +12,15 @@ objects made since the last period and moves the survivors into the collector's 
 (``gc.freeze``) every :data:`FREEZE_PERIOD_S`; collections then scan only what was made since (measured at 30 students:
 pauses of at most 0.6 s instead of 1.5-2.6 s).  Frozen objects that become garbage are still freed by
 reference counting; only garbage *cycles* among them (a closed session's document and models, a
-replaced run) wait for the next full
-collection, which unfreezes everything and collects: at once when sessions have closed and none is
-open, :data:`FULL_AFTER_CLOSE_S` after the last one when sessions have closed while others are open,
-and every :data:`FULL_PERIOD_S` in any case (so memory stays bounded).  Each full collection's pause is
-logged.
+replaced run) wait for the next full collection, which unfreezes everything and collects.
+
+That full collection stops every page for as long as it scans the whole heap: 1.1-8.0 s with a class
+open, 18.3 s with 14 sessions on a busy machine, when it came on a timer (every 5-15 minutes while
+sessions opened and closed).  So it now comes only when nobody waits for it: at once when sessions have
+closed and none is open; while pages are open, only when the process has grown by
+:data:`FULL_GROWTH_MB` since the last one (``RINGLAB_GC_FULL_GROWTH_MB``), i.e. when the garbage of
+closed sessions has become a memory problem -- a pause then, logged as a warning, rather than a server
+that runs out of memory.  Each full collection's pause is logged.
 
 A class joining at once builds 30 pages in well under 30 s, so the periodic freeze came too late for it: the
 startup heap (~390,000 objects: modules, compiled kernels) and the pages built so far were scanned by every
@@ -29,15 +33,16 @@ from __future__ import annotations
 
 import gc
 import logging
+import os
 import threading
 import time
 
 FREEZE_PERIOD_S = 30.0  # [s] objects alive this long are moved out of the collector's scans
-FULL_AFTER_CLOSE_S = 300.0  # [s] sessions closed while others are open: a full collection at most this often
-FULL_PERIOD_S = 900.0  # [s] a full collection at least this often while sessions are open
+FULL_GROWTH_MB = 1024.0  # [MB] growth of the process since the last full collection that calls one with pages open
+ENV_GROWTH = "RINGLAB_GC_FULL_GROWTH_MB"
 
 _LOCK = threading.Lock()
-_STATE = {"installed": False, "closed": 0, "open": 0, "last_full": 0.0}
+_STATE = {"installed": False, "closed": 0, "open": 0, "last_full": 0.0, "rss_full": None}
 log = logging.getLogger("panel.state")
 
 
@@ -54,6 +59,13 @@ def session_closed() -> None:
         _STATE["closed"] += 1
 
 
+def startup_done() -> None:
+    """The server has imported everything (modules, compiled kernels: ~390,000 objects): out of every scan from
+    now on, without a collection (``gc.freeze`` alone costs nothing).  Else the first automatic full collection
+    scanned them while the first page was built (1.3-1.7 s measured on a loaded machine)."""
+    gc.freeze()
+
+
 def page_built() -> None:
     """A page was just built: its objects live as long as it does, so they (and everything older) are
     frozen now rather than scanned by the collections of the next pages (cost: a young collection, ~10 ms)."""
@@ -61,8 +73,32 @@ def page_built() -> None:
     gc.freeze()
 
 
-def full_collection(now: float | None = None) -> float:
-    """Unfreeze, collect everything, freeze again (at ``now``, time.monotonic()); returns the pause [s]."""
+def rss_mb() -> float | None:
+    """This process's resident memory [MB] (Linux ``/proc``; None elsewhere)."""
+    try:
+        with open("/proc/self/statm") as f:
+            return int(f.read().split()[1]) * os.sysconf("SC_PAGE_SIZE") / 2**20
+    except (OSError, ValueError, IndexError):
+        return None
+
+
+def growth_limit_mb() -> float:
+    """:data:`FULL_GROWTH_MB`, or ``RINGLAB_GC_FULL_GROWTH_MB`` (64 to 1e6 MB)."""
+    raw = os.environ.get(ENV_GROWTH, "").strip()
+    if not raw:
+        return FULL_GROWTH_MB
+    try:
+        value = float(raw)
+    except ValueError:
+        value = float("nan")
+    if not 64.0 <= value <= 1e6:
+        raise ValueError(f"{ENV_GROWTH} = {raw!r} is not valid: allowed 64 to 1e6 (MB)")
+    return value
+
+
+def full_collection(now: float | None = None, rss: float | None = None) -> float:
+    """Unfreeze, collect everything, freeze again (at ``now``, time.monotonic(); the process then has ``rss``
+    MB, default measured); returns the pause [s]."""
     t0 = time.perf_counter()
     gc.unfreeze()
     gc.collect()
@@ -70,19 +106,25 @@ def full_collection(now: float | None = None) -> float:
     with _LOCK:
         _STATE["closed"] = 0
         _STATE["last_full"] = time.monotonic() if now is None else now
+        _STATE["rss_full"] = rss_mb() if rss is None else rss
     return time.perf_counter() - t0
 
 
-def tick(now: float | None = None) -> str:
-    """One period: a full collection if it is due (see the module text), else a freeze; returns which."""
+def tick(now: float | None = None, rss: float | None = None) -> str:
+    """One period: a full collection if it is due (see the module text), else a freeze; returns which.
+    ``now`` [s] time.monotonic() and ``rss`` [MB] the process's memory (default: measured)."""
     now = time.monotonic() if now is None else now
+    given, rss = rss, (rss_mb() if rss is None else rss)
     with _LOCK:
-        since = now - _STATE["last_full"]
-        due = (_STATE["closed"] > 0 and (_STATE["open"] == 0 or since >= FULL_AFTER_CLOSE_S)) or since >= FULL_PERIOD_S
+        if _STATE["rss_full"] is None:
+            _STATE["rss_full"] = rss
+        grown = rss is not None and _STATE["rss_full"] is not None and rss - _STATE["rss_full"] >= growth_limit_mb()
+        idle = _STATE["closed"] > 0 and _STATE["open"] == 0
         opened = _STATE["open"]
-    if due:
-        pause = full_collection(now)
-        log.info(f"full garbage collection ({opened} sessions open): {pause:.2f} s")
+    if idle or grown:
+        pause = full_collection(now, given)  # measured after the collection unless given
+        (log.warning if opened else log.info)(f"full garbage collection ({opened} sessions open"
+                                              f"{', memory grown' if grown else ''}): {pause:.2f} s")
         return "full"
     gc.collect()  # the objects not frozen yet (a short pause): only live ones are frozen next
     gc.freeze()
@@ -96,6 +138,7 @@ def install(loop) -> bool:
             return False
         _STATE["installed"] = True
         _STATE["last_full"] = time.monotonic()
+        _STATE["rss_full"] = rss_mb()
 
     def again():
         try:

@@ -1,47 +1,58 @@
 """Live simulations computed in other processes: Dask actors that hold each session's engine.
 
-With ``RINGLAB_COMPUTE=processes`` the app starts a ``distributed.LocalCluster`` of one
-single-threaded worker process per core; with ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` it
-uses an existing Dask cluster (its workers need this project installed:
-``pip install -e .`` of the same version).  ``RINGLAB_COMPUTE=threads`` (or unset without a
-scheduler) keeps the in-process thread pool of :mod:`ringlab.server.compute`.
+With ``RINGLAB_COMPUTE=processes`` the app starts a ``distributed.LocalCluster`` of one single-threaded
+worker process per core; with ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` it uses an existing Dask cluster
+(its workers need this project installed: ``pip install -e .`` of the same version).
+``RINGLAB_COMPUTE=threads`` (or unset without a scheduler) keeps the in-process thread pool of
+:mod:`ringlab.server.compute`.  How a session's run is split between the app server and a worker:
 
-How a session's run is split between the app server and a worker:
+* :class:`EngineHost` (a Dask actor, :mod:`ringlab.server.engine_host`, placed on the worker with the fewest
+  engines) holds the authoritative engine while the run lives on the cluster.  A chunk
+  (:meth:`EngineHost.advance`) returns the engine's state *without* its recorder series (the "light"
+  state: ~30 KB), the samples recorded during the chunk (with the sigma row at each sample time, for the
+  orbit-resolved image) and a blow-up, if any.
+* :class:`RemoteSim` (in the app) stands where the runner's ``Hydro1D`` stood.  Reads (``orbits``,
+  ``sigma``, ``psd()``, ``buffer`` ...) go to a local engine restored from the last light state, i.e.
+  exactly the state the worker keeps (Pause shows the kept state); ``snapshot()`` (export) fetches the
+  complete state from the worker; ``set_buffer`` / ``clear_buffer`` run on the worker.  Until the first
+  chunk, and after :meth:`RemoteSim.detach`, a complete local engine is authoritative instead.
+* A worker lost (its process killed: the out-of-memory killer) takes no run with it: the run continues
+  from its last shown chunk in this process and goes to a worker again at its next chunk
+  (:meth:`RemoteSim._recover`); without a worker the runs compute here.
+* Per-worker fair share: a Dask worker runs actor methods in one thread, first in, first out, and every
+  session has at most one chunk in flight (:mod:`ringlab.live.loop`), so the sessions on a worker take
+  turns; sessions are spread evenly over the workers.
 
-* :class:`EngineHost` (a Dask actor, :mod:`ringlab.server.engine_host`, placed on the worker with the fewest engines) holds the
-  authoritative engine while the run lives on the cluster.  A chunk
-  (:meth:`EngineHost.advance`) returns the engine's state *without* its recorder series
-  (the "light" state: ~30 KB), the samples recorded during the chunk (with the sigma row at
-  each sample time, for the orbit-resolved image) and a blow-up, if any.
-* :class:`RemoteSim` (in the app) stands where the runner's ``Hydro1D`` stood.  Reads
-  (``orbits``, ``sigma``, ``psd()``, ``buffer`` ...) go to a local engine restored from the
-  last light state, i.e. exactly the state the worker keeps (Pause shows the kept state);
-  ``snapshot()`` (export) fetches the complete state from the worker; ``set_buffer`` /
-  ``clear_buffer`` run on the worker.  Until the first chunk, and after :meth:`RemoteSim.detach`,
-  a complete local engine is authoritative instead and no worker holds anything.
-* Per-worker fair share: a Dask worker runs actor methods in one thread, first in, first out,
-  and every session has at most one chunk in flight (:mod:`ringlab.live.loop`), so the sessions on
-  a worker take turns; sessions are spread evenly over the workers.
-
-The numbers are those of an in-process run (the engine contract: ``restore`` continues bit
-for bit and the chunking never changes a run), checked in ``tests/app/test_dask_backend.py``.
+The numbers are those of an in-process run (the engine contract: ``restore`` continues bit for bit and
+the chunking never changes a run), checked in ``tests/app/test_dask_backend.py`` and
+``tests/app/test_worker_loss.py``.
 """
 from __future__ import annotations
 
+import logging
 import math
 import os
+import time
 import threading
 import weakref
 
 from ringcore.engine import engine_class
 
 from ringlab.server.cluster import ENV_WORKERS, LOOPBACK, cores, local_cluster, local_workers  # noqa: F401  (re-exported)
-from ringlab.server.engine_host import EngineHost, LightView, blowup, cancel_queued, light, light_snapshot  # noqa: F401  (the worker side; re-exported)
+from ringlab.server.engine_host import (EngineHost, LightView, blowup, cancel_queued, light,  # noqa: F401  (the worker
+                                        light_snapshot)  # side; re-exported)
+from ringlab.server.dask_backend import DaskBackend  # noqa: F401  (re-exported)
 
 ENV_MODE = "RINGLAB_COMPUTE"
 ENV_SCHEDULER = "RINGLAB_DASK_SCHEDULER"
 MODES = ("auto", "threads", "processes", "dask")
 MIN_CHUNK_S = 0.1  # wall budget of a chunk on a worker at least [s]: amortises the ~10 ms round trip
+RETRY_S = 2.0  # [s] a run computing here because no worker could take it asks again this often
+log = logging.getLogger("panel.state")
+
+
+class WorkerLost(Exception):
+    """The worker holding a run was lost; the run is back in this process at its last shown chunk."""
 
 
 class RemoteSim:
@@ -72,6 +83,8 @@ class RemoteSim:
         self._backend = backend
         self._callbacks = {}
         self._frame = None  # the worker's frame of the shown state (hydro), None when not known
+        self._retry_at = 0.0  # time.monotonic() before which the run computes here (no worker took it)
+        self.recovered = 0  # times the run came back from its last chunk after its worker was lost
         self.kind = engine.kind
         # fixed for the whole run: read here, not from a local engine restored from the newest state
         self.options, self.params = engine.options, engine.params
@@ -147,19 +160,26 @@ class RemoteSim:
         if self._blowup_stash is not None:
             exc, self._blowup_stash = self._blowup_stash, None
             raise exc
-        if self._actor is None:
+        if self._actor is None and time.monotonic() >= self._retry_at:
             self._push()
+        if self._actor is None:  # no worker to take it: this process computes (the lab goes on without them)
+            return self._local.advance(orbits, until=until, max_wall_s=max_wall_s)
+        try:
+            return self._advance_remote(orbits, until, max_wall_s)
+        except WorkerLost:
+            return self._local.advance(orbits, until=until, max_wall_s=max_wall_s)
+
+    def _advance_remote(self, orbits, until, max_wall_s) -> float:
         if max_wall_s is not None:
             max_wall_s = max(max_wall_s, MIN_CHUNK_S)
         args = (orbits, until, max_wall_s)
         pending, self._pending = self._pending, None
         if pending is not None and pending[0] != args:
-            self._take(pending[1].result())
+            self._take(self._result(lambda: pending[1].result()))
             pending = None
-        fut = pending[1] if pending is not None else self._actor.advance(*args)
-        res = fut.result()
+        res = self._result(lambda: (pending[1] if pending is not None else self._actor.advance(*args)).result())
         if self.prefetch and res["blowup"] is None and not self._reached(res["light"], until):
-            self._pending = (args, self._actor.advance(*args))
+            self._pending = (args, self._result(lambda: self._actor.advance(*args)))
         exc = self._take(res, stash=False)
         if exc is not None:
             raise exc
@@ -170,7 +190,10 @@ class RemoteSim:
         is the state the worker keeps (Pause, export)."""
         pending, self._pending = self._pending, None
         if pending is not None:
-            self._take(pending[1].result())
+            try:
+                self._take(self._result(lambda: pending[1].result()))
+            except WorkerLost:  # the run is back here at its last shown chunk
+                pass
 
     @property
     def computing_ahead(self) -> bool:
@@ -201,10 +224,13 @@ class RemoteSim:
 
     def snapshot(self):
         """The complete state (fetched from the worker while it holds the run)."""
-        if self._actor is None:
-            return self._local.snapshot()
         self.settle()
-        return self._actor.snapshot().result()
+        if self._actor is not None:
+            try:
+                return self._result(lambda: self._actor.snapshot().result())
+            except WorkerLost:
+                pass
+        return self._local.snapshot()
 
     def diagnostics(self) -> dict:
         return self.view.diagnostics()
@@ -212,10 +238,14 @@ class RemoteSim:
     # ---------------------------------------------------------------- where the run lives
     def detach(self) -> None:
         """Bring the complete run back into this process and free the worker's copy."""
+        self.settle()
         if self._actor is None:
             return
-        self.settle()
-        self._local = engine_class(self.kind).restore(self._actor.snapshot().result())
+        try:
+            state = self._result(lambda: self._actor.snapshot().result())
+        except WorkerLost:
+            return
+        self._local = engine_class(self.kind).restore(state)
         for fn in self._callbacks.values():
             self._local.on_sample(fn)
         self._shown.reset(self._local)
@@ -233,92 +263,62 @@ class RemoteSim:
             self._fin = None
 
     def _push(self) -> None:
-        b = self._backend()
-        self._actor, self._worker, self._key = b.host(self._local.snapshot())
+        """Hand the run to a worker; without one, the run stays here and asks again after :data:`RETRY_S`."""
+        try:
+            b = self._backend()
+            self._actor, self._worker, self._key = b.host(self._local.snapshot())
+        except Exception as exc:
+            if not self._retry_at:  # once per run (it asks again every RETRY_S while no worker takes it)
+                log.warning(f"live run computes in the server process: no Dask worker took it ({exc!r})")
+            self._retry_at = time.monotonic() + RETRY_S
+            return
         self._fin = weakref.finalize(self, b.forget, self._worker)
         self._local = None
+
+    def _result(self, call):
+        """``call()`` to the worker; if it is lost, the run comes back here (:meth:`_recover`): WorkerLost."""
+        try:
+            return call()
+        except Exception as exc:  # the worker process died or its connection broke (killed, out of memory)
+            self._recover(exc)
+            raise WorkerLost(str(exc)) from exc
+
+    def _recover(self, exc) -> None:
+        """The worker is gone: the run continues here from the last light state shown (bit for bit; the worker's
+        recorder series before it are lost, the page keeps its samples), on a worker again at the next chunk."""
+        fresh = self._shown.meta is not None  # restored from a light state: no sample callbacks yet
+        engine = self._shown.engine()
+        if fresh:
+            for fn in self._callbacks.values():
+                engine.on_sample(fn)
+        key, self._pending = self._key, None
+        self._actor = self._worker = self._key = None
+        if self._fin is not None:
+            self._fin()
+            self._fin = None
+        try:
+            self._backend().free(key)
+        except Exception:
+            pass
+        self._local, self._frame = engine, None
+        self._shown.reset(engine)
+        self.recovered += 1
+        log.warning(f"live run recovered at orbit {engine.orbits:.2f} after its Dask worker was lost ({exc!r})")
 
     def _set_light(self, state) -> None:
         self._shown.show(state)
 
     def _change(self, name, *args) -> None:
-        if self._actor is None:
-            getattr(self._local, name)(*args)
-        else:
-            self.settle()
-            self._set_light(self._actor.call(name, *args).result())
-            self._frame = None  # the worker's frame is of the state before the change
-
-
-class DaskBackend:
-    """A Dask client (own LocalCluster or an existing scheduler) placing :class:`EngineHost` actors."""
-
-    def __init__(self, address: str | None = None, n_workers: int | None = None):
-        from dask.distributed import Client
-        self.cluster = None
-        if address:
-            self.client = Client(address, timeout=30)
-        else:
-            n = n_workers or cores()
-            # scheduler, workers and the dashboard on this machine only, also when the lab serves a class on the
-            # network: the dashboard has no login (a free port on the loopback address)
-            self.cluster = local_cluster(n)
-            self.client = Client(self.cluster)
-        self._lock = threading.Lock()
-        self._count = {}  # worker address -> engines placed there
-        self._freed = set()
-
-    # Worker address -> threads asked of the scheduler (``Client.nthreads``), not ``Client.scheduler_info``: that
-    # returns the client's cached identity, which its periodic update (asking for no workers) can replace between
-    # the fetch and the return -- a class of 30 starting different runs met an empty worker list.
-    def workers(self) -> list:
-        """The cluster's worker addresses, sorted; RuntimeError if it has none."""
-        ws = sorted(self.client.nthreads())
-        if not ws:
-            raise RuntimeError("the Dask cluster has no workers: live runs cannot be placed")
-        return ws
-
-    def slots(self) -> int:
-        """Threads of all workers together (at least 1)."""
-        return max(1, sum(self.client.nthreads().values()))
-
-    def host(self, state):
-        """An :class:`EngineHost` actor holding ``state`` on the least-loaded worker: (actor, address, future)."""
-        held = self.engines_per_worker()
-        with self._lock:
-            ws = self.workers()
-            # the whole cluster's engines first: several app processes (--num-procs) place runs on one cluster
-            addr = min(ws, key=lambda w: (held.get(w, 0), self._count.get(w, 0), w))
-            self._count[addr] = self._count.get(addr, 0) + 1
-        fut = self.client.submit(EngineHost, state, actor=True, workers=[addr], allow_other_workers=False,
-                                 pure=False)
-        return fut.result(), addr, fut
-
-    def engines_per_worker(self) -> dict:
-        """Worker address -> engines (:class:`EngineHost` actors) it holds for any client of the cluster."""
-        held = self.client.has_what()  # one call to the scheduler
-        return {w: sum(str(k).startswith("EngineHost-") for k in keys) for w, keys in held.items()}
-
-    def free(self, fut) -> None:
-        """Drop the actor of ``fut`` from its worker now (whoever else still refers to it)."""
-        try:
-            self.client.cancel([fut], force=True, asynchronous=False)
-        except Exception:  # the cluster is gone: nothing left to free
-            pass
-
-    def forget(self, addr) -> None:
-        with self._lock:
-            if addr in self._count:
-                self._count[addr] = max(0, self._count[addr] - 1)
-
-    def engines_on_workers(self) -> dict:
-        """Engines the workers hold now (for tests and the load test)."""
-        return self.client.run(lambda dask_worker: len(dask_worker.state.actors))
-
-    def close(self) -> None:
-        self.client.close()
-        if self.cluster is not None:
-            self.cluster.close()
+        self.settle()
+        if self._actor is not None:
+            try:
+                self._set_light(self._result(lambda: self._actor.call(name, *args).result()))
+            except WorkerLost:  # the change applies to the run brought back here
+                pass
+            else:
+                self._frame = None  # the worker's frame is of the state before the change
+                return
+        getattr(self._local, name)(*args)
 
 
 def _in_server() -> bool:

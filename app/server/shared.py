@@ -30,24 +30,19 @@ eight different runs, 2.6 GB after 150 s).
 """
 from __future__ import annotations
 
-import collections
-import math
 import os
 import threading
 import time
 
 from ringcore.engine import engine_class
 
-from ringlab.server.engine_host import EngineHost, cancel_queued
-from ringlab.server.remote import MIN_CHUNK_S, RemoteSim
+from ringlab.server.shared_host import AHEAD, MAX_AHEAD_WALL_S, _LocalHost, _RemoteHost, _last  # noqa: F401  (re-exported)
 
 ENV_SHARE = "RINGLAB_SHARE_RUNS"
 JOIN_WINDOW_S = 180.0  # [s] wall time after its start during which a computation accepts new followers
 JOIN_MAX_BYTES = 256e6  # chunks kept from the start at most [bytes] (then no more joining)
 JOIN_TOTAL_BYTES = 256e6  # ... and by all joinable computations of this process together [bytes] (oldest close first)
 WAIT_S = 30.0  # longest wait for another session's chunk before checking again [s]
-AHEAD = 2  # chunks a worker computes ahead of the sessions following its run
-MAX_AHEAD_WALL_S = 0.5  # [s] longest of those chunks (a session leaving waits for them: Pause, a setting change)
 IDLE_FOLLOW_PERIOD_S = 1 / 6  # [s] while the event loop keeps up, a following session takes new chunks this often
 FOLLOW_PERIOD_S = 0.2  # ... and once it lags, this often times the lag factor [s] (5 frames/s and fewer) ...
 MAX_FOLLOW_PERIOD_S = 2.0  # ... and at least this often [s], however busy the event loop (compute.loop_load)
@@ -89,121 +84,6 @@ def computations() -> list:
 def _size(res) -> int:
     n = sum(a.nbytes for a in res["light"].arrays.values())
     return n + sum(s["sigma_row"].nbytes for s in res["samples"] if s.get("sigma_row") is not None)
-
-
-class _LocalHost:
-    """The shared engine in this process (threads backend): a chunk computes in the asking thread."""
-
-    remote = False
-
-    def __init__(self, state, max_wall_s):
-        self.host = EngineHost(state, renice=False)  # the app server's own threads keep their priority
-        self.max_wall_s = max_wall_s
-
-    def next(self, orbits, until, wall_s=None) -> list:
-        return [self.host.advance(orbits, until, self.max_wall_s)]
-
-    def settle(self) -> list:
-        return []
-
-    def snapshot(self):
-        return self.host.snapshot()
-
-    def free(self) -> None:
-        self.host = None
-
-    def adopt(self, last):
-        """The engine itself, for the last follower's own run (without the host's sample callback)."""
-        host, self.host = self.host, None
-        host.sim.remove_callback(host.handle)
-        return host.sim
-
-
-class _RemoteHost:
-    """The shared engine as an :class:`EngineHost` actor on a Dask worker; the next :data:`AHEAD` chunks are
-    computed ahead (queued on the actor) while the sessions draw this one.
-
-    The worker runs an actor's calls one at a time, but each call travels on its own connection, so
-    two calls queued back to back may run in either order: the futures can hold each other's chunks.
-    Every chunk carries its number (``seq``), and the chunks are handed on in that order.
-    """
-
-    remote = True
-
-    def __init__(self, backend, state, max_wall_s):
-        self.backend = backend
-        self.actor, self.worker, self.key = backend.host(state)
-        self.max_wall_s = max(MIN_CHUNK_S, max_wall_s or MIN_CHUNK_S)
-        self.pending = collections.deque()  # queued calls, in the order sent
-        self.arrived = {}  # seq -> chunk result taken from a future but not yet handed on
-        self.expect = 1  # seq of the next chunk to hand on
-
-    def next(self, orbits, until, wall_s=None) -> list:
-        """The next chunk and every following one already computed (in order); queues the following ones,
-        each of ``wall_s`` seconds (the followers' period between takes).  Taking all the finished ones keeps
-        the worker computing however seldom the pages take: the run's speed does not fall with the frame rate."""
-        wall = max(self.max_wall_s, min(wall_s or 0.0, MAX_AHEAD_WALL_S))
-        if not self.pending and self.expect not in self.arrived:
-            self.pending.append(self.actor.advance(orbits, until, wall))
-        out = [self._ordered(wait=True)]
-        while not _last(out[-1], until):
-            res = self._ordered(wait=False)
-            if res is None:
-                break
-            out.append(res)
-        if _last(out[-1], until):
-            self.settle()  # nothing after the end (the queued chunks return without stepping)
-        else:
-            while len(self.pending) + len(self.arrived) < AHEAD:
-                self.pending.append(self.actor.advance(orbits, until, wall))
-        return out
-
-    def _ordered(self, wait: bool):
-        """The chunk numbered :attr:`expect` (waiting for it with ``wait``; else None if not yet computed).
-
-        Chunks run one at a time, so the futures sent before one holding a later chunk are finished or
-        hold the awaited one."""
-        while self.expect not in self.arrived:
-            if not self.pending or not (wait or self.pending[0].done()):
-                return None
-            res = self.pending.popleft().result()
-            self.arrived[res["seq"]] = res
-        self.expect += 1
-        return self.arrived.pop(self.expect - 1)
-
-    def settle(self) -> list:
-        """Every queued chunk, in order (the queue empty afterwards)."""
-        for fut in self.pending:
-            res = fut.result()
-            self.arrived[res["seq"]] = res
-        self.pending.clear()
-        out = [self.arrived.pop(k) for k in sorted(self.arrived)]
-        self.expect += len(out)
-        return out
-
-    def snapshot(self):
-        return self.actor.snapshot().result()
-
-    def free(self) -> None:
-        cancel_queued(self.actor)
-        self.pending.clear()
-        self.backend.free(self.key)
-        self.backend.forget(self.worker)
-
-    def adopt(self, last):
-        """The worker's engine as the last follower's own run (:class:`ringlab.server.remote.RemoteSim`),
-        showing ``last``, the newest chunk result."""
-        b = self.backend
-        return RemoteSim.adopt(lambda: b, self.actor, self.worker, self.key, last)
-
-
-def _last(res, until) -> bool:
-    """No chunk follows ``res``: the run blew up or reached its end time."""
-    return res["blowup"] is not None or _reached(res, until)
-
-
-def _reached(res, until) -> bool:
-    return until is not None and res["light"].meta["t"] / (2.0 * math.pi) >= until - 1e-12
 
 
 class Computation:

@@ -11,6 +11,9 @@ import os
 
 import panel as pn
 
+from ringlab.live import roster_store
+from ringlab.live.roster import ROSTER
+from ringlab.ui.reconnect import Reconnect
 from ringlab.teacher.access import ENV_KEY, GUARD, given_key
 from ringlab.teacher.dashboard import DASH_CSS, TeacherDashboard
 
@@ -44,11 +47,12 @@ def teacher_page(key: str | None = None):
         return refused(blocked=verdict == "blocked")
     dash = TeacherDashboard()
     if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None:
+        roster_store.keep(ROSTER)  # the answers of the class before a restart of the server
         pn.state.add_periodic_callback(dash.refresh, period=REFRESH_MS)
     header = pn.pane.HTML(f'<header class="app-header" style="background:#1f4e79;color:#fff;padding:8px 16px">'
                           f'<h1 style="font-size:22px;margin:0">{TITLE}</h1></header>', sizing_mode="stretch_width",
                           margin=0)
-    return pn.Column(header, dash, sizing_mode="stretch_width", margin=0)
+    return pn.Column(header, dash, Reconnect(), sizing_mode="stretch_width", margin=0)  # reloads after a restart
 
 
 def page_factory(key: str):

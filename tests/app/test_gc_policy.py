@@ -1,7 +1,7 @@
 """Garbage collection of a server with many open pages (ringlab.server.gc_policy): objects alive at a
 period are frozen out of the collector's scans; garbage cycles among them are freed by the full
-collection that follows closed sessions (at once when no session is open, else after
-FULL_AFTER_CLOSE_S) and comes every FULL_PERIOD_S in any case."""
+collection that follows closed sessions once no session is open, and, while pages are open, only
+when the process has grown by FULL_GROWTH_MB (a full collection stopped every page for 1-18 s)."""
 from __future__ import annotations
 
 import gc
@@ -18,7 +18,8 @@ class Node:
 
 @pytest.fixture
 def policy(monkeypatch):
-    monkeypatch.setattr(gc_policy, "_STATE", {"installed": True, "closed": 0, "open": 0, "last_full": 0.0})
+    monkeypatch.setattr(gc_policy, "_STATE", {"installed": True, "closed": 0, "open": 0, "last_full": 0.0,
+                                                 "rss_full": 500.0})
     gc.unfreeze()
     yield gc_policy
     gc.unfreeze()
@@ -30,26 +31,39 @@ def test_frozen_cycles_wait_for_the_full_collection_after_the_last_page_closed(p
     a.self = a  # a cycle, like an open session's document and its models
     ref = weakref.ref(a)
     policy.session_opened()
-    assert policy.tick(now=10.0) == "freeze" and gc.get_freeze_count() > 0
+    assert policy.tick(now=10.0, rss=500.0) == "freeze" and gc.get_freeze_count() > 0
     del a  # the session closes: its cycle is garbage
     gc.collect()
     assert ref() is not None  # frozen: ordinary collections no longer scan it (no pause of seconds)
     policy.session_closed()  # no session open any more: the next period collects everything
-    assert policy.tick(now=20.0) == "full"
+    assert policy.tick(now=20.0, rss=500.0) == "full"
     assert ref() is None
 
 
-def test_with_pages_open_a_closed_sessions_garbage_waits_at_most_the_full_period(policy):
+def test_with_pages_open_no_full_collection_stops_them_until_memory_has_grown(policy):
     policy.session_opened()
     policy.session_opened()
     policy.session_closed()  # one page left, one still streams
-    last = policy._STATE["last_full"]
-    assert policy.tick(now=last + 10.0) == "freeze"  # no pause of seconds for the class
-    t_full = last + policy.FULL_AFTER_CLOSE_S
-    assert policy.tick(now=t_full) == "full"
-    assert policy.tick(now=t_full + 30.0) == "freeze"  # nothing closed since
-    assert policy.tick(now=t_full + policy.FULL_PERIOD_S - 1.0) == "freeze"
-    assert policy.tick(now=t_full + policy.FULL_PERIOD_S) == "full"  # garbage frozen meanwhile is freed too
+    for hours in (0.1, 1.0, 5.0):  # a timer brought a full collection (1-18 s for every page) every 5-15 min
+        assert policy.tick(now=hours * 3600.0, rss=600.0) == "freeze"
+    grown = 500.0 + policy.FULL_GROWTH_MB
+    assert policy.tick(now=6 * 3600.0, rss=grown) == "full"  # the garbage of closed pages became a memory problem
+    assert policy._STATE["closed"] == 0
+    assert policy.tick(now=6 * 3600.0 + 30.0, rss=grown + 10.0) == "freeze"  # measured again from there
+
+
+def test_the_growth_limit_from_the_environment_is_checked(policy, monkeypatch):
+    monkeypatch.setenv(policy.ENV_GROWTH, "256")
+    assert policy.growth_limit_mb() == 256.0
+    for bad in ("0", "abc", "nan", "1e9"):
+        monkeypatch.setenv(policy.ENV_GROWTH, bad)
+        with pytest.raises(ValueError, match="RINGLAB_GC_FULL_GROWTH_MB"):
+            policy.growth_limit_mb()
+
+
+def test_this_process_memory_is_read():
+    rss = gc_policy.rss_mb()
+    assert rss is None or 1.0 < rss < 1e6
 
 
 def test_a_built_page_is_frozen_at_once_and_its_young_garbage_collected(policy):
@@ -62,3 +76,11 @@ def test_a_built_page_is_frozen_at_once_and_its_young_garbage_collected(policy):
     policy.page_built()
     assert ref() is None
     assert gc.get_freeze_count() > 0 and not any(o is page for o in gc.get_objects())  # out of every scan
+
+
+def test_what_start_up_made_is_out_of_every_scan_without_a_collection(policy):
+    loaded = Node()
+    loaded.self = loaded  # a module's objects: alive as long as the server
+    gc.unfreeze()
+    policy.startup_done()
+    assert gc.get_freeze_count() > 0 and not any(o is loaded for o in gc.get_objects())
