@@ -6,6 +6,7 @@ import sqlite3
 
 import pytest
 
+from ringlab.lessons.verdict import rejudged
 from ringlab.lessons.classroom import join_class
 from ringlab.lessons.memory import encode
 from ringlab.lessons.view import LessonsPanel
@@ -121,5 +122,7 @@ def test_restored_answers_reach_the_roster_however_the_pages_updates_arrive(arri
     else:
         store.value, store.loaded, store.browser_key = stored, True, "bk"
     got = {f"{lesson}.{step}": r.distribution(lesson, step).counts for lesson, step in r.answered_steps()}
-    assert got == {k: [(a["text"], a["status"], 1)] for k, a in ANSWERS.items()}
+    # every restored answer arrives, with the server's own verdict (the browser's status is never trusted)
+    assert got == {k: [(a["text"], a["status"], 1)] for k, a in rejudged(ANSWERS, "fast").items()}
+    assert got["1.1"] == [("49", "wrong", 1)]  # stored as "correct" by the browser
     assert r.seats()[0]["name"] == "Student 1"
