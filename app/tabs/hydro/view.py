@@ -18,12 +18,14 @@ import time
 import panel as pn
 import param
 
+from ringlab.lessons.resume import leave
 from ringlab.lessons.tutorials import tab_links
 from ringlab.live.hydro import HydroRunner
 from ringlab.model.connect import allowed_wavelengths
 from ringlab.model.controls import set_labels
 from ringlab.model.hydro_settings import SETTINGS_PARAMS
 from ringlab.server.session_end import on_session_end
+from ringlab.tabs.hydro.gone import GoneNote
 from ringlab.tabs.hydro.plots import HydroPlots
 from ringlab.tabs.shared import ExportPanel, restore_widgets
 from ringlab.ui.checked_input import CheckedInputs
@@ -98,6 +100,7 @@ class HydroView(pn.viewable.Viewer):
         self.checked = {}
         self.keeper = r.keeper  # the runner keeps the run a setup change replaced
         self.kept, self.restore_button = restore_widgets(self.keeper, "hydro", CSS)
+        self.gone = GoneNote(r, self.runs)  # "your run is no longer on the server" + "Set up this step"
         r.settings.param.watch(lambda e: show_message(self.model_note, e.new, "ok"), "model_note")
         self._last_rate = (math.nan, math.nan)
         self.buttons = self._buttons()
@@ -112,8 +115,19 @@ class HydroView(pn.viewable.Viewer):
         self._on_frame()
         self._on_problems()
         self._on_running()
-        on_session_end(r.close)
+        # a page that leaves (reload, dropped connection) parks its run for the browser's next page
+        on_session_end(lambda: leave(r, self.runs))
         self._sync_location()
+        if served():  # the page's first document may predate rows added before its websocket took patches:
+            pn.state.onload(self._redraw_whole)  # once it is there, the whole space-time diagram is sent again
+
+    def show_gone(self, text: str) -> None:
+        """Say that the browser's previous run is gone (``text``) and offer "Set up this step"."""
+        self.gone.show(text)
+
+    def _redraw_whole(self) -> None:
+        self.plots.canvas.forget()
+        self._on_frame(force=True)
 
     def reset(self, *_):
         """Reset: fields holding a value that was not used go back to the value in use, invalid
@@ -196,7 +210,7 @@ class HydroView(pn.viewable.Viewer):
         explanation = pn.Column(explanation, pn.pane.HTML(tab_links("hydro"), stylesheets=[CSS], margin=(0, 10),
                                                           sizing_mode="stretch_width"), sizing_mode="stretch_width")
         controls = wrap_row(*self.buttons.values())
-        kept = wrap_row(self.kept, self.restore_button)
+        kept = wrap_row(self.kept, self.restore_button, self.gone.note, self.gone.button)
         # the run first (buttons, status, space-time diagram, profiles), the readouts under the main plots,
         # the settings form beside it on wide screens and below it on narrow ones (projector-first)
         run = pn.Column(self.header, controls, self.status, kept, self.blowup, self.key, top, self.readouts,
