@@ -21,6 +21,7 @@ import param
 from ringlab.lessons.resume import leave
 from ringlab.lessons.tutorials import tab_links
 from ringlab.live.hydro import HydroRunner
+from ringlab.live.parking import GRACE_S
 from ringlab.model.connect import allowed_wavelengths
 from ringlab.model.controls import set_labels
 from ringlab.model.hydro_settings import SETTINGS_PARAMS
@@ -40,7 +41,7 @@ IMAGE_PERIOD_S = 0.25  # the space-time image is sent at most 4 times per second
 READOUT_PERIOD_S = 0.5  # readout cards and the lambda_p note (HTML panes, ~2-5 ms of server CPU per update) at most
 #                        twice per second
 
-EXPLANATION = publish("""
+EXPLANATION = publish(f"""
 ### What am I looking at?
 The app integrates the paper's hydrodynamic equations, **eq. (nleq)** (mass, radial and azimuthal momentum and
 — in the non-isothermal model — granular temperature, with the pressure and viscosity laws of **eqs. (pres)-(coolfunc)**
@@ -60,7 +61,8 @@ and radial self-gravity), in a periodic box of radial size L<sub>x</sub>, with t
 * **Buffer zone**: a region with viscosity exponent β below β<sub>c</sub> (purple) where waves are damped, as in
   Figure "tau15bufnosg" and Section "Hydrodynamical Integrations with a Buffer-Zone"; it creates a source/sink structure.
 
-The run goes on while you look at other tabs (press Pause to stop it); closing the browser tab stops it.
+The run goes on while you look at other tabs (press Pause to stop it); closing the browser tab pauses it, and a
+reload within {GRACE_S / 60:.0f} minutes brings it back where it was.
 If the scheme fails (a "blow-up": a density or temperature turns negative), the run pauses at the last good state.
 """)
 
@@ -118,16 +120,10 @@ class HydroView(pn.viewable.Viewer):
         # a page that leaves (reload, dropped connection) parks its run for the browser's next page
         on_session_end(lambda: leave(r, self.runs))
         self._sync_location()
-        if served():  # the page's first document may predate rows added before its websocket took patches:
-            pn.state.onload(self._redraw_whole)  # once it is there, the whole space-time diagram is sent again
 
     def show_gone(self, text: str) -> None:
         """Say that the browser's previous run is gone (``text``) and offer "Set up this step"."""
         self.gone.show(text)
-
-    def _redraw_whole(self) -> None:
-        self.plots.canvas.forget()
-        self._on_frame(force=True)
 
     def reset(self, *_):
         """Reset: fields holding a value that was not used go back to the value in use, invalid
