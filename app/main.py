@@ -116,7 +116,9 @@ def create_app(args: dict | None = None) -> pn.Column:
     app.lessons = lessons
     app.side = side
     app.present = present
-    app.resumer = Resumer(runs, tabs, lessons.store, memo)  # a reload gets the browser's run back
+    named = _query_value(args, "tab")
+    # a reload gets the browser's run back (on its tab, unless the address names one)
+    app.resumer = Resumer(runs, tabs, lessons.store, memo, address_tab=named if named in TAB_KEYS else None)
     present.param.watch(lambda e: set_presentation(app, e.new), "value")
     apply_query(app, args)
     return app
@@ -193,7 +195,7 @@ def _autostart(app: pn.Column, runner) -> None:
     if resumer is None or doc is None or doc.session_context is None:
         runner.start()
         return
-    resumer.then(lambda outcome: outcome == "none" and runner.start())
+    resumer.then(lambda outcome: resumer.holds(runner) or runner.start())
 
 
 def configure() -> None:

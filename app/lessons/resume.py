@@ -92,10 +92,14 @@ class Resumer:
         The lessons' store (its ``browser_key``) and the run memo's store (:data:`MEMO_KEY`).
     lot : Lot
         Where runs are parked.
+    address_tab : str or None
+        The tab the page address names (``?tab=nbody``): it stays shown (a link wins, as for a lesson step);
+        None: the run's tab is shown.
     """
 
-    def __init__(self, runs, tabs, store, memo, lot: Lot = LOT):
+    def __init__(self, runs, tabs, store, memo, lot: Lot = LOT, address_tab: str | None = None):
         self.runs, self.tabs, self.store, self.memo, self.lot = runs, tabs, store, memo, lot
+        self.address_tab = address_tab
         self.outcome = None  # "back", "gone" or "none" once resolved
         self._then = []
         self._memo_at = -1e9
@@ -111,6 +115,11 @@ class Resumer:
             self._then.append(fn)
         else:
             fn(self.outcome)
+
+    def holds(self, runner) -> bool:
+        """True if ``runner`` got its browser's run back, or shows that it is gone (autostart leaves it alone)."""
+        built = self.runs.built("hydro")
+        return self.outcome in ("back", "gone") and built is not None and built[1] is runner
 
     def _check(self, *_) -> None:
         if self.outcome is not None or not (self.store.loaded and self.memo.loaded):
@@ -143,7 +152,8 @@ class Resumer:
                                            f"reloaded): press Start to go on.{note}")
             if note:
                 stop_after(runner, stop - runner.sim.orbits)
-        self.tabs.active = self.runs.positions.get(tab, self.runs.positions.get("hydro", self.tabs.active))
+        if self.address_tab is None:
+            self.tabs.active = self.runs.positions.get(tab, self.runs.positions.get("hydro", self.tabs.active))
         return "back" if spot is not None else "gone"
 
     # ------------------------------------------------------------- the browser's memo of the run

@@ -206,3 +206,20 @@ def test_reset_keeps_the_previous_run_restorable():
     assert "at orbit 2.00" in r.keeper.kept_label
     assert r.keeper.restore()
     assert r.sim.snapshot().checksum() == before and "Restored the previous run" in r.status
+
+
+def test_a_page_address_naming_a_tab_keeps_it_shown_and_autostart_leaves_only_the_restored_run_alone():
+    lot = Lot(clock=Clock())
+    old = ran(2.0)
+    runs, _ = session("browser-4", old)
+    runs.where = lambda: "hydro"
+    assert leave(old, runs, lot)
+    new = HydroRunner(settings=HydroSettings())
+    runs2, _ = session("", new)
+    tabs, store, memo = Tabs(active=POSITIONS["nbody"]), Store(), Store()
+    resumer = Resumer(runs2, tabs, store, memo, lot=lot, address_tab="nbody")  # ?tab=nbody&autostart=1
+    store.param.update(browser_key="browser-4", loaded=True)
+    memo.loaded = True
+    assert resumer.outcome == "back" and new.sim.orbits == pytest.approx(2.0)
+    assert tabs.active == POSITIONS["nbody"]  # the link's tab stays
+    assert resumer.holds(new) and not resumer.holds(HydroRunner(settings=HydroSettings(**SMALL)))
