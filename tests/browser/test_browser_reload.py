@@ -191,3 +191,26 @@ def test_reset_then_restore_previous_run(server):
         assert orbits(page) == before
         assert still(page) == before
         assert not page.js_errors, page.js_errors
+
+
+@pytest.mark.timeout(600)
+def test_a_run_that_is_gone_is_announced_with_set_up_this_step(server):
+    """The browser remembers a run the server no longer has (a restart, or its grace period is over)."""
+    SHOTS.mkdir(parents=True, exist_ok=True)
+    memo = '{"label":"tau15, σ₀ = 400 kg/m²","orbits":224.0,"tab":"hydro","v":1}'
+    with context(1280, 900, timeout_ms=30_000) as ctx:
+        page = new_page(ctx)
+        page.goto(f"{server.url}?lesson=3&step=1", wait_until="commit", timeout=LOAD_TIMEOUT_MS)
+        page.locator("#lesson-step-title", has_text="Step 1.").wait_for(timeout=LOAD_TIMEOUT_MS)
+        page.evaluate("m => window.localStorage.setItem('ringlab-run', m)", memo)
+        page.reload(wait_until="commit", timeout=LOAD_TIMEOUT_MS)
+        hydro_shown(page)  # the tab the run was on
+        note = page.locator("#hydro-gone")
+        note.wait_for(timeout=60_000)
+        assert "at orbit 224.00" in note.inner_text() and "no longer on the server" in note.inner_text()
+        page.screenshot(path=str(SHOTS / "run_gone_note.png"))
+        page.locator(".hydro-setup-step button").click()
+        page.locator("#lesson-setup-result", has_text="pauses itself").wait_for(timeout=60_000)
+        page.locator("#hydro-status", has_text="Running").wait_for(timeout=60_000)
+        note.wait_for(state="hidden", timeout=30_000)
+        assert not page.js_errors, page.js_errors
