@@ -14,6 +14,7 @@ from __future__ import annotations
 import panel as pn
 
 from ringlab.lessons.classroom import join_class
+from ringlab.lessons.resume import MEMO_KEY, Resumer
 from ringlab.lessons.view import LessonsPanel
 from ringlab.live.session import SessionRuns
 from ringlab.server import gc_policy, joining
@@ -26,6 +27,7 @@ from ringlab.tabs.saturation import SaturationView
 from ringlab.ui.present import page_styles, plain_figure, present_figure
 from ringlab.ui.about import AboutCite
 from ringlab.ui.lazy_tabs import LazyTabs, LazyViews
+from ringlab.ui.local_store import LocalStore
 from ringlab.ui.reconnect import Reconnect
 
 TABS = [
@@ -101,7 +103,10 @@ def create_app(args: dict | None = None) -> pn.Column:
     # the lessons + glossary panel stays beside every tab on wide screens and wraps below on narrow ones
     lessons = LessonsPanel(runs=runs, tabs=tabs)
     join_class(lessons)  # the teacher's dashboard (ringlab.teacher) sees this page's step and answers
-    side = pn.Column(lessons, AboutCite(), width=SIDE_PX, styles={"flex": f"0 1 {SIDE_PX}px"}, margin=(0, 5),
+    kinds = {i: k for k, i in TAB_KEYS.items()}
+    runs.param.update(where=lambda: kinds.get(tabs.active, "linear"), setup_step=lessons.setup)
+    memo = LocalStore(storage_key=MEMO_KEY)  # the browser's memo of its run (a reload says if it is gone)
+    side = pn.Column(lessons, AboutCite(), memo, width=SIDE_PX, styles={"flex": f"0 1 {SIDE_PX}px"}, margin=(0, 5),
                      stylesheets=[SIDE_CSS], css_classes=["side-panel"])
     body = pn.FlexBox(tabs, side, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")
     # Reconnect: the page reloads itself once a restarted server is back (progress and answers from the browser)
@@ -113,6 +118,9 @@ def create_app(args: dict | None = None) -> pn.Column:
     app.lessons = lessons
     app.side = side
     app.present = present
+    named = _query_value(args, "tab")
+    # a reload gets the browser's run back (on its tab, unless the address names one)
+    app.resumer = Resumer(runs, tabs, lessons.store, memo, address_tab=named if named in TAB_KEYS else None)
     present.param.watch(lambda e: set_presentation(app, e.new), "value")
     apply_query(app, args)
     return app
@@ -177,7 +185,19 @@ def apply_query(app: pn.Column, args: dict) -> None:
         view = app.views[index]
         runner = getattr(view, "runner", None)
         if runner is not None and hasattr(runner, "start"):
-            pn.state.onload(runner.start)  # at once outside a server (no document)
+            pn.state.onload(lambda: _autostart(app, runner))  # at once outside a server (no document)
+
+
+def _autostart(app: pn.Column, runner) -> None:
+    """Press Start for the class start link, unless the page's browser had a run: in a served page that waits
+    until the page has read its storage; a run that came back stays paused where it was (and where the
+    lesson paused it), and a run that is gone is announced, not replaced (:mod:`ringlab.lessons.resume`)."""
+    doc = pn.state.curdoc
+    resumer = getattr(app, "resumer", None)
+    if resumer is None or doc is None or doc.session_context is None:
+        runner.start()
+        return
+    resumer.then(lambda outcome: resumer.holds(runner) or runner.start())
 
 
 def configure() -> None:

@@ -25,6 +25,7 @@ References: Section 4.1; Eqs. (39), (38).
 from __future__ import annotations
 
 import collections
+import functools
 import io
 import math
 import time
@@ -125,8 +126,8 @@ class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
                                   strobe_row=sim.sigma_dimless.astype(np.float32) if opt.strobe else None))
         # identical runs of several sessions share one computation; chunks on Dask workers (RINGLAB_COMPUTE)
         self.live.engine = sim = SharedSim(sim) if shared.enabled() else remote.wrap(sim)
-        sim.on_sample(self._on_sample)
-        self.blowup = ""
+        sim.on_sample(functools.partial(record_sample, self.live))  # the run's own buffers: a run adopted by
+        self.blowup = ""  # another runner (a page after a reload, ringlab.live.parking) keeps filling its own
         self._apply_buffer()
         self.run_label = setup.label
         self.status = "Running." if self.running else "Ready: press Start."
@@ -156,7 +157,9 @@ class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
                     put_back += revert(s, self._valid_setup)
                 if s.buffer_problem():
                     put_back += revert(s, self._valid_buffer)
+            before = self.keeper.snapshot()
             self._rebuild()
+            self.keeper.replaced(before)  # the run Reset replaced stays restorable ("Restore previous run")
         if put_back:
             self.status = reset_status(put_back, self.running)
 
@@ -249,12 +252,7 @@ class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
 
     def _on_sample(self, sim, sample: dict) -> None:
         """Copy a new sample (pushed by the solver right after recording it) into the live buffers."""
-        t = sample["orbit"]
-        self.series.add(t, e_kin=sample["e_kin"], lambda_p=sample["lambda_p_m"])
-        row = sample.get("sigma_row")  # [cluster] a worker's chunk: the profile at the sample time
-        self.orbit_image.add(t, sim.U[0] if row is None else row)
-        if sample.get("strobe_row") is not None:
-            self.strobe_image.add(t, sample["strobe_row"])
+        record_sample(self.live, sim, sample)
 
     @property
     def thinned(self) -> bool:
@@ -306,6 +304,22 @@ class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
         s = self.settings
         return f"hydro_{s.param_set}_s{s.sigma0:g}_t{self.sim.orbits:.0f}orb.nc"
 
+    def hand_off(self) -> dict | None:
+        """The page left: stop for good and give the run away, as the keeper's snapshot with its engine brought
+        into this process (:mod:`ringlab.live.parking` keeps it for the browser's next page); the runner shows
+        nothing afterwards.  None if there is no run."""
+        self._mark_closed()  # [classroom] no more chunks or frames
+        self.pause()
+        with self.compute_lock:  # after the chunk in flight
+            snap = self.keeper.snapshot()
+            if snap is not None and hasattr(snap["run"].engine, "detach"):
+                snap["run"].engine.detach()  # a shared computation's chunks taken; a worker's copy brought here
+                snap = self.keeper.snapshot()
+            self.live = None
+        self.keeper.discard()
+        self.status = "Closed."
+        return snap
+
     def close(self, *_):
         """Stop and free the simulation (the browser tab was closed)."""
         self._mark_closed()  # [classroom] no more chunks or frames
@@ -316,3 +330,13 @@ class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
             self.sim.release()  # a worker drops its copy; a shared computation loses a follower
         self.live = None
         self.status = "Closed."
+
+
+def record_sample(run: HydroRun, sim, sample: dict) -> None:
+    """Copy a new sample of ``run`` (pushed by the solver right after recording it) into its live buffers."""
+    t = sample["orbit"]
+    run.series.add(t, e_kin=sample["e_kin"], lambda_p=sample["lambda_p_m"])
+    row = sample.get("sigma_row")  # [cluster] a worker's chunk: the profile at the sample time
+    run.orbit_image.add(t, sim.U[0] if row is None else row)
+    if sample.get("strobe_row") is not None:
+        run.strobe_image.add(t, sample["strobe_row"])

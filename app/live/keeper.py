@@ -70,6 +70,17 @@ class RunKeeper(param.Parameterized):
         snap = self._kept
         if snap is None:
             return False
+        self._kept = None
+        self.kept_label = ""
+        self._put_back(snap, f"Restored the previous run at orbit {snap['orbits']:.2f}.")
+        return True
+
+    def adopt(self, snap: dict, status: str) -> None:
+        """Show ``snap``, a run of another runner (a page before a reload, :mod:`ringlab.live.parking`), with its
+        settings; the current run is kept as the previous run if it had run.  The runner must be paused."""
+        self._put_back(snap, status)
+
+    def _put_back(self, snap: dict, status: str) -> None:
         r = self.runner
         with r.compute_lock:  # [classroom] never while a chunk computes
             current = self.snapshot()
@@ -77,19 +88,15 @@ class RunKeeper(param.Parameterized):
                 with param.parameterized.batch_call_watchers(r.settings):
                     r.settings.param.update(**snap["values"])
             r.show_run(snap["run"])
-        updates = dict(run_label=snap["run"].label, blowup=snap["blowup"],
-                       status=f"Restored the previous run at orbit {snap['orbits']:.2f}.")
+        updates = dict(run_label=snap["run"].label, blowup=snap["blowup"], status=status)
         if "problems" in r.param:
             updates["problems"] = r.settings.find_problems()
         if "problem" in r.param:
             updates["problem"] = r.settings.find_problem()
         r.param.update(**updates)
         r.frame += 1
-        self._kept = None
-        self.kept_label = ""
         if current is not None and current["orbits"] > 0:
             self._keep(current)
-        return True
 
     def discard(self, *_) -> None:
         """Forget the kept run (frees its memory)."""

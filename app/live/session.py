@@ -61,6 +61,11 @@ class SessionRuns(param.Parameterized):
     builder = param.Callable(default=None, doc="builder(kind) builds the session's tab of that kind (which registers "
                                                "itself); set by ringlab.main, whose tabs are built when first needed.")
     positions = param.Dict(default={}, doc="Kind -> index of its tab in the main pn.Tabs (set by ringlab.main).")
+    browser_key = param.String(default="", doc="The browser's random key (its local storage; '' until read): a run "
+                                               "of a page that left is kept for it (ringlab.live.parking).")
+    where = param.Callable(default=None, doc="where() is the kind of the tab the page shows (set by ringlab.main).")
+    setup_step = param.Callable(default=None, doc="setup_step() applies the lessons' current step (set by "
+                                                  "ringlab.main): offered when a run is gone.")
 
     def __init__(self, **params):
         super().__init__(**params)

@@ -18,12 +18,15 @@ import time
 import panel as pn
 import param
 
+from ringlab.lessons.resume import leave
 from ringlab.lessons.tutorials import tab_links
 from ringlab.live.hydro import HydroRunner
+from ringlab.live.parking import GRACE_S
 from ringlab.model.connect import allowed_wavelengths
 from ringlab.model.controls import set_labels
 from ringlab.model.hydro_settings import SETTINGS_PARAMS
 from ringlab.server.session_end import on_session_end
+from ringlab.tabs.hydro.gone import GoneNote
 from ringlab.tabs.hydro.plots import HydroPlots
 from ringlab.tabs.shared import ExportPanel, restore_widgets
 from ringlab.ui.checked_input import CheckedInputs
@@ -38,7 +41,7 @@ IMAGE_PERIOD_S = 0.25  # the space-time image is sent at most 4 times per second
 READOUT_PERIOD_S = 0.5  # readout cards and the lambda_p note (HTML panes, ~2-5 ms of server CPU per update) at most
 #                        twice per second
 
-EXPLANATION = publish("""
+EXPLANATION = publish(f"""
 ### What am I looking at?
 The app integrates the paper's hydrodynamic equations, **Eq. (1)** (mass, radial and azimuthal momentum and
 — in the non-isothermal model — granular temperature, with the pressure and viscosity laws of **Eqs. (8)-(11)**
@@ -57,7 +60,8 @@ and radial self-gravity), in a periodic box of radial size L<sub>x</sub>, with t
 * **Buffer zone**: a region with viscosity exponent β below β<sub>c</sub> (purple) where waves are damped, as in
   Figure 9 and Section 6.2; it creates a source/sink structure.
 
-The run goes on while you look at other tabs (press Pause to stop it); closing the browser tab stops it.
+The run goes on while you look at other tabs (press Pause to stop it); closing the browser tab pauses it, and a
+reload within {GRACE_S / 60:.0f} minutes brings it back where it was.
 If the scheme fails (a "blow-up": a density or temperature turns negative), the run pauses at the last good state.
 """)
 
@@ -97,6 +101,7 @@ class HydroView(pn.viewable.Viewer):
         self.checked = {}
         self.keeper = r.keeper  # the runner keeps the run a setup change replaced
         self.kept, self.restore_button = restore_widgets(self.keeper, "hydro", CSS)
+        self.gone = GoneNote(r, self.runs)  # "your run is no longer on the server" + "Set up this step"
         r.settings.param.watch(lambda e: show_message(self.model_note, e.new, "ok"), "model_note")
         self._last_rate = (math.nan, math.nan)
         self.buttons = self._buttons()
@@ -111,8 +116,13 @@ class HydroView(pn.viewable.Viewer):
         self._on_frame()
         self._on_problems()
         self._on_running()
-        on_session_end(r.close)
+        # a page that leaves (reload, dropped connection) parks its run for the browser's next page
+        on_session_end(lambda: leave(r, self.runs))
         self._sync_location()
+
+    def show_gone(self, text: str) -> None:
+        """Say that the browser's previous run is gone (``text``) and offer "Set up this step"."""
+        self.gone.show(text)
 
     def reset(self, *_):
         """Reset: fields holding a value that was not used go back to the value in use, invalid
@@ -195,7 +205,7 @@ class HydroView(pn.viewable.Viewer):
         explanation = pn.Column(explanation, pn.pane.HTML(tab_links("hydro"), stylesheets=[CSS], margin=(0, 10),
                                                           sizing_mode="stretch_width"), sizing_mode="stretch_width")
         controls = wrap_row(*self.buttons.values())
-        kept = wrap_row(self.kept, self.restore_button)
+        kept = wrap_row(self.kept, self.restore_button, self.gone.note, self.gone.button)
         # the run first (buttons, status, space-time diagram, profiles), the readouts under the main plots,
         # the settings form beside it on wide screens and below it on narrow ones (projector-first)
         run = pn.Column(self.header, controls, self.status, kept, self.blowup, self.key, top, self.readouts,
