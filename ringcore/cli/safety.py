@@ -29,6 +29,7 @@ import tempfile
 from pathlib import Path
 
 from ..io import check_name, reserve_output
+from ..provenance import command
 from .errors import EnvironmentProblem, UsageError
 
 MEMORY_FRACTION = 0.5  # refuse runs whose estimated memory exceeds this fraction of the machine's RAM
@@ -85,9 +86,10 @@ def _free_space(d: Path, label: str, name: str, nbytes: float, what: str = "") -
 
 
 FILE_INCREMENT = 65536  # [bytes] run files are serialised in memory (HDF5 core driver) in steps of 64 KiB
-# [bytes] HDF5 object header and dimension scale of one variable (1 KiB: never below the serialised size, at most
-# one 64 KiB step above it, for hydro grids of 16 .. 2000 nodes and N-body boxes of 95 .. 9549 particles)
-PER_VARIABLE = 1024
+# [bytes] HDF5 object header and dimension scale of one variable, with its CF attributes (2 KiB: never below the
+# serialised size, at most one 64 KiB step above it, for hydro grids of 16 .. 2000 nodes and N-body boxes of
+# 95 .. 9549 particles; 1 KiB was below it once the files carried CF attributes and character arrays)
+PER_VARIABLE = 2048
 
 
 def record_rates(model) -> dict:
@@ -102,6 +104,9 @@ def record_rates(model) -> dict:
 def run_file_bytes(ds, orbits: float, rates: dict) -> float:
     """Estimated size [bytes] of the run file of ``ds`` after ``orbits`` more orbits appending ``rates`` rows per
     orbit along its record dimensions (see the module docstring)."""
+    from ..io.cf import cf_attrs, file_layout  # as netcdf_bytes writes it: CF attributes, strings as characters
+
+    ds = file_layout(cf_attrs(ds, history=command()))
     attrs = sum(len(str(v)) for v in ds.attrs.values()) + \
         sum(len(str(a)) for v in ds.variables.values() for a in v.attrs.values())
     growth = 0.0  # [bytes per orbit]

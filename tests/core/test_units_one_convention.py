@@ -17,6 +17,7 @@ from ringcore.cli.main import main
 from ringcore.hydro import Hydro1D, HydroOptions
 from ringcore.io import read_run, stamp_run, write_run
 from ringcore.nbody import NBodyOptions, ShearingBox
+from ringcore.io.cf import native_units
 from ringcore.units import E_KIN_UNIT
 
 SIGMA0 = 400.0
@@ -67,9 +68,11 @@ def test_one_e_kin_value_and_unit_everywhere(tmp_path, capsys):
     assert info["summary"]["e_kin"] == pytest.approx(sim.summary()["e_kin"], rel=1e-12)
     # run file read back (and opened plainly)
     ds = read_run(f, kind="hydro")
-    assert ds["e_kin"].attrs["units"] == E_KIN_UNIT and ds["e_kin"].values[-1] == pytest.approx(want, rel=1e-13)
+    assert native_units(ds["e_kin"]) == E_KIN_UNIT and ds["e_kin"].values[-1] == pytest.approx(want, rel=1e-13)
     with xr.open_dataset(f, engine="h5netcdf") as raw:
-        assert raw["e_kin"].attrs["units"] == E_KIN_UNIT and float(raw["e_kin"][-1]) == pytest.approx(want, rel=1e-13)
+        # CF: units "1" (a number), the scale in long_name and the unit ringcore wrote in ringcore_units
+        assert raw["e_kin"].attrs["units"] == "1" and E_KIN_UNIT in raw["e_kin"].attrs["long_name"]
+        assert native_units(raw["e_kin"]) == E_KIN_UNIT and float(raw["e_kin"][-1]) == pytest.approx(want, rel=1e-13)
     # summary: the mean of the same series, in the same unit
     s = sim.summary(last_fraction=0.3)  # samples at 0.15 and 0.2 orbits (no sample on the window's edge)
     last = t >= 0.14
@@ -93,7 +96,7 @@ def test_one_e_kin_in_a_sweep(tmp_path):
     last = t >= t[-1] - 0.25 * (t[-1] - t[0])
     assert want == pytest.approx(np.mean(sim.series()["e_kin_dimless"][last]) * _factor(sim.params), rel=1e-12)
     with xr.open_dataset(tmp_path / "sweep.nc", engine="h5netcdf") as sw:
-        assert sw["e_kin"].attrs["units"] == E_KIN_UNIT == sw.attrs["e_kin_units"]
+        assert native_units(sw["e_kin"]) == E_KIN_UNIT == sw.attrs["e_kin_units"]
         assert float(sw["e_kin"].values.ravel()[0]) == pytest.approx(want, rel=1e-12)
 
 
@@ -197,7 +200,8 @@ def test_one_e_kin_unit_for_an_nbody_run(tmp_path, capsys):
                  "--record-every", "0.05", "--out", str(f), "--no-progress", "--json"]) == 0
     cli = json.loads(capsys.readouterr().out)
     ds = read_run(f, kind="nbody")
-    assert cli["e_kin_units"] == E_KIN_UNIT == ds["ekin"].attrs["units"] == ds.attrs["ekin_units"]
+    assert cli["e_kin_units"] == E_KIN_UNIT == native_units(ds["ekin"]) == ds.attrs["ekin_units"]
+    assert ds["ekin"].attrs["units"] == "1"  # CF: a dimensionless number, the scale in long_name
     from ringcore.engine import load
 
     box = load(f)
