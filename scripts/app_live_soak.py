@@ -23,7 +23,6 @@ Not a test (takes minutes); recipe of ``shared/guides/panel-live-app.md``.
 import json
 import os
 import random
-import re
 import sys
 import tempfile
 import time

@@ -5,7 +5,6 @@ while it runs.
 Usage: .venv/bin/python scripts/run_nbody_overstable.py [--sigma0 0] [--orbits 600] [--out runs/x.nc]
 """
 import argparse
-import math
 import time
 
 import numpy as np

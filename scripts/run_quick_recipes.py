@@ -28,7 +28,7 @@ def main():
     for n in names:
         t0 = time.perf_counter()
         try:
-            res = run_recipe(n, a.mode, a.out)
+            run_recipe(n, a.mode, a.out)
             status = "ok"
         except Exception as exc:  # report and continue
             traceback.print_exc()

@@ -49,8 +49,7 @@ def parse_number(answer, unit: str = "") -> float:
 def _shown(answer, x: float, unit: str) -> str:
     """The student's answer as read: "3.872 orbits", or "1/(2*pi*0.0411) = 3.872 orbits" for a formula
     or another unit, so the student sees what was judged."""
-    u = f" {unit}" if unit else ""
-    text = str(answer).strip()
+    u, text = (f" {unit}" if unit else ""), str(answer).strip()
     number = text[:-len(unit)].strip() if unit and text.lower().endswith(unit.lower()) else text
     try:  # "128.9 m" is plain too: echoing it as "128.9 m = 128.9 m" reads like a formula
         plain = float(number.replace(",", ".")) == x

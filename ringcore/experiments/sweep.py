@@ -298,7 +298,7 @@ def run_sweep(tasks, outdir, scheduler: str | None = None, n_workers: int | None
     SweepResult
         Per-task rows, the aggregate dataset (also written to ``OUTDIR/sweep.nc``), failures, wall time [s].
     """
-    from dask.distributed import Client, LocalCluster
+    from dask.distributed import Client
 
     tasks = list(tasks)
     for t in tasks:

@@ -35,7 +35,6 @@ import sys
 import threading
 import weakref
 
-import numpy as np
 from numba import njit, types
 
 FFTW_ESTIMATE = 1 << 6

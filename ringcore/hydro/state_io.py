@@ -45,7 +45,7 @@ class StateIO(ArchiveMixin):
         return State(self.kind, self.params, self.options, arrays, meta)
 
     @classmethod
-    def restore(cls, state: State) -> "Hydro1D":
+    def restore(cls, state: State) -> "Hydro1D":  # noqa: F821 (the engine this mixin builds)
         """A solver that continues ``state`` (from :meth:`snapshot`) bit for bit."""
         if not isinstance(state, State) or state.kind != cls.kind:
             raise ValueError(f"state = {state!r} is not valid: give a State of kind {cls.kind!r}")
@@ -79,7 +79,7 @@ class StateIO(ArchiveMixin):
         return _engine.state_to_dataset(self.snapshot())
 
     @classmethod
-    def from_dataset(cls, ds) -> "Hydro1D":
+    def from_dataset(cls, ds) -> "Hydro1D":  # noqa: F821 (the engine this mixin builds)
         """Restore a solver (state, time, step count, buffer and records) from :meth:`to_dataset`
         (a Dataset, or a path read with :func:`ringcore.io.read_run`); a file's archive of states
         (:mod:`ringcore.archive`) is kept on and grows as the run continues."""
@@ -95,7 +95,7 @@ class StateIO(ArchiveMixin):
         return _engine.save_state(self.snapshot(), path, complete=complete, archive_of=self, **attrs)
 
     @classmethod
-    def load(cls, path) -> "Hydro1D":
+    def load(cls, path) -> "Hydro1D":  # noqa: F821 (the engine this mixin builds)
         """Continue a run from its file; :class:`ringcore.io.RunFileError` for missing, corrupt,
         foreign, non-hydro or newer files."""
         return cls.from_dataset(_engine.read_dataset(path, cls.kind))

@@ -267,7 +267,7 @@ class Stepping:
         return self.orbits - o0
 
     def run(self, orbits: float | None = None, *, until: float | None = None, progress: bool = False,
-            max_steps: int | None = None, stop=None, max_wall_s: float | None = None) -> "Hydro1D":
+            max_steps: int | None = None, stop=None, max_wall_s: float | None = None) -> "Hydro1D":  # noqa: F821 (the engine this mixin builds)
         """Deprecated: :meth:`advance` (the one way to run), returning the solver (for chaining; the older name)."""
         warn_once("Hydro1D.run", "Hydro1D.advance (returns the orbits advanced)")
         self.advance(orbits, until=until, max_wall_s=max_wall_s, stop=stop, progress=progress, max_steps=max_steps)

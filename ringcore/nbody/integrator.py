@@ -27,7 +27,6 @@ References: Eqs. (49), (48), (54).
 """
 from __future__ import annotations
 
-import math
 
 import numpy as np
 from numba import njit

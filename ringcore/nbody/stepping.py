@@ -158,7 +158,7 @@ class Stepping:
         return self.orbits - orbit0
 
     def run(self, orbits: float | None = None, progress: bool = False, *, until: float | None = None,
-            stop=None) -> "ShearingBox":
+            stop=None) -> "ShearingBox":  # noqa: F821 (the engine this mixin builds)
         """Deprecated: :meth:`advance` (the one way to run; here without a wall budget), returning the box (the
         older name)."""
         warn_once("ShearingBox.run", "ShearingBox.advance (returns the orbits advanced)")

@@ -176,7 +176,7 @@ def _scan_floquet(tr, q_over_k, q_prev):
 
 def _refine(br, lo, hi, q_over_k, bisections):
     """Bisection between an unstable (lo) and a stable (hi) wave train, then interpolation at q*."""
-    (tr_a, fs_a), (tr_b, fs_b) = lo, hi
+    (tr_a, fs_a), (tr_b, _) = lo, hi
     for _ in range(bisections):
         lam = 0.5 * (tr_a.wavelength_m + tr_b.wavelength_m)
         tr = solve_at(br, lam)
@@ -184,7 +184,7 @@ def _refine(br, lo, hi, q_over_k, bisections):
         if fs.growth_rate > STABLE_TOL:
             tr_a, fs_a = tr, fs
         else:
-            tr_b, fs_b = tr, fs
+            tr_b = tr
     q = [fs_a.q_max_over_k]
     ga = fs_a.growth_rate
     gb = floquet(tr_b, q).growth_rate

@@ -22,7 +22,7 @@ from ringlab.lessons import tutorials
 from ringlab.tabs.hydro.view import HydroView
 from ringlab.main import TAB_KEYS, create_app
 from ringlab.tabs.saturation import SWEEP_FILE, SaturationView, load_sweep, unsaturated_sigma0
-from ringcore import linear, params
+from ringcore import linear
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -9,7 +9,6 @@ from __future__ import annotations
 import json
 import re
 
-import panel as pn
 from bokeh.document import Document
 from bokeh.models import Div
 from bokeh.protocol import Protocol

@@ -16,7 +16,7 @@ import pytest
 from ringlab.lessons.glossary import TERMS, glossary_html
 from ringlab.lessons import LESSONS, PRESETS, cite, lesson
 from ringlab.lessons.checks import growth_fit, is_saturated, parse_number, run_check
-from ringlab.lessons.presets import LENGTH_ENV, Targets, apply_preset, length_factor, stop_target
+from ringlab.lessons.presets import LENGTH_ENV, apply_preset, length_factor, stop_target
 from ringlab.lessons.refs import render
 from ringlab.lessons.view import LessonsPanel
 from ringlab.lessons.worksheets import stale, worksheet_html

@@ -56,7 +56,7 @@ def test_carry_uses_the_cores_sigma0_range(view):
 
 @pytest.mark.parametrize("drag_to", [800.0, 150.0])
 def test_readouts_markers_and_legend_follow_the_drag_like_the_curves(view, drag_to):
-    c, m = view.controls, view.model
+    c = view.controls
     c.param.update(param_set="tau15", sigma0=400.0, isothermal=False)
     view.sigma0_slider.value = drag_to  # dragging: value changes, value_throttled not yet
     assert c.sigma0 == 400.0  # the setting itself commits on release

@@ -14,7 +14,6 @@ import re
 import time
 from pathlib import Path
 
-import pytest
 
 from browser_support import ARTIFACTS, context, pytestmark  # noqa: F401
 

@@ -4,7 +4,6 @@ files of the older schema (version 1, before the CF attributes) still load."""
 from __future__ import annotations
 
 import importlib.util
-import json
 import subprocess
 import sys
 from pathlib import Path

@@ -1,5 +1,4 @@
 """Nonlinear wave trains (ringcore.wavetrain): equations, branch start, Floquet spectrum, Hydro1D transport."""
-import math
 
 import numpy as np
 import pytest

@@ -11,7 +11,6 @@ Usage: ``ringcore validate nbody-impacts [--what groundstate growth] [--L-x 25 -
 Exit status 1 if a visco-elastic ground state is more than ``--tol`` off the table.
 """
 import json
-import math
 import time
 
 from ringcore import linear, params
