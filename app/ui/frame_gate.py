@@ -47,6 +47,11 @@ _page_probe = None
 # newest acknowledged number of each document shows how far the page has read (it reads its messages in order).
 _SEQ = itertools.count(1)
 _READ: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+# A notebook page that acknowledges nothing for PAGE_GONE_S seconds after a frame was sent to it has gone (or is
+# stalled): no gate of its document sends more until it acknowledges one.  The kernel is not told when a page
+# closes, and a page patched with new rows or repeated data acknowledges only some frames.
+PAGE_GONE_S = 1.0
+_WAITING: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # document -> first frame sent since an ack
 
 
 def set_page_probe(probe) -> None:
@@ -94,7 +99,8 @@ class FrameGate:
         source.js_on_change("data", ack)  # a frame replaces the source's data ...
         source.js_on_change("patching", ack)  # ... or patches part of it (the space-time diagram's new rows)
         fig.on_change("tags", self._ack)
-        self.fig = fig
+        self.fig, self.source = fig, source
+        self._data_counted = None  # the source's data of the last frame counted in flight (notebook page)
         self.min_period_s, self.timeout_s = float(min_period_s), float(timeout_s)
         self.served_period_s = max(self.min_period_s, 1.0 / max_frame_rate())
         self.max_in_flight = int(max_in_flight)
@@ -106,9 +112,11 @@ class FrameGate:
     def _ack(self, attr, old, new):
         self.acks = min(self.acks + 1, self.sent)
         self.t_ack = time.perf_counter()
+        doc = self.fig.document
+        if doc is not None:
+            _WAITING.pop(doc, None)
         if self._in_flight:
             seq = self._in_flight.popleft()
-            doc = self.fig.document
             if doc is not None and seq > _READ.get(doc, 0):
                 _READ[doc] = seq
 
@@ -126,9 +134,13 @@ class FrameGate:
                 self.acks = self.sent  # frames lost (plot hidden) or the page stalled: start again
                 return True
             return False
-        if page != PAGE or len(self._in_flight) < self.max_in_flight:
+        if page != PAGE:
             return True
         doc = self.fig.document
+        if doc is not None and now - _WAITING.get(doc, now) > PAGE_GONE_S:
+            return False  # the page has gone or stalls
+        if len(self._in_flight) < self.max_in_flight:
+            return True
         if doc is not None and _READ.get(doc, 0) > self._in_flight[-1]:
             self._in_flight.clear()  # the page has read a later frame: these changed nothing there
             return True
@@ -149,5 +161,10 @@ class FrameGate:
             self.t_slot = max(self.t_slot + period, now)
         self.t_sent = now
         self.sent += 1
-        if page == PAGE:  # a notebook page that the kernel hears: its acknowledgement is awaited
+        # a notebook page that the kernel hears acknowledges a frame that replaced the source's data (Bokeh
+        # sends no change for equal data, a repeated frame, so none is awaited; patches, a few new rows, go uncounted)
+        if page == PAGE and self.fig.document is not None:
+            _WAITING.setdefault(self.fig.document, now)
+        if page == PAGE and self.source.data is not self._data_counted:
+            self._data_counted = self.source.data
             self._in_flight.append(next(_SEQ))
