@@ -9,7 +9,8 @@ from __future__ import annotations
 from pathlib import Path
 
 DOCS = Path(__file__).resolve().parents[1]
-PACKAGES = ("ringcore", "ringlab.viz", "ringlab.views")  # documented recursively, each public module on a page of its own
+# documented recursively, each public module on a page of its own
+PACKAGES = ("ringcore", "ringlab.viz", "ringlab.views")
 # modules whose page lists the classes and functions they re-export (their __all__), defined in other modules
 REEXPORTING = ("ringlab.views",)
 

@@ -72,8 +72,9 @@ hydro.runner.param.watch(lambda e: e.new or drawn.append(time.time()), "running"
 def report():
     while True:
         sim = hydro.runner.sim
-        state = dict(n=len(comm_sent), last=comm_sent[-1] if comm_sent else None, paused=paused[-1:], drawn=drawn[-1:], comm_in=comm_in[-3:],
-                     running=hydro.runner.running, status=hydro.runner.status, orbits=sim.frame().orbits if sim is not None else None,
+        state = dict(n=len(comm_sent), last=comm_sent[-1] if comm_sent else None, paused=paused[-1:],
+                     drawn=drawn[-1:], comm_in=comm_in[-3:], running=hydro.runner.running,
+                     status=hydro.runner.status, orbits=sim.frame().orbits if sim is not None else None,
                      time=time.time())
         STATE.with_suffix(".tmp").write_text(json.dumps(state))
         os.replace(STATE.with_suffix(".tmp"), STATE)
@@ -222,7 +223,7 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
         time.sleep(4.0)
         after = kernel_state(state)
         if not (after["running"] and after["orbits"] > before["orbits"]):
-            soft.append(f"the run stopped after the page closed: {after['status']!r} at orbit {after['orbits']}")  # the run goes on
+            soft.append(f"the run stopped after the page closed: {after['status']!r} at orbit {after['orbits']}")
         assert after["last"] < t_close + 2.0, (after, t_close)  # ... but nothing is sent to the gone page
         print(f"{load}: image end {ends[0]:.2f}..{ends[-1]:.2f} orbits in {len(ends)} samples, kernel ahead by "
               f"max {max(lags):.2f} orbits; Pause heard {paused[0] - t_click:.3f} s after the page's click ({paused[0] - t_call:.3f} s after the call); comm messages "
