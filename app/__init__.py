@@ -16,3 +16,14 @@ Beside them, :mod:`ringlab.viz` (HoloViews views of run files and sweeps for res
 
 The app imports :mod:`ringcore`; ringcore never imports the app, panel, param, bokeh or holoviews.
 """
+
+__all__ = ["HydroView", "LinearView", "NBodyView", "PaperView"]
+
+
+def __getattr__(name: str):
+    """``from ringlab import HydroView`` (and LinearView, NBodyView, PaperView): the live views of
+    :mod:`ringlab.views`, imported on first use so that ``import ringlab`` stays light."""
+    if name in __all__:
+        from ringlab import views
+        return getattr(views, name)
+    raise AttributeError(f"module 'ringlab' has no attribute {name!r}")

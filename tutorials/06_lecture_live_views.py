@@ -39,13 +39,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 import panel as pn
 
+from ringlab import HydroView, LinearView, NBodyView, PaperView
 from ringlab.lessons.presets import stop_after
-from ringlab.tabs.hydro.view import HydroView
-from ringlab.tabs.linear.view import LinearView
-from ringlab.tabs.nbody import NBodyView
-from ringlab.tabs.paper.view import PaperView
 
-pn.extension()
+pn.extension(inline=True)  # BokehJS and Panel from the installed packages: the views draw without internet
 HYDRO_ORBITS = 3.0 if QUICK else 300.0  # classroom length of the hydro run [orbits]
 NBODY_ORBITS = 0.1 if QUICK else 5.0  # and of the N-body run [orbits]
 

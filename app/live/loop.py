@@ -39,6 +39,10 @@ from panel.io.state import set_curdoc
 from ringcore.checks import check_real
 
 from ringlab.server import compute, handoff, kernel, socket_guard
+from ringlab.ui import frame_gate
+
+# the views' frame gates ask the kernel whether a notebook page shows them (the ui layer may not import server)
+frame_gate.set_page_probe(kernel.page_state)
 
 PERIOD_MS = 100  # kept for callers; chunks are scheduled back to back now
 RATE_WINDOW_S = 5.0  # [s] wall time the orbits/s readout averages over (chunks arrive in bursts)

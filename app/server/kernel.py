@@ -58,6 +58,7 @@ class KernelTarget:
         self.thread_id = threading.get_ident()
         self._queue = collections.deque()  # callbacks handed over by the workers, run in order
         self._arrived = threading.Event()
+        self.waiting = False  # a cell blocks in wait(): the page's messages (clicks, acknowledgements) wait too
 
     def add_next_tick_callback(self, callback) -> None:
         """Run ``callback()`` on the kernel's main thread (thread-safe), its view changes sent in one push:
@@ -83,13 +84,17 @@ class KernelTarget:
         """Block the calling cell until ``done()`` is true or ``timeout_s`` seconds passed, running the
         callbacks (frames, next chunks) as they arrive; returns ``done()``."""
         t_end = time.perf_counter() + timeout_s
-        while not done():
-            left = t_end - time.perf_counter()
-            if left <= 0:
-                break
-            self._arrived.wait(min(left, 0.1))
-            self._arrived.clear()
-            self.drain()
+        self.waiting = True
+        try:
+            while not done():
+                left = t_end - time.perf_counter()
+                if left <= 0:
+                    break
+                self._arrived.wait(min(left, 0.1))
+                self._arrived.clear()
+                self.drain()
+        finally:
+            self.waiting = False
         return bool(done())
 
 
@@ -133,6 +138,22 @@ def deliver(callback) -> None:
     """Run ``callback()`` (on the kernel's loop) inside :func:`frame_changes`."""
     with frame_changes():
         callback()
+
+
+def page_state(model) -> int:
+    """Is ``model`` shown by a notebook page?  0: no (not in a kernel's loop, a server session's model, or no page
+    has opened its view's comm yet), 1: yes, but a cell blocks the kernel in :meth:`KernelTarget.wait` (the
+    page's messages are not heard until it ends), 2: yes (``ringlab.ui.frame_gate``'s NO_PAGE, PAGE_UNHEARD, PAGE)."""
+    doc = model.document
+    if doc is None or doc.session_context is not None:
+        return 0
+    t = target()
+    if t is None:
+        return 0
+    for _viewable, _root, view_doc, comm in list(pn.state._views.values()):
+        if view_doc is doc and comm is not None and getattr(comm, "_comm", None) is not None:
+            return 1 if t.waiting else 2
+    return 0
 
 
 def push_views() -> int:

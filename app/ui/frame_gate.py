@@ -2,9 +2,12 @@
 often than the server's frame rate allows (``RINGLAB_MAX_FRAME_RATE``, :func:`max_frame_rate`)."""
 from __future__ import annotations
 
+import collections
+import itertools
 import math
 import os
 import time
+import weakref
 
 import panel as pn
 from bokeh.models import CustomJS
@@ -33,6 +36,35 @@ def max_frame_rate() -> float:
     return check_real(RATE_ENV, text, *FRAME_RATE_RANGE) if text else DEFAULT_MAX_FRAME_RATE
 
 
+# How a frame gate asks whether a notebook page shows its plot: NO_PAGE (not in a Jupyter kernel, or no page has
+# opened the view's comm), PAGE (a page has, and the kernel hears its acknowledgements) or PAGE_UNHEARD (a page
+# has, but a cell blocks the kernel in runner.wait(): the page's messages wait until the cell ends, so frames
+# go at the capped rate without acknowledgements).  ringlab.live.loop installs ringlab.server.kernel.page_state
+# (this leaf layer may not import the server layer).
+NO_PAGE, PAGE_UNHEARD, PAGE = 0, 1, 2
+_page_probe = None
+# Frames counted for a notebook page are numbered in the order they are sent (all gates share the count); the
+# newest acknowledged number of each document shows how far the page has read (it reads its messages in order).
+_SEQ = itertools.count(1)
+_READ: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
+# A notebook page that acknowledges nothing for PAGE_GONE_S seconds after a frame was sent to it has gone (or is
+# stalled): no gate of its document sends more until it acknowledges one.  The kernel is not told when a page
+# closes, and a page patched with new rows or repeated data acknowledges only some frames.
+PAGE_GONE_S = 1.0
+_WAITING: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # document -> first frame sent since an ack
+
+
+def set_page_probe(probe) -> None:
+    """Install ``probe(model) -> True | False | None`` (see ``_page_probe``)."""
+    global _page_probe
+    _page_probe = probe
+
+
+def notebook_page(model) -> int:
+    """NO_PAGE, PAGE_UNHEARD or PAGE: is ``model`` shown by a notebook page (see ``_page_probe``)?"""
+    return NO_PAGE if _page_probe is None else _page_probe(model)
+
+
 def served() -> bool:
     """True in a server session (not in a headless test or a notebook)."""
     doc = pn.state.curdoc
@@ -49,7 +81,15 @@ class FrameGate:
     instead of a growing backlog (``shared/guides/panel-live-app.md``).  Frames sent while
     the plot is not shown (hidden tab) are never acknowledged: after ``timeout_s`` the gate
     resynchronises.  In a server session frames come at most ``max_frame_rate()`` per second;
-    outside one (headless tests, a notebook) at most one per ``min_period_s``.  Both are averages: a frame may
+    outside one (headless tests, a kernel without a page) at most one per ``min_period_s``.
+
+    In a notebook page (a Jupyter kernel whose page has opened the view's comm) the same acknowledgements and
+    rate apply, without the resynchronisation: frames the page has not acknowledged stop the next ones until it
+    does, or until it acknowledges a frame of another gate of the document sent after them (the page read these
+    too: a frame that changed nothing in the page, a forced one with the same image, is never acknowledged).
+    A page that has gone (closed tab or notebook; the kernel is not told) so gets no more frames, at most
+    ``max_in_flight`` per plot after it left, while the run goes on; a forced frame (Pause, Start, a setting
+    changed from the page) starts them again once the page acknowledges it.  Both are averages: a frame may
     come up to ``EARLY_FRACTION`` of a period early (frames arrive with jitter), the next is then due one period
     after the time this one was due.
     """
@@ -59,39 +99,72 @@ class FrameGate:
         source.js_on_change("data", ack)  # a frame replaces the source's data ...
         source.js_on_change("patching", ack)  # ... or patches part of it (the space-time diagram's new rows)
         fig.on_change("tags", self._ack)
+        self.fig, self.source = fig, source
+        self._data_counted = None  # the source's data of the last frame counted in flight (notebook page)
         self.min_period_s, self.timeout_s = float(min_period_s), float(timeout_s)
         self.served_period_s = max(self.min_period_s, 1.0 / max_frame_rate())
         self.max_in_flight = int(max_in_flight)
         self.t_sent = self.t_ack = -math.inf
         self.t_slot = -math.inf  # when the last frame was due (perf_counter seconds): the next is due a period later
         self.sent = self.acks = 0
+        self._in_flight = collections.deque()  # numbers (_SEQ) of the frames sent to a notebook page, unacknowledged
 
     def _ack(self, attr, old, new):
         self.acks = min(self.acks + 1, self.sent)
         self.t_ack = time.perf_counter()
+        doc = self.fig.document
+        if doc is not None:
+            _WAITING.pop(doc, None)
+        if self._in_flight:
+            seq = self._in_flight.popleft()
+            if doc is not None and seq > _READ.get(doc, 0):
+                _READ[doc] = seq
 
     def ready(self, now: float) -> bool:
         """May a frame be sent at time ``now`` (time.perf_counter())?"""
         in_server = served()
-        if now < self.t_slot + (1.0 - EARLY_FRACTION) * self._period(in_server):
+        page = NO_PAGE if in_server else notebook_page(self.fig)
+        paced = in_server or page != NO_PAGE
+        if now < self.t_slot + (1.0 - EARLY_FRACTION) * self._period(paced):
             return False
-        if not in_server or self.sent - self.acks < self.max_in_flight:
+        if in_server:
+            if self.sent - self.acks < self.max_in_flight:
+                return True
+            if now - max(self.t_ack, self.t_sent) > self.timeout_s:
+                self.acks = self.sent  # frames lost (plot hidden) or the page stalled: start again
+                return True
+            return False
+        if page != PAGE:
             return True
-        if now - max(self.t_ack, self.t_sent) > self.timeout_s:
-            self.acks = self.sent  # frames lost (plot hidden) or the page stalled: start again
+        doc = self.fig.document
+        if doc is not None and now - _WAITING.get(doc, now) > PAGE_GONE_S:
+            return False  # the page has gone or stalls
+        if len(self._in_flight) < self.max_in_flight:
             return True
-        return False
+        if doc is not None and _READ.get(doc, 0) > self._in_flight[-1]:
+            self._in_flight.clear()  # the page has read a later frame: these changed nothing there
+            return True
+        return False  # a notebook page has not drawn the frames in flight, or has gone: wait for it
 
-    def _period(self, in_server: bool) -> float:
-        return self.served_period_s if in_server else self.min_period_s
+    def _period(self, paced: bool) -> float:
+        return self.served_period_s if paced else self.min_period_s
 
     def mark_sent(self, now: float) -> None:
         """A frame was sent at ``now``: the next is due one period after this one was due (after ``now``, if
         this one was late or was sent without waiting for the gate: a forced frame starts the pacing again)."""
-        period = self._period(served())
+        in_server = served()
+        page = NO_PAGE if in_server else notebook_page(self.fig)
+        period = self._period(in_server or page != NO_PAGE)
         if now < self.t_slot + (1.0 - EARLY_FRACTION) * period:
             self.t_slot = now
         else:
             self.t_slot = max(self.t_slot + period, now)
         self.t_sent = now
         self.sent += 1
+        # a notebook page that the kernel hears acknowledges a frame that replaced the source's data (Bokeh
+        # sends no change for equal data, a repeated frame, so none is awaited; patches, a few new rows, go uncounted)
+        if page == PAGE and self.fig.document is not None:
+            _WAITING.setdefault(self.fig.document, now)
+        if page == PAGE and self.source.data is not self._data_counted:
+            self._data_counted = self.source.data
+            self._in_flight.append(next(_SEQ))

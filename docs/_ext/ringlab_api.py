@@ -1,14 +1,18 @@
 """The API reference of the ringlab site (part of the Sphinx extension :mod:`ringlab_docs`): one page per
-public module of ringcore and of ringlab.viz (the researchers' plotting package), written before autosummary runs; a build that leaves a public function or class
-without a page fails; docstrings show the paper's published equation numbers; references to re-exported names
-resolve to the page where the object is defined.
+public module of ringcore, of ringlab.viz (the researchers' plotting package) and of ringlab.views (the live
+views), written before autosummary runs; a build that leaves a public function or class without a page fails;
+docstrings show the paper's published equation numbers; references to re-exported names resolve to the page
+where the object is defined.
 """
 from __future__ import annotations
 
 from pathlib import Path
 
 DOCS = Path(__file__).resolve().parents[1]
-PACKAGES = ("ringcore", "ringlab.viz")  # documented recursively, each public module on a page of its own
+# documented recursively, each public module on a page of its own
+PACKAGES = ("ringcore", "ringlab.viz", "ringlab.views")
+# modules whose page lists the classes and functions they re-export (their __all__), defined in other modules
+REEXPORTING = ("ringlab.views",)
 
 
 _BARS = None
@@ -123,7 +127,7 @@ def _modules() -> list:
     names = []
     for package in PACKAGES:
         pkg = importlib.import_module(package)
-        names += [package] + [i.name for i in pkgutil.walk_packages(pkg.__path__, f"{package}.")
+        names += [package] + [i.name for i in pkgutil.walk_packages(getattr(pkg, "__path__", []), f"{package}.")
                               if not any(p.startswith("_") for p in i.name.split("."))]
     return names
 
@@ -156,8 +160,9 @@ def _module_page(modname: str, submodules: list) -> str:
 
     mod = importlib.import_module(modname)  # the module itself, even where a function of the package shadows it
     classes, functions = [], []
+    exported = set(getattr(mod, "__all__", ())) if modname in REEXPORTING else set()
     for name, obj in vars(mod).items():
-        if name.startswith("_") or getattr(obj, "__module__", None) != modname:
+        if name.startswith("_") or (getattr(obj, "__module__", None) != modname and name not in exported):
             continue
         if inspect.isclass(obj):
             classes.append(name)
