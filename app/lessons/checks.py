@@ -51,8 +51,9 @@ def _shown(answer, x: float, unit: str) -> str:
     or another unit, so the student sees what was judged."""
     u = f" {unit}" if unit else ""
     text = str(answer).strip()
-    try:
-        plain = float(text.replace(",", ".")) == x
+    number = text[:-len(unit)].strip() if unit and text.lower().endswith(unit.lower()) else text
+    try:  # "128.9 m" is plain too: echoing it as "128.9 m = 128.9 m" reads like a formula
+        plain = float(number.replace(",", ".")) == x
     except ValueError:
         plain = False
     return f"{x:.4g}{u}" if plain else f"{text} = {x:.4g}{u}"

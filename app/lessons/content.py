@@ -77,9 +77,11 @@ PRESETS = {p.name: p for p in (
     Preset("linear-400", "Linear theory: tau15, σ₀ = 400 kg/m², compare 0/400/800", "linear",
            linear=dict(param_set="tau15", sigma0=400.0, isothermal=False, ps_scale=1.0, iso_p_s=1.0,
                        compare_sigma0="0, 400, 800")),
-    Preset("linear-800", "Linear theory: tau15, σ₀ = 800 kg/m²", "linear",
-           linear=dict(param_set="tau15", sigma0=800.0, isothermal=False, ps_scale=1.0, iso_p_s=1.0,
-                       compare_sigma0="0, 400, 800")),
+    # 700, not 800: at 800 kg/m² Toomre's Q0 is 0.999 and the Linear tab rightly warns that the ring is
+    # gravitationally unstable, right above the number the step asks for (Q0 = 1.14 at 700)
+    Preset("linear-700", "Linear theory: tau15, σ₀ = 700 kg/m²", "linear",
+           linear=dict(param_set="tau15", sigma0=700.0, isothermal=False, ps_scale=1.0, iso_p_s=1.0,
+                       compare_sigma0="0, 400, 700")),
     Preset("hydro-nosg", "Hydro: tau15 isothermal (p_s = 1), no self-gravity, white noise — started", "hydro",
            linear=_linear_of(_NOSG), hydro=_hydro(**{**_NOSG, "spacetime": "orbit-resolved"}),
            start=True, fresh=True, run_for=100.0, fast=dict(hydro=_FAST_BOX)),
@@ -145,13 +147,15 @@ class Lesson:
 
 LESSONS = (
     Lesson(1, "What overstability is", "Small radial waves in a dense ring grow and oscillate at about the orbital "
-           "frequency: read growth, oscillation and λ_zero off the exact dispersion relation [[matni]].",
+           "frequency: read growth, oscillation and λ_zero off the exact dispersion relation Det M = 0, [[evp]], "
+           "with the matrix M of [[matni]].",
            "01_linear_theory.py", ("overstability", "beta_c", "lambda_zero", "group_velocity", "lambda_J", "Q0",
                                    "p_s"), (
         Step("The fastest-growing wave", "linear-400",
              "Will the shortest waves grow fastest, or is there a best wavelength? Self-gravity (σ₀ = 400) lifts "
              "the growth rate of waves of a few tens of metres.",
-             "Look at the growth rate ω_R (top left, [[osgrate]]): where it is above zero the ring is overstable. "
+             "Look at the growth rate ω_R (top left, the exact [[evp]]): where it is above zero the ring is "
+             "overstable. "
              "The orange dotted line marks its maximum.",
              Question("Enter the fastest-growing wavelength.", "linear_number", unit="m",
                       args=dict(key="lambda_max_growth_m", rel_tol=0.03),
@@ -164,12 +168,13 @@ LESSONS = (
              Question("In how many orbits does the amplitude of the fastest-growing wave grow tenfold?",
                       "linear_number", unit="orbits", args=dict(key="tenfold_orbits", rel_tol=0.05),
                       hint="ln(10)/(2π ω_R), with ω_R the maximum growth rate in units of Ω.")),
-        Step("The frequency minimum λ_zero", "linear-800",
+        Step("The frequency minimum λ_zero", "linear-700",
              "Self-gravity lowers the oscillation frequency ω_I of long waves, pressure raises it for short ones "
-             "([[osfreq]]), so ω_I has a minimum. Predict: does it move to shorter or longer waves at σ₀ = 800?",
+             "(the long-wave limit [[osfreq]] of the exact curve [[evp]]), so ω_I has a minimum. Predict: does it "
+             "move to shorter or longer waves at σ₀ = 700?",
              "The group velocity v_g = dω_I/dk ([[vg]]) changes sign at the minimum, λ_zero (pink dashed line): "
              "wave packets of shorter waves travel outward, of longer waves inward.",
-             Question("Enter λ_zero at σ₀ = 800 kg/m².", "linear_number", unit="m",
+             Question("Enter λ_zero at σ₀ = 700 kg/m².", "linear_number", unit="m",
                       args=dict(key="lambda_zero_m", rel_tol=0.03),
                       hint="Read the card 'λ_zero (v_g = 0)'; it is where the bottom-left curve crosses zero.")),
         Step("Why the ring is overstable at all", "linear-400",
@@ -238,11 +243,11 @@ LESSONS = (
              Question("Enter λ_p of the run with self-gravity.", "hydro_lambda_p", unit="m",
                       args=dict(rel_tol=0.1, min_orbits=60.0, compare_empirical=True),
                       hint="Read the card 'λ_p now' when e_kin has stopped growing.")),
-        Step("Predict a denser ring", "linear-800",
+        Step("Predict a denser ring", "linear-700",
              "λ_zero falls as σ₀ rises (lesson 1), roughly like the Jeans wavelength λ_J = c₀²/(Gσ₀), [[jeans]].",
-             "Read λ_zero at σ₀ = 800 kg/m² in the Linear theory tab and multiply by 1.4; compare with the dashed "
+             "Read λ_zero at σ₀ = 700 kg/m² in the Linear theory tab and multiply by 1.4; compare with the dashed "
              "curve of the Saturation tab.",
-             Question("Predict the saturated λ_p at σ₀ = 800 kg/m² from [[lambdasigma]].", "linear_number",
+             Question("Predict the saturated λ_p at σ₀ = 700 kg/m² from [[lambdasigma]].", "linear_number",
                       unit="m", args=dict(key="lambda_p_empirical_m", rel_tol=0.03),
                       hint="λ_p = 1.4 λ_zero; read λ_zero in the Linear theory tab.")),
     )),

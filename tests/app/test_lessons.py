@@ -126,7 +126,7 @@ def test_fresh_preset_restarts_and_continue_preset_keeps_the_run(panel_):
 
 # ---------------------------------------------------------------- lesson 1 and 3.3: linear theory
 def _linear_truth(n, k):
-    p = params.get("tau15", 800.0 if PRESETS[step_of(n, k).preset].linear["sigma0"] == 800.0 else 400.0)
+    p = params.get("tau15", PRESETS[step_of(n, k).preset].linear["sigma0"])
     s = linear.summary(p)
     return {(1, 1): s.lambda_max_growth_m, (1, 2): math.log(10) / (2 * math.pi * s.max_growth_rate),
             (1, 3): s.lambda_zero_m, (1, 4): linear.beta_c(p), (3, 3): 1.4 * s.lambda_zero_m}[(n, k)]

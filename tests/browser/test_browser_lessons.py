@@ -162,7 +162,7 @@ def test_five_lessons_end_to_end(lessons_server):
             s.shot("L1S2")
             s.next()
             s.set_up("Linear theory")
-            page.locator("#ro-q0 .ro-value", has_text="1.00").wait_for()  # sigma0 = 800
+            page.locator("#ro-q0 .ro-value", has_text="1.14").wait_for()  # sigma0 = 700
             lz = number(s.card("ro-lambda-zero"))
             s.expect(lz * 0.7, "wrong")
             s.expect(lz, "correct")

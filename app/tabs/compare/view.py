@@ -62,8 +62,8 @@ restarts **both** at orbit 0, so the comparison stays fair.
   p<sub>s</sub> as set) against the full model with the table's thermal parameters.
 * **Hydrodynamics vs N-body**: the same parameter set (τ, Ω<sub>z</sub>), σ₀ and radial box; the hydrodynamic
   model takes its c<sub>0</sub>, ν<sub>0</sub> from N-body runs of that set ([[tab:hydropar]]). The box
-  starts with the particles' own noise (zones of about 5 m), the fluid with a small white-noise seed, so their
-  e<sub>kin</sub> start far apart; the N-body run computes much more per orbit and sets the common pace.
+  starts with the particles' own noise, and the fluid is seeded with white noise of the same e<sub>kin</sub>, so
+  both e<sub>kin</sub> curves start together; the N-body run computes much more per orbit and sets the common pace.
 """)
 
 

@@ -73,6 +73,16 @@ def _fmt_len(x: float) -> str:
     return "—" if not math.isfinite(x) else (f"{x / 1e3:.3g} km" if x >= 1e4 else f"{x:.4g} m")
 
 
+def _q0_text(q0: float) -> str:
+    """Q0 with enough digits that a value just below 1 never reads "1.00 < 1" (then also called marginal)."""
+    return f"{q0:.3f}, marginal" if q0 > 0.99 else f"{q0:.2f}"
+
+
+def _q0_card(q0: float) -> str:
+    """The card's Q0: three digits near 1, where two would round a marginal ring to "1.00"."""
+    return f"{q0:.3f}" if abs(q0 - 1.0) < 0.01 else f"{q0:.2f}"
+
+
 def format_numbers(n: dict) -> list[tuple[str, str, str, str]]:
     """Readouts as (element id, label, value text, note) rows."""
     if not n:
@@ -81,7 +91,7 @@ def format_numbers(n: dict) -> list[tuple[str, str, str, str]]:
     efold = f"e-folds in {1.0 / (2 * math.pi * g):.3g} orbits" if g > 0 else "no growing wavelength"
     over = "β > β<sub>c</sub>: overstable" if n["beta"] > n["beta_c"] else "β ≤ β<sub>c</sub>: stable at long λ"
     return [
-        ("ro-q0", "Toomre Q<sub>0</sub>", "∞" if not math.isfinite(n["Q0"]) else f"{n['Q0']:.2f}",
+        ("ro-q0", "Toomre Q<sub>0</sub>", "∞" if not math.isfinite(n["Q0"]) else _q0_card(n["Q0"]),
          "no self-gravity" if n["sigma0"] == 0 else "Ωc<sub>0</sub>/(πGσ<sub>0</sub>)"),
         ("ro-lambda-j", "Jeans wavelength λ<sub>J</sub>", _fmt_len(n["lambda_J_m"]),
          "c<sub>0</sub><sup>2</sup>/(Gσ<sub>0</sub>)"),
@@ -244,7 +254,7 @@ class LinearView(pn.viewable.Viewer):
         self.carry.refresh()
         q0 = n.get("Q0", math.inf)
         self.q0_warning.object = (
-            f'<div class="msg-warn" id="linear-q0-warning"><b>Toomre Q<sub>0</sub> = {q0:.2f} &lt; 1.</b> '
+            f'<div class="msg-warn" id="linear-q0-warning"><b>Toomre Q<sub>0</sub> = {_q0_text(q0)} &lt; 1.</b> '
             f'At σ<sub>0</sub> = {n["sigma0"]:g} kg/m² self-gravity wins over pressure: the ring is '
             'gravitationally unstable and forms clumps, not the overstable waves drawn here (these curves '
             'assume a ring that stays uniform). The Hydrodynamics tab refuses such a ring; choose '
