@@ -292,6 +292,13 @@ class LessonsPanel(pn.viewable.Viewer):
         self._render()
         self.setup()
 
+    def restore_progress(self, state: dict) -> None:
+        """Put back the progress and answers a reset forgot (``state``: lesson, step, progress, answers, as the
+        class roster read them before the reset); the step is shown again, not set up (runs are not restored)."""
+        self.param.update(progress=state["progress"], answers=state["answers"])
+        self.goto(state["lesson"], state["step"])
+        self._render()
+
     def restart(self, *_):
         """Forget this lesson's progress and go back to its first step."""
         prog = dict(self.progress)
