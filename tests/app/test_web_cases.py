@@ -125,6 +125,18 @@ def get(url: str) -> tuple[int, str]:
 def test_odd_docs_paths_are_not_found(served):
     base, log = served
     assert get(base + "/docs/index.html")[0] == 200
+    assert get(base + "/docs/") == (200, "<p>docs</p>")
+
+
+def test_docs_without_the_slash_redirects_to_the_site(served):
+    import http.client
+    base, log = served
+    conn = http.client.HTTPConnection(base.split("//")[1], timeout=60)
+    conn.request("GET", "/docs")
+    reply = conn.getresponse()
+    assert reply.status in (301, 302) and reply.getheader("Location") == "/docs/"
+    conn.close()
+    assert get(base + "/docs") == (200, "<p>docs</p>")  # followed
     for path in ("/docs/a%00b", "/docs/index.html%00", "/docs/%00", "/docs/" + "x" * 5000, "/docs/a%01b.html"):
         assert get(base + path)[0] == 404, path
     assert "Traceback" not in log.read_text()
