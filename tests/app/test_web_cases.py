@@ -189,3 +189,20 @@ def test_a_malformed_websocket_message_gets_a_short_error_without_a_traceback(se
     assert reply["content"] == dict(text=socket_guard.ERROR_TEXT, traceback=None)
     assert "Traceback" not in json.dumps(reply)
     assert "no-such-model" in log.read_text()  # the details are in the server's log
+
+
+def test_a_site_of_the_tutorial_pages_only_opens_at_their_index(tmp_path, monkeypatch):
+    from ringlab.lessons import tutorials
+    from ringlab.server import routes
+    from tornado.web import RedirectHandler
+    monkeypatch.setenv(tutorials.ENV, str(tmp_path))
+    (tmp_path / "tutorials" / "nb").mkdir(parents=True)
+    (tmp_path / "tutorials" / "nb" / "index.html").write_text("<p>tutorials</p>")  # `make tutorials-html`
+    assert tutorials.docs_start() == "tutorials/nb/"
+    note = tutorials.docs_note()
+    assert 'href="docs/tutorials/nb/index.html"' in note and "not installed" not in note
+    redirects = {p[0]: p[2]["url"] for p in routes.patterns({"docs": str(tmp_path)}, {"docs": "tutorials/nb/"})
+                 if p[1] is RedirectHandler}
+    assert redirects == {"/docs": "/docs/", "/docs/": "/docs/tutorials/nb/"}
+    (tmp_path / "index.html").write_text("<p>the whole site</p>")  # `make docs`
+    assert tutorials.docs_start() == "" and 'href="docs/index.html"' in tutorials.docs_note()
