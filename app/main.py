@@ -80,6 +80,7 @@ def create_app(args: dict | None = None) -> pn.Column:
     doc = pn.state.curdoc
     if doc is not None and doc.session_context is not None:
         doc.template = VIEWPORT_TEMPLATE
+    joining.local_stylesheets()  # before any component is built (a page built where its websocket landed)
     args = pn.state.session_args if args is None else args
     runs = SessionRuns()
     holder = {}

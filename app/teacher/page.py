@@ -11,6 +11,7 @@ import os
 
 import panel as pn
 
+from ringlab.server.joining import local_stylesheets
 from ringlab.teacher.access import ENV_KEY, GUARD, given_key
 from ringlab.teacher.dashboard import DASH_CSS, TeacherDashboard
 
@@ -38,6 +39,7 @@ def teacher_page(key: str | None = None):
     """The page for this session: the dashboard when the address's ``key`` is ``key`` (default: the
     environment's ``RINGLAB_TEACHER_KEY``), else :func:`refused`.  Wrong keys are counted per address
     (:data:`ringlab.teacher.access.GUARD`: logged, and an address over the limit is refused for a while)."""
+    local_stylesheets()  # before any component is built (a page built where its websocket landed)
     expected = key if key is not None else os.environ.get(ENV_KEY, "")
     verdict = GUARD.check(given_key(pn.state.session_args), expected, client_address())
     if verdict != "ok":
