@@ -24,6 +24,7 @@ from ringlab.tabs.nbody import NBodyView
 from ringlab.tabs.paper.view import PaperView
 from ringlab.tabs.saturation import SaturationView
 from ringlab.ui.present import page_styles, plain_figure, present_figure
+from ringlab.ui.a11y import page_template
 from ringlab.ui.about import AboutCite
 from ringlab.ui.lazy_tabs import LazyTabs, LazyViews
 
@@ -51,8 +52,7 @@ PAGE_CSS = """
 """
 # the page is laid out for the device's width (a phone gets the one-column layout instead of a shrunk desktop
 # page): a block of Panel's page template (panel/_templates/base.html) filled through the session's document
-VIEWPORT_TEMPLATE = ('{% block postamble %}<meta name="viewport" content="width=device-width, initial-scale=1">'
-                     '{% endblock %}')
+VIEWPORT_TEMPLATE = page_template()  # also: keyboard tabs, names, a skip link (ringlab.ui.a11y)
 # the lessons panel beside the tabs stays in view while the page scrolls (its own scrollbar when taller than
 # the window); below the tabs (a narrow window, a phone) it scrolls with the page
 SIDE_PX = 340

@@ -19,6 +19,7 @@ import param
 from ringlab.lessons.content import LESSONS
 from ringlab.lessons.refs import render
 from ringlab.live.roster import ROSTER, UNDO_S
+from ringlab.ui.a11y import button
 from ringlab.ui.style import CSS
 
 DASH_CSS = CSS + """
@@ -145,10 +146,10 @@ class TeacherDashboard(pn.viewable.Viewer):
                                  css_classes=["teacher-send"])
         # resetting the class forgets every answer: it is asked for twice, away from "Send", and can be undone
         self.reset_btn = W.Button(label="Reset everyone…", color="light", css_classes=["teacher-reset"])
-        self.confirm_btn = W.Button(label="Yes, reset every student", color="danger", visible=False,
+        self.confirm_btn = button(label="Yes, reset every student", color="danger", visible=False,
                                     css_classes=["teacher-reset-confirm"])
         self.cancel_btn = W.Button(label="Cancel", color="light", visible=False, css_classes=["teacher-reset-cancel"])
-        self.undo_btn = W.Button(label="Undo the reset", color="warning", visible=False,
+        self.undo_btn = button(label="Undo the reset", color="warning", visible=False,
                                  css_classes=["teacher-reset-undo"])
         self.closed = W.Checkbox(label="Count the answers of closed pages too", value=False,
                                  css_classes=["teacher-closed"])

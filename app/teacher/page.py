@@ -12,6 +12,7 @@ import os
 import panel as pn
 
 from ringlab.server.joining import local_stylesheets
+from ringlab.ui.a11y import page_template
 from ringlab.teacher.access import ENV_KEY, GUARD, given_key
 from ringlab.teacher.dashboard import DASH_CSS, TeacherDashboard
 
@@ -45,6 +46,8 @@ def teacher_page(key: str | None = None):
     if verdict != "ok":
         return refused(blocked=verdict == "blocked")
     dash = TeacherDashboard()
+    if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None:
+        pn.state.curdoc.template = page_template()  # a phone's width; names for Bokeh's checkboxes (ui.a11y)
     if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None:
         pn.state.add_periodic_callback(dash.refresh, period=REFRESH_MS)
     header = pn.pane.HTML(f'<header class="app-header" style="background:#1f4e79;color:#fff;padding:8px 16px">'

@@ -296,3 +296,10 @@ def test_each_row_shows_the_tab_and_the_run():
     html = TeacherDashboard(roster=r).students.object
     assert ">N-body</td>" in html and "N-body: orbit 3.0, " in html and "paused" in html
     assert html.count("no run") == 1
+
+
+def test_enter_in_the_answer_box_checks_the_answer():
+    lp = LessonsPanel(scale="fast")
+    lp.answer_text.value = "not a number"
+    lp.answer_text.enter_pressed = True  # what the page sends for Enter in the box
+    assert lp.attempts == 1 and lp.answers["1.1"]["text"] == "not a number"
