@@ -69,6 +69,8 @@ def run_text(run) -> str:
     if not run:
         return '<span class="none">no run</span>'
     kind, orbit, running = run
+    if not running and float(orbit) == 0.0:
+        return f'{RUN_NAMES.get(kind, "run")}: <span class="other">not started</span>'
     state = '<span class="correct">running</span>' if running else '<span class="other">paused</span>'
     return f'{RUN_NAMES.get(kind, "run")}: orbit {float(orbit):.1f}, {state}'
 
