@@ -226,7 +226,7 @@ def test_five_lessons_end_to_end(lessons_server):
             s.shot("L3S2")
             s.next()
             s.set_up("Linear theory")
-            page.locator("#ro-q0 .ro-value", has_text="1.00").wait_for()
+            page.locator("#ro-q0 .ro-value", has_text="1.14").wait_for()  # sigma0 = 700 (the preset linear-700)
             lz = number(s.card("ro-lambda-zero"))
             s.expect(lz, "wrong")  # lambda_zero itself is not the saturated wavelength
             s.expect(round(1.4 * lz, 1), "correct")
