@@ -9,6 +9,8 @@
     move to the neighbouring tab and open it, Enter and Space open the focused tab;
   - slider handles (noUiSlider) get the slider's title as their name, a checkbox without a label its text, the
     arrow buttons of a number box "Increase"/"Decrease" and the box's label, a file input its hidden label's text;
+  - a settings file (the file input of class ``settings-upload``) over :data:`UPLOAD_LIMIT_BYTES` is refused
+    in the browser with a message, before anything is sent;
   - a "Skip to the lesson" link, the page's first Tab stop, moves the focus to the lesson's answer box
     (or its title).
 
@@ -35,6 +37,7 @@ def button(**params) -> pn.widgets.Button:
     return pn.widgets.Button(**params)
 
 
+UPLOAD_LIMIT_BYTES = 64 * 1024  # [bytes] a settings upload refused in the browser above this (the server's limit)
 SKIP_CSS = (".rl-skip {position: absolute; left: -10000px; top: 4px; z-index: 1000; background: #fff; color: #1f4e79;"
             " padding: 6px 12px; border: 2px solid #1f4e79; font: 16px system-ui, sans-serif;}"
             " .rl-skip:focus {left: 8px;}")
@@ -84,7 +87,32 @@ PAGE_SCRIPT = r"""
       if (text) box.setAttribute("aria-label", text);
     }
   }
-  function fix() { for (const r of roots(document, [])) { fixTabs(r); fixNames(r); } }
+  // a settings file over the limit is refused here, before Bokeh's file input reads it and sends it over the
+  // websocket as one message (50 MB went over the server's 20 MB limit: the page died without a word)
+  function refuse(e) {
+    const input = e.currentTarget, file = input.files && input.files[0];
+    if (!file || file.size <= UPLOAD_LIMIT) return;
+    e.stopImmediatePropagation();
+    input.value = "";
+    const root = input.getRootNode();
+    let msg = root.querySelector(".upload-refused");
+    if (!msg) {
+      msg = document.createElement("div");
+      msg.className = "upload-refused"; msg.setAttribute("role", "alert");
+      msg.style.cssText = "color:#8a0015;font-size:14px;margin-top:4px";
+      input.insertAdjacentElement("afterend", msg);
+    }
+    msg.textContent = file.name + " has " + file.size + " bytes: a settings file has at most " + UPLOAD_LIMIT +
+      " (one saved by this page has about 1 KiB); nothing was sent.";
+  }
+  function guardUploads(r) {
+    if (!r.host || !r.host.classList.contains("settings-upload")) return;
+    for (const input of r.querySelectorAll("input[type=file]:not([data-rl-limit])")) {
+      input.setAttribute("data-rl-limit", String(UPLOAD_LIMIT));
+      input.addEventListener("change", refuse, true);  // before Bokeh's own listener on the same element
+    }
+  }
+  function fix() { for (const r of roots(document, [])) { fixTabs(r); fixNames(r); guardUploads(r); } }
   // Bokeh draws the tab bar again when the open tab changes (once the tab's content arrives from the server):
   // until then, and for a few seconds, a lost focus goes back to the header of the tab opened from the keyboard
   let pending = null;
@@ -141,7 +169,7 @@ PAGE_SCRIPT = r"""
   function start() { skipLink(); fix(); setInterval(fix, 1000); }
   if (document.readyState === "loading") document.addEventListener("DOMContentLoaded", start); else start();
 })();
-""".replace("SKIP_CSS", repr(SKIP_CSS))
+""".replace("SKIP_CSS", repr(SKIP_CSS)).replace("UPLOAD_LIMIT", str(UPLOAD_LIMIT_BYTES))
 
 
 def page_script_html() -> str:

@@ -134,3 +134,39 @@ def test_tabs_work_from_the_keyboard_and_a_skip_link_leads_to_the_lesson(lab):
         page.wait_for_timeout(1200)
         assert page.locator(".bk-tab.bk-active", has_text="Compare").get_attribute("aria-selected") == "true"
         assert not page.js_errors, page.js_errors[:5]
+
+
+def test_the_browser_limit_is_the_servers():
+    from ringlab.live.export import MAX_UPLOAD_BYTES
+    from ringlab.ui.a11y import PAGE_SCRIPT, UPLOAD_LIMIT_BYTES
+    assert UPLOAD_LIMIT_BYTES == MAX_UPLOAD_BYTES and f"file.size <= {MAX_UPLOAD_BYTES}" in PAGE_SCRIPT
+
+
+@pytest.mark.timeout(600)
+def test_a_settings_file_over_the_limit_is_refused_before_it_is_sent(lab, tmp_path):
+    big = tmp_path / "huge.json"
+    with open(big, "wb") as f:
+        f.truncate(50 * 1024 * 1024)  # 50 MB: as base64 over the websocket's 20 MB message limit
+    with context(width=1280, height=720, timeout_ms=60_000) as ctx:
+        page = new_page(ctx)
+        sent = []
+        page.on("websocket", lambda ws: ws.on("framesent", lambda payload: sent.append(len(payload))))
+        page.goto(lab + "/main?tab=hydro", timeout=LOAD_MS)
+        page.locator(".hydro-start").first.wait_for(timeout=LOAD_MS)
+        page.wait_for_timeout(1500)  # the page's script guards the file input within a second
+        upload = page.locator(".hydro-settings .settings-upload input[type=file]").first
+        upload.set_input_files(str(big))
+        msg = page.locator(".upload-refused").first
+        msg.wait_for(timeout=30_000)
+        text = msg.inner_text()
+        assert "huge.json" in text and str(50 * 1024 * 1024) in text and "nothing was sent" in text, text
+        page.wait_for_timeout(1000)
+        assert max(sent, default=0) < 1024 * 1024, max(sent)  # no frame carried the file
+        page.screenshot(path=str(shots() / "access-upload-refused.png"))
+        # the page goes on: a small file is sent and judged by the server as before
+        upload.set_input_files(files=[{"name": "odd.json", "mimeType": "application/json",
+                                       "buffer": b'{"sigma0": "many"}'}])
+        page.locator("#settings-message").first.wait_for(timeout=60_000)
+        page.locator(".bk-tab", has_text="Linear theory").first.click()  # tab switches work after it
+        page.locator("#ro-lambda-zero .ro-value").wait_for(timeout=LOAD_MS)
+        assert not page.js_errors, page.js_errors[:5]
