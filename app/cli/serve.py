@@ -21,6 +21,7 @@ from ringcore.checks import check_int, check_real
 
 from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.lessons.tutorials import docs_dir, docs_start, static_dirs
+from ringlab.ui.a11y import page_template
 from ringlab.main import TITLE, configure, create_app
 from ringlab.server import joining, remote, routes
 from ringlab.server.cluster import LocalClusterProcess
@@ -192,8 +193,8 @@ def run(args) -> int:
     apps = {"main": create_app, "teacher": page_factory(p["key"])}
     if p["num_procs"] > 1:  # before the fork: each page built once, where its websocket lands (every address
         # gets its template: Panel would otherwise keep the first real page of an address as the template, forever)
-        joining.reuse_page_template("/main", TITLE)
-        joining.reuse_page_template("/teacher", TEACHER_TITLE)
+        joining.reuse_page_template("/main", TITLE, page_template())
+        joining.reuse_page_template("/teacher", TEACHER_TITLE, page_template())
     try:
         pn.serve(apps, port=p["port"], address=p["address"], websocket_origin=p["origins"],
                  num_procs=p["num_procs"], show=args.show, extra_patterns=routes.patterns(p["docs"], {r: docs_start(f) for r, f in p["docs"].items()}),

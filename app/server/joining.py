@@ -106,7 +106,7 @@ async def create_session_if_needed(self, session_id, request=None, token=None):
         _pending(loop, -1)
 
 
-def reuse_page_template(path: str = "/main", title: str | None = None) -> None:
+def reuse_page_template(path: str = "/main", title: str | None = None, template: str | None = None) -> None:
     """Answer every request for the page address ``path`` with the HTML of one empty page made now (Panel's
     ``reuse_sessions``); the page of each student is then built when its websocket arrives, by the process it
     reaches.  The template has no content (Bokeh refuses to fork after application code ran; ``panel serve
@@ -115,6 +115,8 @@ def reuse_page_template(path: str = "/main", title: str | None = None) -> None:
     session = generate_session(Application(), initialize=False)
     if title is not None:
         session.document.title = title
+    if template is not None:  # the page's HTML template (``doc.template``: the viewport, the access script)
+        session.document.template = template
     with set_curdoc(session.document):
         state._session_key_funcs[path] = lambda request: request.path
         state._sessions[path] = session

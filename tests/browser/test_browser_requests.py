@@ -72,7 +72,7 @@ def test_five_walks_ask_nothing_of_another_host(lab_url):
     host = urlparse(lab_url).netloc
     shots = Path(os.environ.get("RINGLAB_SHOTS", ARTIFACTS / "shots"))
     shots.mkdir(parents=True, exist_ok=True)
-    counts, foreign, off_links, errors = [], [], [], []
+    counts, foreign, off_links, errors, template = [], [], [], [], []
     for i in range(WALKS):
         with context(width=1280, height=720, timeout_ms=60_000) as ctx:
             page = new_page(ctx)
@@ -81,6 +81,10 @@ def test_five_walks_ask_nothing_of_another_host(lab_url):
             page.on("websocket", lambda ws: seen.append(ws.url))
             walk(page, lab_url)
             links = page.evaluate(LINKS_JS)
+            # the page template reaches pages built where their websocket lands: the phone's viewport and the
+            # access script (ringlab.ui.a11y: keyboard tabs, skip link)
+            template.append(page.evaluate("() => [!!document.querySelector('meta[name=viewport]'), "
+                                          "!!document.querySelector('.rl-skip')]"))
             counts.append(len(seen))
             foreign += [(i, u) for u in seen if urlparse(u).scheme not in ("data", "blob", "about")
                         and urlparse(u).netloc != host]
@@ -93,3 +97,4 @@ def test_five_walks_ask_nothing_of_another_host(lab_url):
     assert not foreign, foreign[:10]
     assert not off_links, off_links[:10]
     assert not errors, errors[:5]
+    assert template == [[True, True]] * WALKS, template
