@@ -162,6 +162,7 @@ def test_a_settings_file_over_the_limit_is_refused_before_it_is_sent(lab, tmp_pa
         assert "huge.json" in text and str(50 * 1024 * 1024) in text and "nothing was sent" in text, text
         page.wait_for_timeout(1000)
         assert max(sent, default=0) < 1024 * 1024, max(sent)  # no frame carried the file
+        msg.scroll_into_view_if_needed()
         page.screenshot(path=str(shots() / "access-upload-refused.png"))
         # the page goes on: a small file is sent and judged by the server as before
         upload.set_input_files(files=[{"name": "odd.json", "mimeType": "application/json",
