@@ -99,7 +99,7 @@ PAGE_SCRIPT = r"""
     if (!msg) {
       msg = document.createElement("div");
       msg.className = "upload-refused"; msg.setAttribute("role", "alert");
-      msg.style.cssText = "color:#8a0015;font-size:14px;margin-top:4px";
+      msg.style.cssText = "color:#8a0015;font-size:14px;margin-top:4px;white-space:normal;max-width:100%;width:100%";
       input.insertAdjacentElement("afterend", msg);
     }
     msg.textContent = file.name + " has " + file.size + " bytes: a settings file has at most " + UPLOAD_LIMIT +
