@@ -15,7 +15,7 @@
     (or its title).
 
   Bokeh draws every widget in a shadow root, which the page's own observers do not see: the script walks the
-  page's shadow roots once a second (a few ms on a page of six tabs) and fixes what is new.
+  page's shadow roots once a second and fixes what is new (its cost per walk is not measured yet).
 """
 from __future__ import annotations
 
