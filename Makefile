@@ -57,8 +57,11 @@ $(APP_STAMP): pyproject.toml setup.py | $(BIN)/python
 	$(call pip_install,$(REQ_APP))
 	touch $(APP_STAMP)
 
+# without a documentation site the tutorial pages are built once (`make tutorials-html`, kept in $(DOCS_SITE))
 app: $(APP_STAMP)
-	@test -f $(DOCS_SITE)/index.html || test -d $(DOCS_SITE)/tutorials || echo "note: no documentation site in $(DOCS_SITE) ('make docs' or 'make tutorials-html' adds it and the app's links to it)"
+	@test -f $(DOCS_SITE)/index.html || test -f $(DOCS_SITE)/tutorials/nb/index.html || \
+	  { echo "no documentation site in $(DOCS_SITE): building the tutorial pages once (make tutorials-html; 'make docs' builds the whole site)"; \
+	    $(MAKE) --no-print-directory tutorials-html || echo "note: the tutorial pages could not be built; the lab starts without documentation"; }
 	RINGLAB_DOCS_DIR=$(DOCS_SITE) $(BIN)/ringlab serve --port $(PORT)
 
 # the tutorials executed (quick mode) as offline HTML pages in $(DOCS_SITE)/tutorials/nb, when the full

@@ -25,6 +25,7 @@ from ringlab.tabs.nbody import NBodyView
 from ringlab.tabs.paper.view import PaperView
 from ringlab.tabs.saturation import SaturationView
 from ringlab.ui.present import page_styles, plain_figure, present_figure
+from ringlab.ui.a11y import page_template
 from ringlab.ui.about import AboutCite
 from ringlab.ui.lazy_tabs import LazyTabs, LazyViews
 from ringlab.ui.local_store import LocalStore
@@ -54,8 +55,7 @@ PAGE_CSS = """
 """
 # the page is laid out for the device's width (a phone gets the one-column layout instead of a shrunk desktop
 # page): a block of Panel's page template (panel/_templates/base.html) filled through the session's document
-VIEWPORT_TEMPLATE = ('{% block postamble %}<meta name="viewport" content="width=device-width, initial-scale=1">'
-                     '{% endblock %}')
+VIEWPORT_TEMPLATE = page_template()  # also: keyboard tabs, names, a skip link (ringlab.ui.a11y)
 # the lessons panel beside the tabs stays in view while the page scrolls (its own scrollbar when taller than
 # the window); below the tabs (a narrow window, a phone) it scrolls with the page
 SIDE_PX = 340
@@ -83,6 +83,7 @@ def create_app(args: dict | None = None) -> pn.Column:
     doc = pn.state.curdoc
     if doc is not None and doc.session_context is not None:
         doc.template = VIEWPORT_TEMPLATE
+    joining.local_stylesheets()  # before any component is built (a page built where its websocket landed)
     args = pn.state.session_args if args is None else args
     runs = SessionRuns()
     holder = {}

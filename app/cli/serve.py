@@ -20,7 +20,8 @@ import panel as pn
 from ringcore.checks import check_int, check_real
 
 from ringlab.lessons.presets import LENGTH_ENV
-from ringlab.lessons.tutorials import docs_dir, static_dirs
+from ringlab.lessons.tutorials import docs_dir, docs_start, static_dirs
+from ringlab.ui.a11y import page_template
 from ringlab.main import TITLE, configure, create_app
 from ringlab.server import joining, remote, routes
 from ringlab.server.cluster import LocalClusterProcess
@@ -149,7 +150,7 @@ def link_lines(p: dict) -> list[str]:
              f"  student link: {p['student']}",
              f"  class start link: {p['teacher']}   (for students: opens Hydrodynamics and starts their run)"]
     if p["docs"]:
-        lines.append(f"  documentation: {p['student'][:-len('main')]}docs/index.html")
+        lines.append(f"  documentation: {p['student'][:-len('main')]}docs/")
     else:
         lines.append(f"  documentation: not in this install ({docs_dir()} is missing; `make docs` in the source tree)")
     lines.append(f"  teacher's dashboard: {p['dashboard']}   (keep this link to yourself)")
@@ -192,11 +193,11 @@ def run(args) -> int:
     apps = {"main": create_app, "teacher": page_factory(p["key"])}
     if p["num_procs"] > 1:  # before the fork: each page built once, where its websocket lands (every address
         # gets its template: Panel would otherwise keep the first real page of an address as the template, forever)
-        joining.reuse_page_template("/main", TITLE)
-        joining.reuse_page_template("/teacher", TEACHER_TITLE)
+        joining.reuse_page_template("/main", TITLE, page_template())
+        joining.reuse_page_template("/teacher", TEACHER_TITLE, page_template())
     try:
         pn.serve(apps, port=p["port"], address=p["address"], websocket_origin=p["origins"],
-                 num_procs=p["num_procs"], show=args.show, extra_patterns=routes.patterns(p["docs"]),
+                 num_procs=p["num_procs"], show=args.show, extra_patterns=routes.patterns(p["docs"], {r: docs_start(f) for r, f in p["docs"].items()}),
                  title={"main": TITLE, "teacher": TEACHER_TITLE}, liveness=True,
                  start=True, threaded=False, verbose=False)
     finally:

@@ -26,6 +26,23 @@ def _doc_dispatch(doc):
     return dispatch
 
 
+def probe(panel) -> dict:
+    """What the dashboard shows of a page besides its step: ``tab``, the kind of the tab shown ("linear",
+    "hydro", ...; "" unknown), and ``run``, (kind, orbit, running) of the run on that tab, else of the hydro or
+    N-body run the page has, or None (no run).  Reads attributes only (called from the teacher's session)."""
+    runs, tabs = getattr(panel, "runs", None), getattr(panel, "tabs", None)
+    if runs is None:
+        return dict(tab="", run=None)
+    kind = {i: k for k, i in runs.positions.items()}.get(getattr(tabs, "active", None), "")
+    for k in dict.fromkeys([kind, "hydro", "nbody"]):
+        built = runs.built(k) if k else None
+        runner = built[1] if built else None
+        sim = getattr(runner, "sim", None) if k == "hydro" else getattr(runner, "box", None)
+        if sim is not None and k in ("hydro", "nbody"):
+            return dict(tab=kind, run=(k, float(sim.orbits), bool(getattr(runner, "running", False))))
+    return dict(tab=kind, run=None)
+
+
 def join_class(panel, roster: Roster = ROSTER, session_id: str | None = None, dispatch=None) -> Seat | None:
     """Register the lessons ``panel`` of this session in ``roster`` and keep its entry current.
 
@@ -49,8 +66,13 @@ def join_class(panel, roster: Roster = ROSTER, session_id: str | None = None, di
         if setup:
             panel.setup()
 
+    def snapshot() -> dict:
+        return dict(lesson=panel.lesson, step=panel.step, progress={k: set(v) for k, v in panel.progress.items()},
+                    answers={k: dict(v) for k, v in panel.answers.items()})
+
     seat = roster.register(session_id, lesson=panel.lesson, step=panel.step, go=go, reset=panel.reset_progress,
-                           dispatch=dispatch)
+                           dispatch=dispatch, snapshot=snapshot, restore=panel.restore_progress,
+                           probe=lambda: probe(panel))
     panel.param.watch(lambda *e: roster.moved(session_id, panel.lesson, panel.step), ["lesson", "step"])
     panel.param.watch(lambda e: e.new and roster.answered(session_id, e.new["lesson"], e.new["step"],
                                                           e.new["text"], e.new["status"]), "last_answer")

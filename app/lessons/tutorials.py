@@ -57,11 +57,23 @@ def static_dirs(folder: Path | None = None) -> dict:
     return {ROUTE: str(folder)} if folder.is_dir() else {}
 
 
+def docs_start(folder: Path | None = None) -> str:
+    """The page ``/docs/`` opens, relative to the site ``folder``: its index, or the tutorials' index when only
+    the tutorial pages are built (``make tutorials-html``)."""
+    folder = Path(folder or docs_dir())
+    if not (folder / "index.html").is_file() and (folder / "tutorials" / "nb" / "index.html").is_file():
+        return "tutorials/nb/"
+    return ""
+
+
 def docs_note(element_id: str = "docs-note") -> str:
     """One line: a link to the documentation site, or where to get it when this install has none."""
     if (docs_dir() / "index.html").is_file():
         body = (f'Documentation (tutorials, teacher\'s and researcher\'s guides): '
                 f'<a href="{ROUTE}/index.html" target="_blank" rel="noopener">open</a>')
+    elif (html_dir() / "index.html").is_file():  # `make tutorials-html` (what `make app` builds): the tutorials only
+        body = (f'Documentation: the tutorials, worked through: '
+                f'<a href="{ROUTE}/tutorials/nb/index.html" target="_blank" rel="noopener">open</a>')
     else:
         # a student cannot act on build commands: say what is missing and what is there instead (the
         # teacher's guide tells whoever runs the server how to add the site)

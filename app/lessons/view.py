@@ -25,6 +25,7 @@ from ringlab.lessons.tutorials import docs_note, links_html
 from ringlab.lessons.verdict import rejudged
 from ringlab.lessons.worksheets import worksheet_html, worksheet_path
 from ringlab.paths import TUTORIALS_SRC_DIR
+from ringlab.ui.a11y import button
 from ringlab.ui.local_store import LocalStore
 from ringlab.ui.style import CSS
 
@@ -80,9 +81,10 @@ class LessonsPanel(pn.viewable.Viewer):
         self.answer_text = W.TextInput(placeholder="your answer", css_classes=["lesson-answer"],
                                        sizing_mode="stretch_width")
         self.answer_choice = W.RadioBoxGroup(options=["-"], css_classes=["lesson-choice"], inline=False)
-        self.check_btn = W.Button(label="Check my answer", color="success", css_classes=["lesson-check"],
+        self.check_btn = button(label="Check my answer", color="success", css_classes=["lesson-check"],
                                   sizing_mode="stretch_width")
         self.check_btn.on_click(self.check)
+        self.answer_text.param.watch(lambda e: self.check(), "enter_pressed")  # Enter in the box checks, as the button
         pane = lambda cls: pn.pane.HTML("", stylesheets=[LESSON_CSS], sizing_mode="stretch_width",  # noqa: E731
                                         css_classes=[cls], margin=(0, 5))
         self.head, self.text, self.question = pane("lesson-head"), pane("lesson-text-pane"), pane("lesson-q")
@@ -291,6 +293,13 @@ class LessonsPanel(pn.viewable.Viewer):
         self.param.update(progress={}, answers={}, last_answer={})
         self._render()
         self.setup()
+
+    def restore_progress(self, state: dict) -> None:
+        """Put back the progress and answers a reset forgot (``state``: lesson, step, progress, answers, as the
+        class roster read them before the reset); the step is shown again, not set up (runs are not restored)."""
+        self.param.update(progress=state["progress"], answers=state["answers"])
+        self.goto(state["lesson"], state["step"])
+        self._render()
 
     def restart(self, *_):
         """Forget this lesson's progress and go back to its first step."""

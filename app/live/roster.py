@@ -17,9 +17,11 @@ well and survive a restart of the server.
 """
 from __future__ import annotations
 
+import itertools
 import logging
 import re
 import threading
+import time
 from collections import Counter
 from dataclasses import dataclass, field
 from typing import Callable
@@ -28,6 +30,7 @@ from typing import Callable
 STATUSES = ("correct", "wrong", "wait", "error")  # the verdicts of the server's checks (ringlab.lessons.checks)
 MAX_INDEX = 99  # largest lesson or step number taken in (the dashboard checks them against the lessons)
 MAX_TEXT = 80  # characters of an answer kept
+UNDO_S = 60.0  # [s] "Reset everyone" can be undone this long
 _BROWSER_KEY = re.compile(r"[A-Za-z0-9_-]{8,64}")  # the page's random key (base 36); anything else is ignored
 
 
@@ -66,6 +69,9 @@ class Seat:
     go: Callable[[int, int, bool], None] | None = None  # (lesson, step, set the step up too)
     reset: Callable[[], None] | None = None
     dispatch: Callable[[Callable[[], None]], None] | None = None
+    snapshot: Callable[[], dict] | None = None  # the page's progress and answers (read before a reset)
+    restore: Callable[[dict], None] | None = None  # puts a snapshot back (the reset undone)
+    probe: Callable[[], dict] | None = None  # the tab shown and the run's orbit and state, for the dashboard
 
 
 @dataclass(frozen=True)
@@ -87,6 +93,7 @@ class StepAnswers:
     right: int = 0
     wrong: int = 0
     other: int = 0  # "wait" / "error": the check could not judge (no run yet, unreadable number)
+    closed_left_out: int = 0  # answers of pages that closed, not counted above
 
 
 class Roster:
@@ -98,6 +105,7 @@ class Roster:
         self._names: dict[str, int] = {}  # student key -> number of its anonymous name
         self._answers: dict[tuple[int, int], dict[str, Answer]] = {}  # (lesson, step) -> {student key: answer}
         self._store = None  # a RosterStore keeping names and answers on disk, or None
+        self._undo = None  # (time.monotonic() of the reset, names, answers, {session id: page snapshot})
 
     # ------------------------------------------------------------ on disk
     def keep_in(self, store) -> None:
@@ -129,13 +137,22 @@ class Roster:
 
     # ------------------------------------------------------------ sessions
     def _number(self, key: str) -> int:
+        """The number of ``key``'s name: its own, else the smallest one free in this class (numbers of pages
+        that closed without an answer are free again: a class counts from 1, not every page since the start)."""
         if key not in self._names:
-            self._names[key] = len(self._names) + 1
+            taken = set(self._names.values())
+            self._names[key] = next(n for n in itertools.count(1) if n not in taken)
             self._save("name", key, self._names[key])
         return self._names[key]
 
+    def _release(self, key: str) -> None:
+        """Free ``key``'s number unless an open page or a kept answer still has it (lock held)."""
+        if any(s.key == key for s in self._seats.values()) or any(key in a for a in self._answers.values()):
+            return
+        self._names.pop(key, None)
+
     def register(self, session_id: str, *, lesson: int = 1, step: int = 1, go=None, reset=None,
-                 dispatch=None) -> Seat:
+                 dispatch=None, snapshot=None, restore=None, probe=None) -> Seat:
         """Add a student page (idempotent: a second call replaces the callables); returns its seat."""
         with self._lock:
             seat = self._seats.get(session_id)
@@ -143,6 +160,7 @@ class Roster:
                 seat = Seat(session_id, session_id, f"Student {self._number(session_id)}", lesson, step)
                 self._seats[session_id] = seat
             seat.go, seat.reset, seat.dispatch = go, reset, dispatch
+            seat.snapshot, seat.restore, seat.probe = snapshot, restore, probe
             seat.lesson, seat.step = int(lesson), int(step)
             return seat
 
@@ -168,11 +186,14 @@ class Roster:
                     moved = True
             if moved:
                 self._save("move_answers", old, browser_key)
+            self._release(old)  # a returning browser's name: the page's provisional number is free again
 
     def unregister(self, session_id: str) -> None:
         """The page left (idempotent); its answers stay in the distributions."""
         with self._lock:
-            self._seats.pop(session_id, None)
+            seat = self._seats.pop(session_id, None)
+            if seat is not None:
+                self._release(seat.key)
 
     def moved(self, session_id: str, lesson: int, step: int) -> None:
         """The student's page shows ``lesson``, ``step`` now (ValueError outside 1..MAX_INDEX)."""
@@ -203,31 +224,48 @@ class Roster:
             return len(self._seats)
 
     def seats(self) -> list[dict]:
-        """Every open page as a plain dict (name, lesson, step, its answer at that step), by name number."""
+        """Every open page as a plain dict (name, lesson, step, its answer at that step, and what its ``probe``
+        says: ``tab``, ``run``), by name number."""
         with self._lock:
-            rows = []
+            rows, probes = [], []
             for seat in self._seats.values():
                 ans = self._answers.get((seat.lesson, seat.step), {}).get(seat.key)
                 rows.append(dict(session_id=seat.session_id, name=seat.name, lesson=seat.lesson, step=seat.step,
                                  answer=ans.text if ans else "", status=ans.status if ans else ""))
+                probes.append(seat.probe)
+        for row, probe in zip(rows, probes):  # outside the lock: a page's state is read, no roster state
+            try:
+                seen = probe() if probe is not None else {}
+            except Exception:  # a page going away: nothing to show
+                seen = {}
+            row.update(tab=seen.get("tab", ""), run=seen.get("run"))
         return sorted(rows, key=lambda r: int(r["name"].split()[-1]))
 
-    def distribution(self, lesson: int, step: int) -> StepAnswers:
-        """The answers to ``lesson``, ``step`` (each student's latest), counted."""
+    def _open_keys(self) -> set[str]:
+        return {s.key for s in self._seats.values()}
+
+    def distribution(self, lesson: int, step: int, closed: bool = False) -> StepAnswers:
+        """The answers to ``lesson``, ``step`` (each student's latest), counted: of the pages open now, or also
+        of pages that closed (``closed``); ``closed_left_out`` is how many answers of closed pages were not."""
         with self._lock:
-            answers = list(self._answers.get((int(lesson), int(step)), {}).values())
+            by_key = self._answers.get((int(lesson), int(step)), {})
+            keys = self._open_keys()
+            answers = [a for k, a in by_key.items() if closed or k in keys]
+            left_out = len(by_key) - len(answers)
         out = StepAnswers(int(lesson), int(step))
         out.counts = [(text, status, n) for (text, status), n in
                       Counter((a.text, a.status) for a in answers).most_common()]
         out.right = sum(a.status == "correct" for a in answers)
         out.wrong = sum(a.status == "wrong" for a in answers)
         out.other = len(answers) - out.right - out.wrong
+        out.closed_left_out = left_out
         return out
 
-    def answered_steps(self) -> list[tuple[int, int]]:
-        """The (lesson, step) pairs someone answered, in lesson order."""
+    def answered_steps(self, closed: bool = True) -> list[tuple[int, int]]:
+        """The (lesson, step) pairs someone answered (``closed`` False: someone whose page is open), in lesson order."""
         with self._lock:
-            return sorted(k for k, v in self._answers.items() if v)
+            keys = self._open_keys()
+            return sorted(k for k, v in self._answers.items() if v and (closed or keys.intersection(v)))
 
     # ------------------------------------------------------------ commands to every page
     def _send(self, make) -> int:
@@ -256,11 +294,55 @@ class Roster:
         return self._send(lambda seat: None if seat.go is None else (lambda: seat.go(lesson, step, setup)))
 
     def reset_all(self) -> int:
-        """Reset every open page (its lesson progress and its runs) and forget every answer."""
+        """Reset every open page (its lesson progress and its runs) and forget every answer; the names of closed
+        pages are free again (a new class counts from 1).  What was forgotten can be put back for
+        :data:`UNDO_S` seconds (:meth:`undo_reset`).  Returns how many pages the command was sent to."""
         with self._lock:
+            seats = list(self._seats.values())
+        states = {}
+        for seat in seats:  # the pages' progress and answers, read before the reset is queued on them
+            try:
+                states[seat.session_id] = seat.snapshot() if seat.snapshot is not None else None
+            except Exception:
+                states[seat.session_id] = None
+        with self._lock:
+            self._undo = (time.monotonic(), dict(self._names), {k: dict(v) for k, v in self._answers.items()}, states)
             self._answers.clear()
             self._save("clear_answers")
+            keys = self._open_keys()
+            self._names = {k: n for k, n in self._names.items() if k in keys}
         return self._send(lambda seat: seat.reset)
+
+    def undo_left(self) -> float:
+        """Seconds the last reset can still be undone (0: it cannot)."""
+        with self._lock:
+            return 0.0 if self._undo is None else max(0.0, UNDO_S - (time.monotonic() - self._undo[0]))
+
+    def undo_reset(self) -> int:
+        """Put back the answers, names and every page's progress of the last :meth:`reset_all` (within
+        :data:`UNDO_S` s; answers given since then are kept).  Runs the reset restarted are not brought back.
+        Returns how many pages got their progress back (0: nothing to undo)."""
+        if self.undo_left() <= 0:
+            return 0
+        with self._lock:
+            _, names, answers, states = self._undo
+            self._undo = None
+            taken = set(self._names.values())
+            for key, number in names.items():
+                if key not in self._names and number not in taken:
+                    self._names[key] = number
+            for place, by_key in answers.items():
+                here = self._answers.setdefault(place, {})
+                for key, ans in by_key.items():
+                    if here.setdefault(key, ans) is ans:  # back on disk too (the reset cleared the stored ones)
+                        self._save("answer", place[0], place[1], key, ans.text, ans.status)
+
+        def make(seat):
+            state = states.get(seat.session_id)
+            if seat.restore is None or state is None:
+                return None
+            return lambda: seat.restore(state)
+        return self._send(make)
 
 
 ROSTER = Roster()

@@ -48,6 +48,7 @@ import panel as pn
 import tornado.netutil
 from bokeh.application import Application
 from bokeh.server.contexts import ApplicationContext
+from panel.io.resources import LOCAL_DIST
 from panel.io.session import generate_session
 from panel.io.state import set_curdoc, state
 
@@ -105,7 +106,7 @@ async def create_session_if_needed(self, session_id, request=None, token=None):
         _pending(loop, -1)
 
 
-def reuse_page_template(path: str = "/main", title: str | None = None) -> None:
+def reuse_page_template(path: str = "/main", title: str | None = None, template: str | None = None) -> None:
     """Answer every request for the page address ``path`` with the HTML of one empty page made now (Panel's
     ``reuse_sessions``); the page of each student is then built when its websocket arrives, by the process it
     reaches.  The template has no content (Bokeh refuses to fork after application code ran; ``panel serve
@@ -114,11 +115,28 @@ def reuse_page_template(path: str = "/main", title: str | None = None) -> None:
     session = generate_session(Application(), initialize=False)
     if title is not None:
         session.document.title = title
+    if template is not None:  # the page's HTML template (``doc.template``: the viewport, the access script)
+        session.document.template = template
     with set_curdoc(session.document):
         state._session_key_funcs[path] = lambda request: request.path
         state._sessions[path] = session
         session.block_expiration()  # kept for the life of the server, as panel serve --reuse-sessions keeps it
     pn.config.reuse_sessions = True
+
+
+def local_stylesheets() -> None:
+    """Make the current session's Panel stylesheets load from this server, not from Panel's CDN.
+
+    Panel points a component's stylesheets at the document's template variable ``dist_url``, which it sets when
+    it renders the page's HTML for that session; where it is missing it uses ``cdn.holoviz.org``.  A page built
+    where its websocket lands (:func:`reuse_page_template`, ``--num-procs`` > 1) never had its HTML rendered, so
+    every stylesheet of it came from the CDN (3 of 3 class start link pages with two processes: listpanel.css,
+    theme/default.css, button.css, ...).  Here the variable is set as Panel sets it, if missing.  Call before
+    the session's components are built; outside a server session it does nothing."""
+    doc = state.curdoc
+    if doc is None or doc.session_context is None or "dist_url" in doc.template_variables:
+        return
+    doc.template_variables["dist_url"] = f"{state.rel_path}/{LOCAL_DIST}" if state.rel_path else LOCAL_DIST
 
 
 def install_build_order() -> bool:

@@ -4,6 +4,8 @@ component resources at ``/components``, each a subclass of Panel's own handler r
 
 * ``/docs/<path>``: as Panel's static handler, but a path Tornado cannot look up on disk (a NUL byte, an
   over-long name) is "404 Not Found" instead of a "500 Internal Server Error" with a traceback in the log.
+* ``/docs`` (no slash): redirected to ``/docs/`` (the site's index; relative links resolve below it), and that
+  to ``/docs/tutorials/nb/`` when only the tutorial pages are built (``make tutorials-html``).
 * ``/components/<module>/<class>/<attribute>/<path>``: Panel serves a file a component lists among its
   resources, and imports ``<module>`` to find the component: any installed module, named by the address.
   Here only a module already imported by the server, of the packages :data:`COMPONENT_PACKAGES`, is looked
@@ -15,7 +17,7 @@ import sys
 
 from panel.io.resources import COMPONENT_PATH
 from panel.io.server import AuthenticatedStaticFileHandler, ComponentResourceHandler
-from tornado.web import HTTPError
+from tornado.web import HTTPError, RedirectHandler
 
 COMPONENT_PACKAGES = ("ringlab", "panel", "bokeh")  # the app's own components and the libraries it draws with
 MAX_PATH = 1024  # characters of a path looked up at all
@@ -56,10 +58,17 @@ class OwnComponentsHandler(ComponentResourceHandler):
         return super().parse_url_path(path)
 
 
-def patterns(static_dirs: dict) -> list:
+def patterns(static_dirs: dict, starts: dict | None = None) -> list:
     """``extra_patterns`` for ``pn.serve``: :class:`DocsHandler` for every ``{route: folder}`` of ``static_dirs``
-    (serve these instead of passing ``static_dirs``) and :class:`OwnComponentsHandler` at ``/components``."""
-    out = [(rf"/{route.strip('/')}/(.*)", DocsHandler, {"path": folder, "default_filename": "index.html"})
-           for route, folder in static_dirs.items()]
+    (serve these instead of passing ``static_dirs``), the bare ``/route`` redirected to ``/route/`` (and that to
+    ``/route/<start>`` for a ``{route: start}`` of ``starts``: a site whose first page is not its index), and :class:`OwnComponentsHandler` at ``/components``."""
+    out = []
+    for route, folder in static_dirs.items():
+        route = route.strip("/")
+        out.append((rf"/{route}", RedirectHandler, {"url": f"/{route}/", "permanent": False}))
+        start = (starts or {}).get(route, "")
+        if start:  # a site of the tutorial pages only: its index is below
+            out.append((rf"/{route}/", RedirectHandler, {"url": f"/{route}/{start}", "permanent": False}))
+        out.append((rf"/{route}/(.*)", DocsHandler, {"path": folder, "default_filename": "index.html"}))
     out.append((rf"/{COMPONENT_PATH}(.*)", OwnComponentsHandler, {}))
     return out

@@ -25,6 +25,7 @@ from ringlab.live.nbody import NBodyRunner
 from ringlab.model.nbody_settings import SETUP_PARAMS
 from ringlab.server.session_end import on_session_end
 from ringlab.tabs.shared import ExportPanel, restore_widgets
+from ringlab.ui.a11y import button
 from ringlab.ui.checked_input import CheckedInputs
 from ringlab.ui.cite import publish
 from ringlab.ui.figures import follow_time, new_figure, time_range, wavelength_markers
@@ -82,7 +83,7 @@ class NBodyView(pn.viewable.Viewer):
         self.message = message_pane("nbody-message")
         self.blowup = message_pane("nbody-blowup")
         self.note = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
-        B = pn.widgets.Button  # a width and no "fixed" sizing mode (Bokeh's W-1005 wants a height with it)
+        B = button  # a width and no "fixed" sizing mode (Bokeh's W-1005 wants a height with it)
         self.buttons = dict(start=B(label="Start", color="success", css_classes=["nbody-start"], width=120),
                             pause=B(label="Pause", color="warning", css_classes=["nbody-pause"], width=120),
                             step=B(label="Step 0.1 orbit", css_classes=["nbody-step"], width=120),

@@ -14,6 +14,8 @@ import panel as pn
 from ringlab.live import roster_store
 from ringlab.live.roster import ROSTER
 from ringlab.ui.reconnect import Reconnect
+from ringlab.server.joining import local_stylesheets
+from ringlab.ui.a11y import page_template
 from ringlab.teacher.access import ENV_KEY, GUARD, given_key
 from ringlab.teacher.dashboard import DASH_CSS, TeacherDashboard
 
@@ -41,6 +43,7 @@ def teacher_page(key: str | None = None):
     """The page for this session: the dashboard when the address's ``key`` is ``key`` (default: the
     environment's ``RINGLAB_TEACHER_KEY``), else :func:`refused`.  Wrong keys are counted per address
     (:data:`ringlab.teacher.access.GUARD`: logged, and an address over the limit is refused for a while)."""
+    local_stylesheets()  # before any component is built (a page built where its websocket landed)
     expected = key if key is not None else os.environ.get(ENV_KEY, "")
     verdict = GUARD.check(given_key(pn.state.session_args), expected, client_address())
     if verdict != "ok":
@@ -48,6 +51,7 @@ def teacher_page(key: str | None = None):
     dash = TeacherDashboard()
     if pn.state.curdoc is not None and pn.state.curdoc.session_context is not None:
         roster_store.keep(ROSTER)  # the answers of the class before a restart of the server
+        pn.state.curdoc.template = page_template()  # a phone's width; names for Bokeh's checkboxes (ui.a11y)
         pn.state.add_periodic_callback(dash.refresh, period=REFRESH_MS)
     header = pn.pane.HTML(f'<header class="app-header" style="background:#1f4e79;color:#fff;padding:8px 16px">'
                           f'<h1 style="font-size:22px;margin:0">{TITLE}</h1></header>', sizing_mode="stretch_width",

@@ -85,10 +85,10 @@ class FakeRoster:
     def seats(self):
         return [dict(session_id="s", name="Student 1", lesson=1, step=1, answer=SCRIPT_TEXT, status=SCRIPT_STATUS)]
 
-    def answered_steps(self):
+    def answered_steps(self, closed=True):
         return [(1, 1), (99, 99)]
 
-    def distribution(self, lesson, step):
+    def distribution(self, lesson, step, closed=False):
         from ringlab.live.roster import StepAnswers
         return StepAnswers(lesson, step, counts=[(SCRIPT_TEXT, SCRIPT_STATUS, 1), (PAYLOADS[1], PAYLOADS[2], 1)])
 

@@ -205,3 +205,101 @@ def test_a_reloaded_panel_restores_step_progress_and_answer():
     assert "Your last answer here: 7" in again.feedback.object
     steps = len(LESSONS[0].steps)
     assert f"1 of {steps} answered" in again.head.object
+
+
+# ---------------------------------------------------------------- a class, not the server's history
+def test_students_are_numbered_per_class_from_one():
+    r = Roster()
+    for sid in ("t1", "t2", "t3"):  # pages that came and went without an answer (the teacher trying the link)
+        r.register(sid)
+        r.unregister(sid)
+    r.register("s1")
+    r.register("s2")
+    assert [row["name"] for row in r.seats()] == ["Student 1", "Student 2"]
+    r.answered("s2", 1, 1, "49", "correct")
+    r.unregister("s2")  # an answer in the tally keeps its student's number
+    r.register("s3")
+    assert [row["name"] for row in r.seats()] == ["Student 1", "Student 3"]
+    r.reset_all()  # a new class: the closed page's number is free again
+    r.register("s4")
+    assert [row["name"] for row in r.seats()] == ["Student 1", "Student 2", "Student 3"]
+
+
+def test_the_tally_counts_open_pages_and_closed_ones_on_request():
+    r = Roster()
+    for sid, text, status in (("a", "49", "correct"), ("b", "10", "wrong"), ("c", "49", "correct")):
+        r.register(sid)
+        r.answered(sid, 1, 1, text, status)
+    r.unregister("c")
+    d = r.distribution(1, 1)
+    assert (d.right, d.wrong, d.closed_left_out) == (1, 1, 1)
+    assert (r.distribution(1, 1, closed=True).right, r.distribution(1, 1, closed=True).closed_left_out) == (2, 0)
+    dash = TeacherDashboard(roster=r)
+    assert "1 right" in dash.answers.object and "1 of closed pages not counted" in dash.answers.object
+    dash.closed.value = True
+    assert "2 right" in dash.answers.object and "not counted" not in dash.answers.object
+    r.unregister("a")
+    r.unregister("b")
+    dash.closed.value = False
+    assert "No answers yet" in dash.answers.object  # nothing of the pages open now
+
+
+def test_reset_everyone_asks_first_and_can_be_undone_for_a_minute(monkeypatch):
+    r = Roster()
+    a, b = lessons_panel(r, "a"), lessons_panel(r, "b")
+    for lp in (a, b):
+        lp.setup = lambda *_: None  # the preset's runs are tested in test_lessons.py
+    a.goto(1, 2)
+    a.progress = {1: {1}}
+    a.last_answer = dict(lesson=1, step=1, text="49", status="correct")
+    a.answers = {"1.1": dict(text="49", status="correct")}
+    dash = TeacherDashboard(roster=r)
+    dash.reset_btn.clicks += 1  # the first press only asks
+    assert a.progress == {1: {1}} and r.answered_steps() == [(1, 1)]
+    assert dash.confirm_btn.visible and dash.cancel_btn.visible and not dash.reset_btn.visible
+    assert "Reset all 2 student pages?" in dash.reset_msg.object
+    dash.cancel_btn.clicks += 1
+    assert a.progress == {1: {1}} and dash.reset_btn.visible and not dash.confirm_btn.visible
+    dash.reset_btn.clicks += 1
+    dash.confirm_btn.clicks += 1
+    assert a.progress == {} and a.answers == {} and r.answered_steps() == []
+    assert dash.undo_btn.visible
+    dash.undo_btn.clicks += 1
+    assert a.progress == {1: {1}} and a.answers == {"1.1": dict(text="49", status="correct")}
+    assert (a.lesson, a.step) == (1, 2) and r.distribution(1, 1).right == 1
+    assert not dash.undo_btn.visible and r.undo_reset() == 0  # once
+    dash.reset_btn.clicks += 1
+    dash.confirm_btn.clicks += 1
+    import ringlab.live.roster as roster_module
+    now = roster_module.time.monotonic()
+    monkeypatch.setattr(roster_module.time, "monotonic", lambda: now + roster_module.UNDO_S + 1)
+    dash.refresh()
+    assert not dash.undo_btn.visible and dash.undo() == 0 and a.progress == {}
+    assert "Too late to undo" in dash.reset_msg.object
+
+
+def test_each_row_shows_the_tab_and_the_run():
+    from types import SimpleNamespace
+    from ringlab.lessons.classroom import probe
+    from ringlab.live.session import SessionRuns
+    runs = SessionRuns(positions={"linear": 0, "hydro": 1, "nbody": 2})
+    panel = SimpleNamespace(runs=runs, tabs=SimpleNamespace(active=0))
+    assert probe(panel) == dict(tab="linear", run=None)
+    runs.register("hydro", None, SimpleNamespace(sim=SimpleNamespace(orbits=12.34), running=True))
+    assert probe(panel) == dict(tab="linear", run=("hydro", 12.34, True))  # the page's run, from any tab
+    runs.register("nbody", None, SimpleNamespace(box=SimpleNamespace(orbits=3.0), running=False))
+    panel.tabs.active = 2
+    assert probe(panel) == dict(tab="nbody", run=("nbody", 3.0, False))  # the run of the tab shown first
+    r = Roster()
+    r.register("a", probe=lambda: probe(panel))
+    r.register("b", probe=lambda: 1 / 0)  # a page going away shows nothing, the dashboard goes on
+    html = TeacherDashboard(roster=r).students.object
+    assert ">N-body</td>" in html and "N-body: orbit 3.0, " in html and "paused" in html
+    assert html.count("no run") == 1
+
+
+def test_enter_in_the_answer_box_checks_the_answer():
+    lp = LessonsPanel(scale="fast")
+    lp.answer_text.value = "not a number"
+    lp.answer_text.enter_pressed = True  # what the page sends for Enter in the box
+    assert lp.attempts == 1 and lp.answers["1.1"]["text"] == "not a number"

@@ -125,6 +125,18 @@ def get(url: str) -> tuple[int, str]:
 def test_odd_docs_paths_are_not_found(served):
     base, log = served
     assert get(base + "/docs/index.html")[0] == 200
+    assert get(base + "/docs/") == (200, "<p>docs</p>")
+
+
+def test_docs_without_the_slash_redirects_to_the_site(served):
+    import http.client
+    base, log = served
+    conn = http.client.HTTPConnection(base.split("//")[1], timeout=60)
+    conn.request("GET", "/docs")
+    reply = conn.getresponse()
+    assert reply.status in (301, 302) and reply.getheader("Location") == "/docs/"
+    conn.close()
+    assert get(base + "/docs") == (200, "<p>docs</p>")  # followed
     for path in ("/docs/a%00b", "/docs/index.html%00", "/docs/%00", "/docs/" + "x" * 5000, "/docs/a%01b.html"):
         assert get(base + path)[0] == 404, path
     assert "Traceback" not in log.read_text()
@@ -177,3 +189,20 @@ def test_a_malformed_websocket_message_gets_a_short_error_without_a_traceback(se
     assert reply["content"] == dict(text=socket_guard.ERROR_TEXT, traceback=None)
     assert "Traceback" not in json.dumps(reply)
     assert "no-such-model" in log.read_text()  # the details are in the server's log
+
+
+def test_a_site_of_the_tutorial_pages_only_opens_at_their_index(tmp_path, monkeypatch):
+    from ringlab.lessons import tutorials
+    from ringlab.server import routes
+    from tornado.web import RedirectHandler
+    monkeypatch.setenv(tutorials.ENV, str(tmp_path))
+    (tmp_path / "tutorials" / "nb").mkdir(parents=True)
+    (tmp_path / "tutorials" / "nb" / "index.html").write_text("<p>tutorials</p>")  # `make tutorials-html`
+    assert tutorials.docs_start() == "tutorials/nb/"
+    note = tutorials.docs_note()
+    assert 'href="docs/tutorials/nb/index.html"' in note and "not installed" not in note
+    redirects = {p[0]: p[2]["url"] for p in routes.patterns({"docs": str(tmp_path)}, {"docs": "tutorials/nb/"})
+                 if p[1] is RedirectHandler}
+    assert redirects == {"/docs": "/docs/", "/docs/": "/docs/tutorials/nb/"}
+    (tmp_path / "index.html").write_text("<p>the whole site</p>")  # `make docs`
+    assert tutorials.docs_start() == "" and 'href="docs/index.html"' in tutorials.docs_note()

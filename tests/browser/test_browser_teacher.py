@@ -22,7 +22,7 @@ import pytest
 
 from browser_support import ARTIFACTS, TEST_FRAME_RATE, free_port, stop_server, wait_live
 
-SHOTS = Path("/tmp/shots/teacher")
+SHOTS = Path(os.environ.get("RINGLAB_SHOTS", "/tmp/shots")) / "teacher"
 PASSWORD = "lecture-hall-B"
 
 
@@ -64,9 +64,11 @@ def open_browser(browser):
 def answer(page, value, attempt: int) -> str:
     box = page.locator(".lesson-answer input")
     box.fill(str(value))
-    box.press("Enter")
-    page.wait_for_timeout(200)
-    page.locator(".lesson-check button").click()
+    if attempt == 1:
+        box.press("Enter")  # Enter in the answer box checks it
+    else:
+        page.wait_for_timeout(200)
+        page.locator(".lesson-check button").click()
     fb = page.locator(f'[data-attempt="{attempt}"]')
     fb.wait_for(timeout=60_000)
     return fb.get_attribute("id").rsplit("-", 1)[1]
@@ -121,13 +123,31 @@ def test_dashboard_sees_two_students_and_moves_them(class_server, browser):
         assert t.locator(".teacher-student", has_text="step 3").count() == 2
         t.screenshot(path=str(SHOTS / "dashboard.png"), full_page=True)
 
-        # reset everyone: A's progress (step 1 answered right) and every answer are gone
+        # each row: the tab the student sees and the run (none yet on the Linear tab)
+        assert t.locator(".teacher-student .teacher-tab", has_text="Linear theory").count() == 2
+        assert t.locator(".teacher-student .teacher-run").first.inner_text().strip() != ""
+
+        # reset everyone: the first press only asks, away from "Send everyone"
         a.locator("#lesson-progress", has_text="1 of").wait_for()
+        send_box, reset_box = (t.locator(sel).bounding_box() for sel in (".teacher-send", ".teacher-reset"))
+        assert reset_box["y"] - (send_box["y"] + send_box["height"]) > 40, (send_box, reset_box)
         t.locator(".teacher-reset button").click()
-        t.locator("#teacher-message", has_text="Reset 2 pages").wait_for()
+        t.locator("#teacher-reset-question", has_text="Reset all 2 student pages?").wait_for()
+        t.wait_for_timeout(2000)
+        assert "1 of" in a.locator("#lesson-progress").inner_text()  # nothing reset yet
+        SHOTS.mkdir(parents=True, exist_ok=True)
+        t.screenshot(path=str(SHOTS / "dashboard-reset-confirm.png"), full_page=True)
+        # confirmed: A's progress (step 1 answered right) and every answer are gone
+        t.locator(".teacher-reset-confirm button").click()
+        t.locator("#teacher-reset-result", has_text="Reset 2 pages").wait_for()
         a.locator("#lesson-progress", has_text="0 of").wait_for(timeout=30_000)
         t.locator("#teacher-answers", has_text="No answers to this question yet").wait_for()
         assert right not in t.locator("#teacher-answers").inner_text()
+        # ... and put back by "Undo the reset"
+        t.locator(".teacher-reset-undo button").click()
+        t.locator("#teacher-reset-result", has_text="put back on 2 pages").wait_for()
+        a.locator("#lesson-progress", has_text="1 of").wait_for(timeout=30_000)
+        t.screenshot(path=str(SHOTS / "dashboard-after-undo.png"), full_page=True)
 
         # the step is kept in B's browser: a bare address opens it at step 3
         b.goto(base + "/main", timeout=90_000)

@@ -27,7 +27,8 @@ from ringlab.live.hydro import HydroRunner
 from ringlab.model.compare_presets import PRESETS
 from ringlab.model.controls import set_labels
 from ringlab.server.session_end import on_session_end
-from ringlab.tabs.compare.plots import COLORS, ComparePlots, DASH
+from ringlab.tabs.compare.plots import COLORS, DASH, TEXT_COLORS, ComparePlots
+from ringlab.ui.a11y import button
 from ringlab.ui.frame_gate import FrameGate
 from ringlab.ui.layout import responsive_grid, wrap_row
 from ringlab.ui.present import scalable
@@ -91,7 +92,7 @@ class CompareView(pn.viewable.Viewer):
         self.messages = {k: message_pane(f"compare-{k.lower()}-message") for k in "AB"}
         self.blowup = message_pane("compare-blowup")
         self.settings = {k: pn.Column(sizing_mode="stretch_width") for k in "AB"}
-        B = pn.widgets.Button  # a width and no "fixed" sizing mode (Bokeh's W-1005 wants a height with it)
+        B = button  # a width and no "fixed" sizing mode (Bokeh's W-1005 wants a height with it)
         self.buttons = dict(start=B(label="Start both", color="success", css_classes=["compare-start"], width=130),
                             pause=B(label="Pause both", color="warning", css_classes=["compare-pause"], width=130),
                             reset=B(label="Reset both", css_classes=["compare-reset"], width=130))
@@ -115,7 +116,7 @@ class CompareView(pn.viewable.Viewer):
         columns = []
         for k in "AB":
             card = pn.Card(self.settings[k], title=f"Settings of run {k}", collapsed=True, sizing_mode="stretch_width",
-                           css_classes=[f"compare-{k.lower()}-settings"], header_color=COLORS[k])
+                           css_classes=[f"compare-{k.lower()}-settings"], header_color=TEXT_COLORS[k])
             # the space-time diagram right under the run's title (in the first screen of a projector), its
             # readouts and settings below it
             spacetime = P.spacetime_figs[k]
@@ -170,8 +171,8 @@ class CompareView(pn.viewable.Viewer):
         r = self.runner
         diffs = r.differences()
         if diffs:
-            what = "; ".join(f"<b>{html.escape(lab)}</b>: <span style='color:{COLORS['A']}'>A = {html.escape(a)}"
-                             f"</span> vs <span style='color:{COLORS['B']}'>B = {html.escape(b)}</span>"
+            what = "; ".join(f"<b>{html.escape(lab)}</b>: <span style='color:{TEXT_COLORS['A']}'>A = {html.escape(a)}"
+                             f"</span> vs <span style='color:{TEXT_COLORS['B']}'>B = {html.escape(b)}</span>"
                              for _, lab, a, b in diffs)
             one = "one control" if len(diffs) == 1 else f"{len(diffs)} controls"
             text = f"Runs A and B differ in {one} — {what}. Same: {html.escape(r.common_settings())}."
@@ -180,7 +181,7 @@ class CompareView(pn.viewable.Viewer):
         self.differs.object = f'<div class="differs" id="compare-differs">{text}</div>'
         for k, run in zip("AB", r.runs()):
             dash = "solid" if DASH[k] == "solid" else "dashed"
-            self.titles[k].object = (f'<div class="run-title" id="compare-{k.lower()}-title" style="color:{COLORS[k]}">'
+            self.titles[k].object = (f'<div class="run-title" id="compare-{k.lower()}-title" style="color:{TEXT_COLORS[k]}">'
                                      f'<span class="key-line" style="border-top: 4px {dash} {COLORS[k]}; '
                                      f'vertical-align: middle"></span> Run {k}: {self._kind(run)}</div>'
                                      f'<div class="run-sub">{html.escape(run.run_label)}</div>')

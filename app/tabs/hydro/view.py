@@ -29,6 +29,7 @@ from ringlab.server.session_end import on_session_end
 from ringlab.tabs.hydro.gone import GoneNote
 from ringlab.tabs.hydro.plots import HydroPlots
 from ringlab.tabs.shared import ExportPanel, restore_widgets
+from ringlab.ui.a11y import button
 from ringlab.ui.checked_input import CheckedInputs
 from ringlab.ui.cite import publish
 from ringlab.ui.frame_gate import FrameGate, served
@@ -133,7 +134,7 @@ class HydroView(pn.viewable.Viewer):
     # ---------------------------------------------------------------- building
     def _buttons(self) -> dict:
         r = self.runner
-        B = pn.widgets.Button  # a width and no "fixed" sizing mode (Bokeh's W-1005 wants a height with it)
+        B = button  # a width and no "fixed" sizing mode (Bokeh's W-1005 wants a height with it)
         b = dict(start=B(label="Start", color="success", css_classes=["hydro-start"], width=120),
                  pause=B(label="Pause", color="warning", css_classes=["hydro-pause"], width=120),
                  step=B(label="Step 1 orbit", css_classes=["hydro-step"], width=120),

@@ -196,6 +196,7 @@ class LinearView(pn.viewable.Viewer):
         fig.add_tools(HoverTool(tooltips=[("", "@label"), ("λ", "$x{0.0} m"), (ylabel.split(" [")[0], "$y{0.000}")],
                                 line_policy="nearest", renderers=[lines]))
         fig.title.text_font_size = "15px"
+        fig.toolbar.logo = None  # Bokeh's logo links to bokeh.org: off the machine, and a Tab stop per plot
         for ax in (fig.xaxis, fig.yaxis):
             ax.axis_label_text_font_size = "15px"
             ax.major_label_text_font_size = "13px"

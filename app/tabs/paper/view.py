@@ -27,6 +27,7 @@ from ringlab.server.session_end import on_session_end
 from ringlab.tabs.paper.playback import Playback, SPEEDS, frame_at, list_runs, load_run
 from ringlab.tabs.paper.plots import PaperPlots, WINDOWS
 from ringlab.lessons.tutorials import docs_link
+from ringlab.ui.a11y import button
 from ringlab.ui.cite import publish, ref, span
 from ringlab.ui.frame_gate import FrameGate
 from ringlab.ui.layout import responsive_grid, wrap_row
@@ -105,9 +106,9 @@ class PaperView(pn.viewable.Viewer):
     # ------------------------------------------------------------------ building
     def _build_controls(self):
         W = pn.widgets  # widths without a "fixed" sizing mode (Bokeh's W-1005 wants a height with it)
-        self.play_button = W.Button(label="▶ Play", color="success", css_classes=["paper-play"], width=100,
+        self.play_button = button(label="▶ Play", color="success", css_classes=["paper-play"], width=100,
                                     margin=(24, 5, 5, 5))
-        self.pause_button = W.Button(label="Pause", color="warning", css_classes=["paper-pause"], width=100,
+        self.pause_button = button(label="Pause", color="warning", css_classes=["paper-pause"], width=100,
                                      margin=(24, 5, 5, 5))
         self.play_button.on_click(self.playback.play)
         self.pause_button.on_click(self.playback.pause)
