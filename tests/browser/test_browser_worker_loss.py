@@ -17,7 +17,7 @@ import pytest
 
 from ringlab.server import remote
 
-from browser_support import ARTIFACTS, free_port, pytestmark, start_server, stop_server  # noqa: F401
+from browser_support import ARTIFACTS, context, free_port, pytestmark, start_server, stop_server  # noqa: F401
 
 pytestmark = [*pytestmark, pytest.mark.slow,
               pytest.mark.skipif(remote.cores() < 2, reason="one core: the default is threads")]
@@ -67,15 +67,18 @@ def test_a_served_lab_survives_both_workers_killed_mid_run(browser_page):
             os.kill(w.pid, signal.SIGKILL)
         at_kill = orbits_shown(page)
         advances(page, at_kill + 1.0, 120.0)  # the student's run goes on (its last chunk, then here)
-        second = page.context.new_page()  # another student starts a run while the cluster heals
-        second.goto(f"http://127.0.0.1:{port}/main?tab=hydro&autostart=1&hydro_sigma0=390", timeout=150_000)
-        second.locator("#hydro-orbits .ro-value").wait_for(timeout=60_000)
-        advances(second, 0.5, 180.0)
-        t0 = time.perf_counter()
-        while len([w for w in workers_of(proc) if w.pid not in {k.pid for k in workers}]) < WORKERS:
-            assert time.perf_counter() - t0 < 60, "the cluster did not get its workers back within 60 s"
-            time.sleep(0.5)
-        advances(page, orbits_shown(page) + 0.5, 120.0)
+        # another student (a browser of its own: a second page of the same browser would get back the run its
+        # browser left, paused, not autostart) starts a run while the cluster heals
+        with context(1280, 900, timeout_ms=150_000) as own:
+            second = own.new_page()
+            second.goto(f"http://127.0.0.1:{port}/main?tab=hydro&autostart=1&hydro_sigma0=390", timeout=150_000)
+            second.locator("#hydro-orbits .ro-value").wait_for(timeout=60_000)
+            advances(second, 0.5, 180.0)
+            t0 = time.perf_counter()
+            while len([w for w in workers_of(proc) if w.pid not in {k.pid for k in workers}]) < WORKERS:
+                assert time.perf_counter() - t0 < 60, "the cluster did not get its workers back within 60 s"
+                time.sleep(0.5)
+            advances(page, orbits_shown(page) + 0.5, 120.0)
         page.screenshot(path=str(ARTIFACTS / "browser-worker-loss.png"))
         text = log.read_text(errors="replace")
         assert "live run recovered" in text, text[-3000:]
