@@ -40,7 +40,6 @@ TABS = [
     ("Paper results", PaperView),
 ]
 
-STORAGE_WAIT_MS = 5000  # [ms] the class start link starts its run without word from the page's storage after this
 # short names for the ``tab`` query of the page address (``/main?tab=hydro&autostart=1``)
 TAB_KEYS = {"linear": 0, "hydro": 1, "nbody": 2, "saturation": 3, "compare": 4, "paper": 5}
 
@@ -199,16 +198,7 @@ def _autostart(app: pn.Column, runner) -> None:
     if resumer is None or doc is None or doc.session_context is None:
         runner.start()
         return
-    started = []
-
-    def go(*_):
-        if not started:
-            started.append(True)
-            if not resumer.holds(runner):
-                runner.start()
-    resumer.then(go)
-    # a page whose storage never reports (storage blocked, a scripted client) still starts, after a grace time
-    doc.add_timeout_callback(lambda: resumer.outcome is None and go(), STORAGE_WAIT_MS)
+    resumer.then(lambda outcome: resumer.holds(runner) or runner.start())
 
 
 def configure() -> None:

@@ -78,6 +78,13 @@ def press(session, css_class: str) -> bool:
     return True
 
 
+def press_start(session) -> bool:
+    """Press the Hydrodynamics tab's Start: a scripted page reads no browser storage, so the class start link's
+    autostart (which waits for the page's storage: an earlier run of that browser comes back instead) never
+    fires; its student presses Start, as a page with no earlier run starts."""
+    return press(session, START_CLASS)
+
+
 class Student:
     """One Panel session driven like a page: the hydro tab opened and started, frames acknowledged.
 
@@ -121,6 +128,7 @@ class Student:
         self.poll()
         for message in waiting:
             self.on_message(message)
+        press_start(self.s)
 
     def _ack(self, fig):
         """Acknowledge a frame as the page's ``CustomJS`` does (bump the figure's ``tags``)."""
