@@ -37,8 +37,8 @@ def maximum() -> int:
 
 
 def default() -> int:
-    """The thread count of a run that does not give one: ``RINGCORE_THREADS`` if set (``ringcore ...
-    --threads N`` sets it for the command and the processes it starts), else :func:`available`."""
+    """The thread count of a run that does not give one: ``RINGCORE_THREADS`` if set (the command line's
+    ``--threads N`` sets it for the command and the processes it starts), else :func:`available`."""
     env = os.environ.get(ENV, "").strip()
     if not env:
         return available()

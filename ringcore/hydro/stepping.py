@@ -56,7 +56,7 @@ class HydroBlowUp(BlowUp):
 
 class Stepping:
     """The time integration of :class:`ringcore.hydro.Hydro1D` (mixed into it): the time-step criterion,
-    one SSPRK(5,4) step (the one-call fast path or the reference path), :meth:`advance` on the run's own
+    one SSPRK(5,4) step (the one-call fast path or the reference path), ``advance`` on the run's own
     sample grid, and the sample callbacks.  It works on the state and work arrays that
     :class:`~ringcore.hydro.solver.Hydro1D` allocates (``_U``, ``_L``, ``_W``, ``_beta``, ``_par`` ...).
     """

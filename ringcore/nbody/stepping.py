@@ -36,7 +36,7 @@ class NBodyBlowUp(BlowUp):
 
 class Stepping:
     """The time integration of :class:`ringcore.nbody.ShearingBox` (mixed into it): steps in kernel calls
-    of at most ``_chunk_max`` steps with a state check after each, :meth:`advance` and the recording of
+    of at most ``_chunk_max`` steps with a state check after each, ``advance`` and the recording of
     box means.  It works on the state the box owns (``pos``, ``vel``, ``ids``, ``acc``, ``_work``, ``_good``,
     ``_rec``, ``_hub`` ...).
     """
