@@ -257,19 +257,39 @@ def compute_rhs(U, W, beta, g, par, L, maxima=True, fill=True):
     2 sigma u v + Pi:grad u - Gamma + d(kappa_D T_x) + sigma u g + u d Pi_xx) with
     Pi:grad u = Pi_xx u_x + Pi_xy (v_x - 3/2).
     """
-    nv, N = U.shape
-    n = N - 2 * NG
-    iso = nv == 3
+    n = U.shape[1] - 2 * NG
     if fill:
         fill_ghosts(U, n)
+    vmax, numax, rmax = rhs_fluxes(U, W, beta, par, maxima)
+    rhs_sources(U, W, g, par, L)
+    return vmax, numax, rmax
+
+
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
+def rhs_fluxes(U, W, beta, par, maxima):
+    """The part of :func:`compute_rhs` that needs no self-gravity (ghosts filled): primitives, the grid
+    maxima (if ``maxima``, else zeros), split and numerical fluxes and the derivatives, into ``W``."""
+    nv, N = U.shape
+    n = N - 2 * NG
     _primitives(U, W, beta, par)
     vmax, numax, rmax = _grid_maxima(U, W, par, n) if maxima else (0.0, 0.0, 0.0)
     _split_fluxes(U, W)
     _numerical_flux(W, nv, n)
     h = par[P_H]
+    _gradients(W, nv == 3, 1.0 / (60.0 * h), 1.0 / (180.0 * h * h), n)
+    return vmax, numax, rmax
+
+
+@njit(nogil=True, cache=True, error_model="numpy", fastmath=_FM)
+def rhs_sources(U, W, g, par, L):
+    """The rest of :func:`compute_rhs` after :func:`rhs_fluxes`: the conservative flux difference and the
+    sources (with the self-gravity force ``g``) into ``L`` at the interior nodes."""
+    nv, N = U.shape
+    n = N - 2 * NG
+    iso = nv == 3
+    h = par[P_H]
     bulk = par[P_BULK] + 4.0 / 3.0
     kr = par[P_KRATIO]
-    _gradients(W, iso, 1.0 / (60.0 * h), 1.0 / (180.0 * h * h), n)
     # --- D: conservative flux difference + sources at interior nodes (views start at node NG)
     invh = 1.0 / h
     gg = g if par[P_GRAVITY] != 0.0 else g[:0]
@@ -303,7 +323,6 @@ def compute_rhs(U, W, beta, g, par, L, maxima=True, fill=True):
             heat = pxx * ux[i] + eta * sh * sh  # Pi : grad u
             L3[i] = (-(f3[i] - f3m[i]) * invh + 2.0 * s * u * v_[i] + heat - gam[i] + dq
                      + s * u * fg + u * dpxx)
-    return vmax, numax, rmax
 
 
 @njit(nogil=True, cache=True, error_model="numpy")

@@ -53,8 +53,8 @@ def ssprk_step(U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stag
     T_floor : float
         Temperature floor [c0^2] applied after every stage (0: off).
     tw : tuple
-        Windows of the threaded stage (:func:`ringcore.hydro.threaded.new_work`); with one window the
-        stages run on one thread as :func:`ringcore.hydro.kernels.rk_stage` (the same bits either way).
+        Windows and team of the threaded step (:func:`ringcore.hydro.threaded.new_work`); with one window
+        the stages run on this thread as :func:`ringcore.hydro.kernels.rk_stage` (the same bits either way).
 
     Returns
     -------
@@ -68,26 +68,23 @@ def ssprk_step(U, slot, L, W, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stag
         :func:`~ringcore.hydro.kernels.check_state`.
     """
     n = U.shape[2] - 2 * NG
-    dt = -1.0
-    hits = 0
-    for st in range(stage_i.shape[0]):
-        i, li, lp, ja, jb, jc = (stage_i[st, 0], stage_i[st, 1], stage_i[st, 2], stage_i[st, 3],
-                                 stage_i[st, 4], stage_i[st, 5])
-        Uin = U[slot[i]]
-        if gravity_on:
-            convolve(Uin[0, NG:NG + n], fwd, bwd, G, s, sk, g)
-        out = U[slot[i + 1]]
-        if tw[3].shape[0] > 1:
-            dt, h = threaded.stage(Uin, beta, g, par, li, lp, U[slot[ja]], stage_f[st, 0], U[slot[jb]],
-                                   stage_f[st, 1], U[slot[jc]], stage_f[st, 2], stage_f[st, 3], stage_f[st, 4],
-                                   dt, dt_cap, out, T_floor, tw)
-            hits += h
-            continue
-        dt = K.rk_stage(Uin, W, beta, g, par, L[li], L[lp], U[slot[ja]], stage_f[st, 0], U[slot[jb]],
-                        stage_f[st, 1], U[slot[jc]], stage_f[st, 2], stage_f[st, 3], stage_f[st, 4],
-                        dt, dt_cap, out)
-        if T_floor > 0.0:
-            hits += K.apply_temperature_floor(out, T_floor)
+    if tw[3].shape[0] > 1:
+        dt, hits = threaded.step(U, slot, beta, par, gravity_on, fwd, bwd, G, s, sk, g, stage_i, stage_f, dt_cap,
+                                 T_floor, tw)
+    else:
+        dt = -1.0
+        hits = 0
+        for st in range(stage_i.shape[0]):
+            i, li, lp, ja, jb, jc = (stage_i[st, 0], stage_i[st, 1], stage_i[st, 2], stage_i[st, 3],
+                                     stage_i[st, 4], stage_i[st, 5])
+            Uin = U[slot[i]]
+            if gravity_on:
+                convolve(Uin[0, NG:NG + n], fwd, bwd, G, s, sk, g)
+            dt = K.rk_stage(Uin, W, beta, g, par, L[li], L[lp], U[slot[ja]], stage_f[st, 0], U[slot[jb]],
+                            stage_f[st, 1], U[slot[jc]], stage_f[st, 2], stage_f[st, 3], stage_f[st, 4],
+                            dt, dt_cap, U[slot[i + 1]])
+            if T_floor > 0.0:
+                hits += K.apply_temperature_floor(U[slot[i + 1]], T_floor)
     last = stage_i.shape[0]
     field, j = K.check_state(U[slot[last]])
     if field < 0:

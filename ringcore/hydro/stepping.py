@@ -99,7 +99,9 @@ class Stepping:
         thread count for the calling thread."""
         if getattr(self, "_tw", None) is None:
             chunks = threaded.chunks_for(self._threads, self.n)
-            self._tw = threaded.new_work(chunks, self.n if chunks > 1 else 1, self.nv, self._Lstack.shape[0])
+            share = threaded.FFT_SHARE if self.gravity.enabled else 0.0
+            self._tw = threaded.new_work(chunks, self.n if chunks > 1 else 1, self.nv, self._Lstack.shape[0],
+                                         fft_share=share)
         _threads.use(self._threads)
         return self._tw
 

@@ -10,13 +10,14 @@ from ringcore.hydro import Hydro1D, HydroOptions
 from ringcore.hydro import threaded
 
 
-def _run(iso, chunks, threads, L_x=1250.0, orbits=0.4, floor=True):
+def _run(iso, chunks, threads, L_x=1250.0, orbits=0.4, floor=True, **work):
     p = params.get("tau15", sigma0=400.0, isothermal=iso)
     opt = HydroOptions(L_x=L_x, h=2.5, T_floor=1.0 if (floor and not iso) else 0.0, samples_per_orbit=10)
     sim = Hydro1D(p, opt, initial="noise", seed=4, amplitude=2e-3, threads=min(threads, TH.maximum()))
     assert sim.fast_step
     if chunks is not None:  # windows forced (more than the threads: a prange runs them in any order)
-        tw = threaded.new_work(chunks, sim.n if chunks > 1 else 1, sim.nv, sim._Lstack.shape[0])
+        team = work.pop("team", None)
+        tw = threaded.new_work(chunks, sim.n if chunks > 1 else 1, sim.nv, sim._Lstack.shape[0], threads=team, **work)
         sim._tw = tw
     for _ in range(3):
         sim.step()
@@ -28,10 +29,15 @@ def _run(iso, chunks, threads, L_x=1250.0, orbits=0.4, floor=True):
 def test_windows_and_threads_give_the_bits_of_the_serial_stage(iso):
     ref = _run(iso, 1, 1)
     want = ref.snapshot().checksum()
-    for chunks, threads in ((2, 1), (2, 2), (3, 2), (7, 2)):
-        sim = _run(iso, chunks, threads)
+    cases = ((2, 1, {}), (2, 2, {}), (3, 2, {}), (7, 2, {}),
+             (2, 2, dict(team=2, fft_share=0.3)),  # unequal windows
+             (3, 2, dict(team=3)),  # a team of three members on two threads
+             (2, 2, dict(spins=0)),  # waiting members sleep at once (futex)
+             (4, 1, dict(team=4, fft_share=0.2)))  # four members run one after the other
+    for chunks, threads, work in cases:
+        sim = _run(iso, chunks, threads, **work)
         assert sim._tw[3].shape[0] == chunks
-        assert sim.snapshot().checksum() == want, (chunks, threads)
+        assert sim.snapshot().checksum() == want, (chunks, threads, work)
     assert ref.steps > 20
     if not iso:
         assert ref.floor_hits > 0  # the floor is exercised (its counts are summed over the windows)
@@ -42,10 +48,13 @@ def test_the_default_windows_follow_the_threads():
     assert threaded.chunks_for(2, 4000) == 2
     assert threaded.chunks_for(2, 1500) == 1  # below 2 x MIN_NODES_PER_CHUNK: one thread
     assert threaded.chunks_for(8, 4000) == 4
-    tw = threaded.new_work(3, 500, 4, 5)
-    win = tw[3]
-    assert win[:, 1].tolist() == [0, 167, 334] and win[:, 2].tolist() == [167, 334, 500]
-    assert win[-1, 0] == 500 - 167  # the last window ends at node n (overlapping its neighbour)
+    win = threaded.new_work(3, 500, 4, 5)[3]
+    assert win[:, 0].tolist() == [0, 167, 334] and win[:, 1].tolist() == [167, 334, 500]  # consecutive
+    assert win[:, 2].tolist() == [167, 167, 166]
+    # one window per thread: the last one (its thread also does the FFT) is smaller by the FFT's share
+    win = threaded.new_work(2, 4000, 4, 5, threads=2, fft_share=0.16)[3]
+    assert win[:, 2].tolist() == [2320, 1680] and win[-1, 1] == 4000
+    assert threaded.widths(4, 4000, 4, 0.16) == [1160, 1160, 1160, 520]
 
 
 @pytest.mark.skipif(TH.maximum() < 2, reason="numba has one thread here")
