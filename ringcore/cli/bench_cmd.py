@@ -17,6 +17,8 @@ def register(sub) -> None:
     p.add_argument("--quick", action="store_true", help="shorter timing runs (less accurate)")
     p.add_argument("--threads", dest="bench_threads", default=None, metavar="N[,N...]",
                    help="thread counts to time, e.g. 1,2 (default: 1 and the cores this process may use)")
+    p.add_argument("--cells", dest="bench_cells", default=None, metavar="N[,N...]",
+                   help="hydro only: time just the threads at these grid sizes (nodes), e.g. 1000,4000,16000,64000")
     p.set_defaults(func=run)
 
 
@@ -40,7 +42,29 @@ def _thread_list(text):
     return tuple(out)
 
 
+def _cell_list(text):
+    """``--cells 1000,4000`` as a tuple of grid sizes (UsageError naming --cells)."""
+    if text is None:
+        return None
+    out = []
+    for part in text.split(","):
+        try:
+            n = int(part.strip())
+        except ValueError:
+            raise UsageError(f"--cells = {text!r} is not valid: give grid sizes 64 <= N <= 1000000 separated by "
+                             "commas, e.g. 1000,4000") from None
+        if not 64 <= n <= 1_000_000:
+            raise UsageError(f"--cells = {n} is out of range: allowed 64 <= N <= 1000000 nodes")
+        out.append(n)
+    return tuple(out)
+
+
 def run(args) -> int:
     th = _thread_list(args.bench_threads)
+    cells = _cell_list(getattr(args, "bench_cells", None))
     mod = importlib.import_module(f"ringcore.{args.engine}.bench")
+    if cells is not None:
+        if args.engine != "hydro":
+            raise UsageError(f"--cells = {args.bench_cells!r} is not valid for nbody: it sets the hydro grid sizes")
+        return mod.run_bench(as_json=args.json, quick=args.quick, threads=th, cells=cells)
     return mod.run_bench(as_json=args.json, quick=args.quick, threads=th)

@@ -1,25 +1,30 @@
 """A team of threads inside one numba parallel region, working through phases of tasks.
 
-Entering a parallel region costs about 10 us on the 2-core test machine (the waiting OpenMP threads
-sleep, ``OMP_WAIT_POLICY=PASSIVE`` in :mod:`ringcore.threads`, and must be woken), as much as the work
-of 400 grid nodes; one hydro step needs ten synchronisations (two per Runge-Kutta stage). So a step is
-one region: every thread of the team runs the same sequence of phases, and within a phase takes the
-next unclaimed task from a shared counter until none is left, then waits until every task of the phase
-is finished before it starts the next phase.
+Entering a parallel region costs 7-12 us on the 2-core test machine (the waiting OpenMP threads sleep,
+``OMP_WAIT_POLICY=PASSIVE`` in :mod:`ringcore.threads`, and must be woken), the work of 300-500 grid
+nodes, and a sleeping thread woken by another (futex) resumes 10-20 us later; a hydro step needs ten
+synchronisations (two per Runge-Kutta stage).  So a step is one region: every member of the team runs
+the same sequence of phases; in a phase it claims tasks (:func:`take`: the first claim of a task wins),
+runs them and marks them finished (:func:`finish`), and waits for the tasks the next phase needs
+(:func:`wait`, :func:`wait_for`).  Which tasks a member tries first is the caller's choice (the hydro
+step keeps each window on the same thread, so its data stay in that core's cache).
 
-Nothing in the result depends on which thread runs a task (a task writes only its own outputs), and the
-waits cannot deadlock: a thread waits only for tasks that another thread has claimed, i.e. is running.
-If the region runs its members one after another (fewer threads than members, or a threading layer that
-serialises), the first member does every task and the others find nothing left.
+Nothing in the result depends on which member runs a task (a task writes only its own outputs).  The
+waits cannot deadlock as long as a member claims every task it finds unclaimed before it waits: it then
+waits only for tasks that another member has claimed, i.e. is running.  If the region runs its members
+one after another (fewer threads than members, or a threading layer that serialises), the first member
+does every task and the others find nothing left (``tests/core/test_hydro_threads.py``).
 
-The counters are atomic read-modify-write operations of LLVM (sequentially consistent: the writes of
-a finished task are visible to every thread that sees it counted). A waiting thread spins for a while
-(the other threads are normally a few microseconds behind) and then gives its core away at every check
-(``sched_yield``): on a machine with more running threads than cores, a thread spinning for a descheduled
-team mate would take the core it needs.
+The counters and marks are atomic read-modify-write operations of LLVM (sequentially consistent: the
+writes of a finished task are visible to every thread that sees its mark).  A waiting member checks
+:data:`SPINS` times (tens of microseconds: its team mates are normally a few microseconds behind), then
+sleeps until a task of the phase finishes (Linux: futex; elsewhere 20 us naps), so that on a machine with
+more running threads than cores it does not hold the core a descheduled team mate needs.
 
-Layout of the counters: ``ctr`` (phases, 2, 8) int64, ``ctr[p, 0, 0]`` tasks of phase p claimed and
-``ctr[p, 1, 0]`` tasks finished (each on a cache line of its own); zeroed before the region.
+Layout of the counters: ``ctr`` (phases, 2 + 2 tasks, 8) int64, zeroed before the region; per phase p
+``ctr[p, 0, 0]`` the finished tasks, ``ctr[p, 1, 0]`` the members sleeping on that count,
+``ctr[p, 2 + t, 0]`` the claims of task t and ``ctr[p, 2 + tasks + t, 0]`` its finished mark (each on a
+cache line of its own).
 """
 from __future__ import annotations
 
@@ -30,7 +35,6 @@ import numpy as np
 from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic
-
 
 SPINS = 100_000  # checks of a waiting thread before it sleeps (a check takes 0.3-1 ns)
 LINE = 8  # int64 per cache line

@@ -76,3 +76,21 @@ def test_hydro_threads_are_validated():
         sim.threads = 2.0
     sim.threads = 1
     assert sim.threads == 1 and np.isfinite(sim.step())
+
+
+def test_the_thread_bench_prints_the_scaling_table(capsys):
+    from ringcore.hydro.bench import run_bench
+
+    assert run_bench(quick=True, threads=(1, 2 if TH.maximum() >= 2 else 1), cells=(200,)) == 0
+    out = capsys.readouterr().out
+    rows = [line.split() for line in out.splitlines() if line.strip().startswith("200 ")]
+    assert len(rows) == len({1, min(2, TH.maximum())}) and all(r[-1] == "True" for r in rows)
+
+
+@pytest.mark.parametrize("cells", ["10", "4000,x"])
+def test_bench_cells_are_validated(cells, capsys):
+    from ringcore.cli.main import main
+
+    assert main(["bench", "hydro", "--cells", cells]) == 2  # one line, exit status 2
+    err = capsys.readouterr().err.strip()
+    assert "--cells" in err and len(err.splitlines()) == 1
