@@ -267,9 +267,12 @@ def projection_tables(d: dict) -> str:
     return text
 
 
+from hydro_threads_table import hydro_thread_tables  # noqa: E402 (a sibling of this extension)
+
 RENDERERS = {"hydro": hydro_tables, "nbody": nbody_tables, "nbody_phases": nbody_phase_tables,
-             "projection": projection_tables}
-RECORD_COMMANDS = {"projection": "python scripts/project_full.py"}
+             "projection": projection_tables, "hydro_threads": hydro_thread_tables}
+RECORD_COMMANDS = {"projection": "python scripts/project_full.py",
+                   "hydro_threads": "python scripts/hydro_threads_record.py --record docs/benchmarks/data/hydro_threads.json"}
 
 
 def write_bench_tables(app=None) -> list:
