@@ -10,7 +10,7 @@ BIN     = $(VENV)/bin
 STAMP   = $(VENV)/.installed
 CHROMIUM ?= /usr/bin/chromium
 
-.PHONY: app test test-fast slow-list lint-imports install clean bench browser udunits tutorials-html docs bench-record
+.PHONY: app test test-fast slow-list lint-imports install clean bench browser udunits tutorials-html docs bench-record wheel
 
 # The venv gets uv (https://docs.astral.sh/uv/), which installs the same releases as pip in a fraction of the time
 # (measured on the 2-core machine: 32 s against 116 s for ".[app,test,docs]", bytecode compiled by both, as
@@ -105,6 +105,11 @@ docs: $(STAMP)
 	$(BIN)/python -m sphinx -W --keep-going -q -j 1 -b html -d $(DOCS_OUT)/doctrees docs $(DOCS_OUT)/html && \
 	rm -rf app/docs_site && cp -r $(DOCS_OUT)/html app/docs_site && \
 	echo "docs: $(DOCS_OUT)/html (copied to app/docs_site) in $$(( $$(date +%s) - start )) s"
+
+# a wheel with the documentation site inside (dist/); a wheel built without the site (pip wheel ., uv build on a
+# checkout without `make docs`) has "nodocs" in its version (setup.py), so the two can never be confused
+wheel: docs
+	rm -rf dist && $(BIN)/python -m pip wheel --no-deps -q -w dist . && ls dist/*.whl
 
 # record the benchmarks the docs' tables are generated from (docs/benchmarks/data/*.json; commit them)
 bench-record: $(STAMP)
