@@ -242,10 +242,27 @@ def _check_nbody(ds, source):
     if _attr_number(ds, "step_count", int, source) < 0:
         _fail(source, f"attribute step_count = {ds.attrs['step_count']} is negative")
     pos = np.asarray(ds.variables["state_pos"].values)
+    _check_nbody_bounds(ds, opt, source)
     for a, name in enumerate("xyz"):  # SI copies of the kernel state: catch damage in files without checksum
         si = np.asarray(ds.variables[f"pos_{name}"].values)
         if not np.allclose(si, pos[:, a] * opt.R_p, rtol=1e-12, atol=0.0):
             _fail(source, f"variable 'pos_{name}' disagrees with 'state_pos' (damaged particle data)")
+
+
+def _check_nbody_bounds(ds, opt, source):
+    """An edited particle state (with a valid checksum) is named here, not left to blow up in the first step:
+    the integrator's own runaway bounds (:mod:`ringcore.nbody.sanity`), in the kernel's units R_p and R_p Omega."""
+    from ..nbody.sanity import X_MAX_BOXES, speed_bound
+
+    L_x = opt.L_x / opt.R_p
+    for var, bound, unit in (("state_pos", X_MAX_BOXES * L_x, "R_p"), ("state_vel", speed_bound(L_x), "R_p Omega")):
+        a = np.asarray(ds.variables[var].values)
+        big = ~(np.abs(a) <= bound)  # NaN too
+        if big.any():
+            i, j = (int(k) for k in np.argwhere(big)[0])
+            _fail(source, f"state array {var!r} has {'xyz'[j]} = {a[i, j]:g} {unit} for particle index {i}: allowed "
+                          f"|value| <= {bound:g} {unit} (the runaway bounds of the box, L_x = {opt.L_x:g} m, "
+                          f"R_p = {opt.R_p:g} m), so the file is damaged or edited")
 
 
 def _check_checksum(ds, kind, source):
