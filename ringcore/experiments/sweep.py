@@ -36,29 +36,18 @@ from ..provenance import software_attrs
 from ..io.sweep_grid import as_runs, grid_dataset
 
 
+def _runner(engine: str):
+    """The runner of ``engine``: ``ringcore.experiments.runners.run_<engine>_task``, imported when a task
+    runs (the runners load the engines, ~2 s; the command line's --help and argument checks do not)."""
+    def run(task: dict, path):
+        from . import runners
 
-# the runners (ringcore.experiments.runners) load the engines (~2 s): imported when a task runs, not with the
-# sweep (the command line's --help and argument checks)
-def _run_linear(task: dict, path):
-    from .runners import run_linear_task
-
-    return run_linear_task(task, path)
-
-
-def _run_hydro(task: dict, path):
-    from .runners import run_hydro_task
-
-    return run_hydro_task(task, path)
-
-
-def _run_nbody(task: dict, path):
-    from .runners import run_nbody_task
-
-    return run_nbody_task(task, path)
+        return getattr(runners, f"run_{engine}_task")(task, path)
+    return run
 
 
 # engine -> function taking (task: dict, path: Path) and returning a summary dict
-RUNNERS = {"linear": _run_linear, "hydro": _run_hydro, "nbody": _run_nbody}
+RUNNERS = {engine: _runner(engine) for engine in ("linear", "hydro", "nbody")}
 SUMMARY_KEYS = ("lambda_p_m", "e_kin", "c_mean", "orbits", "wall_s")
 
 
