@@ -29,7 +29,7 @@ from ringlab.lessons.tutorials import tab_links
 from ringlab.model.controls import RingControls, set_labels
 from ringlab.model.linear import LinearTheory, WAVELENGTH_RANGE_M
 from ringlab.tabs.linear.carry import CarryButtons
-from ringlab.ui.layout import page_row, responsive_grid
+from ringlab.ui.layout import responsive_grid, settings_beside
 from ringlab.ui.palette import CURRENT_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.style import BASE_CSS as CSS
 
@@ -39,6 +39,8 @@ PLOTS = (  # key in the curve dicts, y-axis label, title
     ("frequency", "oscillation frequency ω_I [Ω]", "Oscillation frequency ω_I (exact, eq. (16))"),
     ("group_velocity_mm_s", "group velocity v_g [mm/s]", "Group velocity v_g = dω_I/dk, eq. (23)"),
 )
+SETTINGS_PX = 290  # [px] the settings column: slider and "Run this in ..." buttons readable
+CURVES_MIN_PX = 360  # [px] narrowest plot column beside the settings (a 1024 px window with the lessons panel)
 TICKS_M = [10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0, 2000.0, 10000.0]
 
 EXPLANATION = """
@@ -157,7 +159,7 @@ class LinearView(pn.viewable.Viewer):
             self.note,
             self.message,
             self.carry.panel,
-            width=320,
+            width=SETTINGS_PX - 20,
         )
 
     def _compare_input(self) -> pn.widgets.TextInput:
@@ -214,9 +216,13 @@ class LinearView(pn.viewable.Viewer):
                                 pn.pane.HTML(tab_links("linear"), stylesheets=[CSS], sizing_mode="stretch_width"),
                                 sizing_mode="stretch_width")
         grid = responsive_grid(plots["growth_rate"], plots["frequency"], plots["group_velocity_mm_s"], explanation)
-        return page_row(pn.Column(pn.pane.Markdown("### Settings", margin=(0, 10)), self.widgets, width=340),
-                        pn.Column(header, self.q0_warning, self.readouts, self.key, grid,
-                                  sizing_mode="stretch_width"))
+        # the settings beside the curves they change (from a 1024 px projector with the lessons panel on), and
+        # in view while the page scrolls past the three plots; the readouts above both
+        settings = pn.Column(pn.pane.Markdown("### Settings", margin=(0, 10)), self.widgets, width=SETTINGS_PX,
+                             css_classes=["linear-settings"])
+        return settings_beside(pn.Column(header, self.q0_warning, self.readouts, self.key, sizing_mode="stretch_width"),
+                               settings, grid, settings_px=SETTINGS_PX, main_min_px=CURVES_MIN_PX, sticky=True,
+                               settings_first=True, head_across=True)
 
     # ---------------------------------------------------------------- updating
     def _render(self, *events):
