@@ -296,7 +296,7 @@ class SaturationView(pn.viewable.Viewer):
             W.Select.from_param(self.param.param_set, options=set_labels()),
             W.Checkbox.from_param(self.param.isothermal), self.model_note, self.model_error,
             pn.pane.Markdown("### Your runs", margin=(0, 10)), self.add_button, self.message,
-            self.point_select, self.remove_button, width=340)
+            self.point_select, self.remove_button, width=340, css_classes=["sat-settings"])
         explanation = pn.pane.Markdown(EXPLANATION + stability.EXPLANATION, sizing_mode="stretch_width",
                                        styles={"font-size": "15px"})
         one_line = pn.pane.HTML(f'<div class="buttons-note" id="sat-st-line">{stability.ONE_LINE}</div>',
