@@ -20,7 +20,7 @@ import math
 import numpy as np
 import panel as pn
 import param
-from bokeh.models import ColumnDataSource, CustomJSTickFormatter, FixedTicker, HoverTool, Range1d, Span
+from bokeh.models import ColumnDataSource, CustomJS, CustomJSTickFormatter, FixedTicker, HoverTool, Range1d, Span
 from bokeh.palettes import Viridis256
 from bokeh.plotting import figure
 
@@ -41,7 +41,18 @@ PLOTS = (  # key in the curve dicts, y-axis label, title
 )
 SETTINGS_PX = 290  # [px] the settings column: slider and "Run this in ..." buttons readable
 CURVES_MIN_PX = 360  # [px] narrowest plot column beside the settings (a 1024 px window with the lessons panel)
+# six cards in one row from a 1280 px window with the lessons panel on (the curves one row higher)
+READOUTS_CSS = "#linear-readouts {grid-template-columns: repeat(auto-fill, minmax(140px, 1fr));}"
 TICKS_M = [10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0, 2000.0, 10000.0]
+DECADES_M = [10.0, 100.0, 1000.0, 10000.0]
+NARROW_FRAME_PX = 340  # [px] a plot frame narrower than this labels the decades only
+NARROW_TICKS_JS = """
+const w = cb_obj.inner_width, want = (w > 0 && w < narrow) ? decades : all;
+if (ticker.ticks.length !== want.length) {
+  ticker.ticks = want;
+  ticker.minor_ticks = want === all ? [] : all.filter((t) => !decades.includes(t));
+}
+"""
 
 EXPLANATION = """
 ### What am I looking at?
@@ -131,7 +142,7 @@ class LinearView(pn.viewable.Viewer):
         self.marker_source = ColumnDataSource(dict(x=[], mlabel=[], color=[], dash=[]))
         self.figures = {key: self._figure(key, ylabel, title) for key, ylabel, title in PLOTS}
         self.key = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
-        self.readouts = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
+        self.readouts = pn.pane.HTML("", stylesheets=[CSS, READOUTS_CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.message = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", visible=False)
         self.note = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", visible=False)
         self.q0_warning = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", visible=False,
@@ -203,9 +214,14 @@ class LinearView(pn.viewable.Viewer):
             ax.axis_label_text_font_size = "15px"
             ax.major_label_text_font_size = "13px"
             ax.axis_label_text_font_style = "normal"
-        fig.xaxis.ticker = FixedTicker(ticks=TICKS_M)
+        ticker = FixedTicker(ticks=TICKS_M)
+        fig.xaxis.ticker = ticker
+        # a narrow plot (a 1024 px window with the settings beside it, a phone) labels the decades only: the
+        # labels 500 1000 2000 ran into each other; the other ticks stay as unlabelled marks
+        fig.js_on_change("inner_width", CustomJS(args=dict(ticker=ticker, all=TICKS_M, decades=DECADES_M,
+                                                           narrow=NARROW_FRAME_PX), code=NARROW_TICKS_JS))
         fig.xaxis.formatter = CustomJSTickFormatter(code="return tick.toString()")
-        fig.xgrid.ticker = FixedTicker(ticks=[10.0, 100.0, 1000.0, 10000.0])
+        fig.xgrid.ticker = FixedTicker(ticks=DECADES_M)
         return fig
 
     def _build_layout(self):
