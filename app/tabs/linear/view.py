@@ -39,8 +39,8 @@ PLOTS = (  # key in the curve dicts, y-axis label, title
     ("frequency", "oscillation frequency ω_I [Ω]", "Oscillation frequency ω_I (exact, eq. (16))"),
     ("group_velocity_mm_s", "group velocity v_g [mm/s]", "Group velocity v_g = dω_I/dk, eq. (23)"),
 )
-SETTINGS_PX = 290  # [px] the settings column: slider and "Run this in ..." buttons readable
-CURVES_MIN_PX = 360  # [px] narrowest plot column beside the settings (a 1024 px window with the lessons panel)
+SETTINGS_PX = 280  # [px] the settings column: slider and "Run this in ..." buttons readable
+CURVES_MIN_PX = 380  # [px] narrowest plot column beside the settings (a 1024 px window with the lessons panel)
 # six cards in one row from a 1280 px window with the lessons panel on (the curves one row higher)
 READOUTS_CSS = "#linear-readouts {grid-template-columns: repeat(auto-fill, minmax(140px, 1fr));}"
 TICKS_M = [10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0, 2000.0, 10000.0]
