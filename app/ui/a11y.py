@@ -49,7 +49,9 @@ JUMP_CSS = (".rl-lesson-jump {position: fixed; left: 10px; bottom: 10px; z-index
             " color: #fff; border: 2px solid #fff; border-radius: 20px; padding: 8px 16px; min-height: 44px;"
             " font: 600 16px system-ui, sans-serif; box-shadow: 0 2px 6px rgba(0,0,0,.35); cursor: pointer;}"
             " .rl-lesson-jump:focus-visible {outline: 3px solid #ffbf47; outline-offset: 2px;}"
-            " .rl-lesson-jump[hidden] {display: none;}")
+            " .rl-lesson-jump[hidden] {display: none;}"
+            # while it is shown: the page ends clear of it, and an element reached by Tab is scrolled above it
+            " html.rl-jump-shown {scroll-padding-bottom: 72px;} html.rl-jump-shown body {padding-bottom: 72px;}")
 
 PAGE_SCRIPT = r"""
 (function () {
@@ -215,6 +217,7 @@ PAGE_SCRIPT = r"""
     if (!title || !title.isConnected) title = find("#lesson-step-title");
     const beside = side && side.getBoundingClientRect().left > 100;  // the lessons panel beside the tabs
     jump.hidden = !title || !title.getClientRects().length || !side || beside;
+    document.documentElement.classList.toggle("rl-jump-shown", !jump.hidden);
     if (jump.hidden) return;
     const there = title.getBoundingClientRect().top < innerHeight;  // the lesson is on screen
     jump.dataset.to = there ? "run" : "lesson";
