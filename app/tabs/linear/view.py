@@ -156,16 +156,17 @@ class LinearView(pn.viewable.Viewer):
     # ---------------------------------------------------------------- building
     def _widgets(self) -> pn.Column:
         c = self.controls
-        self.sigma0_slider = pn.widgets.FloatSlider.from_param(c.param.sigma0, throttled=True, format="0")
+        fit = dict(sizing_mode="stretch_width")  # the column's width, also where Panel's default is 300 px
+        self.sigma0_slider = pn.widgets.FloatSlider.from_param(c.param.sigma0, throttled=True, format="0", **fit)
         # while dragging, the current curve and the readouts, markers and legend follow together
         self.sigma0_slider.param.watch(lambda e: self.model.preview(e.new), "value")
         isothermal = c.param.isothermal
         return pn.Column(
-            pn.widgets.Select.from_param(c.param.param_set, options=set_labels()),
+            pn.widgets.Select.from_param(c.param.param_set, options=set_labels(), **fit),
             self.sigma0_slider,
-            pn.widgets.Checkbox.from_param(isothermal),
-            pn.widgets.FloatSlider.from_param(c.param.ps_scale, visible=isothermal.rx.not_(), format="0.00"),
-            pn.widgets.FloatSlider.from_param(c.param.iso_p_s, visible=isothermal, format="0.00"),
+            pn.widgets.Checkbox.from_param(isothermal, **fit),
+            pn.widgets.FloatSlider.from_param(c.param.ps_scale, visible=isothermal.rx.not_(), format="0.00", **fit),
+            pn.widgets.FloatSlider.from_param(c.param.iso_p_s, visible=isothermal, format="0.00", **fit),
             self._compare_input(),
             self.note,
             self.message,
@@ -184,7 +185,7 @@ class LinearView(pn.viewable.Viewer):
         """
         c = self.controls
         p = c.param.compare_sigma0
-        w = pn.widgets.TextInput(label=p.label, value=c.compare_sigma0, description=p.doc)
+        w = pn.widgets.TextInput(label=p.label, value=c.compare_sigma0, description=p.doc, sizing_mode="stretch_width")
 
         def apply(event):
             if event.new != c.compare_sigma0:
