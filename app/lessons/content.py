@@ -154,7 +154,7 @@ LESSONS = (
         Step("The fastest-growing wave", "linear-400",
              "Will the shortest waves grow fastest, or is there a best wavelength? Self-gravity (σ₀ = 400) lifts "
              "the growth rate of waves of a few tens of metres.",
-             "Look at the growth rate ω_R (top left, the exact [[evp]]): where it is above zero the ring is "
+             "Look at the growth rate ω_R (the first plot, the exact [[evp]]): where it is above zero the ring is "
              "overstable. "
              "The orange dotted line marks its maximum.",
              Question("Enter the fastest-growing wavelength.", "linear_number", unit="m",

@@ -12,7 +12,9 @@
   - a settings file (the file input of class ``settings-upload``) over :data:`UPLOAD_LIMIT_BYTES` is refused
     in the browser with a message, before anything is sent;
   - a "Skip to the lesson" link, the page's first Tab stop, moves the focus to the lesson's answer box
-    (or its title).
+    (or its title);
+  - where the lessons panel is not beside the tabs (a phone: it starts several screens down), a "Lesson" button
+    fixed at the foot of the window scrolls the step's question into view (and then reads "Back to the run").
 
   Bokeh draws every widget in a shadow root, which the page's own observers do not see: the script walks the
   page's shadow roots once a second and fixes what is new (its cost per walk is not measured yet).
@@ -41,6 +43,15 @@ UPLOAD_LIMIT_BYTES = 64 * 1024  # [bytes] a settings upload refused in the brows
 SKIP_CSS = (".rl-skip {position: absolute; left: -10000px; top: 4px; z-index: 1000; background: #fff; color: #1f4e79;"
             " padding: 6px 12px; border: 2px solid #1f4e79; font: 16px system-ui, sans-serif;}"
             " .rl-skip:focus {left: 8px;}")
+
+# the phone's "Lesson" button: fixed at the foot of the window, at the left (plot toolbars are at the right)
+JUMP_CSS = (".rl-lesson-jump {position: fixed; left: 10px; bottom: 10px; z-index: 1000; background: #1f4e79;"
+            " color: #fff; border: 2px solid #fff; border-radius: 20px; padding: 8px 16px; min-height: 44px;"
+            " font: 600 16px system-ui, sans-serif; box-shadow: 0 2px 6px rgba(0,0,0,.35); cursor: pointer;}"
+            " .rl-lesson-jump:focus-visible {outline: 3px solid #ffbf47; outline-offset: 2px;}"
+            " .rl-lesson-jump[hidden] {display: none;}"
+            # while it is shown: the page ends clear of it, and an element reached by Tab is scrolled above it
+            " html.rl-jump-shown {scroll-padding-bottom: 72px;} html.rl-jump-shown body {padding-bottom: 72px;}")
 
 PAGE_SCRIPT = r"""
 (function () {
@@ -166,10 +177,61 @@ PAGE_SCRIPT = r"""
     });
     document.body.insertBefore(a, document.body.firstChild);
   }
-  function start() { skipLink(); fix(); setInterval(fix, 1000); }
+  // a phone (no lessons panel beside the tabs: it starts screens below the run): a button fixed at the foot of
+  // the window jumps to the lesson's question, and once there back to the tab bar
+  let jump = null;
+  function jumpButton() {
+    if (jump) return;
+    const style = document.createElement("style");
+    style.textContent = JUMP_CSS;
+    document.head.appendChild(style);
+    jump = document.createElement("button");
+    jump.type = "button"; jump.className = "rl-lesson-jump"; jump.hidden = true;
+    jump.addEventListener("click", function () {
+      if (jump.dataset.to === "run") {
+        const tab = find(".bk-tab.bk-active");
+        const top = find("#app-header");
+        if (top) top.scrollIntoView({block: "start"});
+        if (tab) tab.focus({preventScroll: true});
+      } else {
+        const title = find("#lesson-step-title"), question = find("#lesson-question");
+        if (!title) return;
+        title.style.scrollMarginTop = "8px";
+        title.scrollIntoView({block: "start"});
+        if (question && question.getBoundingClientRect().bottom > innerHeight)
+          question.scrollIntoView({block: "end"});  // a long step text: the question in view, its title above
+        if (!title.hasAttribute("tabindex")) title.setAttribute("tabindex", "-1");
+        title.focus({preventScroll: true});  // not the answer box: it would open a phone's keyboard over the step
+      }
+      placeJump();
+    });
+    const skip = document.querySelector(".rl-skip");
+    document.body.insertBefore(jump, skip ? skip.nextSibling : document.body.firstChild);
+    addEventListener("scroll", placeJump, {passive: true});
+    addEventListener("resize", placeJump);
+  }
+  let side = null, title = null;  // found once (a walk of every shadow root), again when drawn anew
+  function placeJump() {
+    if (!jump) return;
+    if (!side || !side.isConnected) side = find(".side-panel");
+    if (!title || !title.isConnected) title = find("#lesson-step-title");
+    const beside = side && side.getBoundingClientRect().left > 100;  // the lessons panel beside the tabs
+    jump.hidden = !title || !title.getClientRects().length || !side || beside;
+    document.documentElement.classList.toggle("rl-jump-shown", !jump.hidden);
+    if (jump.hidden) return;
+    const there = title.getBoundingClientRect().top < innerHeight;  // the lesson is on screen
+    jump.dataset.to = there ? "run" : "lesson";
+    const label = there ? "Back to the run" : "Lesson";
+    if (jump.dataset.label === label) return;
+    const arrow = document.createElement("span");  // the arrow is drawn, not read
+    arrow.setAttribute("aria-hidden", "true"); arrow.textContent = there ? " \u25B2" : " \u25BC";
+    jump.dataset.label = label;
+    jump.replaceChildren(document.createTextNode(label), arrow);
+  }
+  function start() { skipLink(); jumpButton(); fix(); placeJump(); setInterval(function () { fix(); placeJump(); }, 1000); }
   if (document.readyState === "loading") document.addEventListener("DOMContentLoaded", start); else start();
 })();
-""".replace("SKIP_CSS", repr(SKIP_CSS)).replace("UPLOAD_LIMIT", str(UPLOAD_LIMIT_BYTES))
+""".replace("SKIP_CSS", repr(SKIP_CSS)).replace("JUMP_CSS", repr(JUMP_CSS)).replace("UPLOAD_LIMIT", str(UPLOAD_LIMIT_BYTES))
 
 
 def page_script_html() -> str:

@@ -1,9 +1,11 @@
-"""Layout helpers: responsive grids and rows that wrap on narrow screens (projector at 1024 px, phones)."""
+"""Layout helpers: responsive grids, rows that wrap on narrow screens (projector at 1024 px, phones), and the live
+tabs' settings beside their run (:func:`settings_beside`)."""
 from __future__ import annotations
 
 import panel as pn
 
 RUN_MIN_PX = 600  # narrowest run column beside the settings: space-time diagram and profiles readable
+GAP_PX = 10  # [px] between the settings column and the run
 
 
 def responsive_grid(*objects, min_px: int = 440, **kw) -> pn.Column:
@@ -18,30 +20,53 @@ def responsive_grid(*objects, min_px: int = 440, **kw) -> pn.Column:
     return pn.Column(*objects, sizing_mode="stretch_width", styles=styles, **kw)
 
 
-def page_row(controls, main) -> pn.FlexBox:
-    """Controls (fixed width) beside the main column when both fit, else below it (:func:`run_first`).
-
-    A FlexBox, not a Row: a Row's minimum width is the sum of its children's (620 px on a phone).
-    """
-    return run_first(main, controls, settings_px=controls.width or 340)
-
-
 def wrap_row(*objects) -> pn.FlexBox:
     """Objects side by side, wrapping onto the next line when they do not fit."""
     return pn.FlexBox(*objects, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")
 
 
-def run_first(run, settings, settings_px: int = 340) -> pn.FlexBox:
-    """A live tab: the run (buttons, status, plots) first, its settings beside it or below it.
+def split_css(settings_px: int, main_min_px: int, settings_first: bool, head_across: bool) -> str:
+    """The stylesheet of :func:`settings_beside`'s outer box (a CSS container): the grid's areas by its width."""
+    narrow = '"head" "settings" "main"' if settings_first else '"head" "main" "settings"'
+    wide_px = settings_px + GAP_PX + main_min_px
+    wide = '"head head" "settings main"' if head_across else '"settings head" "settings main"'
+    return (f":host {{container-type: inline-size;}}"
+            f" .rl-split {{display: grid; grid-template-columns: minmax(0, 1fr); grid-template-areas: {narrow};"
+            f" column-gap: {GAP_PX}px; align-items: start;}}"
+            f" @container (min-width: {wide_px}px) {{"
+            f" .rl-split {{grid-template-columns: {settings_px}px minmax(0, 1fr); grid-template-rows: auto 1fr;"
+            f" grid-template-areas: {wide};}}}}")
 
-    The settings column (``settings_px`` wide) stands left of the run when both fit (the run
-    needs ``RUN_MIN_PX``); in a narrower tab it goes *below* the run, never above: at a
-    1280 px projector with the lessons panel the settings form used to push Start and every
-    plot ~1,400 px down.  ``row-reverse`` keeps the run first in the page (and for a screen
-    reader) while it is drawn on the right; ``flex-end`` packs a wrapped settings column to
-    the left.
+
+def sticky_css(settings_px: int, main_min_px: int) -> str:
+    """The settings column's own stylesheet: in the wide layout it stays in view (the same container query)."""
+    return (f"@container (min-width: {settings_px + GAP_PX + main_min_px}px) {{:host {{position: sticky; top: 0;"
+            f" max-height: 100vh; overflow-y: auto;}}}}")
+
+
+def settings_beside(head, settings, main, settings_px: int = 340, main_min_px: int = RUN_MIN_PX,
+                    sticky: bool = False, settings_first: bool = False, head_across: bool = False) -> pn.Column:
+    """A tab's settings column beside its run when both fit, else under the run's head.
+
+    ``head``: what comes first (buttons, status, readouts); ``main``: the plots and the rest.  The settings
+    column (``settings_px`` wide) stands left of ``head`` and ``main`` when the tab is at least
+    ``settings_px + main_min_px`` (+ a 10 px gap) wide, else ``main`` comes under ``head`` and the settings
+    below it (``settings_first``: between them, for a short settings column).  ``head_across``: in the wide
+    layout the head spans both columns and the settings start level with ``main`` (beside the plots they
+    change, not beside the readouts).
+
+    The page holds them in the order head, settings, main whatever the width: the keyboard reaches Start and
+    every setting before the plots' toolbars (a Tab stop for each of their buttons), and a screen reader reads
+    the buttons, the settings, then the plots.  Which arrangement applies is a CSS container query on the tab's
+    own width, not the window's: the lessons panel beside the tabs or presentation mode (no lessons panel) give
+    the tab different widths at the same window width.  ``sticky``: a wide layout's settings stay in view
+    while the page scrolls past the plots (their own scrollbar when taller than the window).
     """
-    run.styles = {**run.styles, "flex": f"1 1 {RUN_MIN_PX}px", "min-width": "0"}
-    settings.styles = {**settings.styles, "flex": f"0 0 {settings_px}px"}
-    return pn.FlexBox(run, settings, flex_direction="row-reverse", flex_wrap="wrap", justify_content="flex-end",
-                      align_items="flex-start", sizing_mode="stretch_width")
+    head.styles = {**head.styles, "grid-area": "head", "min-width": "0"}
+    main.styles = {**main.styles, "grid-area": "main", "min-width": "0"}
+    settings.styles = {**settings.styles, "grid-area": "settings"}
+    if sticky:
+        settings.stylesheets = [*settings.stylesheets, sticky_css(settings_px, main_min_px)]
+    grid = pn.Column(head, settings, main, sizing_mode="stretch_width", css_classes=["rl-split"])
+    return pn.Column(grid, sizing_mode="stretch_width",
+                     stylesheets=[split_css(settings_px, main_min_px, settings_first, head_across)])

@@ -11,7 +11,7 @@ from ..checks import check_choice, check_int, check_real
 from ..experiments.checkpoint import run_checkpointed
 from ..io import read_run
 from ..nbody import NBodyOptions, ShearingBox
-from ..nbody.options import DT_INSTANT, IMPACT_MODELS
+from ..nbody.options import CONTACT_DURATION, DT_INSTANT, IMPACT_MODELS
 from ..params import RingParams
 from ..units import E_KIN_UNIT
 from .archive_opt import add_archive_arguments, start_archive
@@ -45,8 +45,9 @@ def register(sub) -> None:
     p.add_argument("--impacts", default="instant", metavar="MODEL",
                    help="impact model: instant (default; hard spheres, one velocity change per impact) or "
                         "viscoelastic (the paper's damped-spring contacts of finite duration, Salo 1995)")
-    p.add_argument("--contact-duration", type=float, default=1e-3, metavar="ORBITS",
-                   help="duration of a visco-elastic contact [orbits] (default 1e-3; with --impacts viscoelastic)")
+    p.add_argument("--contact-duration", type=float, default=CONTACT_DURATION, metavar="ORBITS",
+                   help=f"duration of a visco-elastic contact [orbits] (default {CONTACT_DURATION:g}; with --impacts "
+                        "viscoelastic)")
     p.add_argument("--dt", type=float, default=None, metavar="ORBITS",
                    help="time step [orbits] (default 1e-3; with --impacts viscoelastic the contact duration / 20, "
                         "and at most the contact duration / 10)")

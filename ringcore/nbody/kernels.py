@@ -190,10 +190,11 @@ def build_cell_list(pos, L_x, L_y, D, n_cx, n_cy, gpos, gsrc, cell_start, cell_e
     return ng
 
 
-@njit(nogil=True, cache=True)
-def _collide(a, b, pos, vel, gpos, gsrc, N, L_x, L_y, dt, mode, eps_const, v_c, acc):
-    """Check entries a (< N, real) and b (real or ghost) and resolve if overlapping and approaching."""
-    ia = a
+@njit(nogil=True, cache=True, inline="always")
+def pair_separation(a, b, pos, gpos, gsrc, N, L_x, L_y):
+    """Separation of entries a (< N, real) and b (real or ghost): ``(ib, vshift, dx, dy, dz, r2)`` with ``ib``
+    the particle of b, ``vshift`` the v_y offset of b's image (-1.5 L_x for a ghost) and d = x_a - x_b
+    (y periodic) [R_p]; shared by the impact models."""
     if b < N:
         ib = b
         bx = pos[b, 0]
@@ -206,14 +207,67 @@ def _collide(a, b, pos, vel, gpos, gsrc, N, L_x, L_y, dt, mode, eps_const, v_c, 
         by = gpos[b - N, 1]
         bz = gpos[b - N, 2]
         vshift = -1.5 * L_x
-    dx = pos[ia, 0] - bx
-    dz = pos[ia, 2] - bz
-    dy = pos[ia, 1] - by
+    dx = pos[a, 0] - bx
+    dz = pos[a, 2] - bz
+    dy = pos[a, 1] - by
     if dy > 0.5 * L_y:
         dy -= L_y
     elif dy < -0.5 * L_y:
         dy += L_y
-    r2 = dx * dx + dy * dy + dz * dz
+    return ib, vshift, dx, dy, dz, dx * dx + dy * dy + dz * dz
+
+
+@njit(nogil=True, cache=True, inline="always")
+def normal_speed(vel, ia, ib, vshift, nx, ny, nz):
+    """Normal relative velocity (v_ia - v_ib) . n of a pair [R_p Omega] (> 0: separating)."""
+    return ((vel[ia, 0] - vel[ib, 0]) * nx + (vel[ia, 1] - vel[ib, 1] - vshift) * ny
+            + (vel[ia, 2] - vel[ib, 2]) * nz)
+
+
+@njit(nogil=True, cache=True, inline="always")
+def add_impulse(dv, ia, ib, j, nx, ny, nz, dx, dy, dz, acc):
+    """Add the velocity change j n to ``dv[ia]`` and -j n to ``dv[ib]`` (equal masses; ``dv`` is the velocities
+    themselves or a buffer) and its nonlocal momentum flux to ``acc``; shared by the impact models."""
+    jx = j * nx
+    jy = j * ny
+    jz = j * nz
+    dv[ia, 0] += jx
+    dv[ia, 1] += jy
+    dv[ia, 2] += jz
+    dv[ib, 0] -= jx
+    dv[ib, 1] -= jy
+    dv[ib, 2] -= jz
+    acc[A_PXX_NL] += jx * dx
+    acc[A_PXY_NL] += jy * dx
+    acc[A_PYY_NL] += jy * dy
+    acc[A_PZZ_NL] += jz * dz
+
+
+@njit(nogil=True, cache=True, inline="always")
+def stencil_range(cx, cy, s, ka, n_cx, n_cy, cell_start):
+    """Entries ``(kb0, kb1)`` that entry ``ka`` of cell (cx, cy) meets in part ``s`` (0..4) of the half stencil:
+    the rest of its cell, the cells (+1, -1), (+1, 0), (+1, +1) (y periodic) and (0, +1); (0, 0) beyond the
+    ghost column.  Every pair of the cell list is met once over all entries and parts."""
+    if s == 0:
+        ncx = cx
+        ncy = cy
+    elif s == 4:
+        ncx = cx
+        ncy = (cy + 1) % n_cy
+    else:
+        ncx = cx + 1
+        ncy = (cy + s - 2) % n_cy
+    if ncx > n_cx:
+        return 0, 0
+    nc = ncx * n_cy + ncy
+    return (ka + 1 if s == 0 else cell_start[nc]), cell_start[nc + 1]
+
+
+@njit(nogil=True, cache=True)
+def _collide(a, b, pos, vel, gpos, gsrc, N, L_x, L_y, dt, mode, eps_const, v_c, acc):
+    """Check entries a (< N, real) and b (real or ghost) and resolve if overlapping and approaching."""
+    ia = a
+    ib, vshift, dx, dy, dz, r2 = pair_separation(a, b, pos, gpos, gsrc, N, L_x, L_y)
     if r2 >= 4.0:
         return
     r = math.sqrt(r2)
@@ -226,8 +280,7 @@ def _collide(a, b, pos, vel, gpos, gsrc, N, L_x, L_y, dt, mode, eps_const, v_c, 
     nx = dx / r
     ny = dy / r
     nz = dz / r
-    vn = ((vel[ia, 0] - vel[ib, 0]) * nx + (vel[ia, 1] - vel[ib, 1] - vshift) * ny
-          + (vel[ia, 2] - vel[ib, 2]) * nz)
+    vn = normal_speed(vel, ia, ib, vshift, nx, ny, nz)
     if vn >= 0.0:
         acc[A_NRECEDE] += 1.0
         return
@@ -235,20 +288,8 @@ def _collide(a, b, pos, vel, gpos, gsrc, N, L_x, L_y, dt, mode, eps_const, v_c, 
         acc[A_NUNRES] += 1.0
     eps = coefficient_of_restitution(-vn, mode, eps_const, v_c)
     j = -0.5 * (1.0 + eps) * vn  # > 0, velocity change of a along +n (equal masses)
-    jx = j * nx
-    jy = j * ny
-    jz = j * nz
-    vel[ia, 0] += jx
-    vel[ia, 1] += jy
-    vel[ia, 2] += jz
-    vel[ib, 0] -= jx
-    vel[ib, 1] -= jy
-    vel[ib, 2] -= jz
+    add_impulse(vel, ia, ib, j, nx, ny, nz, dx, dy, dz, acc)
     acc[A_NCOLL] += 1.0
-    acc[A_PXX_NL] += jx * dx
-    acc[A_PXY_NL] += jy * dx
-    acc[A_PYY_NL] += jy * dy
-    acc[A_PZZ_NL] += jz * dz
 
 
 @njit(nogil=True, cache=True)
@@ -268,20 +309,8 @@ def resolve_collisions(pos, vel, gpos, gsrc, cell_start, cell_entries, n_cx, n_c
             for ka in range(cell_start[c], cell_start[c + 1]):
                 a = cell_entries[ka]
                 for s in range(5):
-                    if s == 0:
-                        ncx = cx
-                        ncy = cy
-                    elif s == 4:
-                        ncx = cx
-                        ncy = (cy + 1) % n_cy
-                    else:
-                        ncx = cx + 1
-                        ncy = (cy + s - 2) % n_cy
-                    if ncx > n_cx:
-                        continue
-                    nc = ncx * n_cy + ncy
-                    kb0 = ka + 1 if s == 0 else cell_start[nc]
-                    for kb in range(kb0, cell_start[nc + 1]):
+                    kb0, kb1 = stencil_range(cx, cy, s, ka, n_cx, n_cy, cell_start)
+                    for kb in range(kb0, kb1):
                         b = cell_entries[kb]
                         if a >= N and b >= N:
                             continue

@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit, prange
 
 from .kernels import (A_MAXDEPTH, A_NCOLL, A_NOVERLAP, A_NRECEDE, A_NUNRES, A_PXX_NL, A_PXY_NL, A_PYY_NL,
-                      A_PZZ_NL, N_ACC, coefficient_of_restitution)
+                      A_PZZ_NL, N_ACC, add_impulse, coefficient_of_restitution, normal_speed)
 
 STRIP_COLS = 16  # cell columns per strip (32 R_p)
 MIN_STRIPS = 5  # boxes of fewer strips (n_cx <= 64 columns, L_x < 130 R_p) are searched as one strip
@@ -76,8 +76,7 @@ def _respond(ia, b, dx, dy, dz, r2, vel, gsrc, N, L_x, dt, mode, eps_const, v_c,
     nx = dx / r
     ny = dy / r
     nz = dz / r
-    vn = ((vel[ia, 0] - vel[ib, 0]) * nx + (vel[ia, 1] - vel[ib, 1] - vshift) * ny
-          + (vel[ia, 2] - vel[ib, 2]) * nz)
+    vn = normal_speed(vel, ia, ib, vshift, nx, ny, nz)
     if vn >= 0.0:
         acc[A_NRECEDE] += 1.0
         return
@@ -85,20 +84,8 @@ def _respond(ia, b, dx, dy, dz, r2, vel, gsrc, N, L_x, dt, mode, eps_const, v_c,
         acc[A_NUNRES] += 1.0
     eps = coefficient_of_restitution(-vn, mode, eps_const, v_c)
     j = -0.5 * (1.0 + eps) * vn  # > 0, velocity change of ia along +n (equal masses)
-    jx = j * nx
-    jy = j * ny
-    jz = j * nz
-    vel[ia, 0] += jx
-    vel[ia, 1] += jy
-    vel[ia, 2] += jz
-    vel[ib, 0] -= jx
-    vel[ib, 1] -= jy
-    vel[ib, 2] -= jz
+    add_impulse(vel, ia, ib, j, nx, ny, nz, dx, dy, dz, acc)
     acc[A_NCOLL] += 1.0
-    acc[A_PXX_NL] += jx * dx
-    acc[A_PXY_NL] += jy * dx
-    acc[A_PYY_NL] += jy * dy
-    acc[A_PZZ_NL] += jz * dz
 
 
 @njit(nogil=True, cache=True, inline="always")

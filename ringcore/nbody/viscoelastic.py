@@ -37,9 +37,9 @@ from .gravity import kick_selfgravity
 from .integrator import (I_COLLISIONS, I_MHI, I_MLO, I_MODE, I_NCX, I_NCY, I_SORT_EVERY, OK, P_DT, P_EPS,
                          P_G, P_LX, P_LY, P_OMEGA_Z, P_T0, P_VC, P_XMAX, RUNAWAY_X, W_CELL_ENTRIES, W_CELL_OF,
                          W_CELL_START, W_COEF, W_FORCE, W_GPOS, W_GSRC, W_RHO, W_SIDS, W_SPOS, W_SVEL)
-from .kernels import (A_CROSS, A_MAXDEPTH, A_NCOLL, A_NOVERLAP, A_PXX_NL, A_PXY_NL, A_PYY_NL, A_PZZ_NL,
-                      A_TIME, build_cell_list, coefficient_of_restitution, drift_epicycle, sample_local_stress,
-                      shear_offset, sort_by_cell, wrap_shear_periodic)
+from .kernels import (A_CROSS, A_MAXDEPTH, A_NCOLL, A_NOVERLAP, A_TIME, add_impulse, build_cell_list,
+                      coefficient_of_restitution, drift_epicycle, normal_speed, pair_separation, sample_local_stress,
+                      shear_offset, sort_by_cell, stencil_range, wrap_shear_periodic)
 
 SLOTS = 12  # contacts remembered per particle row (an equal sphere touches at most 12 others)
 NO_STEP = -2  # stamp of an empty slot (never "the previous step")
@@ -93,26 +93,7 @@ def _contact_eps(ia, ib, step, vimp, mode, eps_const, v_c, cpart, cstamp, ceps, 
 def _pair(a, b, pos, vel, ids, gpos, gsrc, N, L_x, L_y, dt, step, mode, eps_const, v_c, T_c,
           cpart, cstamp, ceps, dv, acc, cstat):
     """Contact force of entries a (< N, real) and b (real or ghost), added to ``dv`` as dt F."""
-    if b < N:
-        ib = b
-        bx = pos[b, 0]
-        by = pos[b, 1]
-        bz = pos[b, 2]
-        vshift = 0.0
-    else:
-        ib = gsrc[b - N]
-        bx = gpos[b - N, 0]
-        by = gpos[b - N, 1]
-        bz = gpos[b - N, 2]
-        vshift = -1.5 * L_x
-    dx = pos[a, 0] - bx
-    dy = pos[a, 1] - by
-    dz = pos[a, 2] - bz
-    if dy > 0.5 * L_y:
-        dy -= L_y
-    elif dy < -0.5 * L_y:
-        dy += L_y
-    r2 = dx * dx + dy * dy + dz * dz
+    ib, vshift, dx, dy, dz, r2 = pair_separation(a, b, pos, gpos, gsrc, N, L_x, L_y)
     if r2 >= 4.0:
         return
     r = math.sqrt(r2)
@@ -125,8 +106,7 @@ def _pair(a, b, pos, vel, ids, gpos, gsrc, N, L_x, L_y, dt, step, mode, eps_cons
     nx = dx / r
     ny = dy / r
     nz = dz / r
-    vn = ((vel[a, 0] - vel[ib, 0]) * nx + (vel[a, 1] - vel[ib, 1] - vshift) * ny
-          + (vel[a, 2] - vel[ib, 2]) * nz)  # > 0: separating
+    vn = normal_speed(vel, a, ib, vshift, nx, ny, nz)  # > 0: separating
     eps = _contact_eps(ids[a], ids[ib], step, max(-vn, 0.0), mode, eps_const, v_c, cpart, cstamp, ceps, cstat)
     beta = -math.log(eps) / T_c
     w02 = (math.pi / T_c) ** 2 + beta * beta
@@ -134,22 +114,10 @@ def _pair(a, b, pos, vel, ids, gpos, gsrc, N, L_x, L_y, dt, step, mode, eps_cons
     # step (trapezoidal: an isolated pair's Delta v_n = dt (w02 xi - 2 beta (v_n + Delta v_n / 2))), which
     # makes the scheme second order in dt for the restitution
     j = 0.5 * dt * (w02 * xi - 2.0 * beta * vn) / (1.0 + beta * dt)
-    jx = j * nx
-    jy = j * ny
-    jz = j * nz
-    dv[a, 0] += jx
-    dv[a, 1] += jy
-    dv[a, 2] += jz
-    dv[ib, 0] -= jx
-    dv[ib, 1] -= jy
-    dv[ib, 2] -= jz
+    add_impulse(dv, a, ib, j, nx, ny, nz, dx, dy, dz, acc)
     vm = vn + j  # mean normal relative velocity of the step
     cstat[S_DISSIPATED] += beta * vm * vm * dt  # dashpot work (per unit particle mass) of the step
     cstat[S_PAIR_STEPS] += 1.0
-    acc[A_PXX_NL] += jx * dx
-    acc[A_PXY_NL] += jy * dx
-    acc[A_PYY_NL] += jy * dy
-    acc[A_PZZ_NL] += jz * dz
 
 
 @njit(nogil=True, cache=True)
@@ -171,20 +139,8 @@ def contact_kick(pos, vel, ids, gpos, gsrc, cell_start, cell_entries, n_cx, n_cy
             for ka in range(cell_start[c], cell_start[c + 1]):
                 a = cell_entries[ka]
                 for s in range(5):
-                    if s == 0:
-                        ncx = cx
-                        ncy = cy
-                    elif s == 4:
-                        ncx = cx
-                        ncy = (cy + 1) % n_cy
-                    else:
-                        ncx = cx + 1
-                        ncy = (cy + s - 2) % n_cy
-                    if ncx > n_cx:
-                        continue
-                    nc = ncx * n_cy + ncy
-                    kb0 = ka + 1 if s == 0 else cell_start[nc]
-                    for kb in range(kb0, cell_start[nc + 1]):
+                    kb0, kb1 = stencil_range(cx, cy, s, ka, n_cx, n_cy, cell_start)
+                    for kb in range(kb0, kb1):
                         b = cell_entries[kb]
                         if a >= N and b >= N:
                             continue

@@ -33,7 +33,7 @@ from ringlab.ui.a11y import button
 from ringlab.ui.checked_input import CheckedInputs
 from ringlab.ui.cite import publish
 from ringlab.ui.frame_gate import FrameGate, served
-from ringlab.ui.layout import responsive_grid, run_first, wrap_row
+from ringlab.ui.layout import responsive_grid, settings_beside, wrap_row
 from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
 from ringlab.ui.style import CSS, EXPLANATION_FONT
@@ -207,11 +207,14 @@ class HydroView(pn.viewable.Viewer):
                                                           sizing_mode="stretch_width"), sizing_mode="stretch_width")
         controls = wrap_row(*self.buttons.values())
         kept = wrap_row(self.kept, self.restore_button, self.gone.note, self.gone.button)
-        # the run first (buttons, status, space-time diagram, profiles), the readouts under the main plots,
-        # the settings form beside it on wide screens and below it on narrow ones (projector-first)
-        run = pn.Column(self.header, controls, self.status, kept, self.blowup, self.key, top, self.readouts,
-                        bottom, explanation, sizing_mode="stretch_width", css_classes=["hydro-run"])
-        return run_first(run, pn.Column(self._widgets(), self.export, width=340, css_classes=["hydro-settings"]))
+        # the run's buttons and status first, the settings form beside the plots on wide screens and below them
+        # on narrow ones (projector-first: Start and the space-time diagram in the first screen), the readouts
+        # under the main plots; the keyboard reaches Start and the settings before the plots' toolbars
+        head = pn.Column(self.header, controls, self.status, kept, self.blowup, sizing_mode="stretch_width",
+                         css_classes=["hydro-run"])
+        main = pn.Column(self.key, top, self.readouts, bottom, explanation, sizing_mode="stretch_width")
+        return settings_beside(head, pn.Column(self._widgets(), self.export, width=340,
+                                               css_classes=["hydro-settings"]), main, main_min_px=580)
 
     @staticmethod
     def _key_pane() -> pn.pane.HTML:

@@ -20,7 +20,7 @@ import math
 import numpy as np
 import panel as pn
 import param
-from bokeh.models import ColumnDataSource, CustomJSTickFormatter, FixedTicker, HoverTool, Range1d, Span
+from bokeh.models import ColumnDataSource, CustomJS, CustomJSTickFormatter, FixedTicker, HoverTool, Range1d, Span
 from bokeh.palettes import Viridis256
 from bokeh.plotting import figure
 
@@ -29,7 +29,7 @@ from ringlab.lessons.tutorials import tab_links
 from ringlab.model.controls import RingControls, set_labels
 from ringlab.model.linear import LinearTheory, WAVELENGTH_RANGE_M
 from ringlab.tabs.linear.carry import CarryButtons
-from ringlab.ui.layout import page_row, responsive_grid
+from ringlab.ui.layout import responsive_grid, settings_beside
 from ringlab.ui.palette import CURRENT_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.style import BASE_CSS as CSS
 
@@ -39,7 +39,20 @@ PLOTS = (  # key in the curve dicts, y-axis label, title
     ("frequency", "oscillation frequency ω_I [Ω]", "Oscillation frequency ω_I (exact, eq. (16))"),
     ("group_velocity_mm_s", "group velocity v_g [mm/s]", "Group velocity v_g = dω_I/dk, eq. (23)"),
 )
+SETTINGS_PX = 280  # [px] the settings column: slider and "Run this in ..." buttons readable
+CURVES_MIN_PX = 380  # [px] narrowest plot column beside the settings (a 1024 px window with the lessons panel)
+# six cards in one row from a 1280 px window with the lessons panel on (the curves one row higher)
+READOUTS_CSS = "#linear-readouts {grid-template-columns: repeat(auto-fill, minmax(140px, 1fr));}"
 TICKS_M = [10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0, 2000.0, 10000.0]
+DECADES_M = [10.0, 100.0, 1000.0, 10000.0]
+NARROW_FRAME_PX = 340  # [px] a plot frame narrower than this labels the decades only
+NARROW_TICKS_JS = """
+const w = cb_obj.inner_width, want = (w > 0 && w < narrow) ? decades : all;
+if (ticker.ticks.length !== want.length) {
+  ticker.ticks = want;
+  ticker.minor_ticks = want === all ? [] : all.filter((t) => !decades.includes(t));
+}
+"""
 
 EXPLANATION = """
 ### What am I looking at?
@@ -129,7 +142,7 @@ class LinearView(pn.viewable.Viewer):
         self.marker_source = ColumnDataSource(dict(x=[], mlabel=[], color=[], dash=[]))
         self.figures = {key: self._figure(key, ylabel, title) for key, ylabel, title in PLOTS}
         self.key = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
-        self.readouts = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
+        self.readouts = pn.pane.HTML("", stylesheets=[CSS, READOUTS_CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.message = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", visible=False)
         self.note = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", visible=False)
         self.q0_warning = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", visible=False,
@@ -143,21 +156,22 @@ class LinearView(pn.viewable.Viewer):
     # ---------------------------------------------------------------- building
     def _widgets(self) -> pn.Column:
         c = self.controls
-        self.sigma0_slider = pn.widgets.FloatSlider.from_param(c.param.sigma0, throttled=True, format="0")
+        fit = dict(sizing_mode="stretch_width")  # the column's width, also where Panel's default is 300 px
+        self.sigma0_slider = pn.widgets.FloatSlider.from_param(c.param.sigma0, throttled=True, format="0", **fit)
         # while dragging, the current curve and the readouts, markers and legend follow together
         self.sigma0_slider.param.watch(lambda e: self.model.preview(e.new), "value")
         isothermal = c.param.isothermal
         return pn.Column(
-            pn.widgets.Select.from_param(c.param.param_set, options=set_labels()),
+            pn.widgets.Select.from_param(c.param.param_set, options=set_labels(), **fit),
             self.sigma0_slider,
-            pn.widgets.Checkbox.from_param(isothermal),
-            pn.widgets.FloatSlider.from_param(c.param.ps_scale, visible=isothermal.rx.not_(), format="0.00"),
-            pn.widgets.FloatSlider.from_param(c.param.iso_p_s, visible=isothermal, format="0.00"),
+            pn.widgets.Checkbox.from_param(isothermal, **fit),
+            pn.widgets.FloatSlider.from_param(c.param.ps_scale, visible=isothermal.rx.not_(), format="0.00", **fit),
+            pn.widgets.FloatSlider.from_param(c.param.iso_p_s, visible=isothermal, format="0.00", **fit),
             self._compare_input(),
             self.note,
             self.message,
             self.carry.panel,
-            width=320,
+            width=SETTINGS_PX - 20,
         )
 
     def _compare_input(self) -> pn.widgets.TextInput:
@@ -171,7 +185,7 @@ class LinearView(pn.viewable.Viewer):
         """
         c = self.controls
         p = c.param.compare_sigma0
-        w = pn.widgets.TextInput(label=p.label, value=c.compare_sigma0, description=p.doc)
+        w = pn.widgets.TextInput(label=p.label, value=c.compare_sigma0, description=p.doc, sizing_mode="stretch_width")
 
         def apply(event):
             if event.new != c.compare_sigma0:
@@ -201,9 +215,14 @@ class LinearView(pn.viewable.Viewer):
             ax.axis_label_text_font_size = "15px"
             ax.major_label_text_font_size = "13px"
             ax.axis_label_text_font_style = "normal"
-        fig.xaxis.ticker = FixedTicker(ticks=TICKS_M)
+        ticker = FixedTicker(ticks=TICKS_M)
+        fig.xaxis.ticker = ticker
+        # a narrow plot (a 1024 px window with the settings beside it, a phone) labels the decades only: the
+        # labels 500 1000 2000 ran into each other; the other ticks stay as unlabelled marks
+        fig.js_on_change("inner_width", CustomJS(args=dict(ticker=ticker, all=TICKS_M, decades=DECADES_M,
+                                                           narrow=NARROW_FRAME_PX), code=NARROW_TICKS_JS))
         fig.xaxis.formatter = CustomJSTickFormatter(code="return tick.toString()")
-        fig.xgrid.ticker = FixedTicker(ticks=[10.0, 100.0, 1000.0, 10000.0])
+        fig.xgrid.ticker = FixedTicker(ticks=DECADES_M)
         return fig
 
     def _build_layout(self):
@@ -214,9 +233,13 @@ class LinearView(pn.viewable.Viewer):
                                 pn.pane.HTML(tab_links("linear"), stylesheets=[CSS], sizing_mode="stretch_width"),
                                 sizing_mode="stretch_width")
         grid = responsive_grid(plots["growth_rate"], plots["frequency"], plots["group_velocity_mm_s"], explanation)
-        return page_row(pn.Column(pn.pane.Markdown("### Settings", margin=(0, 10)), self.widgets, width=340),
-                        pn.Column(header, self.q0_warning, self.readouts, self.key, grid,
-                                  sizing_mode="stretch_width"))
+        # the settings beside the curves they change (from a 1024 px projector with the lessons panel on), and
+        # in view while the page scrolls past the three plots; the readouts above both
+        settings = pn.Column(pn.pane.Markdown("### Settings", margin=(0, 10)), self.widgets, width=SETTINGS_PX,
+                             css_classes=["linear-settings"])
+        return settings_beside(pn.Column(header, self.q0_warning, self.readouts, self.key, sizing_mode="stretch_width"),
+                               settings, grid, settings_px=SETTINGS_PX, main_min_px=CURVES_MIN_PX, sticky=True,
+                               settings_first=True, head_across=True)
 
     # ---------------------------------------------------------------- updating
     def _render(self, *events):

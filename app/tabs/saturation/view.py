@@ -34,7 +34,7 @@ from ringlab.tabs.saturation.wave_train import WaveTrainCard
 from ringlab.paths import DATA_DIR
 from ringlab.ui.cite import publish
 from ringlab.ui.figures import log_ticks, new_figure
-from ringlab.ui.layout import page_row
+from ringlab.ui.layout import settings_beside
 from ringlab.ui.palette import EMP_COLOR, LP_COLOR, MAXG_COLOR
 from ringlab.ui.readouts import message_html
 from ringlab.ui.style import CSS
@@ -296,7 +296,7 @@ class SaturationView(pn.viewable.Viewer):
             W.Select.from_param(self.param.param_set, options=set_labels()),
             W.Checkbox.from_param(self.param.isothermal), self.model_note, self.model_error,
             pn.pane.Markdown("### Your runs", margin=(0, 10)), self.add_button, self.message,
-            self.point_select, self.remove_button, width=340)
+            self.point_select, self.remove_button, width=340, css_classes=["sat-settings"])
         explanation = pn.pane.Markdown(EXPLANATION + stability.EXPLANATION, sizing_mode="stretch_width",
                                        styles={"font-size": "15px"})
         one_line = pn.pane.HTML(f'<div class="buttons-note" id="sat-st-line">{stability.ONE_LINE}</div>',
@@ -306,9 +306,12 @@ class SaturationView(pn.viewable.Viewer):
         lower = [p for p in self.sweep_points if not p.get("saturated", True)]
         lb_note = pn.pane.HTML(f'<div class="buttons-note" id="sat-lower-note">{LOWER_BOUND_NOTE}</div>',
                                stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10), visible=bool(lower))
-        return page_row(controls, pn.Column(self.note, self.caveat, self._key(), pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"),
-                                            one_line, lb_note, self.wave_card, explanation,
-                                            sizing_mode="stretch_width"))
+        # the theory's settings and "Add my run" beside the diagram (under its notes on narrow screens), before
+        # its toolbar for the keyboard
+        head = pn.Column(self.note, self.caveat, sizing_mode="stretch_width")
+        main = pn.Column(self._key(), pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"), one_line, lb_note,
+                         self.wave_card, explanation, sizing_mode="stretch_width")
+        return settings_beside(head, controls, main, main_min_px=560, settings_first=True)
 
     def __panel__(self):
         return self._layout
