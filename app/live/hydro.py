@@ -108,12 +108,12 @@ class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
     # ------------------------------------------------------------------ building
     def _rebuild(self) -> bool:
         """Start a new simulation at t = 0 from the current settings (if they are valid)."""
-        probs = self.settings.find_problems()
+        # the values of this run, resolved once with their check: the engine never reads the settings object
+        setup, probs = self.settings.check()
         self.problems = probs
-        if any(k in probs for k in ("model", "grid", "initial")):
+        if setup is None:
             self.status = "Settings not applied: see the message beside the controls."
             return False
-        setup = self.settings.resolve()  # the values of this run: the engine never reads the settings object
         opt = setup.options
         max_rows = max(100, int(MAX_STROBE_BYTES / (4 * opt.n)))
         sim = Hydro1D(setup.params, opt, initial=setup.initial, max_samples=MAX_RECORD_SAMPLES, max_rows=max_rows,
