@@ -11,11 +11,12 @@ worker process per core; with ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` it uses
   (:meth:`EngineHost.advance`) returns the engine's state *without* its recorder series (the "light"
   state: ~30 KB), the samples recorded during the chunk (with the sigma row at each sample time, for the
   orbit-resolved image) and a blow-up, if any.
-* :class:`RemoteSim` (in the app) stands where the runner's ``Hydro1D`` stood.  Reads (``orbits``,
-  ``sigma``, ``psd()``, ``buffer`` ...) go to a local engine restored from the last light state, i.e.
-  exactly the state the worker keeps (Pause shows the kept state); ``snapshot()`` (export) fetches the
-  complete state from the worker; ``set_buffer`` / ``clear_buffer`` run on the worker.  Until the first
-  chunk, and after :meth:`RemoteSim.detach`, a complete local engine is authoritative instead.
+* :class:`RemoteSim` (in the app) stands where the runner's ``Hydro1D`` stood, as a run handle
+  (:class:`ringlab.server.handle.RunHandle`).  ``frame()`` and ``prevalent_wavelength()`` are the worker's, computed
+  with its chunk; reads of the state itself (``sigma_dimless``, ``psd()``, ``buffer`` ...) go to a local engine
+  restored from the last light state, i.e. exactly the state the worker keeps (Pause shows the kept state);
+  ``snapshot()`` (export) fetches the complete state from the worker; ``set_buffer`` / ``clear_buffer`` run on the
+  worker.  Until the first chunk, and after :meth:`RemoteSim.detach`, a complete local engine is authoritative.
 * A worker lost (its process killed: the out-of-memory killer) takes no run with it: the run continues
   from its last shown chunk in this process and goes to a worker again at its next chunk
   (:meth:`RemoteSim._recover`); without a worker the runs compute here.
@@ -23,9 +24,8 @@ worker process per core; with ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` it uses
   session has at most one chunk in flight (:mod:`ringlab.live.loop`), so the sessions on a worker take
   turns; sessions are spread evenly over the workers.
 
-The numbers are those of an in-process run (the engine contract: ``restore`` continues bit for bit and
-the chunking never changes a run), checked in ``tests/app/test_dask_backend.py`` and
-``tests/app/test_worker_loss.py``.
+The numbers are those of an in-process run (the engine contract: ``restore`` continues bit for bit and the chunking
+never changes a run), checked in ``tests/app/test_dask_backend.py`` and ``tests/app/test_worker_loss.py``.
 """
 from __future__ import annotations
 
@@ -42,6 +42,7 @@ from ringlab.server.cluster import ENV_WORKERS, LOOPBACK, cores, local_cluster, 
 from ringlab.server.engine_host import (EngineHost, LightView, blowup, cancel_queued, light,  # noqa: F401  (the worker
                                         light_snapshot)  # side; re-exported)
 from ringlab.server.dask_backend import DaskBackend  # noqa: F401  (re-exported)
+from ringlab.server.handle import PlacedRun, ShownStateReads
 
 ENV_MODE = "RINGLAB_COMPUTE"
 ENV_SCHEDULER = "RINGLAB_DASK_SCHEDULER"
@@ -55,7 +56,7 @@ class WorkerLost(Exception):
     """The worker holding a run was lost; the run is back in this process at its last shown chunk."""
 
 
-class RemoteSim:
+class RemoteSim(ShownStateReads, PlacedRun):
     """Stands for a runner's engine whose chunks compute on a Dask worker (see the module docstring).
 
     ``prefetch`` (class attribute, default True): the worker computes the next chunk while the
@@ -114,10 +115,8 @@ class RemoteSim:
         """A local engine in exactly the kept state (its recorder series are not kept here)."""
         return self._shown.engine()
 
-    def __getattr__(self, name):
-        if name.startswith("_"):
-            raise AttributeError(name)
-        return getattr(self.view, name)
+    def _reader(self):
+        return self.view
 
     @property
     def orbits(self) -> float:
@@ -140,6 +139,14 @@ class RemoteSim:
         if f is not None and self._actor is not None:
             return f
         return (self._local if self._local is not None else self.view).frame()
+
+    def prevalent_wavelength(self) -> float:
+        """lambda_p now [m]: the worker's frame's (the same number) while the worker holds the run."""
+        f = self._frame
+        return f.lambda_p_m if f is not None and self._actor is not None else self.view.prevalent_wavelength()
+
+    def pace_s(self) -> float:
+        return 0.0  # a worker's run takes its next chunk at once (the prefetch keeps the worker busy)
 
     # ---------------------------------------------------------------- the contract
     def on_sample(self, fn) -> int:
