@@ -1,16 +1,14 @@
 """Live simulations computed in other processes: Dask actors that hold each session's engine.
 
-With ``RINGLAB_COMPUTE=processes`` the app starts a ``distributed.LocalCluster`` of one single-threaded
-worker process per core; with ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` it uses an existing Dask cluster
-(its workers need this project installed: ``pip install -e .`` of the same version).
-``RINGLAB_COMPUTE=threads`` (or unset without a scheduler) keeps the in-process thread pool of
-:mod:`ringlab.server.compute`.  How a session's run is split between the app server and a worker:
+With ``RINGLAB_COMPUTE=processes`` (:data:`ringlab.config.CONFIG`) the app starts a ``distributed.LocalCluster`` of
+one single-threaded worker process per core; with ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` it uses an existing Dask
+cluster (its workers need this project installed: ``pip install -e .`` of the same version).  ``threads`` (or unset
+without a scheduler) keeps the in-process thread pool of :mod:`ringlab.server.compute`.  A session's run is split so:
 
-* :class:`EngineHost` (a Dask actor, :mod:`ringlab.server.engine_host`, placed on the worker with the fewest
-  engines) holds the authoritative engine while the run lives on the cluster.  A chunk
-  (:meth:`EngineHost.advance`) returns the engine's state *without* its recorder series (the "light"
-  state: ~30 KB), the samples recorded during the chunk (with the sigma row at each sample time, for the
-  orbit-resolved image) and a blow-up, if any.
+* :class:`EngineHost` (a Dask actor, :mod:`ringlab.server.engine_host`, placed on the worker with the fewest engines)
+  holds the authoritative engine while the run lives on the cluster.  A chunk (:meth:`EngineHost.advance`) returns
+  the engine's state *without* its recorder series (the "light" state: ~30 KB), the samples recorded during the chunk
+  (with the sigma row at each sample time, for the orbit-resolved image) and a blow-up, if any.
 * :class:`RemoteSim` (in the app) stands where the runner's ``Hydro1D`` stood, as a run handle
   (:class:`ringlab.server.handle.RunHandle`).  ``frame()`` and ``prevalent_wavelength()`` are the worker's, computed
   with its chunk; reads of the state itself (``sigma_dimless``, ``psd()``, ``buffer`` ...) go to a local engine
@@ -31,13 +29,13 @@ from __future__ import annotations
 
 import logging
 import math
-import os
 import time
 import threading
 import weakref
 
 from ringcore.engine import engine_class
 
+from ringlab.config import CONFIG
 from ringlab.server.cluster import ENV_WORKERS, LOOPBACK, cores, local_cluster, local_workers  # noqa: F401  (re-exported)
 from ringlab.server.engine_host import (EngineHost, LightView, blowup, cancel_queued, light,  # noqa: F401  (the worker
                                         light_snapshot)  # side; re-exported)
@@ -100,7 +98,7 @@ class RemoteSim(ShownStateReads, PlacedRun):
         self._local = None
         self._actor, self._worker, self._key = actor, worker, key
         self._fin = weakref.finalize(self, backend().forget, worker)
-        self._set_light(last["light"])
+        self._shown.show(last["light"])
         self._frame = last["frame"]
         return self
 
@@ -213,7 +211,7 @@ class RemoteSim(ShownStateReads, PlacedRun):
     def _take(self, res, stash=True):
         """Show a chunk's result: light state, samples to the callbacks; its blow-up (returned, or
         kept for the next :meth:`advance` with ``stash``)."""
-        self._set_light(res["light"])
+        self._shown.show(res["light"])
         self._frame = res.get("frame")
         for s in res["samples"]:
             for fn in list(self._callbacks.values()):
@@ -312,14 +310,11 @@ class RemoteSim(ShownStateReads, PlacedRun):
         self.recovered += 1
         log.warning(f"live run recovered at orbit {engine.orbits:.2f} after its Dask worker was lost ({exc!r})")
 
-    def _set_light(self, state) -> None:
-        self._shown.show(state)
-
     def _change(self, name, *args) -> None:
         self.settle()
         if self._actor is not None:
             try:
-                self._set_light(self._result(lambda: self._actor.call(name, *args).result()))
+                self._shown.show(self._result(lambda: self._actor.call(name, *args).result()))
             except WorkerLost:  # the change applies to the run brought back here
                 pass
             else:
@@ -335,22 +330,20 @@ def _in_server() -> bool:
 
 
 def mode(in_server: bool | None = None) -> str:
-    """``threads``, ``processes`` or ``dask`` from ``RINGLAB_COMPUTE`` / ``RINGLAB_DASK_SCHEDULER``.
+    """``threads``, ``processes`` or ``dask`` from ``RINGLAB_COMPUTE`` / ``RINGLAB_DASK_SCHEDULER`` (``CONFIG``).
 
     Unset (or ``auto``): ``processes`` for the runs of a server session on a machine with two or
     more cores, ``threads`` otherwise (one core; headless use: tests, notebooks, scripts).
     ``in_server`` overrides the check for a server session (default: ``pn.state.curdoc``).
     """
-    raw = os.environ.get(ENV_MODE, "").strip().lower()
-    if os.environ.get(ENV_SCHEDULER, "").strip():
-        if raw not in ("", "dask"):
+    raw = CONFIG.compute
+    if CONFIG.dask_scheduler:
+        if raw not in ("auto", "dask"):
             raise ValueError(f"{ENV_MODE} = {raw!r} is not valid with {ENV_SCHEDULER} set: allowed 'dask' or unset")
         return "dask"
-    if raw in ("", "auto"):
+    if raw == "auto":
         in_server = _in_server() if in_server is None else in_server
         return "processes" if in_server and cores() >= 2 else "threads"
-    if raw not in MODES:
-        raise ValueError(f"{ENV_MODE} = {raw!r} is not valid: allowed {', '.join(MODES)}")
     if raw == "dask":
         raise ValueError(f"{ENV_MODE} = 'dask' needs {ENV_SCHEDULER}=tcp://host:port (or use 'processes')")
     return raw
@@ -371,14 +364,13 @@ def backend() -> DaskBackend | None:
     with _BACKEND_LOCK:
         if _BACKEND is None:
             if m == "dask":
-                _BACKEND = DaskBackend(os.environ[ENV_SCHEDULER].strip())
+                _BACKEND = DaskBackend(CONFIG.dask_scheduler)
             else:
                 _BACKEND = DaskBackend(None, local_workers())
-            import logging
             where = "an existing Dask cluster" if m == "dask" else "a LocalCluster"
-            logging.getLogger("panel.state").info(
+            log.info(
                 f"live hydro runs compute on {where}: {len(_BACKEND.workers())} worker processes, "
-                f"{_BACKEND.slots()} threads ({ENV_MODE}={os.environ.get(ENV_MODE, '') or 'unset'})")
+                f"{_BACKEND.slots()} threads ({ENV_MODE}={CONFIG.compute})")
         return _BACKEND
 
 

@@ -191,11 +191,11 @@ def test_a_malformed_websocket_message_gets_a_short_error_without_a_traceback(se
     assert "no-such-model" in log.read_text()  # the details are in the server's log
 
 
-def test_a_site_of_the_tutorial_pages_only_opens_at_their_index(tmp_path, monkeypatch):
+def test_a_site_of_the_tutorial_pages_only_opens_at_their_index(tmp_path, monkeypatch, ringlab_env):
     from ringlab.lessons import tutorials
     from ringlab.server import routes
     from tornado.web import RedirectHandler
-    monkeypatch.setenv(tutorials.ENV, str(tmp_path))
+    ringlab_env.set(tutorials.ENV, str(tmp_path))
     (tmp_path / "tutorials" / "nb").mkdir(parents=True)
     (tmp_path / "tutorials" / "nb" / "index.html").write_text("<p>tutorials</p>")  # `make tutorials-html`
     assert tutorials.docs_start() == "tutorials/nb/"
