@@ -35,8 +35,7 @@ def test_only_the_config_module_reads_the_environment():
         if p.name == "config.py" and p.parent == APP:
             continue
         for node in ast.walk(ast.parse(p.read_text())):
-            call = isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute)
-            if call and node.func.attr in ("get", "getenv") and "environ" in ast.unparse(node.func.value) + node.func.attr:
+            if isinstance(node, ast.Call) and ast.unparse(node.func) in ("os.environ.get", "os.getenv", "getenv"):
                 if "XDG_DATA_HOME" not in ast.unparse(node):
                     readers.append(f"{p.relative_to(APP)}:{node.lineno}")
             if isinstance(node, ast.Subscript) and ast.unparse(node.value) == "os.environ" and isinstance(node.ctx, ast.Load):

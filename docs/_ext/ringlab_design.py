@@ -1,0 +1,164 @@
+"""Sphinx extension: the tables of the design page (``docs/design.md``), generated from the code at build time.
+
+``{design-table} NAME`` (a MyST directive) inserts one table read from the objects the app and ringcore use
+themselves, so the page cannot drift from the code:
+
+- ``layers``: the import-linter contracts of ``pyproject.toml`` (the layers of the app, checked by ``lint-imports``);
+- ``tabs``: ``ringlab.main.TABS`` (title, class, ``?tab=`` key) and the ``ringlab.ui.tab.Tab`` protocol;
+- ``tab-protocol`` / ``run-handle``: the members of the ``Tab`` and ``RunHandle``/``PlacedRun`` protocols;
+- ``engines``: ``ringcore.engine.ENGINES`` (kind, class);
+- ``parameter-sets``: ``ringcore.params.SET_NAMES`` (tau, Omega_z/Omega, isothermal only);
+- ``analyses``: ``ringcore.analysis.__all__``;
+- ``settings``: ``ringlab.config.rows()`` (every ``RINGLAB_*`` variable: parameter, variable, default, meaning).
+"""
+from __future__ import annotations
+
+import importlib
+import inspect
+import re
+import tomllib
+from pathlib import Path
+
+from docutils import nodes
+from docutils.parsers.rst import Directive
+
+ROOT = Path(__file__).resolve().parents[2]
+ROLE = re.compile(r":[\w:]+:`~?([^`<]*?)(?:\s*<[^>]*>)?`")
+
+
+def plain(text: str) -> str:
+    """``text`` with Sphinx roles and double backquotes reduced to their words (the tables are plain text)."""
+    def words(m):
+        target = m.group(1)
+        dotted = target.startswith(("ringcore.", "ringlab.")) and " " not in target
+        return target.split(".")[-1] if dotted else target
+    return " ".join(ROLE.sub(words, text).replace("``", "").split())
+
+
+def summary(obj) -> str:
+    """The first paragraph of ``obj``'s docstring (its summary), in plain text."""
+    doc = inspect.getdoc(obj) or ""
+    return plain(doc.split("\n\n")[0])
+
+
+def _cell(value, code: bool):
+    entry = nodes.entry()
+    para = nodes.paragraph()
+    para += nodes.literal(text=str(value)) if code else nodes.Text(str(value))
+    entry += para
+    return entry
+
+
+def table(header: list[str], rows: list[tuple], code_cols=(0,), widths=None) -> nodes.table:
+    """A docutils table of ``rows`` under ``header``; columns in ``code_cols`` are set as code."""
+    t = nodes.table(classes=["design-table"])
+    group = nodes.tgroup(cols=len(header))
+    t += group
+    for w in widths or [1] * len(header):
+        group += nodes.colspec(colwidth=w)
+    head, body = nodes.thead(), nodes.tbody()
+    group += head
+    group += body
+    row = nodes.row()
+    for h in header:
+        row += _cell(h, False)
+    head += row
+    for r in rows:
+        row = nodes.row()
+        for i, v in enumerate(r):
+            row += _cell(v, i in code_cols)
+        body += row
+    return t
+
+
+def layers():
+    data = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    rows = []
+    for c in data["tool"]["importlinter"]["contracts"]:
+        if c["type"] == "layers":
+            for i, layer in enumerate(c["layers"]):
+                rows.append((layer, f"{i + 1} (top)" if i == 0 else str(i + 1), c["name"]))
+        else:
+            rows.append((", ".join(c["source_modules"]), c["type"], c["name"]))
+    return table(["modules", "layer / kind", "contract"], rows, widths=[3, 1, 4])
+
+
+def tabs():
+    from ringlab import main
+    keys = {i: k for k, i in main.TAB_KEYS.items()}
+    rows = [(f"{cls.__module__}.{cls.__name__}", title, f"?tab={keys[i]}", summary(cls))
+            for i, (title, cls) in enumerate(main.TABS)]
+    return table(["class", "title", "address", "what it shows"], rows, code_cols=(0, 2), widths=[3, 2, 2, 5])
+
+
+def _members(proto, names) -> list[tuple]:
+    out = []
+    for n in names:
+        obj = inspect.getattr_static(proto, n, None)
+        fn = obj.__func__ if isinstance(obj, classmethod) else obj.fget if isinstance(obj, property) else obj
+        out.append((n, proto.__name__, summary(fn) if fn is not None and callable(fn) else
+                    "a plain attribute (see the class docstring)"))
+    return out
+
+
+def tab_protocol():
+    from ringlab.ui.tab import TAB_METHODS, Tab
+    return table(["member", "protocol", "meaning"], _members(Tab, TAB_METHODS), widths=[2, 1, 6])
+
+
+def run_handle():
+    from ringlab.server.handle import PLACED_MEMBERS, RUN_MEMBERS, PlacedRun, RunHandle
+    rows = _members(RunHandle, RUN_MEMBERS) + _members(PlacedRun, PLACED_MEMBERS)
+    return table(["member", "protocol", "meaning"], rows, widths=[2, 1, 6])
+
+
+def engines():
+    from ringcore.engine import ENGINES
+    rows = []
+    for kind, (mod, name) in ENGINES.items():
+        cls = getattr(importlib.import_module(mod), name)
+        rows.append((kind, f"{mod}.{name}", summary(cls)))
+    return table(["kind", "class", "what it integrates"], rows, code_cols=(0, 1), widths=[1, 3, 6])
+
+
+def parameter_sets():
+    from ringcore import params
+    rows = []
+    for n in params.SET_NAMES:
+        p = params.get(n, isothermal=True if n in params.ISOTHERMAL_ONLY_SETS else None)
+        rows.append((n, f"{p.tau:g}", f"{p.omega_z:g}", "isothermal only" if n in params.ISOTHERMAL_ONLY_SETS
+                     else "isothermal and non-isothermal"))
+    return table(["name", "τ", "Ω_z/Ω", "models"], rows, widths=[2, 1, 1, 4])
+
+
+def analyses():
+    import ringcore.analysis as A
+    rows = [(f"ringcore.analysis.{n}", summary(getattr(A, n))) for n in A.__all__]
+    return table(["function", "what it measures"], rows, widths=[3, 6])
+
+
+def settings():
+    from ringlab.config import rows
+    return table(["parameter of CONFIG", "environment variable", "default", "meaning"],
+                 [(n, var, d, plain(doc)) for n, var, d, doc in rows()], code_cols=(0, 1, 2), widths=[2, 3, 2, 6])
+
+
+TABLES = {"layers": layers, "tabs": tabs, "tab-protocol": tab_protocol, "run-handle": run_handle, "engines": engines,
+          "parameter-sets": parameter_sets, "analyses": analyses, "settings": settings}
+
+
+class DesignTable(Directive):
+    """``{design-table} NAME``: one of :data:`TABLES`, generated now."""
+
+    required_arguments = 1
+
+    def run(self):
+        name = self.arguments[0]
+        if name not in TABLES:
+            raise self.error(f"design-table {name!r} is not known: allowed {', '.join(TABLES)}")
+        return [TABLES[name]()]
+
+
+def setup(app):
+    app.add_directive("design-table", DesignTable)
+    return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
