@@ -183,8 +183,10 @@ def read(environ=None) -> dict:
 
 def rows() -> list[tuple[str, str, str, str]]:
     """(parameter, environment variable, default, meaning) of every setting, for the documentation's table."""
-    return [(name, var, "(empty)" if Config.param[name].default in (None, "") else repr(Config.param[name].default),
-             Config.param[name].doc) for name, (var, _) in ENV.items()]
+    def text(v):  # the default as the variable's value
+        return "(empty)" if v is None or v == "" else ("1" if v else "0") if isinstance(v, bool) else f"{v:g}" \
+            if isinstance(v, float) else str(v)
+    return [(name, var, text(Config.param[name].default), Config.param[name].doc) for name, (var, _) in ENV.items()]
 
 
 CONFIG = Config.from_environ()

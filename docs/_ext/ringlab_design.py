@@ -32,7 +32,8 @@ def plain(text: str) -> str:
         target = m.group(1)
         dotted = target.startswith(("ringcore.", "ringlab.")) and " " not in target
         return target.split(".")[-1] if dotted else target
-    return " ".join(ROLE.sub(words, text).replace("``", "").split())
+    # command-line options keep their two hyphens (no en dash from the smart quotes)
+    return " ".join(ROLE.sub(words, text).replace("``", "").replace("--", "\u2011\u2011").split())
 
 
 def summary(obj) -> str:
@@ -76,28 +77,47 @@ def layers():
     rows = []
     for c in data["tool"]["importlinter"]["contracts"]:
         if c["type"] == "layers":
-            for i, layer in enumerate(c["layers"]):
-                rows.append((layer, f"{i + 1} (top)" if i == 0 else str(i + 1), c["name"]))
+            n = len(c["layers"])
+            rows += [(layer, f"layer {i + 1} of {n}" + (" (top)" if i == 0 else "") +
+                      (": imports only the layers below" if i < n - 1 else " (bottom): imports none of the layers above")
+                      + (f" (contract: {c['name']})" if i == 0 else "")) for i, layer in enumerate(c["layers"])]
         else:
-            rows.append((", ".join(c["source_modules"]), c["type"], c["name"]))
-    return table(["modules", "layer / kind", "contract"], rows, widths=[3, 1, 4])
+            rows.append((" ".join(c["source_modules"]), f"{c['type']}: {c['name']}"))
+    return table(["modules", "rule (an import-linter contract)"], rows, widths=[3, 5])
 
 
 def tabs():
     from ringlab import main
     keys = {i: k for k, i in main.TAB_KEYS.items()}
-    rows = [(f"{cls.__module__}.{cls.__name__}", title, f"?tab={keys[i]}", summary(cls))
-            for i, (title, cls) in enumerate(main.TABS)]
-    return table(["class", "title", "address", "what it shows"], rows, code_cols=(0, 2), widths=[3, 2, 2, 5])
+    rows = [(title, cls.__name__, cls.__module__, f"?tab={keys[i]}") for i, (title, cls) in enumerate(main.TABS)]
+    return table(["title", "class", "module", "address"], rows, code_cols=(1, 2, 3), widths=[2, 2, 3, 2])
+
+
+def attributes(cls) -> dict:
+    """``{name: description}`` of the numpydoc Attributes section of ``cls``'s docstring."""
+    doc = inspect.getdoc(cls) or ""
+    m = re.search(r"Attributes\n-+\n(.*?)(?:\n\n\S|\Z)", doc, re.S)
+    out, name = {}, None
+    for line in (m.group(1).splitlines() if m else ()):
+        if line and not line.startswith(" "):
+            name = line.split(":")[0].strip()
+            out[name] = ""
+        elif name:
+            out[name] = (out[name] + " " + line.strip()).strip()
+    return {k: plain(v) for k, v in out.items()}
 
 
 def _members(proto, names) -> list[tuple]:
-    out = []
+    out, attrs = [], attributes(proto)
     for n in names:
         obj = inspect.getattr_static(proto, n, None)
         fn = obj.__func__ if isinstance(obj, classmethod) else obj.fget if isinstance(obj, property) else obj
-        out.append((n, proto.__name__, summary(fn) if fn is not None and callable(fn) else
-                    "a plain attribute (see the class docstring)"))
+        if fn is not None and callable(fn):
+            out.append((n, proto.__name__, summary(fn)))
+        elif n in attrs:
+            out.append((n, proto.__name__, attrs[n]))
+        else:
+            raise ValueError(f"{proto.__name__}.{n} has no description: document it in the protocol")
     return out
 
 
@@ -139,8 +159,9 @@ def analyses():
 
 def settings():
     from ringlab.config import rows
-    return table(["parameter of CONFIG", "environment variable", "default", "meaning"],
-                 [(n, var, d, plain(doc)) for n, var, d, doc in rows()], code_cols=(0, 1, 2), widths=[2, 3, 2, 6])
+    return table(["environment variable", "meaning"],
+                 [(var, f"{plain(doc)} Default: {d}. Read as CONFIG.{n}.") for n, var, d, doc in rows()],
+                 widths=[2, 5])
 
 
 TABLES = {"layers": layers, "tabs": tabs, "tab-protocol": tab_protocol, "run-handle": run_handle, "engines": engines,
@@ -159,6 +180,12 @@ class DesignTable(Directive):
         return [TABLES[name]()]
 
 
+def _reread(app, env, added, changed, removed) -> list:
+    """The tables come from code Sphinx does not track: read the design page again on every build."""
+    return [d for d in ("design",) if d in env.found_docs]
+
+
 def setup(app):
     app.add_directive("design-table", DesignTable)
+    app.connect("env-get-outdated", _reread)
     return {"version": "1", "parallel_read_safe": True, "parallel_write_safe": True}
