@@ -7,7 +7,7 @@ A runner (:class:`ringlab.live.hydro.HydroRunner`) holds its run as ``runner.sim
 * following a computation shared by identical runs: :class:`ringlab.server.shared_sim.SharedSim`.
 
 The app reads and drives a run through these members only (the list was taken from every use in the app:
-the runners, the tabs, the lessons' checks, the Compare pair).  The two handles of runs computed elsewhere
+the runners, the tabs, the lessons' checks, the Compare pair, and the tests).  The two handles of runs computed elsewhere
 also implement :class:`PlacedRun`: where the run lives and how it is brought back.  Neither forwards unknown
 names to an engine: a read that needs the state itself (``sigma_dimless``, ``psd()``, ...) says so in its
 docstring and restores the newest state into a local engine, while ``frame()`` (what a tab draws), ``orbits``,
@@ -17,7 +17,7 @@ from __future__ import annotations
 
 from typing import Any, Protocol, runtime_checkable
 
-RUN_MEMBERS = ("kind", "options", "params", "n", "orbits", "steps", "U", "sigma_dimless", "x_m", "buffer",
+RUN_MEMBERS = ("kind", "options", "params", "n", "orbits", "steps", "dt_orbits", "U", "sigma_dimless", "x_m", "buffer",
                "buffer_active", "recorder", "frame", "diagnostics", "snapshot", "on_sample", "advance", "set_buffer",
                "clear_buffer", "prevalent_wavelength", "psd", "stable_dt")
 PLACED_MEMBERS = ("on_worker", "computing_ahead", "settle", "pace_s", "detach", "release")
@@ -52,6 +52,10 @@ class RunHandle(Protocol):
     @property
     def steps(self) -> int:
         """Time steps taken."""
+
+    @property
+    def dt_orbits(self) -> float:
+        """The last time step [orbits]."""
 
     @property
     def U(self):
@@ -141,6 +145,10 @@ class ShownStateReads:
 
     def _reader(self):
         raise NotImplementedError
+
+    @property
+    def dt_orbits(self) -> float:
+        return self._reader().dt_orbits
 
     @property
     def sigma_dimless(self):
