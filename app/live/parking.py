@@ -18,8 +18,6 @@ import dataclasses
 import threading
 import time
 
-from ringlab.server.handle import PlacedRun
-
 GRACE_S = 600.0  # [s] a parked run waits this long for its browser's next page
 MAX_PARKED = 100  # runs parked in one server process at most (a class of 30 reloading at once fits)
 
@@ -42,9 +40,9 @@ class Spot:
 
 def free_run(snap: dict) -> None:
     """Free what a run holds elsewhere (a worker's copy, a shared computation's place)."""
-    engine = snap["run"].engine
-    if isinstance(engine, PlacedRun):  # an in-process engine holds nothing elsewhere
-        engine.release()
+    release = getattr(snap["run"].engine, "release", None)
+    if release is not None:
+        release()
 
 
 class Lot:
