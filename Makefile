@@ -10,7 +10,7 @@ BIN     = $(VENV)/bin
 STAMP   = $(VENV)/.installed
 CHROMIUM ?= /usr/bin/chromium
 
-.PHONY: app test test-fast slow-list lint-imports install clean bench browser udunits tutorials-html docs bench-record
+.PHONY: app test test-fast slow-list lint-imports install clean bench browser udunits tutorials-html docs docs-site bench-record wheel
 
 # The venv gets uv (https://docs.astral.sh/uv/), which installs the same releases as pip in a fraction of the time
 # (measured on the 2-core machine: 32 s against 116 s for ".[app,test,docs]", bytecode compiled by both, as
@@ -29,6 +29,7 @@ endef
 # (the requirements in variables: a comma inside $(call ...) would split its arguments)
 REQ_ALL = -e ".[app,test,docs]"
 REQ_APP = -e ".[app]"
+REQ_APP_DOCS = -e ".[app,viz,docs]"
 $(STAMP): pyproject.toml setup.py | $(BIN)/python
 	$(call pip_install,$(REQ_ALL))
 	touch $(STAMP)
@@ -47,21 +48,23 @@ udunits:
 	  (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq libudunits2-0 udunits-bin >/dev/null) || \
 	  echo "warning: could not install udunits2; the CF test of the written files will fail"; }
 
-# `make app` installs only what the app needs (".[app]") and starts the lab with `ringlab serve`; the
-# documentation site in $(DOCS_SITE) (`make docs`, or just the tutorial pages: `make tutorials-html`) is served
-# at /docs and the app's tutorial links point to /docs/tutorials/<name>.html
+# `make app` installs what the app and its documentation site need (".[app,viz,docs]") and starts the lab with
+# `ringlab serve`; the documentation site in $(DOCS_SITE) is served at /docs and the app's tutorial links point to
+# /docs/tutorials/<name>.html.  Without a site, the site is built once in the background (niced; its log in
+# build/docs-app.log, the build's PID in $(DOCS_SITE).building) while the lab already runs: the server serves it
+# at /docs as soon as it is there, no restart (pages opened before show "being built").
 PORT ?= 5006
 DOCS_SITE ?= app/docs_site
 APP_STAMP = $(VENV)/.installed-app
 $(APP_STAMP): pyproject.toml setup.py | $(BIN)/python
-	$(call pip_install,$(REQ_APP))
+	$(call pip_install,$(REQ_APP_DOCS))
 	touch $(APP_STAMP)
 
-# without a documentation site the tutorial pages are built once (`make tutorials-html`, kept in $(DOCS_SITE))
 app: $(APP_STAMP)
-	@test -f $(DOCS_SITE)/index.html || test -f $(DOCS_SITE)/tutorials/nb/index.html || \
-	  { echo "no documentation site in $(DOCS_SITE): building the tutorial pages once (make tutorials-html; 'make docs' builds the whole site)"; \
-	    $(MAKE) --no-print-directory tutorials-html || echo "note: the tutorial pages could not be built; the lab starts without documentation"; }
+	@test -f $(DOCS_SITE)/index.html || { mkdir -p build; \
+	  echo "no documentation site in $(DOCS_SITE): building it in the background (log: build/docs-app.log); the lab serves it at /docs when done"; \
+	  nice -n 19 $(MAKE) --no-print-directory docs-site DOCS_COPY=$(DOCS_SITE) > build/docs-app.log 2>&1 & \
+	  echo $$! > $(DOCS_SITE).building; }
 	RINGLAB_DOCS_DIR=$(DOCS_SITE) $(BIN)/ringlab serve --port $(PORT)
 
 # the tutorials executed (quick mode) as offline HTML pages in $(DOCS_SITE)/tutorials/nb, when the full
@@ -100,11 +103,23 @@ slow-list: $(STAMP)
 # The tutorials are rendered from the notebooks the test suite executed (test-artifacts/tutorials) when they
 # are newer than their source, else executed here in quick mode (docs/_ext/ringlab_docs.py).
 DOCS_OUT ?= build/docs
+DOCS_COPY ?= app/docs_site
 docs: $(STAMP)
+	@$(MAKE) --no-print-directory docs-site
+
+# the Sphinx build alone (what `docs` runs once the venv is complete; `make app` runs it in the background):
+# the copy is swapped in whole, so a server never sees a half-copied site
+docs-site:
 	@start=$$(date +%s); \
 	$(BIN)/python -m sphinx -W --keep-going -q -j 1 -b html -d $(DOCS_OUT)/doctrees docs $(DOCS_OUT)/html && \
-	rm -rf app/docs_site && cp -r $(DOCS_OUT)/html app/docs_site && \
-	echo "docs: $(DOCS_OUT)/html (copied to app/docs_site) in $$(( $$(date +%s) - start )) s"
+	rm -rf $(DOCS_COPY).new && cp -r $(DOCS_OUT)/html $(DOCS_COPY).new && rm -rf $(DOCS_COPY) && \
+	mv $(DOCS_COPY).new $(DOCS_COPY) && rm -f $(DOCS_COPY).building && \
+	echo "docs: $(DOCS_OUT)/html (copied to $(DOCS_COPY)) in $$(( $$(date +%s) - start )) s"
+
+# a wheel with the documentation site inside (dist/); a wheel built without the site (pip wheel ., uv build on a
+# checkout without `make docs`) has "nodocs" in its version (setup.py), so the two can never be confused
+wheel: docs
+	rm -rf dist && $(BIN)/python -m pip wheel --no-deps -q -w dist . && ls dist/*.whl
 
 # record the benchmarks the docs' tables are generated from (docs/benchmarks/data/*.json; commit them)
 bench-record: $(STAMP)
@@ -116,5 +131,5 @@ bench: $(STAMP)
 	$(BIN)/ringcore bench nbody
 
 clean:
-	rm -rf $(VENV) build *.egg-info app/docs_site docs/api/generated docs/tutorials/nb docs/benchmarks/generated \
+	rm -rf $(VENV) build *.egg-info app/docs_site app/docs_site.new app/docs_site.building docs/api/generated docs/tutorials/nb docs/benchmarks/generated \
 	  docs/teacher/generated

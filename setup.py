@@ -3,7 +3,24 @@ installs and imports as ``ringlab`` (a name a user's own ``app.py`` or ``app/`` 
 
 Metadata, dependencies and entry points are in pyproject.toml; only packages and data are here.
 """
+from pathlib import Path
+
 from setuptools import find_packages, setup
+
+# a wheel without the documentation site says so in its version: ``+g<hash>.nodocs`` (or ``+nodocs`` on a
+# tag), so that it can never be mistaken for the one `make wheel` builds with the site inside (served at /docs)
+DOCS_INDEX = Path(__file__).parent / "app" / "docs_site" / "index.html"
+
+
+def local_scheme(version) -> str:
+    """setuptools-scm's default local version (``+g<hash>[.d<date>]``) with ``nodocs`` added without a site."""
+    from setuptools_scm.version import get_local_node_and_date
+
+    local = get_local_node_and_date(version)
+    if DOCS_INDEX.is_file():
+        return local
+    return f"{local}.nodocs" if local else "+nodocs"
+
 
 CORE = find_packages(include=["ringcore", "ringcore.*"])
 APP = ["ringlab"] + ["ringlab." + p for p in find_packages("app")]
@@ -12,6 +29,7 @@ APP = ["ringlab"] + ["ringlab." + p for p in find_packages("app")]
 TUTORIALS = ["ringlab.tutorials"]
 
 setup(
+    use_scm_version={"local_scheme": local_scheme},
     packages=CORE + APP + TUTORIALS,
     package_dir={"ringlab": "app", "ringlab.tutorials": "tutorials"},
     package_data={

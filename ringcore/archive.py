@@ -41,8 +41,8 @@ import warnings
 import numpy as np
 
 from .checks import check_real
-from .engine import State, engine_class
-from .engine import state_from_dataset
+from .contract import State, engine_class
+from .contract import state_from_dataset
 
 MAX_BYTES = 256 * 2**20
 """Default limit of an archive's size [bytes] (256 MiB), in memory and in the run file."""

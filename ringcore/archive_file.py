@@ -76,7 +76,7 @@ class ArchiveWriter:
 
     def append(self, engine) -> None:
         """Write the complete state of ``engine`` as one record (one write, then fsync)."""
-        from .engine import state_to_dataset
+        from .contract import state_to_dataset
         from .io import run_bytes
 
         payload = bytes(run_bytes(state_to_dataset(engine.snapshot()), engine.kind))
@@ -137,14 +137,14 @@ class FileArchive:
 
     def state(self, i: int):
         """The :class:`~ringcore.engine.State` of snapshot ``i``."""
-        from .engine import state_from_dataset
+        from .contract import state_from_dataset
 
         ds = self.dataset(i)
         return state_from_dataset(ds, ds.attrs["kind"])
 
     def __getitem__(self, i: int):
         """A running engine restored from snapshot ``i``."""
-        from .engine import engine_class
+        from .contract import engine_class
 
         st = self.state(i)
         return engine_class(st.kind).restore(st)

@@ -82,9 +82,9 @@ def main(argv=None) -> int:
                          "with the factors given (e.g. a --thread-factor measured with the threaded engines)")
     ap.add_argument("--out", default=str(DEFAULT_OUT))
     args = ap.parse_args(argv)
-    from ringcore.experiments.plan import PLANS, plan_tasks
+    from ringcore.experiments.plan import PLANS
     from ringcore.experiments.projection import projections
-    from ringcore.experiments.registry import load_all
+    from ringcore.experiments.registry import load_all, plan_tasks
     from ringcore.io.runfile import written_on
     from ringcore.provenance import software_attrs
 

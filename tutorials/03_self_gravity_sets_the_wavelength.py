@@ -47,7 +47,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ringcore import analysis, linear, params
-from ringcore.analysis import nonlinear
+from ringcore.experiments import nonlinear
 from ringcore.hydro import Hydro1D, HydroOptions
 
 SET = "tau15"
@@ -158,7 +158,7 @@ else:
 # ## Why 1.4 λ_zero? The nonlinear dispersion relation
 # The paper measures the frequency of *saturated* waves of a given wavelength in a periodic box of exactly one
 # wavelength (so no other wavelength can take over): a large-amplitude eigenmode is seeded, the transient is
-# discarded, and ω_I^nl is the peak of the Lomb periodogram of u at x = 0 (Section 6.1). `ringcore.analysis.nonlinear.hydro_frequency` does exactly this. We do it at three surface densities,
+# discarded, and ω_I^nl is the peak of the Lomb periodogram of u at x = 0 (Section 6.1). `ringcore.experiments.nonlinear.hydro_frequency` does exactly this. We do it at three surface densities,
 # with wavelengths spread around 1.4 λ_zero of each.
 
 # %%

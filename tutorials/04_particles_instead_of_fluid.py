@@ -42,7 +42,7 @@ import numpy as np
 warnings.filterwarnings("ignore", message="IProgress not found")  # tqdm without ipywidgets
 
 from ringcore import linear, params
-from ringcore.analysis import nonlinear
+from ringcore.experiments import nonlinear
 from ringcore.hydro import Hydro1D, HydroOptions
 from ringcore.nbody import NBodyOptions, ShearingBox, growth
 

@@ -35,7 +35,7 @@ from scipy.optimize import brentq
 warnings.filterwarnings("ignore", message="IProgress not found")  # tqdm without ipywidgets
 
 from ringcore import analysis, linear, params
-from ringcore.analysis import nonlinear
+from ringcore.experiments import nonlinear
 from ringcore.nbody import NBodyOptions, ShearingBox
 
 nl_kw = dict(orbits=40, discard=15, nodes=32, samples_per_orbit=8) if QUICK else \

@@ -21,7 +21,7 @@ from ringcore.checks import check_int, check_real
 
 from ringlab.config import CONFIG
 from ringlab.lessons.presets import LENGTH_ENV
-from ringlab.lessons.tutorials import docs_dir, docs_start, static_dirs
+from ringlab.lessons.tutorials import docs_building, docs_dir, docs_start, static_dirs
 from ringlab.ui.a11y import page_template
 from ringlab.main import TITLE, configure, create_app
 from ringlab.server import joining, remote, routes
@@ -150,7 +150,10 @@ def link_lines(p: dict) -> list[str]:
     lines = [TITLE,
              f"  student link: {p['student']}",
              f"  class start link: {p['teacher']}   (for students: opens Hydrodynamics and starts their run)"]
-    if p["docs"]:
+    if p["docs"] and docs_building():
+        lines.append(f"  documentation: {p['student'][:-len('main')]}docs/   (being built in the background: "
+                     "served there when done, no restart)")
+    elif p["docs"]:
         lines.append(f"  documentation: {p['student'][:-len('main')]}docs/")
     else:
         lines.append(f"  documentation: not in this install ({docs_dir()} is missing; `make docs` in the source tree)")
@@ -200,7 +203,7 @@ def run(args) -> int:
         joining.reuse_page_template("/teacher", TEACHER_TITLE, page_template())
     try:
         pn.serve(apps, port=p["port"], address=p["address"], websocket_origin=p["origins"],
-                 num_procs=p["num_procs"], show=args.show, extra_patterns=routes.patterns(p["docs"], {r: docs_start(f) for r, f in p["docs"].items()}),
+                 num_procs=p["num_procs"], show=args.show, extra_patterns=routes.patterns(p["docs"], docs_start),
                  title={"main": TITLE, "teacher": TEACHER_TITLE}, liveness=True,
                  start=True, threaded=False, verbose=False)
     finally:

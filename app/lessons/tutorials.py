@@ -51,10 +51,28 @@ def serve_args(folder: Path | None = None) -> list[str]:
     return ["--static-dirs", f"{ROUTE}={folder or docs_dir()}"]
 
 
-def static_dirs(folder: Path | None = None) -> dict:
-    """``pn.serve(static_dirs=...)`` for the documentation site (empty if the folder does not exist)."""
+def building_marker(folder: Path | None = None) -> Path:
+    """The file ``<site>.building`` that ``make app`` writes while it builds the site in the background: the PID
+    of the build."""
     folder = Path(folder or docs_dir())
-    return {ROUTE: str(folder)} if folder.is_dir() else {}
+    return folder.with_name(folder.name + ".building")
+
+
+def docs_building(folder: Path | None = None) -> bool:
+    """True while a background build of the site ``folder`` runs (:func:`building_marker` names a live process)."""
+    try:
+        pid = int(building_marker(folder).read_text().split()[0])
+        os.kill(pid, 0)
+    except (OSError, ValueError, IndexError):
+        return False
+    return True
+
+
+def static_dirs(folder: Path | None = None) -> dict:
+    """``pn.serve(static_dirs=...)`` for the documentation site (empty if the folder does not exist and is not
+    being built)."""
+    folder = Path(folder or docs_dir())
+    return {ROUTE: str(folder)} if folder.is_dir() or docs_building(folder) else {}
 
 
 def docs_start(folder: Path | None = None) -> str:
@@ -74,6 +92,9 @@ def docs_note(element_id: str = "docs-note") -> str:
     elif (html_dir() / "index.html").is_file():  # `make tutorials-html` (what `make app` builds): the tutorials only
         body = (f'Documentation: the tutorials, worked through: '
                 f'<a href="{ROUTE}/tutorials/nb/index.html" target="_blank" rel="noopener">open</a>')
+    elif docs_building():
+        body = ("Documentation: being built on this server right now; reload this page in a few minutes for "
+                "the link. The tutorials are offered above as notebook downloads.")
     else:
         # a student cannot act on build commands: say what is missing and what is there instead (the
         # teacher's guide tells whoever runs the server how to add the site)

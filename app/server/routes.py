@@ -5,7 +5,8 @@ component resources at ``/components``, each a subclass of Panel's own handler r
 * ``/docs/<path>``: as Panel's static handler, but a path Tornado cannot look up on disk (a NUL byte, an
   over-long name) is "404 Not Found" instead of a "500 Internal Server Error" with a traceback in the log.
 * ``/docs`` (no slash): redirected to ``/docs/`` (the site's index; relative links resolve below it), and that
-  to ``/docs/tutorials/nb/`` when only the tutorial pages are built (``make tutorials-html``).
+  to ``/docs/tutorials/nb/`` when only the tutorial pages are built (``make tutorials-html``), looked at per
+  request: ``make app`` builds the site in the background while the lab already runs.
 * ``/components/<module>/<class>/<attribute>/<path>``: Panel serves a file a component lists among its
   resources, and imports ``<module>`` to find the component: any installed module, named by the address.
   Here only a module already imported by the server, of the packages :data:`COMPONENT_PACKAGES`, is looked
@@ -29,7 +30,19 @@ def bad_path(path: str) -> bool:
 
 
 class DocsHandler(AuthenticatedStaticFileHandler):
-    """Panel's static-file handler, with 404 for paths that cannot name a file (see module docstring)."""
+    """Panel's static-file handler, with 404 for paths that cannot name a file (see module docstring), and the
+    site's first page looked up at each request (a site built while the server runs is served at once)."""
+
+    def initialize(self, path: str, default_filename: str | None = None, start=None) -> None:
+        super().initialize(path, default_filename)
+        self.start = start
+
+    async def get(self, path: str, include_body: bool = True) -> None:
+        first = self.start(self.root) if (self.start is not None and path == "") else ""
+        if first:  # a site of the tutorial pages only: its index is below
+            self.redirect(f"{self.request.path.rstrip('/')}/{first}", permanent=False)
+            return
+        await super().get(path, include_body)
 
     def parse_url_path(self, url_path: str) -> str:
         if bad_path(url_path):
@@ -58,17 +71,16 @@ class OwnComponentsHandler(ComponentResourceHandler):
         return super().parse_url_path(path)
 
 
-def patterns(static_dirs: dict, starts: dict | None = None) -> list:
+def patterns(static_dirs: dict, start=None) -> list:
     """``extra_patterns`` for ``pn.serve``: :class:`DocsHandler` for every ``{route: folder}`` of ``static_dirs``
-    (serve these instead of passing ``static_dirs``), the bare ``/route`` redirected to ``/route/`` (and that to
-    ``/route/<start>`` for a ``{route: start}`` of ``starts``: a site whose first page is not its index), and :class:`OwnComponentsHandler` at ``/components``."""
+    (serve these instead of passing ``static_dirs``; the folder may appear later, while the server runs), the
+    bare ``/route`` redirected to ``/route/``, and that to ``/route/<start(folder)>`` when ``start(folder)`` is
+    not empty at the time of the request (a site whose first page is not its index), and
+    :class:`OwnComponentsHandler` at ``/components``."""
     out = []
     for route, folder in static_dirs.items():
         route = route.strip("/")
         out.append((rf"/{route}", RedirectHandler, {"url": f"/{route}/", "permanent": False}))
-        start = (starts or {}).get(route, "")
-        if start:  # a site of the tutorial pages only: its index is below
-            out.append((rf"/{route}/", RedirectHandler, {"url": f"/{route}/{start}", "permanent": False}))
-        out.append((rf"/{route}/(.*)", DocsHandler, {"path": folder, "default_filename": "index.html"}))
+        out.append((rf"/{route}/(.*)", DocsHandler, {"path": folder, "default_filename": "index.html", "start": start}))
     out.append((rf"/{COMPONENT_PATH}(.*)", OwnComponentsHandler, {}))
     return out

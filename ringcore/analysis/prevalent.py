@@ -17,17 +17,15 @@ fluctuate (e.g. 62.5, 66.7 and 71.4 m in one 20-orbit hydro run):
 ``"instantaneous"``
     The PSD peak of the current state only: ``prevalent_wavelength()`` of the engines, the ``lambda_p_m`` of
     ``diagnostics()`` and of each sample, and the app's live readout "λ_p now".
+
+Each engine measures on its own arrays (:func:`ringcore.hydro.summary.lambda_p`,
+:func:`ringcore.nbody.plugin.state_lambda_p`); this module checks the arguments and picks the engine.
 """
 from __future__ import annotations
 
-import math
-
-import numpy as np
-
 from ..checks import check_choice, check_real
-from ..engine import State
-from .spectra import prevalent_wavelength
-from .summary import series_summary, strobe_wavelength
+from ..contract import State
+from ..plugins import engine_plugin
 
 METHODS = ("psd", "most_frequent", "instantaneous")
 DEFAULT_METHOD = "most_frequent"
@@ -53,38 +51,11 @@ def lambda_p(run, method: str = DEFAULT_METHOD, last_fraction: float = 0.25) -> 
     check_choice("method", method, METHODS)
     last_fraction = check_real("last_fraction", last_fraction, 0.0, 1.0, lo_open=True)
     st = run if isinstance(run, State) else run.snapshot()
-    if st.kind == "hydro":
-        return _hydro(st, method, last_fraction)
-    return _nbody(st, method, last_fraction)
+    # the measurement on the engine's own arrays: its plug-in module (ringcore.plugins; no engine imported here)
+    return engine_plugin(st.kind).state_lambda_p(st, method, last_fraction)
 
 
 def all_methods(run, last_fraction: float = 0.25) -> dict:
     """``{"lambda_p_<method>_m": value [m]}`` for every method (one snapshot of the run)."""
     st = run if isinstance(run, State) else run.snapshot()
     return {f"lambda_p_{m}_m": lambda_p(st, m, last_fraction) for m in METHODS}
-
-
-def _hydro(st: State, method: str, last_fraction: float) -> float:
-    a, L_x = st.arrays, st.options.L_x
-    if method == "instantaneous":
-        return float(prevalent_wavelength(np.asarray(a["U"])[0], L_x))
-    if method == "most_frequent":
-        return series_summary(a["rec_t"], a["rec_lambda_p"], a["rec_e_kin"], last_fraction)["lambda_p_m"]
-    return strobe_wavelength(a["rec_t_strobe"], a["rec_strobe"], L_x, last_fraction)
-
-
-def _nbody(st: State, method: str, last_fraction: float) -> float:
-    # deferred: ringcore.nbody loads the numba engines (~2 s); `import ringcore.analysis` does not
-    from ..nbody import diagnostics as D
-    from ..nbody.store import summary  # deferred: as the line above (and .store loads xarray)
-
-    a, o = st.arrays, st.options
-    if method == "instantaneous":
-        prof = D.tabulate(a["pos"], a["vel"], o.L_x / o.R_p, o.zones)
-        return float(D.prevalent_wavelength_m(prof, o.L_x / o.R_p, o.R_p))
-    if method == "most_frequent":
-        if not np.asarray(a["history_time"]).size:
-            return math.nan
-        return summary(st, last_fraction)["lambda_p_m"]
-    rows = np.asarray(a["profile_sigma"], float).reshape(-1, o.zones)
-    return strobe_wavelength(a["profile_time"], rows, o.L_x, last_fraction)

@@ -1,8 +1,8 @@
 """Saturation summary of a run: the numbers a run file's ``summary_json`` and the sweeps report.
 
 :func:`series_summary` and :func:`strobe_wavelength` work on plain recorded series of either
-engine; :func:`summary` applies them to a hydro :class:`ringcore.engine.State` (or to a
-:class:`~ringcore.hydro.Hydro1D`, through its ``snapshot()``).
+engine; :func:`summary` of a hydro :class:`ringcore.engine.State` (or of a :class:`~ringcore.hydro.Hydro1D`,
+through its ``snapshot()``) is the hydro engine's :func:`ringcore.hydro.summary.summary`.
 
 References: Section 6; Eqs. (39), (38).
 """
@@ -13,10 +13,8 @@ import math
 import numpy as np
 
 from .. import ranges
-from ..deprecation import E_KIN_RP_KEY, DeprecatedKeys
-from ..engine import State
-from ..units import e_kin_rp
-from ..units import time_to_orbits
+from ..contract import State
+from ..plugins import engine_plugin
 from .spectra import power_spectrum
 
 
@@ -89,32 +87,10 @@ def strobe_wavelength(t_rows, rows, L_x_m: float, last_fraction: float = 0.25) -
 
 def summary(run, last_fraction: float = 0.25) -> dict:
     """Saturation summary of a hydro run (a ``State`` of kind "hydro" or an engine) over its last
-    ``last_fraction`` (by time).
-
-    Keys: ``lambda_p_m`` (also ``lambda_p_most_frequent_m``) most frequent sampled prevalent wavelength [m];
-    ``lambda_p_mean_m`` its mean [m]; ``lambda_p_psd_m`` peak of the time-averaged PSD of the
-    stroboscopic sigma rows [m] (nan without strobe rows); ``e_kin`` mean kinetic energy density
-    [sigma0 (R_p Omega)^2, R_p = 1 m: :data:`ringcore.units.E_KIN_UNIT`, as the N-body box's] and
-    ``e_kin_dimless`` the same in sigma0 c0^2 (the old key ``e_kin_rp`` = ``e_kin`` warns once); ``c_mean`` mass-weighted
-    mean velocity dispersion sqrt(T) of the final state [m/s]; ``orbits``; ``steps``;
-    ``saturated`` and ``lambda_p_growth`` (:func:`saturation_flag`).
-    """
-    # deferred: ringcore.hydro loads the numba engines (~2 s); ringcore.analysis (via .prevalent) does not
-    from ..hydro.convert import cons_to_prim
-
+    ``last_fraction`` (by time): :func:`ringcore.hydro.summary.summary` (the keys are listed there), reached
+    through the engine's plug-in module (:mod:`ringcore.plugins`; this layer imports no engine)."""
     ranges.check("last_fraction", last_fraction)
     st = run if isinstance(run, State) else run.snapshot()
     if st.kind != "hydro":
         raise ValueError(f"run of kind {st.kind!r} is not valid here: give a hydro State or engine")
-    a, m, p = st.arrays, st.meta, st.params
-    out = dict(orbits=time_to_orbits(m["t"]), steps=int(m["steps"]))
-    out.update(series_summary(a["rec_t"], a["rec_lambda_p"], a["rec_e_kin"], last_fraction))
-    out.update(saturation_flag(a["rec_t"], a["rec_lambda_p"], last_fraction))
-    sc = p.scales
-    out["e_kin_dimless"] = out["e_kin"]
-    out["e_kin"] = out["e_kin_rp"] = float(e_kin_rp(out["e_kin_dimless"], sc.velocity, p.Omega))
-    out["lambda_p_most_frequent_m"] = out["lambda_p_m"]  # the name of its method (ringcore.analysis.prevalent)
-    out["lambda_p_psd_m"] = strobe_wavelength(a["rec_t_strobe"], a["rec_strobe"], st.options.L_x, last_fraction)
-    sig, _, _, T = cons_to_prim(a["U"])
-    out["c_mean"] = float(np.sum(sig * np.sqrt(np.maximum(T, 0.0))) / np.sum(sig)) * sc.velocity
-    return DeprecatedKeys(out, E_KIN_RP_KEY)
+    return engine_plugin(st.kind).state_summary(st, last_fraction)

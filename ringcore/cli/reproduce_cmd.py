@@ -11,8 +11,8 @@ import contextlib
 import json
 
 from ..checks import check_int, check_real
-from ..experiments.plan import PLANS, get_plan
-from ..experiments.registry import get_recipe, load_all, outputs
+from ..experiments.plan import PLANS
+from ..experiments.registry import get_plan, get_recipe, load_all, outputs
 from ..io import reserve_output
 from ..paperlabels import to_published
 from ..paperrefs import ref

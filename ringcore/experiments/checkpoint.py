@@ -36,11 +36,13 @@ from pathlib import Path
 from .. import ranges
 from ..checks import check_real
 from ..deprecation import warn_once
-from ..engine import ENGINES, BlowUp
+from ..engine import BlowUp, kinds
 from ..engine import engine_class as _engine_class
 from ..engine import load
 from ..io import OutputError, graceful_interrupt, output_policy
 from ..io.atomic import conflicts_kept
+
+ENGINES = kinds()  # the engine kinds installed ("hydro", "nbody": ringcore.plugins)
 
 __all__ = ["ENGINES", "engine_class", "kind_of", "load_model", "run_checkpointed"]
 

@@ -19,9 +19,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..checks import check_choice, check_int
-from .plan import (PLANS, STATUS_DONE, checkpoint_interval, execute_run, get_plan, partial_note, plan_tasks, read_runs,
-                   run_path)
-from .registry import MODES, RecipeResult, get_recipe
+from .plan import PLANS, STATUS_DONE, execute_run, partial_note, read_runs, run_path
+from .registry import MODES, RecipeResult, checkpoint_interval, get_plan, get_recipe, plan_tasks
 from .reproduce_progress import Progress
 from .sweep import _infrastructure, connect, default_workers, local_cluster, running_client
 

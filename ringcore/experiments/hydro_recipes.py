@@ -17,7 +17,7 @@ from ..analysis import growth_rate, lomb_frequency
 from ..hydro import Hydro1D, HydroOptions
 from ..units import E_KIN_UNIT
 from .recipe_common import finish, hydro_run, pick, series_dataset, strobe_dataset, strobe_psd_figure
-from .registry import recipe
+from .recipe_base import recipe
 from .resolution import resolved_h
 
 GRATES_SIGMAS = (0.0, 350.0, 600.0)

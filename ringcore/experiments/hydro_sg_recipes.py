@@ -13,10 +13,10 @@ import xarray as xr
 
 from ..figures._mpl import cmap, subplots
 from .. import params
-from ..analysis.nonlinear import group_velocity, hydro_frequency
+from .nonlinear import group_velocity, hydro_frequency
 from .recipe_common import (finish, hydro_run, pick, plot_spacetime, series_dataset,
                             strobe_dataset, strobe_psd_figure)
-from .registry import recipe
+from .recipe_base import recipe
 from .resolution import H_PAPER, resolved_h
 
 

@@ -16,7 +16,7 @@ from ..analysis import lambda_p_empirical
 from ..analysis.saturation import C_EMPIRICAL
 from ..io.engines import READ_ENGINE
 from .recipe_common import finish, hydro_run, pick
-from .registry import recipe
+from .recipe_base import recipe
 from .resolution import resolved_h
 from .sweep import run_sweep, shipped_sweep_files, sweep_points
 

@@ -8,7 +8,7 @@ from ..figures._mpl import cmap, subplots
 from .. import linear, params
 from ..figures.linear import add_caption, figure_omega, figure_vgroup
 from ..io import attrs_from_dict, save_figure, write_run
-from .registry import RecipeResult, recipe
+from .recipe_base import RecipeResult, recipe
 
 SIGMAS = (0.0, 200.0, 400.0, 600.0, 800.0, 1000.0)
 

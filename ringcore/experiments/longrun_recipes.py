@@ -25,7 +25,7 @@ from ..spec import RunSpec, resolve_params
 from .checkpoint import run_checkpointed
 from .longruns import FULL_COST, LONG_RUNS, QUICK_COST, check_compact, compact, run_settings, run_title, status_text
 from .recipe_common import finish, pick, plot_psd, plot_spacetime
-from .registry import recipe
+from .recipe_base import recipe
 
 QUICK_L_X, QUICK_ORBITS = 2000.0, 1500.0  # [m], [orbits]
 

@@ -17,7 +17,7 @@ from .. import linear, params
 from ..nbody import NBodyOptions, ShearingBox, growth
 from .recipe_common import finish, pick
 from .plan import planned
-from .registry import recipe
+from .recipe_base import recipe
 
 
 def _linear_nbody(p, lams, L_y, eq, orbits, single=True):

@@ -21,7 +21,7 @@ from ..nbody import NBodyOptions, ShearingBox
 from .nbody_recipes import _history_dataset, _overstable_runs
 from .recipe_common import finish, hydro_run, pick
 from .plan import planned
-from .registry import recipe
+from .recipe_base import recipe
 
 
 # ---------------------------------------------------------------------------------------- helpers

@@ -10,6 +10,10 @@ re-issued command continues every unfinished run from its last checkpoint and sk
 give the same numbers, bit for bit: the engines' runs do not depend on how they are split into
 ``advance`` calls, and a run file restores the exact state (:mod:`ringcore.experiments.checkpoint`).
 
+Looking a plan up by recipe name (:func:`ringcore.experiments.registry.get_plan`, ``plan_tasks``,
+``checkpoint_interval``) loads every recipe module first, so it lives with the registry, above the recipe
+modules that use this one.
+
 A task: ``{"recipe", "label", "engine": "nbody", "set", "sigma0" [kg/m^2], "seed", "options": {...}
 (NBodyOptions keywords, SI), "orbits"}`` and optionally ``"tau"`` (replacing the set's).  The file name hashes everything but the checkpoint interval, so a
 run with other settings (``--orbits``) never continues a file of different ones.
@@ -27,7 +31,7 @@ from pathlib import Path
 from typing import Callable
 
 from ..checks import check_real
-from .registry import recipe
+from .recipe_base import recipe
 
 PLANS: dict = {}
 STATUS_DONE, STATUS_SKIPPED = "done", "skipped"
@@ -60,7 +64,7 @@ def planned(name: str, figure: str, title: str, quick_cost: str, full_cost: str,
         PLANS[name] = plan
 
         def in_process(mode, out):
-            ts, settings = plan_tasks(name, mode)
+            ts, settings = tasks_of(plan, mode)
             return assemble(mode, out, {t["label"]: run_in_memory(t) for t in ts}, settings, None)
 
         # the recipe's function is its module's (as an unplanned recipe's), computing in this process
@@ -71,35 +75,18 @@ def planned(name: str, figure: str, title: str, quick_cost: str, full_cost: str,
     return deco
 
 
-def get_plan(name: str) -> Plan | None:
-    """The plan of recipe ``name`` (None for a recipe computed as one piece)."""
-    from .registry import get_recipe
-
-    get_recipe(name)  # loads every recipe module; ValueError naming the valid names
-    return PLANS.get(name)
-
-
-def plan_tasks(name: str, mode: str, orbits: float | None = None) -> tuple:
-    """``(tasks, settings)`` of recipe ``name`` in ``mode``; ``orbits`` [orbits] shortens or lengthens every
-    run (a trial of the full box for a few orbits; the caption and the settings say so)."""
-    plan = get_plan(name)
-    if plan is None:
-        raise ValueError(f"recipe = {name!r} is not valid here: allowed recipes made of runs: {sorted(PLANS)}")
+def tasks_of(plan: Plan, mode: str, orbits: float | None = None) -> tuple:
+    """``(tasks, settings)`` of ``plan`` in ``mode``; ``orbits`` [orbits] shortens or lengthens every run (a
+    trial of the full box for a few orbits; the caption and the settings say so).  By recipe name, loading
+    every recipe module first: :func:`ringcore.experiments.registry.plan_tasks`."""
     tasks, settings = plan.tasks(mode)
-    tasks = [{"recipe": name, "mode": mode, **t} for t in tasks]
+    tasks = [{"recipe": plan.name, "mode": mode, **t} for t in tasks]
     if orbits is not None:
         orbits = check_real("orbits", orbits, 0.0, 1e6, lo_open=True, unit="orbits")
         tasks = [{**t, "orbits": float(orbits)} for t in tasks]
         settings = {**settings, **{k: float(orbits) for k in settings if k.startswith("orbits")},
                     "orbits_changed": True}
     return tasks, settings
-
-
-def checkpoint_interval(name: str, mode: str, every: float | None = None) -> float:
-    """Orbits between checkpoints of each run: ``every``, else the plan's interval for ``mode``."""
-    if every is not None:
-        return check_real("checkpoint_every", every, 0.0, 1e6, lo_open=True, unit="orbits")
-    return float(get_plan(name).checkpoint_every[mode])
 
 
 def run_name(task: dict) -> str:

@@ -24,7 +24,7 @@ from ..figures._mpl import subplots
 from ..hydro import Hydro1D, HydroBlowUp, HydroOptions
 from ..io import save_figure, write_run
 from ..units import E_KIN_UNIT
-from .registry import RecipeResult
+from .recipe_base import RecipeResult
 
 
 def pick(mode: str, quick, full):

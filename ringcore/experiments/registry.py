@@ -7,78 +7,37 @@ minutes on a laptop) or ``"full"`` (the paper's settings, hours: meant for a clu
 """
 from __future__ import annotations
 
-import contextlib
-import importlib
-import time
-from dataclasses import dataclass, field
-from pathlib import Path
-from typing import Callable
+from ..checks import check_choice, check_real
+from .plan import PLANS, Plan, tasks_of
+from .recipe_base import (MODES, RECIPES, Recipe, RecipeModuleError, RecipeResult, outputs,  # noqa: F401
+                          recipe)
 
-from ..checks import check_choice
-
-RECIPES: dict = {}
-MODES = ("quick", "full")
-# modules that define recipes (imported lazily by get_recipe / the CLI)
-RECIPE_MODULES = ("linear_recipes", "hydro_recipes", "hydro_sg_recipes", "nbody_recipes", "nbody_saturation_recipes", "lambdap_recipe", "saturation_recipes",
-                  "longrun_recipes")
+# modules that define recipes, imported by load_all (get_recipe, the CLI), in this order
+RECIPE_MODULES = ("linear_recipes", "hydro_recipes", "hydro_sg_recipes", "nbody_recipes", "nbody_saturation_recipes",
+                  "lambdap_recipe", "saturation_recipes", "longrun_recipes")
 
 
-@dataclass(frozen=True)
-class RecipeResult:
-    """What a recipe wrote: figure, data file, caption and wall time [s]."""
-
-    png: Path
-    data: Path
-    caption: str
-    seconds: float = 0.0
-
-
-@dataclass(frozen=True)
-class Recipe:
-    """A named experiment reproducing one figure of the paper."""
-
-    name: str
-    figure: str  # the paper's figure label, e.g. "fig:omega"
-    title: str
-    quick_cost: str  # human-readable wall time of --quick on a 2-core machine
-    full_cost: str
-    func: Callable = field(repr=False)
-
-    def run(self, mode: str = "quick", outdir=".", overwrite: bool | None = None) -> RecipeResult:
-        """Run in ``outdir``; every output is written atomically (:mod:`ringcore.io.atomic`).
-
-        ``overwrite=False``: refuse (:class:`ringcore.io.OutputExists`) if ``NAME.png`` or ``NAME.nc``
-        exists, before computing and again, atomically, when each file is written; ``True``: replace
-        them; ``None`` (the Python default, kept for scripts that re-run into one folder): the
-        enclosing :func:`ringcore.io.output_policy` (replace unless set).
-        """
-        # deferred: ringcore.io loads xarray (~1 s); importing the registry (ringcore.experiments) does not
-        from ..io.atomic import OutputExists, output_policy
-
-        check_choice("mode", mode, MODES)
-        out = Path(outdir)
-        if overwrite is False:
-            for f in outputs(self.name, out):
-                if f.exists():
-                    raise OutputExists(f"{f}: exists: refusing to overwrite it (add --overwrite to replace it, "
-                                       "or choose another output place)")
-        out.mkdir(parents=True, exist_ok=True)
-        t0 = time.perf_counter()
-        with output_policy(overwrite) if overwrite is not None else contextlib.nullcontext():
-            res = self.func(mode, out)
-        return RecipeResult(res.png, res.data, res.caption, time.perf_counter() - t0)
-
-
-def recipe(name: str, figure: str, title: str, quick_cost: str, full_cost: str):
-    """Decorator registering ``func(mode, outdir) -> RecipeResult`` as a recipe."""
-    def deco(func):
-        RECIPES[name] = Recipe(name, figure, title, quick_cost, full_cost, func)
-        return func
-    return deco
-
-
-class RecipeModuleError(ImportError):
-    """A recipe module failed to import: never skipped silently (the message names the module)."""
+def _load_module(name: str) -> None:
+    """Import the recipe module ``name``: explicit imports (the import contracts and grimp see them), deferred
+    because the recipe modules load the engines, SciPy and Matplotlib."""
+    if name == "linear_recipes":
+        from . import linear_recipes  # noqa: F401
+    elif name == "hydro_recipes":
+        from . import hydro_recipes  # noqa: F401
+    elif name == "hydro_sg_recipes":
+        from . import hydro_sg_recipes  # noqa: F401
+    elif name == "nbody_recipes":
+        from . import nbody_recipes  # noqa: F401
+    elif name == "nbody_saturation_recipes":
+        from . import nbody_saturation_recipes  # noqa: F401
+    elif name == "lambdap_recipe":
+        from . import lambdap_recipe  # noqa: F401
+    elif name == "saturation_recipes":
+        from . import saturation_recipes  # noqa: F401
+    elif name == "longrun_recipes":
+        from . import longrun_recipes  # noqa: F401
+    else:
+        raise ValueError(f"name = {name!r} is not valid: choose one of {', '.join(RECIPE_MODULES)}")
 
 
 def load_all() -> dict:
@@ -92,16 +51,10 @@ def load_all() -> dict:
     for mod in RECIPE_MODULES:
         name = f"{__package__}.{mod}"
         try:
-            importlib.import_module(name)
+            _load_module(mod)
         except Exception as exc:
             raise RecipeModuleError(f"recipe module {name} failed to import: {type(exc).__name__}: {exc}") from exc
     return RECIPES
-
-
-def outputs(name: str, outdir) -> tuple:
-    """The files recipe ``name`` writes in ``outdir``: ``(NAME.png, NAME.nc)``."""
-    out = Path(outdir)
-    return out / f"{name}.png", out / f"{name}.nc"
 
 
 def get_recipe(name: str) -> Recipe:
@@ -114,3 +67,25 @@ def get_recipe(name: str) -> Recipe:
 def run_recipe(name: str, mode: str = "quick", outdir=".", overwrite: bool | None = None) -> RecipeResult:
     """Run a recipe by name (``overwrite``: see :meth:`Recipe.run`)."""
     return get_recipe(name).run(mode, outdir, overwrite=overwrite)
+
+
+def get_plan(name: str) -> Plan | None:
+    """The plan of recipe ``name`` (None for a recipe computed as one piece)."""
+    get_recipe(name)  # loads every recipe module; ValueError naming the valid names
+    return PLANS.get(name)
+
+
+def plan_tasks(name: str, mode: str, orbits: float | None = None) -> tuple:
+    """``(tasks, settings)`` of recipe ``name`` in ``mode``; ``orbits`` [orbits] shortens or lengthens every
+    run (a trial of the full box for a few orbits; the caption and the settings say so)."""
+    plan = get_plan(name)
+    if plan is None:
+        raise ValueError(f"recipe = {name!r} is not valid here: allowed recipes made of runs: {sorted(PLANS)}")
+    return tasks_of(plan, mode, orbits)
+
+
+def checkpoint_interval(name: str, mode: str, every: float | None = None) -> float:
+    """Orbits between checkpoints of each run: ``every``, else the plan's interval for ``mode``."""
+    if every is not None:
+        return check_real("checkpoint_every", every, 0.0, 1e6, lo_open=True, unit="orbits")
+    return float(get_plan(name).checkpoint_every[mode])

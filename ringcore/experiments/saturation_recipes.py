@@ -3,7 +3,7 @@
 "nlvg" (hydro nonlinear dispersion relation and
 group velocities), "nbvga" (N-body nonlinear dispersion relation), "osfrat" (lambda_zero^nl,
 lambda_zero^lin, lambda_p ratios with buffer-zone runs); "lambdap" is in :mod:`.lambdap_recipe`.  The nonlinear frequencies come from
-:mod:`ringcore.analysis.nonlinear` (box L_x = lambda, large seeded mode, transient discarded,
+:mod:`ringcore.experiments.nonlinear` (box L_x = lambda, large seeded mode, transient discarded,
 Lomb periodogram of u at a fixed point).
 """
 from __future__ import annotations
@@ -18,12 +18,12 @@ from ..figures._mpl import cmap, subplots
 from .. import linear, params
 from ..checks import check_choice
 from ..analysis.saturation import C_EMPIRICAL
-from ..analysis.nonlinear import (frequency_minimum, group_velocity, hydro_frequency, nbody_frequency,
+from .nonlinear import (frequency_minimum, group_velocity, hydro_frequency, nbody_frequency,
                                   to_arrays)
 from ..io import read_run
 from .nbody_recipes import _lin_settings, _linear_nbody
 from .recipe_common import finish, hydro_run, pick, psd_below
-from .registry import recipe
+from .recipe_base import recipe
 
 
 
@@ -219,7 +219,7 @@ def _overplot_lambda_p(ax, out, sigmas, cols, lams, data) -> str:
         "2.5 min", "3-7 h")
 def nbvga(mode, out):
     """Figure 22: filled circles = saturated (nonlinear) N-body frequencies
-    (:func:`~ringcore.analysis.nonlinear.nbody_frequency`); open boxes = linear N-body frequencies of a
+    (:func:`~ringcore.experiments.nonlinear.nbody_frequency`); open boxes = linear N-body frequencies of a
     small seed at the same wavelengths, measured as in recipe "nblin2" (same function and settings)."""
     sigmas = pick(mode, (350.0, 900.0), (150.0, 350.0, 600.0, 900.0))
     lams = np.array(pick(mode, (80.0, 150.0, 300.0), (50.0, 70.0, 100.0, 140.0, 200.0, 280.0, 400.0, 560.0, 800.0)))

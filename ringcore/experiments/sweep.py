@@ -10,12 +10,11 @@ Runs on a client given (``client=``, e.g. of a dask-jobqueue cluster), a schedul
 (``dask scheduler`` / ``dask worker ADDRESS``), a client already running in the process, or else a
 ``LocalCluster`` of one single-threaded worker process per CPU.  A task lost with its worker is run
 again (``retries``); a task failing in the physics is reported once.  ``sweep.nc`` is a labelled grid
-(:mod:`ringcore.experiments.sweep_grid`).
+(:mod:`ringcore.io.sweep_grid`).
 """
 from __future__ import annotations
 
 import hashlib
-import importlib
 import json
 import math
 import os
@@ -34,14 +33,21 @@ from ..io.errors import output_error
 from ..io.lock import HELD, key
 from ..io.runfile import written_on
 from ..provenance import software_attrs
-from .sweep_grid import as_runs, grid_dataset
+from ..io.sweep_grid import as_runs, grid_dataset
 
-# engine -> "module:function" taking (task: dict, path: Path) and returning a summary dict
-RUNNERS = {
-    "linear": "ringcore.experiments.runners:run_linear_task",
-    "hydro": "ringcore.experiments.runners:run_hydro_task",
-    "nbody": "ringcore.experiments.runners:run_nbody_task",
-}
+
+def _runner(engine: str):
+    """The runner of ``engine``: ``ringcore.experiments.runners.run_<engine>_task``, imported when a task
+    runs (the runners load the engines, ~2 s; the command line's --help and argument checks do not)."""
+    def run(task: dict, path):
+        from . import runners
+
+        return getattr(runners, f"run_{engine}_task")(task, path)
+    return run
+
+
+# engine -> function taking (task: dict, path: Path) and returning a summary dict
+RUNNERS = {engine: _runner(engine) for engine in ("linear", "hydro", "nbody")}
 SUMMARY_KEYS = ("lambda_p_m", "e_kin", "c_mean", "orbits", "wall_s")
 
 
@@ -53,8 +59,7 @@ def task_name(task: dict) -> str:
 
 def _resolve(engine: str):
     check_choice("engine", engine, RUNNERS)
-    mod, fn = RUNNERS[engine].split(":")
-    return getattr(importlib.import_module(mod), fn)
+    return RUNNERS[engine]
 
 
 def execute_task(task: dict, outdir: str) -> dict:
@@ -111,7 +116,7 @@ def _num(v) -> float:
 
 
 def aggregate(rows) -> xr.Dataset:
-    """The labelled grid of the task summaries ``rows`` (:func:`ringcore.experiments.sweep_grid.grid_dataset`):
+    """The labelled grid of the task summaries ``rows`` (:func:`ringcore.io.sweep_grid.grid_dataset`):
     one dimension per swept setting (``sigma0`` [kg m-2], ``ps_scale``, ``seed``, ...) with coordinates; every
     summary number a variable (nan where a task failed), ``e_kin`` in one unit whatever the engine."""
     ok = [r for r in rows if r["status"] in ("done", "skipped")]
@@ -126,7 +131,7 @@ CONNECT_TIMEOUT_S = 5.0  # seconds to reach a --scheduler before giving up
 
 def sweep_points(ds: xr.Dataset) -> list:
     """The finished runs of a sweep Dataset (``sweep.nc``, the grid of :func:`aggregate` or an older file's
-    ``run`` layout: :func:`~ringcore.experiments.sweep_grid.as_runs`) as dicts: ``sigma0`` [kg/m^2],
+    ``run`` layout: :func:`~ringcore.io.sweep_grid.as_runs`) as dicts: ``sigma0`` [kg/m^2],
     ``lambda_p_m`` [m], ``set``, ``isothermal``, ``engine`` (from the ``task`` coordinate; "?" if absent) and
     ``saturated`` (the per-run variable: True/False, None where it is missing or nan).  Runs without a
     finite sigma0 and lambda_p are left out."""

@@ -8,13 +8,13 @@ from ..io.atomic import save_figure
 from .. import linear, params
 from ..analysis import lambda_p_empirical
 from ..analysis.saturation import C_EMPIRICAL
-from ..experiments.sweep_grid import as_runs
+from ..io.sweep_grid import as_runs
 
 
 def figure_lambdap(ds, path, set_name: str = "tau15", isothermal: bool = False, caption: str | None = None):
     """Measured lambda_p (points, from a sweep dataset) against sigma0, with Eq. (55)
     (dashed) and the fastest-growing linear wavelength (dotted).  ``ds``: a ``sweep.nc`` of either layout
-    (:func:`ringcore.experiments.sweep_grid.as_runs`).  Returns the PNG path."""
+    (:func:`ringcore.io.sweep_grid.as_runs`).  Returns the PNG path."""
     ds = as_runs(ds)  # a grid sweep.nc or an older file's run layout
     base = params.get(set_name, isothermal=isothermal or None)
     sig = np.linspace(25, 1000, 60)

@@ -31,7 +31,7 @@ import numpy as np
 
 from ..analysis.spectra import power_spectrum
 from ..engine import State
-from ..analysis.summary import summary
+from .summary import summary
 from ..archive import with_archive
 from ..io import attrs_from_dict, dict_from_attrs, stamp_run, status_attrs, write_run
 from ..params import RingParams

@@ -29,7 +29,7 @@ import numpy as np
 
 from ..analysis.spectra import power_spectrum, prevalent_wavelength
 from ..checks import check_int, check_real
-from ..analysis.summary import summary
+from .summary import summary
 from ..deprecation import E_KIN_RP_KEY, DeprecatedKeys
 from ..engine import SampleHub
 from ..params import RingParams

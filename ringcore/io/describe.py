@@ -16,7 +16,7 @@ import xarray as xr
 
 from .schema import SCHEMA, RunFileError
 from .validate import LAYOUTS, validate_run
-from ..experiments.sweep_grid import LAYOUT, as_runs
+from .sweep_grid import LAYOUT, as_runs
 from .cf import memory_layout, native_units
 from .ekin import upgrade_e_kin
 from .engines import READ_ENGINE

@@ -8,7 +8,8 @@ required variable with its dimensions and dtype kind, the checksum ``state_sha25
 on the other checks), finiteness of the state arrays and of the recorded series in
 :data:`FINITE_SERIES`, the parameters and options (they must
 build) and cross-consistency (grid ``n`` vs ``L_x/h``, particle count vs array lengths, mode,
-probe, zone and accumulator dimensions).  Other kinds (``"recipe"``, ``"linear"``, ``"sweep"``)
+probe, zone and accumulator dimensions: the engine's own ``check_run_file``, reached through its plug-in
+module, :mod:`ringcore.plugins`; this layer imports no engine).  Other kinds (``"recipe"``, ``"linear"``, ``"sweep"``)
 get the schema checks only.  Any failure raises :class:`~ringcore.io.RunFileError` with one line
 naming the file and what is wrong.
 
@@ -27,6 +28,7 @@ import numpy as np
 from .schema import MIGRATIONS as _MIGRATIONS
 from .schema import SCHEMA, SCHEMA_VERSION, RunFileError
 from ..params import RingParams
+from ..plugins import engine_plugin
 from .cf import memory_layout
 from .ekin import upgrade_e_kin
 
@@ -122,30 +124,30 @@ def checksum_attrs(ds, kind: str) -> dict:
     return {"state_checksums": text, "state_sha256": hashlib.sha256(text.encode()).hexdigest()}
 
 
-def _fail(source, msg):
+def fail(source, msg):
     raise RunFileError(f"{source}: {msg}".replace("\n", " "))
 
 
 def _check_schema(ds, kind, source):
     if ds.attrs.get("schema") != SCHEMA:
-        _fail(source, f"not a ringlab run file (attribute schema = {ds.attrs.get('schema')!r}, expected {SCHEMA!r})")
+        fail(source, f"not a ringlab run file (attribute schema = {ds.attrs.get('schema')!r}, expected {SCHEMA!r})")
     try:
         ver = int(ds.attrs.get("schema_version"))
     except (TypeError, ValueError):
-        _fail(source, f"attribute schema_version = {ds.attrs.get('schema_version')!r} is not an integer")
+        fail(source, f"attribute schema_version = {ds.attrs.get('schema_version')!r} is not an integer")
     if ver > SCHEMA_VERSION:
-        _fail(source, f"written by a newer ringcore (schema_version {ver}); this version reads up to "
+        fail(source, f"written by a newer ringcore (schema_version {ver}); this version reads up to "
                       f"{SCHEMA_VERSION}: upgrade ringcore")
     while ver < SCHEMA_VERSION:
         if ver not in _MIGRATIONS:
-            _fail(source, f"schema_version {ver} is no longer supported (current {SCHEMA_VERSION})")
+            fail(source, f"schema_version {ver} is no longer supported (current {SCHEMA_VERSION})")
         ds = _MIGRATIONS[ver](ds)
         ver += 1
     have = ds.attrs.get("kind")
     if kind is not None and have != kind:
-        _fail(source, f"is a {have!r} run, expected {kind!r}")
+        fail(source, f"is a {have!r} run, expected {kind!r}")
     if not isinstance(have, str):
-        _fail(source, f"attribute kind = {have!r} is not a run kind")
+        fail(source, f"attribute kind = {have!r} is not a run kind")
     return ds
 
 
@@ -153,37 +155,32 @@ def _check_variables(ds, kind, source):
     for name, (dims, kinds, required) in LAYOUTS[kind].items():
         if name not in ds.variables:
             if required:
-                _fail(source, f"{kind} run file has no variable {name!r} (dimensions {dims})")
+                fail(source, f"{kind} run file has no variable {name!r} (dimensions {dims})")
             continue
         v = ds.variables[name]
         if tuple(v.dims) != dims:
-            _fail(source, f"variable {name!r} has dimensions {tuple(v.dims)}, expected {dims}")
+            fail(source, f"variable {name!r} has dimensions {tuple(v.dims)}, expected {dims}")
         if v.dtype.kind not in kinds:
-            _fail(source, f"variable {name!r} has dtype {v.dtype}, expected kind {kinds!r}")
+            fail(source, f"variable {name!r} has dtype {v.dtype}, expected kind {kinds!r}")
 
 
-def _attr_number(ds, name, typ, source):
+def attr_number(ds, name, typ, source):
     try:
         val = typ(ds.attrs[name])
     except KeyError:
-        _fail(source, f"run file has no attribute {name!r}")
+        fail(source, f"run file has no attribute {name!r}")
     except (TypeError, ValueError, OverflowError):
-        _fail(source, f"attribute {name} = {ds.attrs[name]!r} is not a {typ.__name__}")
+        fail(source, f"attribute {name} = {ds.attrs[name]!r} is not a {typ.__name__}")
     if not np.isfinite(val):
-        _fail(source, f"attribute {name} = {val!r} is not finite")
+        fail(source, f"attribute {name} = {val!r} is not finite")
     return val
 
 
-def _build(ds, kind, source):
-    """(RingParams, options) of the file; RunFileError if they do not build."""
-    if kind == "hydro":
-        # deferred: ringcore.hydro's __init__ loads the numba engine (~2 s); `import ringcore.io` does not
-        from ..hydro.options import HydroOptions as Options
-    else:
-        # deferred: ringcore.nbody's __init__ loads the numba engine (~2 s); `import ringcore.io` does not
-        from ..nbody.options import NBodyOptions as Options
+def build_params_options(ds, options_cls, source):
+    """``(RingParams, options)`` of the run file ``ds`` (its ``params_json``, ``options_json``; ``options_cls``
+    the engine's options class); :class:`RunFileError` naming ``source`` if they do not build."""
     out = []
-    for prefix, cls in (("param", RingParams), ("option", Options)):
+    for prefix, cls in (("param", RingParams), ("option", options_cls)):
         key = f"{prefix}s_json"
         try:
             d = json.loads(ds.attrs[key])
@@ -191,61 +188,8 @@ def _build(ds, kind, source):
                 raise TypeError(f"a {type(d).__name__}, not a dict")
             out.append(cls(**d))
         except Exception as exc:  # JSON, unknown keys, out-of-range values
-            _fail(source, f"attribute {key} does not give valid {cls.__name__} ({type(exc).__name__}: {exc})")
+            fail(source, f"attribute {key} does not give valid {cls.__name__} ({type(exc).__name__}: {exc})")
     return out
-
-
-def _check_hydro(ds, source):
-    p, opt = _build(ds, "hydro", source)
-    n, sz = opt.n, ds.sizes
-    for dim, want, why in (("x", n, f"L_x/h = {opt.L_x:g}/{opt.h:g}"), ("var", 3 if p.isothermal else 4,
-                           "the model (isothermal: 3, else 4)"), ("mode", len(opt.track_modes), "track_modes"),
-                           ("probe", len(opt.probes_m), "probes_m"),
-                           ("restart_field", 10 + 4 * len(opt.track_modes) + 2 * len(opt.probes_m),
-                            "the recorder columns")):
-        if sz[dim] != want:
-            _fail(source, f"dimension {dim!r} has length {sz[dim]}, expected {want} from {why}")
-    if "n" in ds.attrs and _attr_number(ds, "n", int, source) != n:
-        _fail(source, f"attribute n = {ds.attrs['n']} does not match the grid L_x/h = {n}")
-    _attr_number(ds, "time_dimensionless", float, source)
-    _attr_number(ds, "dt_dimensionless", float, source)
-    if _attr_number(ds, "steps", int, source) < 0:
-        _fail(source, f"attribute steps = {ds.attrs['steps']} is negative")
-    state = np.asarray(ds.variables["state"].values)
-    if not np.all(state[0] > 0):
-        _fail(source, "state array 'state' has non-positive surface density")
-    big = np.abs(state) > HYDRO_STATE_MAX
-    if big.any():
-        i, j = (int(k) for k in np.argwhere(big)[0])
-        names = [str(v) for v in np.asarray(ds.variables["var"].values)]
-        _fail(source, f"state array 'state' has {names[i] if i < len(names) else i} = {state[i, j]:g} at x index {j}: "
-                      f"allowed |value| <= {HYDRO_STATE_MAX:g} (units sigma0, c0; a run stops as a blow-up long "
-                      "before), so the file is damaged or edited")
-
-
-def _check_nbody(ds, source):
-    # deferred: ringcore.nbody's __init__ loads the numba engine (~2 s); `import ringcore.io` does not
-    from ..nbody.kernels import N_ACC
-
-    p, opt = _build(ds, "nbody", source)
-    sz = ds.sizes
-    if "N" in ds.attrs and _attr_number(ds, "N", int, source) != sz["particle"]:
-        _fail(source, f"attribute N = {ds.attrs['N']} but the particle arrays have length {sz['particle']}")
-    for dim, want, why in (("axis", 3, "x, y, z"), ("acc", N_ACC, "the kernel accumulators"),
-                           ("x", opt.zones, "the diagnostic zones of the options")):
-        if sz[dim] != want:
-            _fail(source, f"dimension {dim!r} has length {sz[dim]}, expected {want} ({why})")
-    ids = np.asarray(ds.variables["particle_id"].values)
-    if np.unique(ids).size != ids.size:
-        _fail(source, "variable 'particle_id' has repeated particle labels")
-    _attr_number(ds, "t0_kernel", float, source)
-    if _attr_number(ds, "step_count", int, source) < 0:
-        _fail(source, f"attribute step_count = {ds.attrs['step_count']} is negative")
-    pos = np.asarray(ds.variables["state_pos"].values)
-    for a, name in enumerate("xyz"):  # SI copies of the kernel state: catch damage in files without checksum
-        si = np.asarray(ds.variables[f"pos_{name}"].values)
-        if not np.allclose(si, pos[:, a] * opt.R_p, rtol=1e-12, atol=0.0):
-            _fail(source, f"variable 'pos_{name}' disagrees with 'state_pos' (damaged particle data)")
 
 
 def _check_checksum(ds, kind, source):
@@ -253,14 +197,14 @@ def _check_checksum(ds, kind, source):
     if stored is None and text is None:
         return  # written before checksums: accepted on the other checks
     if not isinstance(stored, str) or not isinstance(text, str):
-        _fail(source, "checksum attributes state_sha256 / state_checksums are incomplete or damaged")
+        fail(source, "checksum attributes state_sha256 / state_checksums are incomplete or damaged")
     if hashlib.sha256(text.encode("utf-8", "surrogatepass")).hexdigest() != stored:
-        _fail(source, "attribute state_checksums does not match state_sha256 (damaged checksum attributes)")
+        fail(source, "attribute state_checksums does not match state_sha256 (damaged checksum attributes)")
     try:
         items = json.loads(text)
         assert isinstance(items, dict)
     except Exception:
-        _fail(source, "attribute state_checksums is not a JSON object")
+        fail(source, "attribute state_checksums is not a JSON object")
     bad = []
     for key, want in items.items():
         if key.startswith("@"):
@@ -268,14 +212,14 @@ def _check_checksum(ds, kind, source):
         elif key in ds.variables:
             got = _digest(key, ds.variables[key])
         else:
-            _fail(source, f"variable {key!r} covered by the checksum is missing")
+            fail(source, f"variable {key!r} covered by the checksum is missing")
         if got != want:
             bad.append(f"attribute {key[1:]!r}" if key.startswith("@") else f"variable {key!r}")
     missing = [k for k in LAYOUTS[kind] if k in ds.variables and k not in items]
     if missing:
-        _fail(source, f"variables {', '.join(missing)} are not covered by the checksum (damaged checksum attributes)")
+        fail(source, f"variables {', '.join(missing)} are not covered by the checksum (damaged checksum attributes)")
     if bad:
-        _fail(source, f"checksum mismatch in {', '.join(bad[:4])}{' ...' if len(bad) > 4 else ''}: "
+        fail(source, f"checksum mismatch in {', '.join(bad[:4])}{' ...' if len(bad) > 4 else ''}: "
                       f"the data differ from what was written (damaged file)")
 
 
@@ -297,29 +241,29 @@ def validate_run(ds, kind: str | None = None, source: str = "<dataset>"):
         One line naming ``source`` and what is wrong (see the module docstring for the checks).
     """
     if not hasattr(ds, "data_vars") or not hasattr(ds, "attrs"):
-        _fail(source, f"not an xarray.Dataset (got {type(ds).__name__})")
+        fail(source, f"not an xarray.Dataset (got {type(ds).__name__})")
     ds = _check_schema(memory_layout(ds), kind, source)
     kind = ds.attrs["kind"]
     if kind not in LAYOUTS:
         return ds
     for name in REQUIRED_ATTRS[kind]:
         if name not in ds.attrs:
-            _fail(source, f"{kind} run file has no attribute {name!r}")
+            fail(source, f"{kind} run file has no attribute {name!r}")
     _check_variables(ds, kind, source)
     _check_checksum(ds, kind, source)
     for name in STATE_ARRAYS[kind]:
         a = np.asarray(ds.variables[name].values)
         if not np.all(np.isfinite(a)):
             bad = np.argwhere(~np.isfinite(a))[0]
-            _fail(source, f"state array {name!r} has non-finite values (first at index {tuple(int(i) for i in bad)})")
+            fail(source, f"state array {name!r} has non-finite values (first at index {tuple(int(i) for i in bad)})")
     for name in FINITE_SERIES[kind]:
         if name in ds.variables:
             a = np.asarray(ds.variables[name].values)
             if a.dtype.kind == "f" and not np.all(np.isfinite(a)):
                 bad = np.argwhere(~np.isfinite(a))[0]
-                _fail(source, f"variable {name!r} has non-finite values (first {float(a[tuple(bad)])!r} at index "
+                fail(source, f"variable {name!r} has non-finite values (first {float(a[tuple(bad)])!r} at index "
                               f"{tuple(int(i) for i in bad)}): a run writes it finite (damaged or edited file)")
-    (_check_hydro if kind == "hydro" else _check_nbody)(ds, source)
+    engine_plugin(kind).check_run_file(ds, source)  # the engine's own checks (ringcore.plugins)
     if kind == "hydro":  # an older file's e_kin in sigma0 c0^2: read in the one public unit
         up = upgrade_e_kin(ds)
         if up is not ds and "state_sha256" in up.attrs:  # checked as written; the conversion is ringcore's own

@@ -224,6 +224,7 @@ def test_tutorial_links_point_at_files_of_the_served_folder(tmp_path, monkeypatc
 def test_makefile_serves_the_folder_the_app_links_to():
     text = (ROOT / "Makefile").read_text()
     assert "RINGLAB_DOCS_DIR=$(DOCS_SITE) $(BIN)/ringlab serve" in text
+    assert "docs-site DOCS_COPY=$(DOCS_SITE)" in text and "echo $$! > $(DOCS_SITE).building" in text
     assert "tutorials-html:" in text and "--out $(DOCS_SITE)/tutorials" in text
     assert "DOCS_SITE ?= app/docs_site" in text  # = ringlab.paths.DOCS_DIR of the source tree
     from ringlab.paths import DOCS_DIR

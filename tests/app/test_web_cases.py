@@ -201,8 +201,58 @@ def test_a_site_of_the_tutorial_pages_only_opens_at_their_index(tmp_path, monkey
     assert tutorials.docs_start() == "tutorials/nb/"
     note = tutorials.docs_note()
     assert 'href="docs/tutorials/nb/index.html"' in note and "not installed" not in note
-    redirects = {p[0]: p[2]["url"] for p in routes.patterns({"docs": str(tmp_path)}, {"docs": "tutorials/nb/"})
-                 if p[1] is RedirectHandler}
-    assert redirects == {"/docs": "/docs/", "/docs/": "/docs/tutorials/nb/"}
+    pats = routes.patterns({"docs": str(tmp_path)}, tutorials.docs_start)
+    assert {p[0]: p[2]["url"] for p in pats if p[1] is RedirectHandler} == {"/docs": "/docs/"}
+    handler = [p for p in pats if p[1] is routes.DocsHandler][0]
+    assert handler[2]["start"](str(tmp_path)) == "tutorials/nb/"  # asked at each request (served: the test below)
     (tmp_path / "index.html").write_text("<p>the whole site</p>")  # `make docs`
     assert tutorials.docs_start() == "" and 'href="docs/index.html"' in tutorials.docs_note()
+
+
+def test_a_site_built_while_the_lab_runs_is_served_without_a_restart(tmp_path):
+    """`make app` builds the site in the background: the lab starts first, says so, and serves the site at /docs
+    once it is there (first the tutorial pages' index, then the whole site), with no restart."""
+    import http.client
+
+    docs = tmp_path / "docs_site"
+    builder = subprocess.Popen(["sleep", "600"])  # stands in for the background `make docs-site`
+    (tmp_path / "docs_site.building").write_text(f"{builder.pid}\n")
+    log_path = tmp_path / "serve.log"
+    port = free_port()
+    env = dict(os.environ, RINGLAB_COMPUTE="threads", RINGLAB_DOCS_DIR=str(docs), PYTHONUNBUFFERED="1")
+    with open(log_path, "w") as log:
+        proc = subprocess.Popen([sys.executable, "-m", "ringlab.cli.main", "serve", "--port", str(port)],
+                                env=env, stdout=log, stderr=subprocess.STDOUT)
+    try:
+        wait_live(proc, port, log_path)
+        base = f"http://127.0.0.1:{port}"
+        assert "being built in the background" in log_path.read_text()
+        assert get(base + "/docs/")[0] == 404  # nothing yet
+        (docs / "tutorials" / "nb").mkdir(parents=True)
+        (docs / "tutorials" / "nb" / "index.html").write_text("<p>tutorials</p>")
+        conn = http.client.HTTPConnection(f"127.0.0.1:{port}", timeout=60)
+        conn.request("GET", "/docs/")
+        r = conn.getresponse()
+        assert r.status == 302 and r.getheader("Location") == "/docs/tutorials/nb/"
+        assert get(base + "/docs/tutorials/nb/") == (200, "<p>tutorials</p>")
+        (docs / "index.html").write_text("<p>the whole site</p>")
+        assert get(base + "/docs/") == (200, "<p>the whole site</p>")
+    finally:
+        stop_server(proc)
+        builder.kill()
+        builder.wait()
+
+
+def test_the_page_says_the_site_is_being_built(tmp_path, monkeypatch):
+    from ringlab.lessons import tutorials
+    monkeypatch.setenv(tutorials.ENV, str(tmp_path / "docs_site"))
+    assert not tutorials.docs_building() and tutorials.static_dirs() == {}
+    builder = subprocess.Popen(["sleep", "600"])
+    try:
+        tutorials.building_marker().write_text(f"{builder.pid}\n")
+        assert tutorials.docs_building() and "being built" in tutorials.docs_note()
+        assert tutorials.static_dirs() == {"docs": str(tmp_path / "docs_site")}
+    finally:
+        builder.kill()
+        builder.wait()
+    assert not tutorials.docs_building() and "not installed" in tutorials.docs_note()  # the build ended, no site

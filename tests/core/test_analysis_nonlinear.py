@@ -1,12 +1,12 @@
-"""Nonlinear dispersion relation tools (ringcore.analysis.nonlinear), Section "Nonlinear Dispersion Relation"."""
+"""Nonlinear dispersion relation tools (ringcore.experiments.nonlinear), Section "Nonlinear Dispersion Relation"."""
 import math
 
 import numpy as np
 import pytest
 
 from ringcore import linear, params
-from ringcore.analysis.nonlinear import (frequency_minimum, group_velocity, hydro_frequency,
-                                         hydro_seed_amplitude, to_arrays)
+from ringcore.experiments.nonlinear import (frequency_minimum, group_velocity, hydro_frequency,
+                                            hydro_seed_amplitude, to_arrays)
 
 
 @pytest.mark.parametrize("set_name, sigma0, lam", [("tau15", 400.0, 200.0), ("tau15", 0.0, 120.0)])

@@ -125,3 +125,28 @@ def test_edited_state_value_is_named_not_orbits(tmp_path, capsys, index, value):
         line = refused(capsys, argv, str(f), f"{name} = {value:g}", "allowed |value| <= 1e+06", "edited")
         assert "--orbits" not in line
     assert not (tmp_path / "o.nc").exists()
+
+
+@pytest.mark.parametrize("var, index, axis, value, name", [("state_vel", 3, 0, 1e308, "x = 1e+308 R_p Omega"),
+                                                           ("state_vel", 2, 1, -1e7, "y = -1e+07 R_p Omega"),
+                                                           ("state_pos", 3, 2, 1e308, "z = 1e+308 R_p"),
+                                                           ("state_pos", 5, 0, -1e9, "x = -1e+09 R_p")])
+def test_edited_nbody_state_value_is_named_before_any_step(tmp_path, capsys, var, index, axis, value, name):
+    """An edited particle value with a valid checksum is refused when the file is read, naming the array, the
+    particle and the bound (was: one step computed, then a blow-up 'x became out of range' in step N)."""
+    from ringcore.nbody import NBodyOptions, ShearingBox
+
+    sim = ShearingBox(params.get("tau15"), NBodyOptions(L_x=20.0, L_y=10.0), seed=1)
+    sim.advance(0.01)
+    src = sim.save(tmp_path / "n.nc")
+    ds = read_run(src).load()
+    a = ds[var].values.copy()
+    a[index, axis] = value
+    ds[var] = (ds[var].dims, a, ds[var].attrs)
+    ds.attrs.update(checksum_attrs(ds, "nbody"))
+    f = write_run(ds, tmp_path / "e.nc", "nbody", overwrite=True)
+    refused(capsys, ["resume", f, "--orbits", "0.01", "--no-progress", "--out", tmp_path / "o.nc"],
+            str(f), var, name, f"particle index {index}", "allowed |value| <=", "edited")
+    assert not (tmp_path / "o.nc").exists()
+    with pytest.raises(Exception, match="edited"):
+        ShearingBox.load(f)

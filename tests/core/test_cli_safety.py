@@ -210,15 +210,15 @@ def test_missing_optional_package_is_one_line(monkeypatch, capsys):
 
 
 def test_registry_fails_loudly(monkeypatch, capsys):
-    import importlib
+    from ringcore.cli import main as cli_main
 
-    real = importlib.import_module
+    real = cli_main._command_module
 
-    def fake(name, *a, **k):
-        if name == "ringcore.cli.sweep_cmd":
+    def fake(name):
+        if name == "sweep":
             raise ImportError("No module named 'dask'")
-        return real(name, *a, **k)
-    monkeypatch.setattr("ringcore.cli.main.importlib.import_module", fake)
+        return real(name)
+    monkeypatch.setattr(cli_main, "_command_module", fake)
     for argv in (["sweep", "--help"], ["--help"], ["swep"]):  # the command itself, the overview, a typo
         rc = main(argv)
         err = capsys.readouterr().err
@@ -226,8 +226,7 @@ def test_registry_fails_loudly(monkeypatch, capsys):
     assert main(["linear", "--sigma0", "0"]) == 0  # another command does not import the broken module
     from ringcore.experiments import registry
 
-    monkeypatch.setattr("ringcore.experiments.registry.importlib.import_module",
-                        lambda name, *a, **k: (_ for _ in ()).throw(ImportError("broken")))
+    monkeypatch.setattr(registry, "_load_module", lambda name: (_ for _ in ()).throw(ImportError("broken")))
     with pytest.raises(ImportError, match="nbody_recipes|linear_recipes"):
         registry.load_all()
 

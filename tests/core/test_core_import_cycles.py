@@ -1,110 +1,51 @@
-"""ringcore and the app (``ringlab``) have no import cycles between their modules (imports inside functions
-included).  The app's test reads its sources as text and imports none of them (this tier stays without the web
-stack)."""
-import ast
-import importlib.util
-from pathlib import Path
+"""ringcore and the app (``ringlab``) have no import cycles, checked on grimp's import graph (imports inside
+functions included; the layers themselves are import-linter's contracts in pyproject.toml, run by
+``make lint-imports``).
 
+For every package, :meth:`grimp.ImportGraph.nominate_cycle_breakers` names the imports whose removal would make
+its children acyclic: none for every package means no two subpackages or modules import each other, directly
+or through others.  The app's graph is built from its sources without importing them (this tier stays without
+the web stack)."""
+import importlib.util
+
+import grimp
 import pytest
 
-import ringcore
 
-ROOT = Path(ringcore.__file__).parent
-
-
-def _modules(root: Path = ROOT, package: str = "ringcore") -> dict:
-    mods = {}
-    for f in root.rglob("*.py"):
-        parts = [package, *f.relative_to(root).with_suffix("").parts]
-        if parts[-1] == "__init__":
-            parts = parts[:-1]
-        mods[".".join(parts)] = f
-    return mods
-
-
-def _imports(mod: str, f: Path, mods: dict) -> set:
-    base = mod.split(".") if f.name == "__init__.py" else mod.split(".")[:-1]
-    out = set()
-    for node in ast.walk(ast.parse(f.read_text())):
-        if isinstance(node, ast.Import):
-            names = [a.name for a in node.names]
-        elif isinstance(node, ast.ImportFrom):
-            pre = ".".join(base[:len(base) - node.level + 1] + ([node.module] if node.module else [])) \
-                if node.level else (node.module or "")
-            subs = [f"{pre}.{a.name}" for a in node.names]
-            names = [n for n in subs if n in mods]
-            if len(names) < len(subs):  # names that are not submodules come from the package itself
-                names.append(pre)
-        else:
-            continue
-        for n in names:
-            while n and n not in mods:
-                n = n.rpartition(".")[0]
-            if n and n != mod:
-                out.add(n)
-    return out
-
-
-def _cycles(graph: dict) -> list:
-    """Strongly connected components with more than one module (Tarjan, iterative)."""
-    index, low, stack, on, comps, counter = {}, {}, [], set(), [], [0]
-
-    def visit(v):
-        work = [(v, iter(sorted(graph[v])))]
-        index[v] = low[v] = counter[0]
-        counter[0] += 1
-        stack.append(v)
-        on.add(v)
-        while work:
-            node, it = work[-1]
-            for w in it:
-                if w not in index:
-                    index[w] = low[w] = counter[0]
-                    counter[0] += 1
-                    stack.append(w)
-                    on.add(w)
-                    work.append((w, iter(sorted(graph[w]))))
-                    break
-                if w in on:
-                    low[node] = min(low[node], index[w])
-            else:
-                work.pop()
-                if work:
-                    low[work[-1][0]] = min(low[work[-1][0]], low[node])
-                if low[node] == index[node]:
-                    comp = []
-                    while True:
-                        w = stack.pop()
-                        on.discard(w)
-                        comp.append(w)
-                        if w == node:
-                            break
-                    if len(comp) > 1:
-                        comps.append(sorted(comp))
-
-    for v in sorted(graph):
-        if v not in index:
-            visit(v)
-    return comps
+def _cycle_breakers(graph: grimp.ImportGraph, root: str) -> dict:
+    """``{package: imports that break its children's cycles}`` for ``root`` and every package below it."""
+    packages = sorted(m for m in graph.find_descendants(root) | {root} if graph.find_children(m))
+    return {p: found for p in packages if (found := graph.nominate_cycle_breakers(p))}
 
 
 def test_detector_finds_a_cycle():
-    assert _cycles({"a": {"b"}, "b": {"a"}, "c": {"a"}}) == [["a", "b"]]
-    assert _cycles({"a": {"b"}, "b": set()}) == []
+    """The check fails on a cycle between two subpackages and on one between two modules of a package."""
+    g = grimp.ImportGraph()
+    for m in ("pkg", "pkg.a", "pkg.a.x", "pkg.b", "pkg.b.y", "pkg.c", "pkg.c.p", "pkg.c.q"):
+        g.add_module(m)
+    g.add_import(importer="pkg.a.x", imported="pkg.b.y")
+    assert _cycle_breakers(g, "pkg") == {}
+    g.add_import(importer="pkg.b.y", imported="pkg.a.x")  # a -> b -> a
+    g.add_import(importer="pkg.c.p", imported="pkg.c.q")
+    g.add_import(importer="pkg.c.q", imported="pkg.c.p")  # p -> q -> p inside c
+    found = _cycle_breakers(g, "pkg")
+    assert set(found) == {"pkg", "pkg.c"}
+    assert len(found["pkg"]) == 1 and {("pkg.a.x", "pkg.b.y"), ("pkg.b.y", "pkg.a.x")} >= set(found["pkg"])
 
 
 def test_ringcore_has_no_import_cycles():
-    mods = _modules()
-    graph = {m: _imports(m, f, mods) for m, f in mods.items()}
-    assert "ringcore.io.validate" in graph["ringcore.io.runfile"]  # the graph sees imports at all
-    assert _cycles(graph) == []
+    graph = grimp.build_graph("ringcore")
+    # the graph sees imports at all, those inside functions too (ringcore.engine.load imports the archive there)
+    assert graph.direct_import_exists(importer="ringcore.io.runfile", imported="ringcore.io.validate")
+    assert graph.direct_import_exists(importer="ringcore.engine", imported="ringcore.archive")
+    assert {"ringcore.hydro", "ringcore.nbody", "ringcore.io", "ringcore.analysis"} <= graph.find_children("ringcore")
+    assert _cycle_breakers(graph, "ringcore") == {}
 
 
 def test_the_app_has_no_import_cycles():
     spec = importlib.util.find_spec("ringlab")
     if spec is None or not spec.submodule_search_locations:
         pytest.skip("the app (ringlab) is not installed")
-    mods = _modules(Path(spec.submodule_search_locations[0]), "ringlab")
-    graph = {m: _imports(m, f, mods) for m, f in mods.items()}
-    assert "ringlab.lessons.presets" in graph["ringlab.lessons.view"]  # the graph sees imports at all
-    assert len(mods) > 50 and _cycles(graph) == []
+    graph = grimp.build_graph("ringlab")
+    assert graph.direct_import_exists(importer="ringlab.lessons.view", imported="ringlab.lessons.presets")
+    assert len(graph.modules) > 50 and _cycle_breakers(graph, "ringlab") == {}

@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from ringcore.experiments.plan import execute_run, get_plan, plan_tasks, run_in_memory, run_path
+from ringcore.experiments.plan import execute_run, run_in_memory, run_path
+from ringcore.experiments.registry import get_plan, plan_tasks
 
 ORBITS = 4.0
 

@@ -70,7 +70,7 @@ def test_running_client_is_used_and_physics_error_reported_once(tmp_path, thread
         raise AssertionError("a new LocalCluster was started although a client is running")
 
     monkeypatch.setattr("dask.distributed.LocalCluster", no_cluster)
-    monkeypatch.setitem(RUNNERS, "boom", "test_sweep_grid:physics_error")
+    monkeypatch.setitem(RUNNERS, "boom", physics_error)
     CALLS.clear()
     with threads_client.as_current():
         assert sw.running_client() is threads_client

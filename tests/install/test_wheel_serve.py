@@ -106,6 +106,8 @@ def test_wheel_installs_outside_the_checkout_and_serves_page_worksheet_tutorial_
     dist = tmp_path / "dist"
     _run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q", "-w", str(dist), str(ROOT)], timeout=900)
     wheel = next(dist.glob("ringlab-*.whl"))
+    # built after `make docs`: the wheel carries the site, and its version does not say "nodocs" (setup.py)
+    assert "nodocs" not in wheel.name, wheel.name
     _run([str(py), "-m", "pip", "install", "-q", f"{wheel}[app]"], timeout=1500, env=env)
 
     # a user's working folder whose own app.py and app/ must not hide the installed lab

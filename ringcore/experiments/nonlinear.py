@@ -42,8 +42,8 @@ from ..hydro import Hydro1D, HydroBlowUp, HydroOptions
 from ..nbody import NBodyOptions, ShearingBox
 from ..nbody.growth import velocity_mode
 from ..params import RingParams
-from .rates import lomb_frequency
-from .saturation import lagrange_derivative
+from ..analysis.rates import lomb_frequency
+from ..analysis.saturation import lagrange_derivative
 
 TWO_PI = 2.0 * math.pi
 
