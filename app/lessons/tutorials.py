@@ -13,6 +13,7 @@ The folder is ``<package>/docs_site`` (``app/docs_site`` of the source tree), or
 from __future__ import annotations
 
 import html
+import os
 from pathlib import Path
 
 from ringlab.config import CONFIG

@@ -6,7 +6,7 @@ themselves, so the page cannot drift from the code:
 - ``layers``: the import-linter contracts of ``pyproject.toml`` (the layers of the app, checked by ``lint-imports``);
 - ``tabs``: ``ringlab.main.TABS`` (title, class, ``?tab=`` key) and the ``ringlab.ui.tab.Tab`` protocol;
 - ``tab-protocol`` / ``run-handle``: the members of the ``Tab`` and ``RunHandle``/``PlacedRun`` protocols;
-- ``engines``: ``ringcore.engine.ENGINES`` (kind, class);
+- ``engines``: the engines installed (``ringcore.engine.kinds()``, the ``ringcore.engines`` entry points);
 - ``parameter-sets``: ``ringcore.params.SET_NAMES`` (tau, Omega_z/Omega, isothermal only);
 - ``analyses``: ``ringcore.analysis.__all__``;
 - ``settings``: ``ringlab.config.rows()`` (every ``RINGLAB_*`` variable: parameter, variable, default, meaning).
@@ -77,12 +77,15 @@ def layers():
     rows = []
     for c in data["tool"]["importlinter"]["contracts"]:
         if c["type"] == "layers":
-            n = len(c["layers"])
+            n, box = len(c["layers"]), (c.get("containers") or [""])[0]
+            names = [re.sub(r"([\w.]+)", lambda m: f"{box}.{m.group(1)}" if box else m.group(1), layer)
+                     for layer in c["layers"]]
             rows += [(layer, f"layer {i + 1} of {n}" + (" (top)" if i == 0 else "") +
                       (": imports only the layers below" if i < n - 1 else " (bottom): imports none of the layers above")
-                      + (f" (contract: {c['name']})" if i == 0 else "")) for i, layer in enumerate(c["layers"])]
+                      + (f" (contract: {c['name']})" if i == 0 else "")) for i, layer in enumerate(names)]
         else:
-            rows.append((" ".join(c["source_modules"]), f"{c['type']}: {c['name']}"))
+            mods = c.get("source_modules") or c.get("modules") or []
+            rows.append((" ".join(mods), f"{c['type']}: {c['name']}"))
     return table(["modules", "rule (an import-linter contract)"], rows, widths=[3, 5])
 
 
@@ -133,11 +136,14 @@ def run_handle():
 
 
 def engines():
-    from ringcore.engine import ENGINES
+    from ringcore.engine import engine_class, kinds
     rows = []
-    for kind, (mod, name) in ENGINES.items():
-        cls = getattr(importlib.import_module(mod), name)
-        rows.append((kind, f"{mod}.{name}", summary(cls)))
+    for kind in kinds():
+        cls = engine_class(kind)
+        public = cls.__module__.rsplit(".", 1)[0]  # the package that exports it (ringcore.hydro)
+        name = f"{public}.{cls.__name__}" if getattr(importlib.import_module(public), cls.__name__, None) is cls \
+            else f"{cls.__module__}.{cls.__name__}"
+        rows.append((kind, name, summary(cls)))
     return table(["kind", "class", "what it integrates"], rows, code_cols=(0, 1), widths=[1, 3, 6])
 
 

@@ -243,9 +243,9 @@ def test_a_site_built_while_the_lab_runs_is_served_without_a_restart(tmp_path):
         builder.wait()
 
 
-def test_the_page_says_the_site_is_being_built(tmp_path, monkeypatch):
+def test_the_page_says_the_site_is_being_built(tmp_path, ringlab_env):
     from ringlab.lessons import tutorials
-    monkeypatch.setenv(tutorials.ENV, str(tmp_path / "docs_site"))
+    ringlab_env.set(tutorials.ENV, str(tmp_path / "docs_site"))
     assert not tutorials.docs_building() and tutorials.static_dirs() == {}
     builder = subprocess.Popen(["sleep", "600"])
     try:
