@@ -1,10 +1,10 @@
 """Assemble and serve the ringlab web app: ``ringlab serve``, or ``panel serve app/main.py`` by path.
 
-Each tab is a (title, factory) pair in :data:`TABS`; a factory returns a fresh
-viewer for one browser session.  Factories that declare a ``runs`` parameter (the
-live tabs) get the session's :class:`ringlab.live.session.SessionRuns`, through which the
-Saturation tab reaches the session's hydro run; the others are called without
-arguments.  A page builds only the tab it shows first (``?tab=``, else the first) and the
+Each tab is a (title, class) pair in :data:`TABS`; every class implements the
+:class:`ringlab.ui.tab.Tab` protocol, the only calls the shell makes on a tab:
+``for_session(runs)`` builds it for one browser session with the session's
+:class:`ringlab.live.session.SessionRuns` (through which, e.g., the Saturation tab reaches
+the session's hydro run), ``set_tabs``, ``set_shown``, ``start_runner`` and ``__panel__``.  A page builds only the tab it shows first (``?tab=``, else the first) and the
 lessons panel; another tab is built when it is opened or when something needs it
 (:class:`ringlab.ui.lazy_tabs.LazyTabs`): a lesson step or "Run this in ..." through
 ``runs.tab(kind)``, :func:`apply_query` and other callers through ``app.views[i]``.
@@ -30,6 +30,7 @@ from ringlab.ui.about import AboutCite
 from ringlab.ui.lazy_tabs import LazyTabs, LazyViews
 from ringlab.ui.local_store import LocalStore
 from ringlab.ui.reconnect import Reconnect
+from ringlab.ui.tab import Tab
 
 TABS = [
     ("Linear theory", LinearView),
@@ -68,10 +69,8 @@ TABS_CSS = [":host .bk-tab {font-size: calc(16px * var(--rl-scale, 1));}", ":hos
 BODY_CSS = "html {overflow-y: scroll;} body {margin: 0;}"
 
 
-def _make(factory, runs):
-    params = getattr(factory, "param", None)
-    view = factory(runs=runs) if params is not None and "runs" in params else factory()
-    return view
+def _make(factory: type[Tab], runs) -> Tab:
+    return factory.for_session(runs)
 
 
 def create_app(args: dict | None = None) -> pn.Column:
@@ -131,11 +130,9 @@ def _built(app, tabs, index: int, view) -> None:
     """A tab was just built: [connect] the Linear tab's "Run this in ..." buttons show the other tabs, a live
     tab draws its frames only while it is the tab shown, and presentation mode (if on) applies to its figures
     too."""
-    if "tabs" in getattr(view, "param", ()):
-        view.tabs = tabs
-    if "shown" in getattr(view, "param", ()):
-        view.shown = tabs.active == index
-        tabs.param.watch(lambda e: setattr(view, "shown", e.new == index), "active")
+    view.set_tabs(tabs)
+    view.set_shown(tabs.active == index)
+    tabs.param.watch(lambda e: view.set_shown(e.new == index), "active")
     if app is not None and app.present.value:
         _present_view(view, True)
 
@@ -149,8 +146,8 @@ def set_presentation(app: pn.Column, on: bool) -> None:
         _present_view(view, on)
 
 
-def _present_view(view, on: bool) -> None:
-    layout = view.__panel__() if hasattr(view, "__panel__") else view
+def _present_view(view: Tab, on: bool) -> None:
+    layout = view.__panel__()
     for pane in layout.select(pn.pane.Bokeh):
         (present_figure if on else plain_figure)(pane.object)
 
@@ -183,9 +180,8 @@ def apply_query(app: pn.Column, args: dict) -> None:
         return
     app.tabs.active = index
     if first("autostart") in ("1", "true", "yes"):
-        view = app.views[index]
-        runner = getattr(view, "runner", None)
-        if runner is not None and hasattr(runner, "start"):
+        runner = app.views[index].start_runner()
+        if runner is not None:
             pn.state.onload(lambda: _autostart(app, runner))  # at once outside a server (no document)
 
 

@@ -22,6 +22,7 @@ extensions = [
     "numpydoc",
     "sphinxarg.ext",                # the CLI reference from the argparse parser
     "ringlab_docs",                 # tutorials notebooks, benchmark tables, published numbers in docstrings
+    "ringlab_design",               # the design page's tables, generated from the code
 ]
 
 exclude_patterns = ["_build", "**.ipynb_checkpoints", "benchmarks/data", "benchmarks/generated", "teacher/generated",

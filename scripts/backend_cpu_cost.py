@@ -37,7 +37,7 @@ if __name__ == "__main__":
         c0, cw0, w0 = cpu([me]), cpu(workers), time.perf_counter(); n = 0
         while r.sim.orbits < r.pause_at - 1e-9:
             r.tick(); n += 1
-            _ = r.sim.sigma  # the view reads the state (one restore per chunk)
+            _ = r.sim.sigma_dimless  # the view reads the state (one restore per chunk)
         out[f"worker_prefetch{int(pf)}"] = dict(app_cpu_ms_per_orbit=round(1e3 * (cpu([me]) - c0) / orbits, 2),
             worker_cpu_ms_per_orbit=round(1e3 * (cpu(workers) - cw0) / orbits, 2), wall_orbits_per_s=round(orbits / (time.perf_counter() - w0), 2), chunks=n)
         r.close()

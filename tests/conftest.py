@@ -204,7 +204,40 @@ def pytest_sessionfinish(session):
 
 
 @pytest.fixture(autouse=True)
+def _config_follows_the_environment():
+    """ringlab.config.CONFIG reads the environment once: read it again after a test that changed it (this fixture
+    is set up before the test's monkeypatch, so it is torn down after the environment was put back)."""
+    yield
+    from ringlab.config import CONFIG
+    CONFIG.reload()
+
+
+class RinglabEnv:
+    """Set or unset a ``RINGLAB_*`` variable for one test and read the configuration again (``ringlab_env``)."""
+
+    def __init__(self, monkeypatch):
+        self._mp = monkeypatch
+
+    def set(self, name: str, value: str) -> None:
+        from ringlab.config import CONFIG
+        self._mp.setenv(name, value)
+        CONFIG.reload()
+
+    def unset(self, name: str, raising: bool = True) -> None:
+        from ringlab.config import CONFIG
+        self._mp.delenv(name, raising=raising)
+        CONFIG.reload()
+
+
+@pytest.fixture
+def ringlab_env(monkeypatch) -> RinglabEnv:
+    return RinglabEnv(monkeypatch)
+
+
+@pytest.fixture(autouse=True)
 def _own_data_folder(tmp_path_factory, monkeypatch):
     """Every test (and every server it starts) keeps the class roster in a folder of its own
     (ringlab.live.roster_store), never in the user's ~/.local/share/ringlab nor another test's."""
     monkeypatch.setenv("RINGLAB_DATA_DIR", str(tmp_path_factory.mktemp("ringlab-data")))
+    from ringlab.config import CONFIG
+    CONFIG.reload()

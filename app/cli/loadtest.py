@@ -53,6 +53,7 @@ import psutil
 from ringcore.checks import check_real
 from tornado.ioloop import IOLoop, PeriodicCallback
 
+from ringlab.config import CONFIG
 from ringlab.cli.loadtest_clients import Prober, Student, connect, press, press_start, pump
 from ringlab.cli.loadtest_join import join_together, stop_all
 from ringlab.cli import loadtest_lag
@@ -76,7 +77,7 @@ def start_server(port: int, num_procs: int, env: dict) -> subprocess.Popen:
     if num_procs > 1:  # as `ringlab serve --num-procs N`: a class joining at once is spread over the processes, and
         # a page's address answered from one template (this client opens no address; a browser does)
         cmd += ["--setup", joining.__file__, "--reuse-sessions"]
-    log = open(os.environ.get("RINGLAB_LOAD_LOG", "/tmp/classroom_load_server.log"), "w")
+    log = open(CONFIG.load_log, "w")
     proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT)
     t_end = time.time() + START_TIMEOUT_S
     while time.time() < t_end:

@@ -19,6 +19,7 @@ import panel as pn
 
 from ringcore.checks import check_int, check_real
 
+from ringlab.config import CONFIG
 from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.lessons.tutorials import docs_building, docs_dir, docs_start, static_dirs
 from ringlab.ui.a11y import page_template
@@ -176,14 +177,16 @@ def shared_cluster(num_procs: int) -> LocalClusterProcess | None:
     if num_procs < 2 or remote.mode(in_server=True) != "processes":
         return None
     cluster = LocalClusterProcess(remote.local_workers())
-    os.environ.update({ENV_SCHEDULER: cluster.address, ENV_MODE: "dask"})
+    os.environ.update({ENV_SCHEDULER: cluster.address, ENV_MODE: "dask"})  # also for the forked processes
+    CONFIG.reload()
     return cluster
 
 
 def run(args) -> int:
     """Start the server (blocks until Ctrl-C)."""
     p = plan(args)
-    os.environ.update(p["env"])  # read by the app when a session starts (ringlab.server.remote.mode)
+    os.environ.update(p["env"])  # the options' variables, for this process (CONFIG) and the worker processes
+    CONFIG.reload()
     configure()
     cluster = shared_cluster(p["num_procs"])  # before the fork: every server process uses its workers
     if p["num_procs"] > 1:

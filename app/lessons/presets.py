@@ -7,12 +7,11 @@ tab's settings, the hydro and N-body runners) and the main ``pn.Tabs``.
 """
 from __future__ import annotations
 
-import math
-import os
 import weakref
 
 import param
 
+from ringlab.config import CONFIG
 from ringlab.lessons.content import PRESETS, Preset
 from ringlab.model.hydro_settings import SETUP_PARAMS as HYDRO_SETUP
 from ringlab.model.nbody_settings import SETUP_PARAMS as NBODY_SETUP
@@ -25,26 +24,14 @@ LENGTH_ENV = "RINGLAB_CLASSROOM_LENGTH"
 
 def default_scale() -> str:
     """The preset scale from the environment variable RINGLAB_LESSONS_SCALE (ValueError if unknown)."""
-    s = os.environ.get(SCALE_ENV, "classroom").strip() or "classroom"
-    if s not in SCALES:
-        raise ValueError(f"{SCALE_ENV} = {s!r} is not a preset scale: allowed {', '.join(SCALES)}")
-    return s
+    return CONFIG.lessons_scale
 
 
 def length_factor() -> float:
     """The factor on the lessons' classroom lengths from the environment variable RINGLAB_CLASSROOM_LENGTH
     (default 1; 0: a run a lesson starts never pauses by itself; ValueError outside 0-1000)."""
-    text = os.environ.get(LENGTH_ENV, "").strip()
-    if not text:
-        return 1.0
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not 0.0 <= value <= 1000.0:
-        raise ValueError(f"{LENGTH_ENV} = {text!r} is not a classroom-length factor: allowed 0 to 1000 "
-                         "(1: the lessons' lengths, 0: lesson runs never pause by themselves)")
-    return value
+    value = CONFIG.classroom_length
+    return 1.0 if value is None else value
 
 
 LESSON_KINDS = ("linear", "hydro", "nbody", "saturation")

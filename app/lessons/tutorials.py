@@ -16,6 +16,7 @@ import html
 import os
 from pathlib import Path
 
+from ringlab.config import CONFIG
 from ringlab.paths import DOCS_DIR
 
 ENV = "RINGLAB_DOCS_DIR"
@@ -38,7 +39,7 @@ TAB_TUTORIALS = {  # the tutorials each tab's subject is taught in
 
 def docs_dir() -> Path:
     """Folder of the documentation site (``$RINGLAB_DOCS_DIR`` or the package's ``docs_site``)."""
-    return Path(os.environ.get(ENV) or DOCS_DIR)
+    return Path(CONFIG.docs_dir or DOCS_DIR)
 
 
 def html_dir() -> Path:

@@ -23,7 +23,7 @@ def run_side(r, nbody_image=None) -> dict | None:
 
     Keys: ``kind`` ("hydro"/"nbody"), ``orbits``, ``L_x`` [m], ``numbers`` (linear theory,
     :func:`ringlab.model.linear.characteristic_numbers`), ``t``, ``e_kin``, ``lambda_p`` (arrays),
-    ``lambda_p_now`` [m], ``psd`` (wavelength [m], power), ``image`` (a
+    ``lambda_p_now`` [m], ``psd`` (wavelength [m], power; float32 for a hydro run, from its frame), ``image`` (a
     :class:`ringlab.live.buffers.SpaceTimeImage`: the hydro run's stroboscopic rows, or
     ``nbody_image`` for a box).
     """
@@ -32,9 +32,12 @@ def run_side(r, nbody_image=None) -> dict | None:
         if sim is None:
             return None
         s = r.series
+        # the frame as the hydro tab reads it: a run on a worker or a shared computation sends it with its chunk,
+        # so nothing is rebuilt here (its float32 spectrum is what the page is sent anyway)
+        fr = sim.frame()
         return dict(kind="hydro", orbits=sim.orbits, L_x=sim.options.L_x, numbers=r.numbers,
                     t=s.get("t"), e_kin=s.get("e_kin"), lambda_p=s.get("lambda_p"),
-                    lambda_p_now=sim.prevalent_wavelength(), psd=sim.psd(), image=r.strobe_image)
+                    lambda_p_now=fr.lambda_p_m, psd=(fr.psd_wavelength_m, fr.psd), image=r.strobe_image)
     box = r.box
     if box is None:
         return None

@@ -46,6 +46,7 @@ from ringlab.live.revert import reset_status, revert, snapshot
 from ringlab.live.run import HydroRun, part
 from ringlab.model.hydro_settings import BUFFER_PARAMS, HydroSettings, SETTINGS_PARAMS, SETUP_PARAMS
 from ringlab.server import remote, shared
+from ringlab.server.handle import PlacedRun, RunHandle
 from ringlab.server.shared_sim import SharedSim
 
 BUDGET_S = 0.06  # compute time per tick
@@ -93,7 +94,9 @@ class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
         self._rebuild()
 
     # ------------------------------------------------------------------ the run shown
-    sim = part("engine", "The simulation of the run shown (None if the settings never allowed one).")
+    sim: RunHandle | None = part("engine", "The run shown (a ringlab.server.handle.RunHandle: the engine itself, or a "
+                                          "run on a worker or a shared computation; None if the settings never "
+                                          "allowed one).")
     series = part("series", "e_kin(t) and lambda_p(t) of the run shown.")
     numbers = part("numbers", "Characteristic numbers of the run shown.")
     strobe_image = part("strobe_image", "The stroboscopic space-time image of the run shown.")
@@ -108,12 +111,12 @@ class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
     # ------------------------------------------------------------------ building
     def _rebuild(self) -> bool:
         """Start a new simulation at t = 0 from the current settings (if they are valid)."""
-        probs = self.settings.find_problems()
+        # the values of this run, resolved once with their check: the engine never reads the settings object
+        setup, probs = self.settings.check()
         self.problems = probs
-        if any(k in probs for k in ("model", "grid", "initial")):
+        if setup is None:
             self.status = "Settings not applied: see the message beside the controls."
             return False
-        setup = self.settings.resolve()  # the values of this run: the engine never reads the settings object
         opt = setup.options
         max_rows = max(100, int(MAX_STROBE_BYTES / (4 * opt.n)))
         sim = Hydro1D(setup.params, opt, initial=setup.initial, max_samples=MAX_RECORD_SAMPLES, max_rows=max_rows,
@@ -138,7 +141,7 @@ class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
         """Show ``run`` in place of the run shown (a rebuild, or :meth:`RunKeeper.restore` putting a kept run
         back); the replaced run is brought back from a worker or a shared computation, so it can be kept."""
         old = self.sim
-        if hasattr(old, "detach"):
+        if isinstance(old, PlacedRun):
             old.detach()
         self.live = run
         self._rates.clear()
@@ -312,7 +315,7 @@ class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
         self.pause()
         with self.compute_lock:  # after the chunk in flight
             snap = self.keeper.snapshot()
-            if snap is not None and hasattr(snap["run"].engine, "detach"):
+            if snap is not None and isinstance(snap["run"].engine, PlacedRun):
                 snap["run"].engine.detach()  # a shared computation's chunks taken; a worker's copy brought here
                 snap = self.keeper.snapshot()
             self.live = None
@@ -326,7 +329,7 @@ class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
         self.pause()
         if self.sim is not None and self.sim.orbits > 0:  # one line per run freed; none if it never ran
             pn.state.log(f"hydro run of a closed session freed at orbit {self.sim.orbits:.2f}")
-        if hasattr(self.sim, "release"):
+        if isinstance(self.sim, PlacedRun):
             self.sim.release()  # a worker drops its copy; a shared computation loses a follower
         self.live = None
         self.status = "Closed."

@@ -97,11 +97,11 @@ class NBodyRunner(LiveLoop, KeepsRuns, param.Parameterized):
     # ------------------------------------------------------------------ building
     def _rebuild(self) -> bool:
         """Start a new box at t = 0 from the current settings (if they are valid)."""
-        self.problem = self.settings.find_problem()
-        if self.problem:
+        # the values of this box, resolved once with their check: the engine never reads the settings object
+        setup, self.problem = self.settings.check()
+        if setup is None:
             self.status = "Settings not applied: see the message beside the controls."
             return False
-        setup = self.settings.resolve()  # the values of this box: the engine never reads the settings object
         p, opt = setup.params, setup.options
         box = ShearingBox(p, opt, seed=setup.seed)
         label = (f"{p.name}: τ = {p.tau:g}, Ω_z/Ω = {p.omega_z:g}, σ₀ = {p.sigma0:g} kg/m², "

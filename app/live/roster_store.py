@@ -15,6 +15,8 @@ import sqlite3
 import threading
 from pathlib import Path
 
+from ringlab.config import CONFIG
+
 ENV_DATA = "RINGLAB_DATA_DIR"
 FILE_NAME = "roster.sqlite3"
 SCHEMA = (
@@ -26,7 +28,7 @@ SCHEMA = (
 
 def data_dir() -> Path:
     """The server's data folder: ``RINGLAB_DATA_DIR``, else ``$XDG_DATA_HOME/ringlab`` (``~/.local/share/ringlab``)."""
-    raw = os.environ.get(ENV_DATA, "").strip()
+    raw = CONFIG.data_dir
     if raw:
         return Path(raw).expanduser()
     base = os.environ.get("XDG_DATA_HOME", "").strip() or str(Path.home() / ".local" / "share")

@@ -151,13 +151,27 @@ class HydroSettings(RingControls):
         ValueError
             For an impossible combination (:meth:`find_problems` names it beside its controls first).
         """
+        return self._setup(self.ring_params(), self.options(), characteristic_numbers(self.settings()))
+
+    def check(self) -> tuple[HydroSetup | None, dict]:
+        """The current settings resolved once: ``(setup, problems)``.
+
+        ``problems`` is :meth:`find_problems`; ``setup`` is :meth:`resolve` (None when a problem of the
+        model, the grid or the initial state leaves no valid run).  The parameters, the options and the
+        characteristic numbers are computed once and serve both, so a settings change costs one resolution.
+        """
+        out, p, opt, numbers = self._problems()
+        if any(k in out for k in ("model", "grid", "initial")):
+            return None, out
+        return self._setup(p, opt, numbers if numbers is not None else characteristic_numbers(self.settings())), out
+
+    def _setup(self, p: RingParams, opt: HydroOptions, numbers: Mapping) -> HydroSetup:
         if self.initial == "noise":
             kw, label = dict(seed=self.seed, amplitude=self.amplitude), f"white noise (seed {self.seed})"
         else:
             kw, label = dict(amplitude=self.amplitude, wavelength=self.wavelength), f"mode λ = {self.wavelength:g} m"
-        return HydroSetup(params=self.ring_params(), options=self.options(), initial=self.initial,
-                          initial_kw=MappingProxyType(kw), initial_label=label,
-                          numbers=MappingProxyType(characteristic_numbers(self.settings())),
+        return HydroSetup(params=p, options=opt, initial=self.initial, initial_kw=MappingProxyType(kw),
+                          initial_label=label, numbers=MappingProxyType(dict(numbers)),
                           setup=MappingProxyType({k: getattr(self, k) for k in SETUP_PARAMS}))
 
     def buffer_bounds(self) -> tuple[float, float]:
@@ -166,6 +180,10 @@ class HydroSettings(RingControls):
 
     def find_problems(self) -> dict:
         """Messages (HTML-safe text) for invalid combinations, keyed by group (see GROUPS)."""
+        return self._problems()[0]
+
+    def _problems(self) -> tuple[dict, RingParams | None, HydroOptions | None, Mapping | None]:
+        """(problems, parameters, options, characteristic numbers), the last three None where not computed."""
         out = {}
         try:
             p = self.ring_params()
@@ -182,8 +200,10 @@ class HydroSettings(RingControls):
         if opt is not None and opt.n > MAX_CELLS:
             out["grid"] = (f"L_x/h = {opt.n} cells is too many for a live run: allowed at most {MAX_CELLS} "
                            "(make the box smaller or h larger)")
+        numbers = None
         if p is not None and opt is not None and "grid" not in out:
-            lam = characteristic_numbers(self.settings())["lambda_max_growth_m"]
+            numbers = characteristic_numbers(self.settings())
+            lam = numbers["lambda_max_growth_m"]
             if math.isfinite(lam) and lam / self.h < MIN_CELLS_PER_WAVELENGTH:
                 out["grid"] = (f"h = {self.h:g} m is too coarse: the fastest-growing wavelength {lam:.1f} m gets "
                                f"only {lam / self.h:.1f} cells; allowed at least {MIN_CELLS_PER_WAVELENGTH} "
@@ -194,7 +214,7 @@ class HydroSettings(RingControls):
         msg = self.buffer_problem()
         if msg:
             out["buffer"] = msg
-        return out
+        return out, p, opt, numbers
 
     def _initial_problem(self) -> str:
         if self.initial == "noise":

@@ -91,15 +91,20 @@ class NBodySettings(param.Parameterized):
 
     def find_problem(self) -> str:
         """Why the current settings cannot make a live box ('' if they can)."""
+        return self.check()[1]
+
+    def check(self) -> tuple[NBodySetup | None, str]:
+        """The current settings resolved once: ``(setup, problem)``, ``setup`` as :meth:`resolve` (None when
+        ``problem``, as :meth:`find_problem`, is not '').  A settings change costs one resolution."""
         try:
             p, opt = self.ring_params(), self.options()
         except ValueError as exc:
-            return str(exc)
+            return None, str(exc)
         n = p.tau * opt.L_x * opt.L_y / (math.pi * opt.R_p**2)
         if n > MAX_PARTICLES:
-            return (f"N = {n:.0f} particles is too many for a live run: allowed at most {MAX_PARTICLES} "
-                    f"(τ L_x L_y / (π R_p²); make the box smaller)")
-        return ""
+            return None, (f"N = {n:.0f} particles is too many for a live run: allowed at most {MAX_PARTICLES} "
+                          f"(τ L_x L_y / (π R_p²); make the box smaller)")
+        return self._setup(p, opt), ""
 
     def resolve(self) -> NBodySetup:
         """The current settings as the values one box is built from (:class:`NBodySetup`).
@@ -109,7 +114,10 @@ class NBodySettings(param.Parameterized):
         ValueError
             For settings :meth:`find_problem` rejects with an exception's message.
         """
-        return NBodySetup(params=self.ring_params(), options=self.options(), seed=self.seed,
+        return self._setup(self.ring_params(), self.options())
+
+    def _setup(self, p: RingParams, opt: NBodyOptions) -> NBodySetup:
+        return NBodySetup(params=p, options=opt, seed=self.seed,
                           setup=MappingProxyType({k: getattr(self, k) for k in SETUP_PARAMS}))
 
     # ------------------------------------------------------------------ files

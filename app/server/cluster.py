@@ -17,6 +17,8 @@ import subprocess
 import sys
 import threading
 
+from ringlab.config import CONFIG
+
 ENV_WORKERS = "RINGLAB_WORKERS"  # worker processes of a local cluster (default: one per core)
 START_TIMEOUT_S = 120.0  # [s] for the scheduler and the workers to start
 LOOPBACK = "127.0.0.1"  # scheduler, workers and dashboard on this machine only (the dashboard has no login)
@@ -29,8 +31,7 @@ def cores() -> int:
 
 def local_workers() -> int:
     """Worker processes of a local cluster: ``RINGLAB_WORKERS``, else one per core."""
-    raw = os.environ.get(ENV_WORKERS, "").strip()
-    return int(raw) if raw else cores()
+    return CONFIG.workers or cores()
 
 
 def local_cluster(n_workers: int):

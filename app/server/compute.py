@@ -32,6 +32,7 @@ import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
 
+from ringlab.config import CONFIG
 from ringlab.server import remote
 
 # A live run computes on one thread: the app already shares the cores between its sessions (one worker process
@@ -50,15 +51,8 @@ REMOTE_THREADS = 256  # waiting threads when the chunks compute on Dask workers
 
 def max_compute() -> int:
     """Simultaneously computing simulations allowed: ``RINGLAB_MAX_COMPUTE`` or the core count."""
-    raw = os.environ.get(ENV_MAX, "")
-    if raw.strip():
-        try:
-            n = int(raw)
-        except ValueError:
-            n = 0
-        if n < 1 or n > 1024:
-            raise ValueError(f"{ENV_MAX} = {raw!r} is not valid: allowed an integer from 1 to 1024")
-        return n
+    if CONFIG.max_compute is not None:
+        return CONFIG.max_compute
     return max(1, len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1))
 
 

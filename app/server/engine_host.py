@@ -15,6 +15,8 @@ from ringcore.hydro import HydroBlowUp
 from ringcore.hydro.frame import bin_columns
 from ringcore.nbody import NBodyBlowUp
 
+from ringlab.config import CONFIG
+
 
 def light(state):
     """``state`` without its recorder series (zero-length arrays of the same names)."""
@@ -81,8 +83,7 @@ def lower_worker_priority() -> int:
     if _RENICED:
         return 0
     _RENICED = True
-    raw = os.environ.get("RINGLAB_WORKER_NICE", "").strip()
-    inc = int(raw) if raw.lstrip("-").isdigit() else WORKER_NICE
+    inc = CONFIG.worker_nice
     if inc <= 0 or not os.path.isdir("/proc/self/task"):
         return 0
     for tid in os.listdir("/proc/self/task"):  # Linux: niceness is per thread

@@ -37,6 +37,8 @@ import os
 import threading
 import time
 
+from ringlab.config import CONFIG
+
 FREEZE_PERIOD_S = 30.0  # [s] objects alive this long are moved out of the collector's scans
 FULL_GROWTH_MB = 1024.0  # [MB] growth of the process since the last full collection that calls one with pages open
 ENV_GROWTH = "RINGLAB_GC_FULL_GROWTH_MB"
@@ -84,16 +86,7 @@ def rss_mb() -> float | None:
 
 def growth_limit_mb() -> float:
     """:data:`FULL_GROWTH_MB`, or ``RINGLAB_GC_FULL_GROWTH_MB`` (64 to 1e6 MB)."""
-    raw = os.environ.get(ENV_GROWTH, "").strip()
-    if not raw:
-        return FULL_GROWTH_MB
-    try:
-        value = float(raw)
-    except ValueError:
-        value = float("nan")
-    if not 64.0 <= value <= 1e6:
-        raise ValueError(f"{ENV_GROWTH} = {raw!r} is not valid: allowed 64 to 1e6 (MB)")
-    return value
+    return FULL_GROWTH_MB if CONFIG.gc_full_growth_mb is None else CONFIG.gc_full_growth_mb
 
 
 def full_collection(now: float | None = None, rss: float | None = None) -> float:

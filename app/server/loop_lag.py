@@ -18,6 +18,8 @@ import os
 import threading
 import time
 
+from ringlab.config import CONFIG
+
 ENV_FILE = "RINGLAB_LOOP_LAG_FILE"
 PERIOD_S = 0.02  # [s] between the watch's callbacks
 REPORT_S = 0.2  # [s] stalls longer than this are logged and listed
@@ -84,7 +86,7 @@ def install(loop, watch: LoopLag = WATCH, path: str | None = None) -> bool:
     if _INSTALLED:
         return False
     _INSTALLED.append(loop)
-    path = path if path is not None else os.environ.get(ENV_FILE, "").strip()
+    path = path if path is not None else CONFIG.loop_lag_file
     gc.callbacks.append(watch.gc_callback)
     state = dict(due=time.perf_counter() + PERIOD_S, written=time.perf_counter())
 

@@ -1,21 +1,20 @@
 """Live simulations computed in other processes: Dask actors that hold each session's engine.
 
-With ``RINGLAB_COMPUTE=processes`` the app starts a ``distributed.LocalCluster`` of one single-threaded
-worker process per core; with ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` it uses an existing Dask cluster
-(its workers need this project installed: ``pip install -e .`` of the same version).
-``RINGLAB_COMPUTE=threads`` (or unset without a scheduler) keeps the in-process thread pool of
-:mod:`ringlab.server.compute`.  How a session's run is split between the app server and a worker:
+With ``RINGLAB_COMPUTE=processes`` (:data:`ringlab.config.CONFIG`) the app starts a ``distributed.LocalCluster`` of
+one single-threaded worker process per core; with ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` it uses an existing Dask
+cluster (its workers need this project installed: ``pip install -e .`` of the same version).  ``threads`` (or unset
+without a scheduler) keeps the in-process thread pool of :mod:`ringlab.server.compute`.  A session's run is split so:
 
-* :class:`EngineHost` (a Dask actor, :mod:`ringlab.server.engine_host`, placed on the worker with the fewest
-  engines) holds the authoritative engine while the run lives on the cluster.  A chunk
-  (:meth:`EngineHost.advance`) returns the engine's state *without* its recorder series (the "light"
-  state: ~30 KB), the samples recorded during the chunk (with the sigma row at each sample time, for the
-  orbit-resolved image) and a blow-up, if any.
-* :class:`RemoteSim` (in the app) stands where the runner's ``Hydro1D`` stood.  Reads (``orbits``,
-  ``sigma``, ``psd()``, ``buffer`` ...) go to a local engine restored from the last light state, i.e.
-  exactly the state the worker keeps (Pause shows the kept state); ``snapshot()`` (export) fetches the
-  complete state from the worker; ``set_buffer`` / ``clear_buffer`` run on the worker.  Until the first
-  chunk, and after :meth:`RemoteSim.detach`, a complete local engine is authoritative instead.
+* :class:`EngineHost` (a Dask actor, :mod:`ringlab.server.engine_host`, placed on the worker with the fewest engines)
+  holds the authoritative engine while the run lives on the cluster.  A chunk (:meth:`EngineHost.advance`) returns
+  the engine's state *without* its recorder series (the "light" state: ~30 KB), the samples recorded during the chunk
+  (with the sigma row at each sample time, for the orbit-resolved image) and a blow-up, if any.
+* :class:`RemoteSim` (in the app) stands where the runner's ``Hydro1D`` stood, as a run handle
+  (:class:`ringlab.server.handle.RunHandle`).  ``frame()`` and ``prevalent_wavelength()`` are the worker's, computed
+  with its chunk; reads of the state itself (``sigma_dimless``, ``psd()``, ``buffer`` ...) go to a local engine
+  restored from the last light state, i.e. exactly the state the worker keeps (Pause shows the kept state);
+  ``snapshot()`` (export) fetches the complete state from the worker; ``set_buffer`` / ``clear_buffer`` run on the
+  worker.  Until the first chunk, and after :meth:`RemoteSim.detach`, a complete local engine is authoritative.
 * A worker lost (its process killed: the out-of-memory killer) takes no run with it: the run continues
   from its last shown chunk in this process and goes to a worker again at its next chunk
   (:meth:`RemoteSim._recover`); without a worker the runs compute here.
@@ -23,25 +22,25 @@ worker process per core; with ``RINGLAB_DASK_SCHEDULER=tcp://host:port`` it uses
   session has at most one chunk in flight (:mod:`ringlab.live.loop`), so the sessions on a worker take
   turns; sessions are spread evenly over the workers.
 
-The numbers are those of an in-process run (the engine contract: ``restore`` continues bit for bit and
-the chunking never changes a run), checked in ``tests/app/test_dask_backend.py`` and
-``tests/app/test_worker_loss.py``.
+The numbers are those of an in-process run (the engine contract: ``restore`` continues bit for bit and the chunking
+never changes a run), checked in ``tests/app/test_dask_backend.py`` and ``tests/app/test_worker_loss.py``.
 """
 from __future__ import annotations
 
 import logging
 import math
-import os
 import time
 import threading
 import weakref
 
 from ringcore.engine import engine_class
 
+from ringlab.config import CONFIG
 from ringlab.server.cluster import ENV_WORKERS, LOOPBACK, cores, local_cluster, local_workers  # noqa: F401  (re-exported)
 from ringlab.server.engine_host import (EngineHost, LightView, blowup, cancel_queued, light,  # noqa: F401  (the worker
                                         light_snapshot)  # side; re-exported)
 from ringlab.server.dask_backend import DaskBackend  # noqa: F401  (re-exported)
+from ringlab.server.handle import PlacedRun, ShownStateReads
 
 ENV_MODE = "RINGLAB_COMPUTE"
 ENV_SCHEDULER = "RINGLAB_DASK_SCHEDULER"
@@ -55,7 +54,7 @@ class WorkerLost(Exception):
     """The worker holding a run was lost; the run is back in this process at its last shown chunk."""
 
 
-class RemoteSim:
+class RemoteSim(ShownStateReads, PlacedRun):
     """Stands for a runner's engine whose chunks compute on a Dask worker (see the module docstring).
 
     ``prefetch`` (class attribute, default True): the worker computes the next chunk while the
@@ -99,7 +98,7 @@ class RemoteSim:
         self._local = None
         self._actor, self._worker, self._key = actor, worker, key
         self._fin = weakref.finalize(self, backend().forget, worker)
-        self._set_light(last["light"])
+        self._shown.show(last["light"])
         self._frame = last["frame"]
         return self
 
@@ -114,10 +113,8 @@ class RemoteSim:
         """A local engine in exactly the kept state (its recorder series are not kept here)."""
         return self._shown.engine()
 
-    def __getattr__(self, name):
-        if name.startswith("_"):
-            raise AttributeError(name)
-        return getattr(self.view, name)
+    def _reader(self):
+        return self.view
 
     @property
     def orbits(self) -> float:
@@ -140,6 +137,14 @@ class RemoteSim:
         if f is not None and self._actor is not None:
             return f
         return (self._local if self._local is not None else self.view).frame()
+
+    def prevalent_wavelength(self) -> float:
+        """lambda_p now [m]: the worker's frame's (the same number) while the worker holds the run."""
+        f = self._frame
+        return f.lambda_p_m if f is not None and self._actor is not None else self.view.prevalent_wavelength()
+
+    def pace_s(self) -> float:
+        return 0.0  # a worker's run takes its next chunk at once (the prefetch keeps the worker busy)
 
     # ---------------------------------------------------------------- the contract
     def on_sample(self, fn) -> int:
@@ -206,7 +211,7 @@ class RemoteSim:
     def _take(self, res, stash=True):
         """Show a chunk's result: light state, samples to the callbacks; its blow-up (returned, or
         kept for the next :meth:`advance` with ``stash``)."""
-        self._set_light(res["light"])
+        self._shown.show(res["light"])
         self._frame = res.get("frame")
         for s in res["samples"]:
             for fn in list(self._callbacks.values()):
@@ -305,14 +310,11 @@ class RemoteSim:
         self.recovered += 1
         log.warning(f"live run recovered at orbit {engine.orbits:.2f} after its Dask worker was lost ({exc!r})")
 
-    def _set_light(self, state) -> None:
-        self._shown.show(state)
-
     def _change(self, name, *args) -> None:
         self.settle()
         if self._actor is not None:
             try:
-                self._set_light(self._result(lambda: self._actor.call(name, *args).result()))
+                self._shown.show(self._result(lambda: self._actor.call(name, *args).result()))
             except WorkerLost:  # the change applies to the run brought back here
                 pass
             else:
@@ -328,22 +330,20 @@ def _in_server() -> bool:
 
 
 def mode(in_server: bool | None = None) -> str:
-    """``threads``, ``processes`` or ``dask`` from ``RINGLAB_COMPUTE`` / ``RINGLAB_DASK_SCHEDULER``.
+    """``threads``, ``processes`` or ``dask`` from ``RINGLAB_COMPUTE`` / ``RINGLAB_DASK_SCHEDULER`` (``CONFIG``).
 
     Unset (or ``auto``): ``processes`` for the runs of a server session on a machine with two or
     more cores, ``threads`` otherwise (one core; headless use: tests, notebooks, scripts).
     ``in_server`` overrides the check for a server session (default: ``pn.state.curdoc``).
     """
-    raw = os.environ.get(ENV_MODE, "").strip().lower()
-    if os.environ.get(ENV_SCHEDULER, "").strip():
-        if raw not in ("", "dask"):
+    raw = CONFIG.compute
+    if CONFIG.dask_scheduler:
+        if raw not in ("auto", "dask"):
             raise ValueError(f"{ENV_MODE} = {raw!r} is not valid with {ENV_SCHEDULER} set: allowed 'dask' or unset")
         return "dask"
-    if raw in ("", "auto"):
+    if raw == "auto":
         in_server = _in_server() if in_server is None else in_server
         return "processes" if in_server and cores() >= 2 else "threads"
-    if raw not in MODES:
-        raise ValueError(f"{ENV_MODE} = {raw!r} is not valid: allowed {', '.join(MODES)}")
     if raw == "dask":
         raise ValueError(f"{ENV_MODE} = 'dask' needs {ENV_SCHEDULER}=tcp://host:port (or use 'processes')")
     return raw
@@ -364,14 +364,13 @@ def backend() -> DaskBackend | None:
     with _BACKEND_LOCK:
         if _BACKEND is None:
             if m == "dask":
-                _BACKEND = DaskBackend(os.environ[ENV_SCHEDULER].strip())
+                _BACKEND = DaskBackend(CONFIG.dask_scheduler)
             else:
                 _BACKEND = DaskBackend(None, local_workers())
-            import logging
             where = "an existing Dask cluster" if m == "dask" else "a LocalCluster"
-            logging.getLogger("panel.state").info(
+            log.info(
                 f"live hydro runs compute on {where}: {len(_BACKEND.workers())} worker processes, "
-                f"{_BACKEND.slots()} threads ({ENV_MODE}={os.environ.get(ENV_MODE, '') or 'unset'})")
+                f"{_BACKEND.slots()} threads ({ENV_MODE}={CONFIG.compute})")
         return _BACKEND
 
 

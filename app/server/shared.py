@@ -30,12 +30,12 @@ eight different runs, 2.6 GB after 150 s).
 """
 from __future__ import annotations
 
-import os
 import threading
 import time
 
 from ringcore.engine import engine_class
 
+from ringlab.config import CONFIG
 from ringlab.server.shared_host import AHEAD, MAX_AHEAD_WALL_S, _LocalHost, _RemoteHost, _last  # noqa: F401  (re-exported)
 
 ENV_SHARE = "RINGLAB_SHARE_RUNS"
@@ -57,11 +57,8 @@ def enabled(in_server: bool | None = None) -> bool:
     default on; headless use and notebooks compute alone unless :func:`set_enabled` says otherwise)."""
     if _FORCED is not None:
         return _FORCED
-    raw = os.environ.get(ENV_SHARE, "").strip().lower()
-    if raw in ("0", "false", "no", "off"):
+    if not CONFIG.share_runs:
         return False
-    if raw not in ("", "1", "true", "yes", "on"):
-        raise ValueError(f"{ENV_SHARE} = {raw!r} is not valid: allowed 1 or 0")
     if in_server is None:
         import panel as pn  # deferred: this module is also used without a server
         doc = pn.state.curdoc

@@ -1,7 +1,8 @@
 """A session's live run that may follow a shared computation: :class:`SharedSim`.
 
-It stands where the runner's engine stands (like :class:`ringlab.server.remote.RemoteSim`) and
-goes through three stages:
+It stands where the runner's engine stands (like :class:`ringlab.server.remote.RemoteSim`), implements
+the run handle (:class:`ringlab.server.handle.RunHandle`, no other name reaches an engine) and goes
+through three stages:
 
 1. **Set up**: a complete local engine, changed freely (buffer zone) until the run first advances.
 2. **Following** (:mod:`ringlab.server.shared`): the first chunk joins the computation of every
@@ -22,12 +23,13 @@ from ringcore.engine import engine_class
 
 from ringlab.server import compute, remote, shared
 from ringlab.server.engine_host import LightView, blowup
+from ringlab.server.handle import PlacedRun, ShownStateReads
 
 
 STAGGER = 0.6180339887498949  # successive followers' phases within the period differ by this fraction of it
 
 
-class SharedSim:
+class SharedSim(ShownStateReads, PlacedRun):
     """A runner's engine that shares the computation of identical runs (see the module docstring).
 
     Parameters
@@ -74,10 +76,8 @@ class SharedSim:
             return getattr(self._own, "view", self._own)
         return self._shown.engine()
 
-    def __getattr__(self, name):
-        if name.startswith("_"):
-            raise AttributeError(name)
-        return getattr(self._own if self._own is not None else self.view, name)
+    def _reader(self):
+        return self._own if self._own is not None else self.view
 
     @property
     def orbits(self) -> float:
@@ -104,6 +104,14 @@ class SharedSim:
         if self._comp is not None and self._frame is not None:
             return self._frame
         return (self._local if self._local is not None else self.view).frame()
+
+    def prevalent_wavelength(self) -> float:
+        """lambda_p now [m]: the chunk's frame's (the same number) while following."""
+        if self._own is not None:
+            return self._own.prevalent_wavelength()
+        if self._comp is not None and self._frame is not None:
+            return self._frame.lambda_p_m
+        return self._reader().prevalent_wavelength()
 
     def diagnostics(self) -> dict:
         return self.view.diagnostics()

@@ -286,5 +286,23 @@ class NBodyView(pn.viewable.Viewer):
         show_message(self.message, (r.problem + ". The box shown keeps its last valid settings.") if r.problem else "")
         show_message(self.blowup, r.blowup)
 
+    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab)
+    @classmethod
+    def for_session(cls, runs):
+        """This tab with the session's runs (its runner is registered there)."""
+        return cls(runs=runs)
+
+    def set_tabs(self, tabs) -> None:
+        """This tab shows no other tab."""
+        return None
+
+    def set_shown(self, shown: bool) -> None:
+        """Draw frames only while shown: a hidden tab sends nothing, the newest state is drawn when shown."""
+        self.shown = bool(shown)
+
+    def start_runner(self):
+        """The N-body box."""
+        return self.runner
+
     def __panel__(self):
         return self._layout

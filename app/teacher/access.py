@@ -5,11 +5,12 @@ page never links there.
 from __future__ import annotations
 
 import logging
-import os
 import secrets
 import threading
 import time
 from collections import deque
+
+from ringlab.config import CONFIG
 
 ENV_KEY = "RINGLAB_TEACHER_KEY"  # the key of the dashboard of `panel serve` (ringlab serve passes its own)
 ENV_PASSWORD = "RINGLAB_TEACHER_PASSWORD"  # a password chosen by the lecturer instead of a random key
@@ -30,7 +31,7 @@ def choose_key(password: str | None = None) -> str:
 
     Raises ValueError for a password shorter than :data:`MIN_LENGTH` characters.
     """
-    password = password if password is not None else os.environ.get(ENV_PASSWORD)
+    password = password if password is not None else CONFIG.teacher_password
     if password is None or password == "":
         return new_key()
     if len(password) < MIN_LENGTH:

@@ -7,16 +7,16 @@ variable ``RINGLAB_TEACHER_KEY`` (no key set: nobody gets in).  Without the righ
 """
 from __future__ import annotations
 
-import os
 
 import panel as pn
 
+from ringlab.config import CONFIG
 from ringlab.live import roster_store
 from ringlab.live.roster import ROSTER
 from ringlab.ui.reconnect import Reconnect
 from ringlab.server.joining import local_stylesheets
 from ringlab.ui.a11y import page_template
-from ringlab.teacher.access import ENV_KEY, GUARD, given_key
+from ringlab.teacher.access import GUARD, given_key
 from ringlab.teacher.dashboard import DASH_CSS, TeacherDashboard
 
 TITLE = "ringlab: teacher's dashboard"
@@ -44,7 +44,7 @@ def teacher_page(key: str | None = None):
     environment's ``RINGLAB_TEACHER_KEY``), else :func:`refused`.  Wrong keys are counted per address
     (:data:`ringlab.teacher.access.GUARD`: logged, and an address over the limit is refused for a while)."""
     local_stylesheets()  # before any component is built (a page built where its websocket landed)
-    expected = key if key is not None else os.environ.get(ENV_KEY, "")
+    expected = key if key is not None else CONFIG.teacher_key
     verdict = GUARD.check(given_key(pn.state.session_args), expected, client_address())
     if verdict != "ok":
         return refused(blocked=verdict == "blocked")

@@ -5,14 +5,14 @@ from __future__ import annotations
 import collections
 import itertools
 import math
-import os
 import time
 import weakref
 
 import panel as pn
 from bokeh.models import CustomJS
 
-from ringcore.checks import check_real
+
+from ringlab.config import CONFIG
 
 ACK_JS = "fig.tags = [(fig.tags.length ? fig.tags[0] : 0) + 1]"
 RATE_ENV = "RINGLAB_MAX_FRAME_RATE"
@@ -32,8 +32,7 @@ EARLY_FRACTION = 0.5
 def max_frame_rate() -> float:
     """Updates per second at most of each live plot of a served page: ``RINGLAB_MAX_FRAME_RATE`` (0.2-60,
     default 6; ``ringlab serve --max-frame-rate``).  ValueError, naming the variable, outside that range."""
-    text = os.environ.get(RATE_ENV, "").strip()
-    return check_real(RATE_ENV, text, *FRAME_RATE_RANGE) if text else DEFAULT_MAX_FRAME_RATE
+    return DEFAULT_MAX_FRAME_RATE if CONFIG.max_frame_rate is None else CONFIG.max_frame_rate
 
 
 # How a frame gate asks whether a notebook page shows its plot: NO_PAGE (not in a Jupyter kernel, or no page has

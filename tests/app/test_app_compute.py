@@ -61,13 +61,12 @@ def pool1():
     compute._POOL = old
 
 
-def test_max_compute_from_environment(monkeypatch):
-    monkeypatch.setenv(compute.ENV_MAX, "3")
+def test_max_compute_from_environment(monkeypatch, ringlab_env):
+    ringlab_env.set(compute.ENV_MAX, "3")
     assert compute.max_compute() == 3
-    monkeypatch.setenv(compute.ENV_MAX, "0")
     with pytest.raises(ValueError, match="RINGLAB_MAX_COMPUTE = '0'.*1 to 1024"):
-        compute.max_compute()
-    monkeypatch.delenv(compute.ENV_MAX)
+        ringlab_env.set(compute.ENV_MAX, "0")
+    ringlab_env.unset(compute.ENV_MAX)
     assert compute.max_compute() >= 1
 
 

@@ -192,8 +192,8 @@ def test_a_saturated_variable_in_the_sweep_file_wins(tmp_path):
 
 
 # ---------------------------------------------------------------- item 7: tutorial links
-def test_tutorial_links_point_at_files_of_the_served_folder(tmp_path, monkeypatch):
-    monkeypatch.setenv(tutorials.ENV, str(tmp_path))
+def test_tutorial_links_point_at_files_of_the_served_folder(tmp_path, monkeypatch, ringlab_env):
+    ringlab_env.set(tutorials.ENV, str(tmp_path))
     assert tutorials.tab_links("hydro") == ""  # nothing built: no (broken) links
     note = tutorials.docs_note()
     assert "not installed on this server" in note and 'href="docs/' not in note
@@ -217,7 +217,7 @@ def test_tutorial_links_point_at_files_of_the_served_folder(tmp_path, monkeypatc
         assert f'href="docs/tutorials/nb/{les.tutorial[:-3]}.html"' in html
     with pytest.raises(ValueError, match="tutorial"):
         tutorials.url("99_nothing")
-    monkeypatch.setenv(tutorials.ENV, str(tmp_path / "missing"))
+    ringlab_env.set(tutorials.ENV, str(tmp_path / "missing"))
     assert tutorials.static_dirs() == {}
 
 

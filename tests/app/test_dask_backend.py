@@ -141,21 +141,20 @@ def test_a_blow_up_on_a_worker_reaches_the_runner_as_the_engines_exception():
     assert (back.what, back.where_m, back.orbit, back.step) == ("T", 12.5, 3.25, 812)
 
 
-def test_backend_choice_from_the_environment(monkeypatch):
-    monkeypatch.delenv(remote.ENV_SCHEDULER, raising=False)
-    monkeypatch.delenv(remote.ENV_MODE, raising=False)
+def test_backend_choice_from_the_environment(monkeypatch, ringlab_env):
+    ringlab_env.unset(remote.ENV_SCHEDULER, raising=False)
+    ringlab_env.unset(remote.ENV_MODE, raising=False)
     assert remote.mode() == "threads"  # headless (no server session): in this process
     cores = remote.cores()
     assert remote.mode(in_server=True) == ("processes" if cores >= 2 else "threads")  # a class: every core
-    monkeypatch.setenv(remote.ENV_MODE, "threads")
+    ringlab_env.set(remote.ENV_MODE, "threads")
     assert remote.mode(in_server=True) == "threads"
-    monkeypatch.setenv(remote.ENV_MODE, "Processes")
+    ringlab_env.set(remote.ENV_MODE, "Processes")
     assert remote.mode() == "processes"
-    monkeypatch.setenv(remote.ENV_MODE, "gpu")
     with pytest.raises(ValueError, match="RINGLAB_COMPUTE = 'gpu' is not valid: allowed auto, threads, processes, dask"):
-        remote.mode()
-    monkeypatch.setenv(remote.ENV_MODE, "")
-    monkeypatch.setenv(remote.ENV_SCHEDULER, "tcp://10.0.0.1:8786")
+        ringlab_env.set(remote.ENV_MODE, "gpu")  # read once, when the configuration is (re)read
+    ringlab_env.set(remote.ENV_MODE, "")
+    ringlab_env.set(remote.ENV_SCHEDULER, "tcp://10.0.0.1:8786")
     assert remote.mode() == "dask"
 
 

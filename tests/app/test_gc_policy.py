@@ -52,13 +52,13 @@ def test_with_pages_open_no_full_collection_stops_them_until_memory_has_grown(po
     assert policy.tick(now=6 * 3600.0 + 30.0, rss=grown + 10.0) == "freeze"  # measured again from there
 
 
-def test_the_growth_limit_from_the_environment_is_checked(policy, monkeypatch):
-    monkeypatch.setenv(policy.ENV_GROWTH, "256")
+def test_the_growth_limit_from_the_environment_is_checked(policy, monkeypatch, ringlab_env):
+    ringlab_env.set(policy.ENV_GROWTH, "256")
     assert policy.growth_limit_mb() == 256.0
     for bad in ("0", "abc", "nan", "1e9"):
-        monkeypatch.setenv(policy.ENV_GROWTH, bad)
         with pytest.raises(ValueError, match="RINGLAB_GC_FULL_GROWTH_MB"):
-            policy.growth_limit_mb()
+            ringlab_env.set(policy.ENV_GROWTH, bad)
+        assert policy.growth_limit_mb() == 256.0  # a bad value changes nothing
 
 
 def test_this_process_memory_is_read():

@@ -321,20 +321,19 @@ def test_parse_number():
         parse_number("abc")
 
 
-def test_the_classroom_length_factor_scales_every_lesson_run(panel_, monkeypatch):
+def test_the_classroom_length_factor_scales_every_lesson_run(panel_, monkeypatch, ringlab_env):
     """RINGLAB_CLASSROOM_LENGTH (ringlab serve --classroom-length) multiplies the lesson's length; 0: the
     run never pauses by itself; anything else outside 0-1000 is refused, naming the variable."""
     t = panel_.targets()
-    monkeypatch.setenv(LENGTH_ENV, "2.5")
+    ringlab_env.set(LENGTH_ENV, "2.5")
     apply_preset("hydro-nosg", t, FAST)
     assert stop_target(t.hydro) == pytest.approx(t.hydro.sim.orbits + 250.0)
-    monkeypatch.setenv(LENGTH_ENV, "0")
+    ringlab_env.set(LENGTH_ENV, "0")
     apply_preset("hydro-nosg", t, FAST)
     assert t.hydro.running and stop_target(t.hydro) is None and t.hydro.pause_at is None
     t.hydro.pause()
     for bad in ("-1", "abc", "1e9", "nan"):
-        monkeypatch.setenv(LENGTH_ENV, bad)
         with pytest.raises(ValueError, match=LENGTH_ENV):
-            length_factor()
-    monkeypatch.delenv(LENGTH_ENV)
+            ringlab_env.set(LENGTH_ENV, bad)
+    ringlab_env.unset(LENGTH_ENV)
     assert length_factor() == 1.0

@@ -85,8 +85,8 @@ def test_reset_everyone_forgets_the_stored_answers_too(tmp_path):
     assert board(r) == {}
 
 
-def test_the_server_keeps_its_roster_in_its_data_folder_once(tmp_path, monkeypatch):
-    monkeypatch.setenv(roster_store.ENV_DATA, str(tmp_path / "lab"))
+def test_the_server_keeps_its_roster_in_its_data_folder_once(tmp_path, monkeypatch, ringlab_env):
+    ringlab_env.set(roster_store.ENV_DATA, str(tmp_path / "lab"))
     assert roster_store.default_path() == tmp_path / "lab" / "roster.sqlite3"
     r = Roster()
     assert roster_store.keep(r) and not roster_store.keep(r)
@@ -97,10 +97,10 @@ def test_the_server_keeps_its_roster_in_its_data_folder_once(tmp_path, monkeypat
     assert rows == [(1, 1, "s", "49", "correct")]
 
 
-def test_a_folder_that_cannot_be_written_leaves_the_roster_in_memory(tmp_path, monkeypatch):
+def test_a_folder_that_cannot_be_written_leaves_the_roster_in_memory(tmp_path, monkeypatch, ringlab_env):
     blocker = tmp_path / "file"
     blocker.write_text("not a folder")
-    monkeypatch.setenv(roster_store.ENV_DATA, str(blocker / "lab"))
+    ringlab_env.set(roster_store.ENV_DATA, str(blocker / "lab"))
     r = Roster()
     assert not roster_store.keep(r) and r.store is None
     r.register("s")

@@ -19,21 +19,21 @@ from ringlab.server.cluster import LocalClusterProcess
 from ringlab.server.remote import ENV_MODE, ENV_SCHEDULER, ENV_WORKERS
 
 
-def _no_scheduler(monkeypatch):
+def _no_scheduler(ringlab_env):
     """No scheduler set, and the one :func:`serve.shared_cluster` sets removed afterwards (monkeypatch
     restores only what existed when it deleted it)."""
-    monkeypatch.setenv(ENV_SCHEDULER, "")
-    monkeypatch.delenv(ENV_SCHEDULER)
+    ringlab_env.set(ENV_SCHEDULER, "")
+    ringlab_env.unset(ENV_SCHEDULER)
 
 
-def test_one_process_or_threads_start_no_cluster(monkeypatch):
-    _no_scheduler(monkeypatch)
-    monkeypatch.setenv(ENV_MODE, "processes")
+def test_one_process_or_threads_start_no_cluster(monkeypatch, ringlab_env):
+    _no_scheduler(ringlab_env)
+    ringlab_env.set(ENV_MODE, "processes")
     assert serve.shared_cluster(1) is None  # one server process starts its own LocalCluster, as before
-    monkeypatch.setenv(ENV_MODE, "threads")
+    ringlab_env.set(ENV_MODE, "threads")
     assert serve.shared_cluster(4) is None
-    monkeypatch.setenv(ENV_SCHEDULER, "tcp://127.0.0.1:1")
-    monkeypatch.setenv(ENV_MODE, "dask")
+    ringlab_env.set(ENV_SCHEDULER, "tcp://127.0.0.1:1")
+    ringlab_env.set(ENV_MODE, "dask")
     assert serve.shared_cluster(4) is None  # an existing cluster is used as it is
 
 
@@ -43,11 +43,11 @@ def test_bad_worker_count_is_refused():
 
 
 @pytest.mark.slow  # starts a cluster: 5-10 s
-def test_several_server_processes_get_one_cluster_that_stops_with_its_owner(monkeypatch):
+def test_several_server_processes_get_one_cluster_that_stops_with_its_owner(monkeypatch, ringlab_env):
     from dask.distributed import Client
-    _no_scheduler(monkeypatch)
-    monkeypatch.setenv(ENV_MODE, "processes")
-    monkeypatch.setenv(ENV_WORKERS, "1")
+    _no_scheduler(ringlab_env)
+    ringlab_env.set(ENV_MODE, "processes")
+    ringlab_env.set(ENV_WORKERS, "1")
     cluster = serve.shared_cluster(2)
     try:
         assert os.environ[ENV_SCHEDULER] == cluster.address and cluster.address.startswith("tcp://127.0.0.1:")

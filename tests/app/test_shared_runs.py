@@ -161,14 +161,13 @@ def test_closing_every_session_frees_the_computation(sharing):
     assert comp.followers == 0 and comp.host is None and shared.computations() == []
 
 
-def test_sharing_switch_from_the_environment(monkeypatch):
-    monkeypatch.setenv(shared.ENV_SHARE, "0")
+def test_sharing_switch_from_the_environment(monkeypatch, ringlab_env):
+    ringlab_env.set(shared.ENV_SHARE, "0")
     assert not shared.enabled(in_server=True)
-    monkeypatch.setenv(shared.ENV_SHARE, "1")
+    ringlab_env.set(shared.ENV_SHARE, "1")
     assert shared.enabled(in_server=True) and not shared.enabled(in_server=False)
-    monkeypatch.setenv(shared.ENV_SHARE, "maybe")
     with pytest.raises(ValueError, match="RINGLAB_SHARE_RUNS = 'maybe' is not valid"):
-        shared.enabled(in_server=True)
+        ringlab_env.set(shared.ENV_SHARE, "maybe")
 
 
 def test_following_pages_slow_down_alike_while_the_event_loop_is_late(monkeypatch):

@@ -146,14 +146,14 @@ def test_the_key_check_refuses_a_wrong_or_missing_key():
     assert access.given_key({"key": [b"abc"]}) == "abc" and access.given_key({}) == ""
 
 
-def test_a_wrong_key_never_builds_the_dashboard(monkeypatch):
+def test_a_wrong_key_never_builds_the_dashboard(monkeypatch, ringlab_env):
     built = []
     monkeypatch.setattr(page, "TeacherDashboard", lambda **kw: built.append(1))
     monkeypatch.setattr(page, "given_key", lambda args: "wrong-key")
     view = page.teacher_page("the-right-key")
     assert "Not authorised" in view.object and not built
     monkeypatch.setattr(page, "given_key", lambda args: "")
-    monkeypatch.delenv(access.ENV_KEY, raising=False)
+    ringlab_env.unset(access.ENV_KEY, raising=False)
     assert "Not authorised" in page.teacher_page().object and not built  # panel serve without a key set
 
 
@@ -165,14 +165,14 @@ def test_the_right_key_opens_the_dashboard(monkeypatch):
     assert len(built) == 1
 
 
-def test_serve_prints_a_random_key_or_the_teachers_password(monkeypatch):
-    monkeypatch.delenv(access.ENV_PASSWORD, raising=False)
+def test_serve_prints_a_random_key_or_the_teachers_password(monkeypatch, ringlab_env):
+    ringlab_env.unset(access.ENV_PASSWORD, raising=False)
     args = lambda *a: build_parser().parse_args(["serve", *a])  # noqa: E731
     p1, p2 = serve.plan(args()), serve.plan(args())
     assert p1["key"] != p2["key"] and len(p1["key"]) >= 20
     assert p1["dashboard"] == f"http://localhost:5006/teacher?key={p1['key']}"
     assert serve.plan(args("--teacher-password", "seminar-room-4"))["key"] == "seminar-room-4"
-    monkeypatch.setenv(access.ENV_PASSWORD, "from-the-environment")
+    ringlab_env.set(access.ENV_PASSWORD, "from-the-environment")
     assert serve.plan(args())["key"] == "from-the-environment"
     with pytest.raises(ValueError, match="--teacher-password has 3 characters"):
         serve.plan(args("--teacher-password", "abc"))

@@ -191,11 +191,11 @@ def test_a_malformed_websocket_message_gets_a_short_error_without_a_traceback(se
     assert "no-such-model" in log.read_text()  # the details are in the server's log
 
 
-def test_a_site_of_the_tutorial_pages_only_opens_at_their_index(tmp_path, monkeypatch):
+def test_a_site_of_the_tutorial_pages_only_opens_at_their_index(tmp_path, monkeypatch, ringlab_env):
     from ringlab.lessons import tutorials
     from ringlab.server import routes
     from tornado.web import RedirectHandler
-    monkeypatch.setenv(tutorials.ENV, str(tmp_path))
+    ringlab_env.set(tutorials.ENV, str(tmp_path))
     (tmp_path / "tutorials" / "nb").mkdir(parents=True)
     (tmp_path / "tutorials" / "nb" / "index.html").write_text("<p>tutorials</p>")  # `make tutorials-html`
     assert tutorials.docs_start() == "tutorials/nb/"
@@ -243,9 +243,9 @@ def test_a_site_built_while_the_lab_runs_is_served_without_a_restart(tmp_path):
         builder.wait()
 
 
-def test_the_page_says_the_site_is_being_built(tmp_path, monkeypatch):
+def test_the_page_says_the_site_is_being_built(tmp_path, ringlab_env):
     from ringlab.lessons import tutorials
-    monkeypatch.setenv(tutorials.ENV, str(tmp_path / "docs_site"))
+    ringlab_env.set(tutorials.ENV, str(tmp_path / "docs_site"))
     assert not tutorials.docs_building() and tutorials.static_dirs() == {}
     builder = subprocess.Popen(["sleep", "600"])
     try:

@@ -243,5 +243,23 @@ class CompareView(pn.viewable.Viewer):
         self.status.object = f'<div class="status" id="compare-status">{html.escape(r.status)}</div>'
         show_message(self.blowup, r.blowup)
 
+    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab)
+    @classmethod
+    def for_session(cls, runs):
+        """This tab for a session: its two runs are its own (``runs`` is not used)."""
+        return cls()
+
+    def set_tabs(self, tabs) -> None:
+        """This tab shows no other tab."""
+        return None
+
+    def set_shown(self, shown: bool) -> None:
+        """The pair's frames are paced by the page's acknowledgements whether shown or not."""
+        return None
+
+    def start_runner(self):
+        """The pair of runs (one Start starts both)."""
+        return self.runner
+
     def __panel__(self):
         return self._layout

@@ -352,5 +352,23 @@ class HydroView(pn.viewable.Viewer):
         b["step"].disabled = r.running or bool(r.blowup)
         self.status.object = f'<div class="status" id="hydro-status">{r.status}</div>'
 
+    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab)
+    @classmethod
+    def for_session(cls, runs):
+        """This tab with the session's runs (its runner is registered there)."""
+        return cls(runs=runs)
+
+    def set_tabs(self, tabs) -> None:
+        """This tab shows no other tab."""
+        return None
+
+    def set_shown(self, shown: bool) -> None:
+        """Draw frames only while shown: a hidden tab sends nothing, the newest state is drawn when shown."""
+        self.shown = bool(shown)
+
+    def start_runner(self):
+        """The hydro run."""
+        return self.runner
+
     def __panel__(self):
         return self._layout

@@ -307,5 +307,23 @@ class LinearView(pn.viewable.Viewer):
                   for lab, c, d in zip(markers["mlabel"], markers["color"], markers["dash"])]
         return f'<div class="key" id="linear-key">{"".join(items)}</div>'
 
+    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab)
+    @classmethod
+    def for_session(cls, runs):
+        """This tab with the session's runs ("Run this in ..." reaches the other tabs' runners)."""
+        return cls(runs=runs)
+
+    def set_tabs(self, tabs) -> None:
+        """Keep the page's tabs: "Run this in ..." shows another tab."""
+        self.tabs = tabs
+
+    def set_shown(self, shown: bool) -> None:
+        """Nothing streams here: the curves follow the settings whether shown or not."""
+        return None
+
+    def start_runner(self):
+        """None: linear theory has no run to start."""
+        return None
+
     def __panel__(self):
         return self._layout

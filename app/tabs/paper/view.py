@@ -274,5 +274,23 @@ class PaperView(pn.viewable.Viewer):
                 ("paper-ekin-now", "e<sub>kin</sub> at this orbit", fmt(fr["e_kin"], ".3g"),
                  "σ₀ (R_p Ω)², R_p = 1 m")]
 
+    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab)
+    @classmethod
+    def for_session(cls, runs):
+        """This tab for a session: the shipped long runs (``runs`` is not used)."""
+        return cls()
+
+    def set_tabs(self, tabs) -> None:
+        """This tab shows no other tab."""
+        return None
+
+    def set_shown(self, shown: bool) -> None:
+        """Playback goes on as the reader left it; its frames are paced by the page's acknowledgements."""
+        return None
+
+    def start_runner(self):
+        """None: playback of shipped runs, no run to start."""
+        return None
+
     def __panel__(self):
         return self._layout

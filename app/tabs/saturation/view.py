@@ -313,5 +313,23 @@ class SaturationView(pn.viewable.Viewer):
                          self.wave_card, explanation, sizing_mode="stretch_width")
         return settings_beside(head, controls, main, main_min_px=560, settings_first=True)
 
+    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab)
+    @classmethod
+    def for_session(cls, runs):
+        """This tab with the session's runs (it reads the session's hydro run)."""
+        return cls(runs=runs)
+
+    def set_tabs(self, tabs) -> None:
+        """This tab shows no other tab."""
+        return None
+
+    def set_shown(self, shown: bool) -> None:
+        """Nothing streams here: the sweeps and curves are drawn when settings change."""
+        return None
+
+    def start_runner(self):
+        """None: the tab shows shipped sweeps and theory, no run to start."""
+        return None
+
     def __panel__(self):
         return self._layout
