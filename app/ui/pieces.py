@@ -27,15 +27,18 @@ from panel.layout.base import ListLike
 # message (about a third more), and each costs that again: 0.04 s made the Hydrodynamics tab 26 steps and 1.6x the
 # CPU of one whole build, 0.08 s about 8 steps
 BUDGET_S = 0.08
+DEPTH = 3  # container levels taken apart (a tab: its columns, their rows, the figures of a row)
 
 
-def take_apart(layout) -> list:
-    """Empty every list-like container in the tree of ``layout`` (``layout`` included); returns the
-    ``(container, child)`` pairs to put back, parents before their children, in document order."""
+def take_apart(layout, depth: int = DEPTH) -> list:
+    """Empty the list-like containers in the tree of ``layout`` (``layout`` included) down to ``depth`` levels
+    below it; returns the ``(container, child)`` pairs to put back, parents before their children, in document
+    order.  Deeper containers go back whole with their parent piece: every piece put into a shown page makes
+    Panel walk the page's whole model tree again, so many small pieces cost more in all than a few large ones."""
     plan: list = []
 
-    def walk(obj):
-        if not isinstance(obj, ListLike):
+    def walk(obj, level):
+        if not isinstance(obj, ListLike) or level >= depth:
             return
         children = list(obj.objects)
         if not children:
@@ -43,9 +46,9 @@ def take_apart(layout) -> list:
         obj.objects = []
         for child in children:
             plan.append((obj, child))
-            walk(child)
+            walk(child, level + 1)
 
-    walk(layout)
+    walk(layout, 0)
     return plan
 
 

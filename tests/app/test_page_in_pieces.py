@@ -47,7 +47,7 @@ def test_the_hydro_tab_in_pieces_holds_the_loop_briefly_and_ends_as_built():
         view = HydroView(runs=SessionRuns())
         layout = view.__panel__()
         before = tree(layout)
-        plan = take_apart(layout)
+        plan = take_apart(layout, depth=99)
         assert len(plan) > 30 and layout.objects == []  # emptied down to its top container
         doc, holder = attached(layout, doc)
         cpu, steps = [], put_back(plan, budget_s=0.03)
@@ -79,7 +79,7 @@ def test_nested_layouts_come_back_piece_by_piece_and_the_apps_own_changes_stay()
     a, b, e = pn.pane.HTML("a"), pn.pane.HTML("b"), pn.pane.HTML("e")
     inner, kept, flex = pn.Row(a, b), pn.Column(pn.pane.HTML("c"), pn.pane.HTML("d")), pn.FlexBox(e)
     layout = pn.Column(inner, kept, flex)
-    plan = take_apart(layout)
+    plan = take_apart(layout, depth=99)
     assert [len(o.objects) for o in (layout, inner, kept, flex)] == [0, 0, 0, 0]
     steps = put_back(plan, budget_s=1e-9)  # one piece per step, parents first
     next(steps)
@@ -93,7 +93,12 @@ def test_nested_layouts_come_back_piece_by_piece_and_the_apps_own_changes_stay()
     assert layout.objects == [inner, kept, flex] and inner.objects == [a, b] and flex.objects == [e]
     other = pn.Column(pn.Row(pn.pane.HTML("x")), pn.pane.HTML("y"))
     before = tree(other)
-    put_back_all(take_apart(other))
+    put_back_all(take_apart(other, depth=99))
+    assert tree(other) == before
+    one_level = take_apart(other, depth=1)  # the row goes back whole, with its child
+    assert len(one_level) == 2 and other.objects == [] and len(one_level[0][1].objects) == 1
+    put_back_all(one_level)
+    assert tree(other) == before
     assert tree(other) == before
     with pytest.raises(ValueError, match="budget_s"):
         next(put_back(plan, budget_s=0))
