@@ -179,7 +179,7 @@ def _built(app, tabs, index: int, view) -> None:
     if "shown" in getattr(view, "param", ()):
         view.shown = tabs.active == index
         tabs.param.watch(lambda e: setattr(view, "shown", e.new == index), "active")
-    if app is not None and app.present.value:
+    if getattr(app, "present", None) is not None and app.present.value:  # (the first tab: before the toggle exists)
         _present_view(view, True)
 
 
