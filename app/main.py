@@ -8,12 +8,6 @@ arguments.  A page builds only the tab it shows first (``?tab=``, else the first
 lessons panel; another tab is built when it is opened or when something needs it
 (:class:`ringlab.ui.lazy_tabs.LazyTabs`): a lesson step or "Run this in ..." through
 ``runs.tab(kind)``, :func:`apply_query` and other callers through ``app.views[i]``.
-
-A served page is built in steps (:mod:`ringlab.server.build_queue`): the session starts with the page's frame
-(header, lessons, the tabs' titles), then its first tab is built in a step of its own and its layout goes to
-the page piece by piece (:mod:`ringlab.ui.pieces`), one step per turn of the event loop, so that no page build
-stops the server's event loop (every other page's frames and clicks) for long; pages that open together are
-built one after the other.  Outside a server (a script, a notebook, a test) everything is built at once.
 """
 from __future__ import annotations
 
@@ -24,7 +18,7 @@ from ringlab.lessons.resume import MEMO_KEY, Resumer
 from ringlab.lessons.view import LessonsPanel
 from ringlab.live.hydro import HydroRunner
 from ringlab.live.session import SessionRuns
-from ringlab.server import build_queue, gc_policy, joining
+from ringlab.server import gc_policy, joining
 from ringlab.tabs.compare.view import CompareView
 from ringlab.tabs.hydro.view import HydroView
 from ringlab.tabs.linear.view import LinearView
@@ -36,7 +30,6 @@ from ringlab.ui.a11y import page_template
 from ringlab.ui.about import AboutCite
 from ringlab.ui.lazy_tabs import LazyTabs, LazyViews
 from ringlab.ui.local_store import LocalStore
-from ringlab.ui.pieces import put_back, take_apart
 from ringlab.ui.reconnect import Reconnect
 
 TABS = [
@@ -87,33 +80,18 @@ def create_app(args: dict | None = None) -> pn.Column:
     """The app for one session: a header and one tab per entry of TABS (``app.tabs``), the lessons beside.
 
     ``args``: the page address's query (default ``pn.state.session_args``, see :func:`apply_query`).
-    Only the tab shown first is built now; ``app.views[i]`` builds tab ``i`` when read.  In a served page the
-    returned column is empty and is filled in steps (:func:`_page_steps`).
+    Only the tab shown first is built now; ``app.views[i]`` builds tab ``i`` when read.
     """
     doc = pn.state.curdoc
-    served = doc is not None and doc.session_context is not None
-    if served:
+    if doc is not None and doc.session_context is not None:
         doc.template = VIEWPORT_TEMPLATE
     joining.local_stylesheets()  # before any component is built (a page built where its websocket landed)
     args = pn.state.session_args if args is None else args
-    app = pn.Column(sizing_mode="stretch_width", margin=0, styles=page_styles(False))
-    if served:  # an empty page now (all pages joining at once: each costs the event loop little); the rest in steps
-        # once the page has its document: every step's changes then reach it as changes of that document
-        pn.state.onload(lambda: build_queue.start(doc, _page_steps(app, doc, args)))
-        return app
-    app.objects = _assemble(app, args)
-    apply_query(app, args)
-    return app
-
-
-def _assemble(app: pn.Column, args: dict, doc=None) -> list:
-    """Build the page's objects for ``app`` (its attributes set) and return its children; ``doc``: a served
-    page's document (its first tab is then left to :func:`_page_steps`, and tabs go in piece by piece)."""
     runs = SessionRuns()
-    first = TAB_KEYS.get(_query_value(args, "tab"), 0)
-    lazy = LazyTabs([t for t, _ in TABS], [lambda f=f: _make(f, runs) for _, f in TABS], first=first,
-                    on_built=lambda lazy, i, view: _built(app, lazy.tabs, i, view),
-                    build_first=doc is None, in_pieces=(lambda steps: _in_pieces(doc, steps)) if doc else None,
+    holder = {}
+    lazy = LazyTabs([t for t, _ in TABS], [lambda f=f: _make(f, runs) for _, f in TABS],
+                    first=TAB_KEYS.get(_query_value(args, "tab"), 0),
+                    on_built=lambda lazy, i, view: _built(holder.get("app"), lazy.tabs, i, view),
                     # beside the 340 px lessons panel from a 1000 px window on (a 1024 px projector keeps the
                     # question in view)
                     sizing_mode="stretch_width", stylesheets=TABS_CSS, styles={"flex": "1 1 620px", "min-width": "0"})
@@ -134,6 +112,9 @@ def _assemble(app: pn.Column, args: dict, doc=None) -> list:
     side = pn.Column(lessons, AboutCite(), memo, width=SIDE_PX, styles={"flex": f"0 1 {SIDE_PX}px"}, margin=(0, 5),
                      stylesheets=[SIDE_CSS], css_classes=["side-panel"])
     body = pn.FlexBox(tabs, side, flex_wrap="wrap", align_items="flex-start", sizing_mode="stretch_width")
+    # Reconnect: the page reloads itself once a restarted server is back (progress and answers from the browser)
+    app = pn.Column(top, body, Reconnect(), sizing_mode="stretch_width", margin=0, styles=page_styles(False))
+    holder["app"] = app
     app.tabs = tabs
     app.lazy = lazy
     app.views = LazyViews(lazy)
@@ -144,30 +125,8 @@ def _assemble(app: pn.Column, args: dict, doc=None) -> list:
     # a reload gets the browser's run back (on its tab, unless the address names one)
     app.resumer = Resumer(runs, tabs, lessons.store, memo, address_tab=named if named in TAB_KEYS else None)
     present.param.watch(lambda e: set_presentation(app, e.new), "value")
-    # Reconnect: the page reloads itself once a restarted server is back (progress and answers from the browser)
-    return [top, body, Reconnect()]
-
-
-def _page_steps(app: pn.Column, doc, args: dict):
-    """A served page, in steps: its objects (then put into the page piece by piece), its first tab (built,
-    then put in piece by piece), then the address's query (the class start link's Start)."""
-    yield  # the empty page goes out first (the document a page asks for when its websocket opens)
-    children = _assemble(app, args, doc)
-    plan = []
-    for child in children:  # as if they were the app's children, taken apart with it
-        plan += [(app, child)] + take_apart(child)
-    build_queue.follow(put_back(plan))
-    yield
-    app.lazy.view(TAB_KEYS.get(_query_value(args, "tab"), 0))  # its layout's pieces follow (build_queue.follow)
-    yield
     apply_query(app, args)
-
-
-def _in_pieces(doc, steps) -> None:
-    """Drive the generator ``steps`` (a tab's layout put in piece by piece): within the page build whose step
-    is running, else on its own at once (a tab a student opens does not wait for other pages' builds)."""
-    if not build_queue.follow(steps):
-        build_queue.start(doc, steps, fifo=False, page=False)
+    return app
 
 
 def _built(app, tabs, index: int, view) -> None:
@@ -179,7 +138,7 @@ def _built(app, tabs, index: int, view) -> None:
     if "shown" in getattr(view, "param", ()):
         view.shown = tabs.active == index
         tabs.param.watch(lambda e: setattr(view, "shown", e.new == index), "active")
-    if getattr(app, "present", None) is not None and app.present.value:  # (the first tab: before the toggle exists)
+    if app is not None and app.present.value:
         _present_view(view, True)
 
 
@@ -257,6 +216,7 @@ def warm_engines() -> None:
 def configure() -> None:
     """Panel's settings for the app's pages (before the first session: ``panel serve`` or ``ringlab serve``)."""
     pn.extension(sizing_mode="stretch_width", notifications=False, raw_css=[BODY_CSS])
+    joining.install_build_order()  # a class opening the link at once gets its first pages while the rest are built
     warm_engines()
     gc_policy.startup_done()  # the imported modules out of the garbage collector's scans
 

@@ -1,4 +1,4 @@
-"""A class that opens its pages at the same moment: spread over the server's processes, each page built once.
+"""A class that opens its pages at the same moment: spread over the server's processes, built one per turn.
 
 **Over the processes.** With ``--num-procs N`` the server's processes share one listening socket.  Tornado
 (6.x) accepts up to 128 waiting connections each time the socket becomes readable, so when thirty students
@@ -8,16 +8,22 @@ connection per wake-up: a process busy building a page leaves the next connectio
 on the 2-core machine with ``ringlab loadtest --students 30 --join-together --num-procs 2`` (29 November
 2026): the pages arrived after 48.0 s (median) and 49.4 s (last) with Tornado's default and after 22.5-30.7 s
 and 23.6-32.8 s (three runs) with one connection per wake-up.  The listen backlog (128) is unchanged: only
-the accept loop reads this value at run time.  Tornado has no public setting for it: this is the one private
-name of a library left here (``tornado.netutil._DEFAULT_BACKLOG``, written once before the fork, only with
-``--num-procs`` N > 1); the public way, a listening socket per process with ``SO_REUSEPORT``, needs a server
-that binds after forking, which Bokeh's ``Server`` does not do.
+the accept loop reads this value at run time.  A process with a page to build still accepted the connections
+that arrived while it waited between two builds, and took more than its share (19 and 11 of 30 pages, logged
+in the server with ``scripts/measure_join_order.py --num-procs 2``): while it has a new page queued or in
+the making it now accepts none (:func:`create_session_if_needed`), so the next page goes to the process that is
+free first.
 
-**One page built at a time, in steps.**  Bokeh builds a session's page as soon as its connection asks for one,
-on the event loop; thirty connections arriving together used to be thirty whole pages built back to back.  The
-app now builds only a page's frame when its session starts and the rest in steps, one per turn of the event
-loop, one page after the other (:mod:`ringlab.server.build_queue`, started by ``ringlab.main.create_app``):
-nothing of Bokeh's is replaced for it.
+**One page built per turn of the event loop.**  Bokeh builds a session's page as soon as its connection
+asks for one, on the event loop.  When thirty connections arrive together, all thirty builds are queued
+before the first page can ask for its document, and the event loop runs them back to back: no page got its
+document before the last one was built (sampled every 2 s: the event loop busy for 45 s, then all
+documents sent together).  :func:`install_build_order` lets one new session be built at a time, and before
+each build lets the event loop answer what is waiting (a built page asking for its document, frames,
+clicks), so the first pages arrive while the others are still being built.  A page that is already built
+or being built is returned at once, as before.  Measured in the server (``scripts/measure_join_order.py``,
+30 class start link pages, one process): the first, median and last page were sent their documents after
+32.9, 35.5 and 38.4 s with Bokeh's order and after 2.4, 20.1 and 38.0 s with this one.
 
 **Each page built once, where its websocket lands.**  A browser asks for the page's address (HTTP) and then
 opens the page's websocket: two connections, which with ``--num-procs`` N > 1 may reach two different
@@ -29,20 +35,37 @@ built twice (29 November 2026), and the copy nobody shows lives until the server
 depend on the page's query, and the page itself is built once, by the process its websocket reaches (6 pages,
 6 builds).
 
-``ringlab serve`` calls both before its processes start (with ``--num-procs`` N > 1); ``panel serve ...
---setup <this file>`` runs this file as the server's setup script (add ``--warm --reuse-sessions`` there).
+``ringlab serve`` calls all three before its processes start (the balance and the page template with
+``--num-procs`` N > 1); ``panel serve ... --setup <this file>`` runs this file as the server's setup script
+(add ``--warm --reuse-sessions`` there).
 """
 from __future__ import annotations
+
+import asyncio
+import weakref
 
 import panel as pn
 import tornado.netutil
 from bokeh.application import Application
+from bokeh.server.contexts import ApplicationContext
 from panel.io.resources import LOCAL_DIST
 from panel.io.session import generate_session
 from panel.io.state import set_curdoc, state
 
+from ringlab.server import gc_policy
+from ringlab.server.library_patch import replace_if_unchanged
+
 ACCEPTS_PER_WAKEUP = 1
 _BALANCING: dict = {}  # {"on": True} once balance_accepts() ran in this process (inherited by forked processes)
+_PENDING: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # event loop -> new pages queued or being built
+# [s] before each page is built, the event loop first answers what is waiting (a few turns of the loop: a built
+# page's request for its document has arrived by then); at 0.05 s thirty pages waited 1.5 s in all for nothing
+YIELD_S = 0.005
+ORIGINAL: dict = {}  # Bokeh's ApplicationContext.create_session_if_needed while install_build_order is installed
+# SHA-256 of the source of Bokeh 3.9.2's ApplicationContext.create_session_if_needed (what the wrapper assumes:
+# a session id in ``_sessions`` or ``_pending_sessions`` is returned without building)
+CREATE_SOURCE_SHA256 = "047e758c152be0f6262e0a7d9fe451dc9e1fd407fe93a63e74f79a7048e1006b"
+_BUILD_LOCKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # event loop -> its build lock
 
 
 def balance_accepts() -> bool:
@@ -53,6 +76,34 @@ def balance_accepts() -> bool:
     tornado.netutil._DEFAULT_BACKLOG = ACCEPTS_PER_WAKEUP
     _BALANCING["on"] = True
     return True
+
+
+def _pending(loop, change: int) -> None:
+    """Count a new page queued (+1) or built (-1) on ``loop``; with balanced accepts a process accepts no
+    connection while it has one (the connection waits in the shared queue for a process that is free)."""
+    n = _PENDING[loop] = _PENDING.get(loop, 0) + change
+    if _BALANCING:
+        tornado.netutil._DEFAULT_BACKLOG = 0 if n > 0 else ACCEPTS_PER_WAKEUP
+
+
+async def create_session_if_needed(self, session_id, request=None, token=None):
+    """Bokeh's ``ApplicationContext.create_session_if_needed``, one new page at a time per event loop."""
+    original = ORIGINAL["create_session_if_needed"]
+    if not session_id or session_id in self._sessions or session_id in self._pending_sessions:
+        return await original(self, session_id, request, token)
+    loop = asyncio.get_running_loop()
+    lock = _BUILD_LOCKS.get(loop)
+    if lock is None:
+        lock = _BUILD_LOCKS.setdefault(loop, asyncio.Lock())
+    _pending(loop, +1)
+    try:
+        async with lock:
+            await asyncio.sleep(YIELD_S)  # what waits on the loop (a built page asking for its document) goes first
+            session = await original(self, session_id, request, token)
+            gc_policy.page_built()  # the new page's objects out of the next pages' garbage collections
+            return session
+    finally:
+        _pending(loop, -1)
 
 
 def reuse_page_template(path: str = "/main", title: str | None = None, template: str | None = None) -> None:
@@ -88,7 +139,21 @@ def local_stylesheets() -> None:
     doc.template_variables["dist_url"] = f"{state.rel_path}/{LOCAL_DIST}" if state.rel_path else LOCAL_DIST
 
 
+def install_build_order() -> bool:
+    """Put :func:`create_session_if_needed` in place of Bokeh's if Bokeh's is the one it was written for;
+    returns True if installed."""
+    return replace_if_unchanged(ApplicationContext, "create_session_if_needed", create_session_if_needed,
+                                CREATE_SOURCE_SHA256, ORIGINAL)
+
+
+def uninstall_build_order() -> None:
+    """Put Bokeh's method back."""
+    if ORIGINAL:
+        ApplicationContext.create_session_if_needed = ORIGINAL.pop("create_session_if_needed")
+
+
 if __name__ != "ringlab.server.joining":  # run as `panel serve --setup` script: the package's module does it, so
-    from ringlab.server import joining  # that its state is the one the server uses
+    from ringlab.server import joining  # that its state (the replaced method) is the one the server uses
 
     joining.balance_accepts()
+    joining.install_build_order()

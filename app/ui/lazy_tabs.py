@@ -5,10 +5,6 @@ server CPU per page, which a class joining at once waits for.  ``pn.Tabs(dynamic
 sending a hidden tab to the browser, not building it in Python.  Here each tab is a factory: the tab
 shown first is built at once, the others hold a one-line note until they are opened (``active``) or
 asked for by :meth:`LazyTabs.view` (a lesson, the teacher's "send everyone", "Run this in ...").
-
-In a served page the tab's layout goes to the page in pieces (``in_pieces``, :mod:`ringlab.ui.pieces`): its
-containers go in empty and their children follow, one piece per turn of the server's event loop.  A served
-page can also leave its first tab unbuilt (``build_first=False``) and build it in a later step.
 """
 from __future__ import annotations
 
@@ -16,8 +12,6 @@ from collections.abc import Callable, Sequence
 
 import panel as pn
 import param
-
-from ringlab.ui.pieces import put_back, take_apart
 
 NOTE_CSS = ":host {color: #555; font-size: 14px; padding: 12px 16px;}"
 
@@ -41,11 +35,6 @@ class LazyTabs(param.Parameterized):
         The tab shown (and built) at once.
     on_built : callable, optional
         ``on_built(lazy, i, view)`` after tab ``i`` of ``lazy`` (this object) was built.
-    build_first : bool
-        Build the first tab now (else it holds its note until :meth:`view` builds it).
-    in_pieces : callable, optional
-        ``in_pieces(steps)`` drives the generator ``steps`` that puts a tab's layout into the page piece by
-        piece (one step per turn of the event loop); None: each tab goes in whole, at once.
     **tabs_params
         Passed to ``pn.Tabs`` (``dynamic=True`` is set: hidden tabs are not sent to the page either).
     """
@@ -53,8 +42,7 @@ class LazyTabs(param.Parameterized):
     built_count = param.Integer(default=0, doc="How many tabs are built so far.")
 
     def __init__(self, titles: Sequence[str], factories: Sequence[Callable], first: int = 0,
-                 on_built: Callable | None = None, build_first: bool = True, in_pieces: Callable | None = None,
-                 **tabs_params):
+                 on_built: Callable | None = None, **tabs_params):
         super().__init__()
         if len(titles) != len(factories):
             raise ValueError(f"{len(titles)} titles for {len(factories)} factories: allowed one title per factory")
@@ -63,13 +51,12 @@ class LazyTabs(param.Parameterized):
         self.titles, self.factories = list(titles), list(factories)
         self._views: list = [None] * len(self.titles)
         self._on_built = on_built
-        self._in_pieces = in_pieces
-        first_view = self._build(first) if build_first else None
-        objects = [(t, first_view if i == first and build_first else _note(t)) for i, t in enumerate(self.titles)]
+        first_view = self._build(first)
+        objects = [(t, first_view if i == first else _note(t)) for i, t in enumerate(self.titles)]
         self.tabs = pn.Tabs(*objects, active=first, **{**tabs_params, "dynamic": True})
         # after Panel's own watcher rendered the note of the newly active tab: the tab's content replaces it
         self.tabs.param.watch(lambda e: self.view(e.new), "active")
-        if on_built is not None and build_first:
+        if on_built is not None:
             on_built(self, first, first_view)
 
     def _build(self, i: int):
@@ -84,15 +71,9 @@ class LazyTabs(param.Parameterized):
             raise IndexError(f"tab {i} does not exist: allowed 0 .. {len(self._views) - 1}")
         if self._views[i] is None:
             view = self._build(i)
-            if self._on_built is not None:  # before its layout is taken apart (presentation mode finds its plots)
+            self.tabs[i] = (self.titles[i], view)
+            if self._on_built is not None:
                 self._on_built(self, i, view)
-            if self._in_pieces is None:
-                self.tabs[i] = (self.titles[i], view)
-            else:
-                layout = view.__panel__() if isinstance(view, pn.viewable.Viewer) else view
-                plan = take_apart(layout)
-                self.tabs[i] = (self.titles[i], layout)  # its containers, empty: the pieces follow
-                self._in_pieces(put_back(plan))
         return self._views[i]
 
     def is_built(self, i: int) -> bool:
