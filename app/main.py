@@ -16,6 +16,7 @@ import panel as pn
 from ringlab.lessons.classroom import join_class
 from ringlab.lessons.resume import MEMO_KEY, Resumer
 from ringlab.lessons.view import LessonsPanel
+from ringlab.live.hydro import HydroRunner
 from ringlab.live.session import SessionRuns
 from ringlab.server import gc_policy, joining
 from ringlab.tabs.compare.view import CompareView
@@ -45,6 +46,7 @@ TABS = [
 TAB_KEYS = {"linear": 0, "hydro": 1, "nbody": 2, "saturation": 3, "compare": 4, "paper": 5}
 
 TITLE = "ringlab: viscous overstability in Saturn's rings"
+WARM_KEY = "ringlab-hydro-kernels-loaded"  # in pn.state.cache once warm_engines() ran in this process
 
 # A plain page instead of a template: FastListTemplate and its Fast design load the "Open Sans" web
 # font from fonts.googleapis.com on every page load, which fails in a classroom without internet.
@@ -197,10 +199,21 @@ def _autostart(app: pn.Column, runner) -> None:
     resumer.then(lambda outcome: resumer.holds(runner) or runner.start())
 
 
+def warm_engines() -> None:
+    """Load the hydro engine's compiled kernels (numba's on-disk cache) now: else the first class start link
+    page's build loaded them on the event loop (1.8-3.7 s measured while a class of 30 joined).  Once per
+    process: ``panel serve`` runs this file, and :func:`configure`, for every session (``pn.state.cache`` is the
+    process's)."""
+    if WARM_KEY not in pn.state.cache:
+        HydroRunner()
+        pn.state.cache[WARM_KEY] = True
+
+
 def configure() -> None:
     """Panel's settings for the app's pages (before the first session: ``panel serve`` or ``ringlab serve``)."""
     pn.extension(sizing_mode="stretch_width", notifications=False, raw_css=[BODY_CSS])
     joining.install_build_order()  # a class opening the link at once gets its first pages while the rest are built
+    warm_engines()
     gc_policy.startup_done()  # the imported modules out of the garbage collector's scans
 
 

@@ -54,7 +54,7 @@ from ringcore.checks import check_real
 from tornado.ioloop import IOLoop, PeriodicCallback
 
 from ringlab.config import CONFIG
-from ringlab.cli.loadtest_clients import Prober, Student, connect, press, press_start, pump
+from ringlab.cli.loadtest_clients import START_CLASS, Prober, Student, connect, pump
 from ringlab.cli.loadtest_join import join_together, stop_all
 from ringlab.cli import loadtest_lag
 from ringlab.lessons.presets import LENGTH_ENV
@@ -276,10 +276,7 @@ def open_students(args, url: str, loop, server_pid: int) -> tuple[list, list, li
             opened.append(time.perf_counter())
             sessions.append(connect(url, loop, query[len(sessions)]))
             students.append(Student(sessions[-1]))
-            if button:
-                press(sessions[-1], button)
-            else:  # the class start link
-                press_start(sessions[-1])
+            students[-1].press_soon(button or START_CLASS)  # a button, or the class start link's Start
         t_done = time.perf_counter()
     cpu1, _ = cpu_rss(app_procs(server_pid))
     ready = [st.ready_at - t for st, t in zip(students, opened) if st.ready_at is not None]

@@ -109,6 +109,7 @@ class Student:
         self.profile_id = None  # the profile plot's source: one new ``data`` of it is one frame drawn
         self.frames = []  # wall times of the frames
         self.ready_at = None  # when a message first brought the hydro tab's Start button (time.perf_counter())
+        self.to_press = []  # CSS classes of buttons to press as soon as they arrive (a page built in steps)
         if START_CLASS in getattr(session, "pulled_text", ""):
             self.ready_at = session.pulled_at
         self.poll()
@@ -129,6 +130,11 @@ class Student:
         for message in waiting:
             self.on_message(message)
         press_start(self.s)
+
+    def press_soon(self, css_class: str) -> None:
+        """Press the button with ``css_class`` now, or as soon as a message brings it."""
+        if not press(self.s, css_class):
+            self.to_press.append(css_class)
 
     def _ack(self, fig):
         """Acknowledge a frame as the page's ``CustomJS`` does (bump the figure's ``tags``)."""
@@ -153,6 +159,9 @@ class Student:
                     self.profile_id = src.id
         if self.ready_at is None and find_button(self.doc, START_CLASS) is not None:
             self.ready_at = time.perf_counter()
+        for css in list(self.to_press):
+            if press(self.s, css):
+                self.to_press.remove(css)
         if self.readout_id is None:
             for m in self.doc.models:
                 if (type(m).__name__ == "HTML" and "text" in m.properties()
@@ -162,6 +171,8 @@ class Student:
 
     def on_message(self, message):
         if self.waiting is not None:
+            if self.ready_at is None and START_CLASS in message.content_json:
+                self.ready_at = time.perf_counter()  # a page built in steps: its tab arrives after the document
             self.waiting.append(message)
             return
         if len(self.hooked) < 3:
@@ -198,20 +209,34 @@ class Student:
 
 
 class Prober:
-    """A session on the Linear tab that moves sigma0 and times the readout update."""
+    """A session on the Linear tab that moves sigma0 and times the readout update.
+
+    The server may send the tab after the document (a page built in steps): until the slider and the readout
+    are there, the server's messages are applied to the session's document."""
 
     def __init__(self, session):
+        self.s = session
         self.doc = session.document
-        self.slider = next(m for m in self.doc.models if type(m).__name__ == "Slider"
-                           and "σ₀" in (m.title or "") and "Compare" not in (m.title or ""))
-        self.readout = next(m for m in self.doc.models if type(m).__name__ == "HTML"
-                            and "text" in m.properties() and 'id="linear-readouts"' in html.unescape(m.text or ""))
+        self.slider = self.readout = None
         self.t_sent = None
         self.latencies = []
         self.sent_at = []  # time.perf_counter() of each move, as latencies
         self.values = [300.0, 500.0]
+        self._find()
+
+    def _find(self) -> bool:
+        """Find the sigma0 slider and the readout pane; True once both are found."""
+        if self.slider is None:
+            self.slider = next((m for m in self.doc.models if type(m).__name__ == "Slider"
+                                and "σ₀" in (m.title or "") and "Compare" not in (m.title or "")), None)
+        if self.readout is None:
+            self.readout = next((m for m in self.doc.models if type(m).__name__ == "HTML" and "text" in m.properties()
+                                 and 'id="linear-readouts"' in html.unescape(m.text or "")), None)
+        return self.slider is not None and self.readout is not None
 
     def move(self):
+        if self.slider is None or self.readout is None:
+            return  # the tab has not arrived yet
         if self.t_sent is not None and time.perf_counter() - self.t_sent < 10:
             return  # still waiting for the last one
         if self.t_sent is not None:
@@ -236,6 +261,10 @@ class Prober:
     tab_latency_s = None
 
     def on_message(self, message):
+        if self.slider is None or self.readout is None:
+            self.s._handle_patch(message)  # the Linear tab's pieces
+            self._find()
+            return
         if self.tab_marker is not None and self.tab_latency_s is None and self.tab_marker in message.content_json:
             self.tab_latency_s = round(time.perf_counter() - self.t_tab, 3)
         for ev in message.content.get("events", ()):

@@ -22,7 +22,7 @@ import time
 
 from tornado.ioloop import IOLoop
 
-from ringlab.cli.loadtest_clients import Student, connect, press, pump
+from ringlab.cli.loadtest_clients import Student, connect, pump
 
 
 class JoiningStudent(threading.Thread):
@@ -57,7 +57,7 @@ class JoiningStudent(threading.Thread):
             session = connect(self.url, self.loop, self.arguments, defer_build=not self.setup_button)
             self.student = Student(session)
             if self.setup_button:
-                press(session, self.setup_button)
+                self.student.press_soon(self.setup_button)
             self.loop.add_callback(pump, session, self.student)
             if not self._stop_asked.is_set():
                 self.loop.start()

@@ -25,6 +25,7 @@ def test_a_blocked_loop_and_a_collection_are_measured_and_written(tmp_path, monk
         loop.call_later(2.5, loop.stop)
         loop.start()
     finally:
+        loop_lag.stop_sampling()
         gc.callbacks.remove(watch.gc_callback)
         loop.close(all_fds=True)
     s = watch.summary()
@@ -54,3 +55,37 @@ def test_a_collection_longer_than_the_period_is_listed_with_its_generation():
     watch.gc_callback("stop", {"generation": 0})  # short: not listed
     (at, generation, pause), = watch.summary()["collections"]
     assert generation == 2 and 0.05 <= pause < 1.0 and abs(at - time.time()) < 5.0
+
+
+def _hold_the_loop_half_a_second():
+    t0 = time.perf_counter()
+    while time.perf_counter() - t0 < 0.5:  # busy, as a page build is (a sleep would release the interpreter)
+        pass
+
+
+def test_a_stall_is_listed_with_the_stack_that_held_the_loop(tmp_path, monkeypatch):
+    """With the file set, a watchdog thread samples the loop thread's stack while the loop is late: the stall
+    is listed with the function that held it, and its seconds are counted for that function."""
+    monkeypatch.setattr(loop_lag, "_INSTALLED", [])
+    watch = loop_lag.LoopLag()
+    path = str(tmp_path / "lag")
+    loop = IOLoop()
+    try:
+        assert loop_lag.install(loop, watch, path)
+        t0 = time.time()
+        loop.call_later(0.2, _hold_the_loop_half_a_second)
+        loop.call_later(1.5, loop.stop)
+        loop.start()
+    finally:
+        loop_lag.stop_sampling()
+        gc.callbacks.remove(watch.gc_callback)
+        loop.close(all_fds=True)
+    s = watch.summary()
+    (at, seconds, top), = [x for x in s["stall_stacks"] if x[1] >= 0.45]
+    samples, frames = top[0]
+    assert samples >= 3 and any("_hold_the_loop_half_a_second" in f for f in frames), top
+    where, sampled = s["stack_seconds"][0]
+    assert "_hold_the_loop_half_a_second" in where and 0.03 <= sampled <= 0.6
+    got = loadtest_lag.read(path, t0, time.time())  # the load test's report carries them
+    assert any("_hold_the_loop_half_a_second" in w for w, _ in got["stack_seconds"])
+    assert got["stall_stacks"] and got["stall_stacks"][0][1] >= 0.45
