@@ -22,6 +22,10 @@ RATE_ENV = "RINGLAB_MAX_FRAME_RATE"
 # the 2-core test machine draws at a whole core anyway, and are the pace of the pages following a shared run.
 DEFAULT_MAX_FRAME_RATE = 6.0
 FRAME_RATE_RANGE = (0.2, 60.0)
+# A notebook page redraws every figure of a view for each frame and (Panel 1.9's notebook comm) sends all of the
+# frame back to the kernel, which handles that reply before the page's next message (a Pause click): fewer, fuller
+# frames keep JupyterLab responsive and the kernel free for clicks on a loaded machine.
+NOTEBOOK_FRAME_RATE = 2.0
 # A frame may go out this fraction of a period early.  Chunks reach the event loop with a few ms of jitter; a
 # strict "at least one period since the last frame" refused every one that came a little early (a third of them
 # at 0.1 s +- 10 ms and a cap of 10/s, tests/app/test_app_hydro.py).  The cap holds on average: each frame sent
@@ -98,11 +102,13 @@ class FrameGate:
         ack = CustomJS(args=dict(fig=fig), code=ACK_JS)
         source.js_on_change("data", ack)  # a frame replaces the source's data ...
         source.js_on_change("patching", ack)  # ... or patches part of it (the space-time diagram's new rows)
+        source.js_on_change("streaming", ack)  # ... or streams to it (a notebook's frames: ringlab.ui.columns)
         fig.on_change("tags", self._ack)
         self.fig, self.source = fig, source
         self._data_counted = None  # the source's data of the last frame counted in flight (notebook page)
         self.min_period_s, self.timeout_s = float(min_period_s), float(timeout_s)
         self.served_period_s = max(self.min_period_s, 1.0 / max_frame_rate())
+        self.notebook_period_s = max(self.served_period_s, 1.0 / NOTEBOOK_FRAME_RATE)
         self.max_in_flight = int(max_in_flight)
         self.t_sent = self.t_ack = -math.inf
         self.t_slot = -math.inf  # when the last frame was due (perf_counter seconds): the next is due a period later
@@ -124,8 +130,7 @@ class FrameGate:
         """May a frame be sent at time ``now`` (time.perf_counter())?"""
         in_server = served()
         page = NO_PAGE if in_server else notebook_page(self.fig)
-        paced = in_server or page != NO_PAGE
-        if now < self.t_slot + (1.0 - EARLY_FRACTION) * self._period(paced):
+        if now < self.t_slot + (1.0 - EARLY_FRACTION) * self._period(in_server, page):
             return False
         if in_server:
             if self.sent - self.acks < self.max_in_flight:
@@ -146,15 +151,19 @@ class FrameGate:
             return True
         return False  # a notebook page has not drawn the frames in flight, or has gone: wait for it
 
-    def _period(self, paced: bool) -> float:
-        return self.served_period_s if paced else self.min_period_s
+    def _period(self, in_server: bool, page: int) -> float:
+        if in_server:
+            return self.served_period_s
+        return self.min_period_s if page == NO_PAGE else self.notebook_period_s
 
-    def mark_sent(self, now: float) -> None:
+    def mark_sent(self, now: float, changed: bool | None = None) -> None:
         """A frame was sent at ``now``: the next is due one period after this one was due (after ``now``, if
-        this one was late or was sent without waiting for the gate: a forced frame starts the pacing again)."""
+        this one was late or was sent without waiting for the gate: a forced frame starts the pacing again).
+        ``changed``: did the frame change the source (replaced, streamed or patched: the page acknowledges it)?
+        By default only a replaced ``data`` counts."""
         in_server = served()
         page = NO_PAGE if in_server else notebook_page(self.fig)
-        period = self._period(in_server or page != NO_PAGE)
+        period = self._period(in_server, page)
         if now < self.t_slot + (1.0 - EARLY_FRACTION) * period:
             self.t_slot = now
         else:
@@ -165,6 +174,8 @@ class FrameGate:
         # sends no change for equal data, a repeated frame, so none is awaited; patches, a few new rows, go uncounted)
         if page == PAGE and self.fig.document is not None:
             _WAITING.setdefault(self.fig.document, now)
-        if page == PAGE and self.source.data is not self._data_counted:
+        if changed is None:
+            changed = self.source.data is not self._data_counted
+        if page == PAGE and changed:
             self._data_counted = self.source.data
             self._in_flight.append(next(_SEQ))
