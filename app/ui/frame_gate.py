@@ -56,6 +56,23 @@ _READ: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 # closes, and a page patched with new rows or repeated data acknowledges only some frames.
 PAGE_GONE_S = 1.0
 _WAITING: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # document -> first frame sent since an ack
+# A live run shown by a notebook page computes its next chunk only when the page has drawn its frames (no gate of
+# the page is full of unacknowledged frames), so that the page keeps step with the kernel however slowly it draws
+# (on a loaded machine a page took 1-3 s per frame and fell 10-20 orbits behind a run that went on).  A page that
+# acknowledges nothing for HOLD_S seconds no longer holds the run (it has gone: the kernel is not told).
+HOLD_S = 2.0
+_FULL: "weakref.WeakSet" = weakref.WeakSet()  # gates of notebook pages that wait for an acknowledgement
+
+
+def page_behind(now: float) -> bool:
+    """True while a notebook page has frames of a full gate to draw and has acknowledged one within
+    ``HOLD_S`` seconds (``now``: time.perf_counter()): the live runs of the kernel wait for it."""
+    for gate in list(_FULL):
+        doc = gate.fig.document
+        since = _WAITING.get(doc) if doc is not None else None
+        if since is not None and now - max(since, gate.t_ack) < HOLD_S:
+            return True
+    return False
 
 
 def set_page_probe(probe) -> None:
@@ -104,6 +121,7 @@ class FrameGate:
         source.js_on_change("patching", ack)  # ... or patches part of it (the space-time diagram's new rows)
         source.js_on_change("streaming", ack)  # ... or streams to it (a notebook's frames: ringlab.ui.columns)
         fig.on_change("tags", self._ack)
+        self._page_count = int(fig.tags[0]) if fig.tags and isinstance(fig.tags[0], (int, float)) else 0
         self.fig, self.source = fig, source
         self._data_counted = None  # the source's data of the last frame counted in flight (notebook page)
         self.min_period_s, self.timeout_s = float(min_period_s), float(timeout_s)
@@ -116,12 +134,18 @@ class FrameGate:
         self._in_flight = collections.deque()  # numbers (_SEQ) of the frames sent to a notebook page, unacknowledged
 
     def _ack(self, attr, old, new):
-        self.acks = min(self.acks + 1, self.sent)
+        # the page's count of frames drawn: Panel applies a page's message inside a hold that combines the changes
+        # of one property, so two acknowledgements in one message reach this callback once
+        count = new[0] if new and isinstance(new[0], (int, float)) else self._page_count + 1
+        n = max(1, int(count) - self._page_count)
+        self._page_count = int(count)
+        _FULL.discard(self)
+        self.acks = min(self.acks + n, self.sent)
         self.t_ack = time.perf_counter()
         doc = self.fig.document
         if doc is not None:
             _WAITING.pop(doc, None)
-        if self._in_flight:
+        for _ in range(min(n, len(self._in_flight))):
             seq = self._in_flight.popleft()
             if doc is not None and seq > _READ.get(doc, 0):
                 _READ[doc] = seq
@@ -149,6 +173,7 @@ class FrameGate:
         if doc is not None and _READ.get(doc, 0) > self._in_flight[-1]:
             self._in_flight.clear()  # the page has read a later frame: these changed nothing there
             return True
+        _FULL.add(self)
         return False  # a notebook page has not drawn the frames in flight, or has gone: wait for it
 
     def _period(self, in_server: bool, page: int) -> float:
