@@ -120,23 +120,17 @@ def in_kernel_loop() -> bool:
     return (doc is None or doc.session_context is None) and target() is not None
 
 
-_NESTING = 0  # frame_changes() entered and not yet left (the kernel's main thread only)
-
-
 @contextmanager
 def frame_changes():
     """Collect the view changes made in the body and send them at the end in one push per displayed
     document whose comm a page has opened (:func:`push_views`)."""
-    global _NESTING
-    if _NESTING:  # nested: the outer one pushes
+    if pn.state._hold:  # nested: the outer one pushes
         yield
         return
-    _NESTING += 1
     try:
         with block_comm():  # Panel's per-pane pushes wait: the changes stay on the held documents
             yield
     finally:
-        _NESTING -= 1
         push_views()
 
 
