@@ -48,6 +48,7 @@ PERIOD_MS = 100  # kept for callers; chunks are scheduled back to back now
 RATE_WINDOW_S = 5.0  # [s] wall time the orbits/s readout averages over (chunks arrive in bursts)
 RATE_MIN_SPAN_S = 2.0  # [s] shorter spans (just started) give no rate yet
 RATE_SAMPLES = 400  # chunk records kept per runner (>= RATE_WINDOW_S / shortest chunk)
+HOLD_POLL_S = 0.05  # [s] a run held by a notebook page that draws looks again this often
 WAITING = "Running; waiting for a free core (the server's compute slots are all busy)."
 
 
@@ -243,12 +244,23 @@ class LiveLoop:
             if then is not None:
                 then()
             self.frame += 1  # the views draw the new state (the final one after Pause)
-            if self.running:
+            if self.running and doc.session_context is None and frame_gate.page_behind(time.perf_counter()):
+                doc.loop.call_later(HOLD_POLL_S, self._resume, doc)  # a notebook page draws: keep step with it
+            elif self.running:
                 self._submit(None, None)
                 if not self._inflight and self.status == WAITING:
                     self.status = "Running."
                 elif self.status == WAITING and not compute.pool().busy():
                     self.status = "Running."
+
+    def _resume(self, doc) -> None:
+        """Submit the next chunk once no notebook page is behind (:func:`ringlab.ui.frame_gate.page_behind`)."""
+        if not self.running or self._closed or self._inflight or doc is not self._doc:
+            return
+        if frame_gate.page_behind(time.perf_counter()):
+            doc.loop.call_later(HOLD_POLL_S, self._resume, doc)
+        else:
+            self._submit(None, None)
 
     def _frame_changes(self):
         """Outside a server session: the view changes of a frame drawn now go out in one push

@@ -151,9 +151,20 @@ def page_state(model) -> int:
     if t is None:
         return 0
     for _viewable, _root, view_doc, comm in list(pn.state._views.values()):
-        if view_doc is doc and comm is not None and getattr(comm, "_comm", None) is not None:
+        if view_doc is doc and opened(comm):
             return 1 if t.waiting else 2
     return 0
+
+
+def opened(comm) -> bool:
+    """Has a page opened ``comm`` (a ``pyviz_comms.Comm``; None: no comm)?  Its public ``comm`` property raises
+    ValueError until then."""
+    if comm is None:
+        return False
+    try:
+        return comm.comm is not None
+    except ValueError:
+        return False
 
 
 def push_views() -> int:
@@ -165,7 +176,7 @@ def push_views() -> int:
         if comm is None or "embedded" in root.tags:
             continue  # a server session's document: Bokeh sends its changes
         compact(doc)
-        if getattr(comm, "_comm", None) is not None and doc.callbacks._held_events:
+        if opened(comm) and doc.callbacks._held_events:
             push(doc, comm)  # else no page has opened the comm (yet): the changes stay held
             n += 1
     return n

@@ -22,6 +22,10 @@ RATE_ENV = "RINGLAB_MAX_FRAME_RATE"
 # the 2-core test machine draws at a whole core anyway, and are the pace of the pages following a shared run.
 DEFAULT_MAX_FRAME_RATE = 6.0
 FRAME_RATE_RANGE = (0.2, 60.0)
+# A notebook page redraws every figure of a view for each frame and (Panel 1.9's notebook comm) sends all of the
+# frame back to the kernel, which handles that reply before the page's next message (a Pause click): fewer, fuller
+# frames keep JupyterLab responsive and the kernel free for clicks on a loaded machine.
+NOTEBOOK_FRAME_RATE = 2.0
 # A frame may go out this fraction of a period early.  Chunks reach the event loop with a few ms of jitter; a
 # strict "at least one period since the last frame" refused every one that came a little early (a third of them
 # at 0.1 s +- 10 ms and a cap of 10/s, tests/app/test_app_hydro.py).  The cap holds on average: each frame sent
@@ -51,6 +55,23 @@ _READ: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 # closes, and a page patched with new rows or repeated data acknowledges only some frames.
 PAGE_GONE_S = 1.0
 _WAITING: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # document -> first frame sent since an ack
+# A live run shown by a notebook page computes its next chunk only when the page has drawn its frames (no gate of
+# the page is full of unacknowledged frames), so that the page keeps step with the kernel however slowly it draws
+# (on a loaded machine a page took 1-3 s per frame and fell 10-20 orbits behind a run that went on).  A page that
+# acknowledges nothing for HOLD_S seconds no longer holds the run (it has gone: the kernel is not told).
+HOLD_S = 2.0
+_FULL: "weakref.WeakSet" = weakref.WeakSet()  # gates of notebook pages that wait for an acknowledgement
+
+
+def page_behind(now: float) -> bool:
+    """True while a notebook page has frames of a full gate to draw and has acknowledged one within
+    ``HOLD_S`` seconds (``now``: time.perf_counter()): the live runs of the kernel wait for it."""
+    for gate in list(_FULL):
+        doc = gate.fig.document
+        since = _WAITING.get(doc) if doc is not None else None
+        if since is not None and now - max(since, gate.t_ack) < HOLD_S:
+            return True
+    return False
 
 
 def set_page_probe(probe) -> None:
@@ -97,11 +118,14 @@ class FrameGate:
         ack = CustomJS(args=dict(fig=fig), code=ACK_JS)
         source.js_on_change("data", ack)  # a frame replaces the source's data ...
         source.js_on_change("patching", ack)  # ... or patches part of it (the space-time diagram's new rows)
+        source.js_on_change("streaming", ack)  # ... or streams to it (a notebook's frames: ringlab.ui.columns)
         fig.on_change("tags", self._ack)
+        self._page_count = int(fig.tags[0]) if fig.tags and isinstance(fig.tags[0], (int, float)) else 0
         self.fig, self.source = fig, source
         self._data_counted = None  # the source's data of the last frame counted in flight (notebook page)
         self.min_period_s, self.timeout_s = float(min_period_s), float(timeout_s)
         self.served_period_s = max(self.min_period_s, 1.0 / max_frame_rate())
+        self.notebook_period_s = max(self.served_period_s, 1.0 / NOTEBOOK_FRAME_RATE)
         self.max_in_flight = int(max_in_flight)
         self.t_sent = self.t_ack = -math.inf
         self.t_slot = -math.inf  # when the last frame was due (perf_counter seconds): the next is due a period later
@@ -109,12 +133,18 @@ class FrameGate:
         self._in_flight = collections.deque()  # numbers (_SEQ) of the frames sent to a notebook page, unacknowledged
 
     def _ack(self, attr, old, new):
-        self.acks = min(self.acks + 1, self.sent)
+        # the page's count of frames drawn: Panel applies a page's message inside a hold that combines the changes
+        # of one property, so two acknowledgements in one message reach this callback once
+        count = new[0] if new and isinstance(new[0], (int, float)) else self._page_count + 1
+        n = max(1, int(count) - self._page_count)
+        self._page_count = int(count)
+        _FULL.discard(self)
+        self.acks = min(self.acks + n, self.sent)
         self.t_ack = time.perf_counter()
         doc = self.fig.document
         if doc is not None:
             _WAITING.pop(doc, None)
-        if self._in_flight:
+        for _ in range(min(n, len(self._in_flight))):
             seq = self._in_flight.popleft()
             if doc is not None and seq > _READ.get(doc, 0):
                 _READ[doc] = seq
@@ -123,8 +153,7 @@ class FrameGate:
         """May a frame be sent at time ``now`` (time.perf_counter())?"""
         in_server = served()
         page = NO_PAGE if in_server else notebook_page(self.fig)
-        paced = in_server or page != NO_PAGE
-        if now < self.t_slot + (1.0 - EARLY_FRACTION) * self._period(paced):
+        if now < self.t_slot + (1.0 - EARLY_FRACTION) * self._period(in_server, page):
             return False
         if in_server:
             if self.sent - self.acks < self.max_in_flight:
@@ -143,17 +172,22 @@ class FrameGate:
         if doc is not None and _READ.get(doc, 0) > self._in_flight[-1]:
             self._in_flight.clear()  # the page has read a later frame: these changed nothing there
             return True
+        _FULL.add(self)
         return False  # a notebook page has not drawn the frames in flight, or has gone: wait for it
 
-    def _period(self, paced: bool) -> float:
-        return self.served_period_s if paced else self.min_period_s
+    def _period(self, in_server: bool, page: int) -> float:
+        if in_server:
+            return self.served_period_s
+        return self.min_period_s if page == NO_PAGE else self.notebook_period_s
 
-    def mark_sent(self, now: float) -> None:
+    def mark_sent(self, now: float, changed: bool | None = None) -> None:
         """A frame was sent at ``now``: the next is due one period after this one was due (after ``now``, if
-        this one was late or was sent without waiting for the gate: a forced frame starts the pacing again)."""
+        this one was late or was sent without waiting for the gate: a forced frame starts the pacing again).
+        ``changed``: did the frame change the source (replaced, streamed or patched: the page acknowledges it)?
+        By default only a replaced ``data`` counts."""
         in_server = served()
         page = NO_PAGE if in_server else notebook_page(self.fig)
-        period = self._period(in_server or page != NO_PAGE)
+        period = self._period(in_server, page)
         if now < self.t_slot + (1.0 - EARLY_FRACTION) * period:
             self.t_slot = now
         else:
@@ -164,6 +198,8 @@ class FrameGate:
         # sends no change for equal data, a repeated frame, so none is awaited; patches, a few new rows, go uncounted)
         if page == PAGE and self.fig.document is not None:
             _WAITING.setdefault(self.fig.document, now)
-        if page == PAGE and self.source.data is not self._data_counted:
+        if changed is None:
+            changed = self.source.data is not self._data_counted
+        if page == PAGE and changed:
             self._data_counted = self.source.data
             self._in_flight.append(next(_SEQ))

@@ -24,6 +24,7 @@ class RowCanvas:
     def __init__(self, source):
         self.source = source
         self.held = None  # (image, stride, version, rows, dh, L) of the canvas the page holds
+        self.changed = False  # did the last send change the source?
 
     def forget(self) -> None:
         """The page no longer holds a canvas (another kind of image was sent): the next send is whole."""
@@ -33,6 +34,7 @@ class RowCanvas:
         """Bring the page's canvas of ``img`` up to date; returns the rows shown (a view, oldest first), or
         None before the first row (nothing sent)."""
         rows, stride, version = img.rows, img.stride, img.version
+        self.changed = False
         if rows == 0:
             return None
         t0, t1 = img.extent()
@@ -47,9 +49,11 @@ class RowCanvas:
                 patch["image"] = [((0, slice(n0, rows), slice(0, img.ncols)), img.data[n0:rows].ravel())]
             if patch:
                 self.source.patch(patch)
+                self.changed = True
         else:
             canvas = np.full((img.max_rows, img.ncols), np.nan, np.float32)
             canvas[:rows] = img.data[:rows]
             self.source.data = dict(image=[canvas], x=[-L / 2], y=[t0], dw=[L], dh=[dh])
+            self.changed = True
         self.held = (img, stride, version, rows, dh, L)
         return img.data[:rows]

@@ -69,13 +69,18 @@ drawn = []  # after the view's own watchers (its buttons and status for the paus
 hydro.runner.param.watch(lambda e: e.new or drawn.append(time.time()), "running")
 
 
+history = []  # (time, orbit of the run) every 0.1 s: the page's samples are compared with it
+
+
 def report():
     while True:
         sim = hydro.runner.sim
+        orbits = sim.frame().orbits if sim is not None else None
+        history.append((time.time(), orbits))
+        del history[:-600]
         state = dict(n=len(comm_sent), last=comm_sent[-1] if comm_sent else None, paused=paused[-1:],
                      drawn=drawn[-1:], comm_in=comm_in[-3:], running=hydro.runner.running,
-                     status=hydro.runner.status, orbits=sim.frame().orbits if sim is not None else None,
-                     time=time.time())
+                     status=hydro.runner.status, orbits=orbits, time=time.time(), history=history)
         STATE.with_suffix(".tmp").write_text(json.dumps(state))
         os.replace(STATE.with_suffix(".tmp"), STATE)
         time.sleep(0.1)
@@ -84,18 +89,33 @@ def report():
 threading.Thread(target=report, daemon=True).start()
 hydro
 '''
-# the end of the space-time diagram's time axis [orbits] as the page shows it: y_range of the figure whose image
-# draws the source "hydro-spacetime-source"
-IMAGE_END_JS = """() => {
-  for (const d of (window.Bokeh && window.Bokeh.documents) || []) {
-    for (const m of d.all_models) {
-      if (m.renderers === undefined || m.y_range === undefined) continue;
-      for (const r of m.renderers)
-        if (r.data_source && r.data_source.name === "hydro-spacetime-source") return m.y_range.end;
+# The page records the end of the space-time diagram's time axis [orbits] as it shows it, every 0.1 s with its clock
+# (this machine's): y_range of the figure whose image draws the source "hydro-spacetime-source".  Sampled in the
+# page, not by a call from the test per sample: on a loaded machine each such call took 0.5-2 s.
+SAMPLE_ENDS_JS = """() => {
+  window.ringlabEnds = [];
+  let range = null;
+  const find = () => {
+    for (const d of (window.Bokeh && window.Bokeh.documents) || []) {
+      for (const m of d.all_models) {
+        if (m.renderers === undefined || m.y_range === undefined) continue;
+        for (const r of m.renderers)
+          if (r.data_source && r.data_source.name === "hydro-spacetime-source") return m.y_range;
+      }
     }
-  }
-  return null;
+    return null;
+  };
+  window.setInterval(() => {
+    range = range || find();
+    if (range !== null) window.ringlabEnds.push([Date.now() / 1000, range.end]);
+  }, 100);
 }"""
+
+
+def orbit_at(history, t):
+    """The run's orbit at time ``t`` from the kernel's (time, orbit) records (the last one not after ``t``)."""
+    before = [o for (when, o) in history if when <= t and o is not None]
+    return before[-1] if before else None
 
 
 @pytest.fixture(scope="module")
@@ -138,9 +158,11 @@ def kernel_state(path: Path) -> dict:
 
 
 @pytest.mark.slow
-# Not yet reliable (two fresh-clone runs: once the run had stopped before Pause, once the image's time range
-# went back by a frame): reported as XFAIL/XPASS until the notebook view's pacing holds; it must not decide CI
-@pytest.mark.xfail(strict=False, reason="notebook view pacing not yet reliable: run stops or time range steps back")
+# Passed 3 times in a row (both loads) on the shared 2-core machine, but 5 of 12 runs had one failing check: the run
+# not running at a check (once 8 s after Start, once 10 s after a second Start, once not going on after the page
+# closed), Pause heard 0.65 s after the click (load), the time range one step back (once).  Reported as XFAIL/XPASS
+# until those are understood; the checks themselves are hard (the reason is in the report)
+@pytest.mark.xfail(strict=False, reason="intermittent on a loaded machine: run stopped at a check, Pause >0.5 s")
 @pytest.mark.parametrize("load", ["idle", "loaded"])
 def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
     root, port = jupyter_lab
@@ -153,9 +175,6 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
     SHOTS.mkdir(exist_ok=True)
     burner = subprocess.Popen([sys.executable, "-c", "while True: pass"]) if load == "loaded" else None
     blocked = []
-    # Not yet met on the loaded 2-core machine (intermittent): these mark the test xfail (after every other
-    # check passed) instead of failing it; the report names which
-    soft = []
 
     def route(r):
         host = r.request.url.split("/")[2].split(":")[0] if "://" in r.request.url else ""
@@ -186,22 +205,28 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
                 page.screenshot(path=str(SHOTS / f"failed-{load}.png"))
                 raise AssertionError(f"no canvas; blocked {blocked}, errors {page.js_errors}")
             view = page.locator(".jp-OutputArea-output").last  # the view (cell 2's output)
+            page.evaluate(SAMPLE_ENDS_JS)
             page.locator(".hydro-start button").click()
-            t_start = time.time()
-            ends, lags = [], []
-            while time.time() - t_start < 8:
-                end = page.evaluate(IMAGE_END_JS)
-                k = kernel_state(state)
-                if end is not None and k["orbits"] is not None:
-                    ends.append(end)
-                    lags.append(k["orbits"] - end)
+            t_click_start = time.time()
+            while kernel_state(state)["orbits"] in (None, 0.0):  # numba's cache may be cold: the first chunk
+                assert time.time() - t_click_start < 120, "the run never started"  # compiles (~60 s here)
                 time.sleep(0.2)
+            t_start = time.time()
+            time.sleep(8.0)
             view.screenshot(path=str(SHOTS / f"hydro-running-{load}.png"))
-            assert kernel_state(state)["running"]
+            k = kernel_state(state)
+            assert k["running"], {key: k[key] for key in ("status", "orbits", "paused", "time")}
+            samples = page.evaluate("window.ringlabEnds")
+            ends = [end for (t, end) in samples if t_start <= t]
+            lags = [orbit_at(k["history"], t) - end for (t, end) in samples
+                    if t_start <= t and orbit_at(k["history"], t) is not None]
             assert len(ends) > 10 and ends[-1] > ends[0], ends  # the page moves
-            assert all(b >= a for a, b in zip(ends, ends[1:])), ends  # the time range only grows
-            if max(lags) >= 8.0:  # before: up to 30 orbits behind on a loaded machine
-                soft.append(f"the page fell {max(lags):.1f} orbits behind the kernel: {lags}")
+            back = [(i, samples[max(0, i - 3):i + 4]) for i in range(1, len(samples))
+                    if samples[i][1] < samples[i - 1][1]]
+            assert not back, f"the time range went back: {back[:3]}; kernel {k['history'][-100:]}"  # it only grows
+            # the kernel's orbit is compared with the end of the image's time axis: that is one row per orbit
+            # (stroboscopic), so up to an orbit behind even when every frame is drawn at once
+            assert max(lags) < 8.0, f"the page fell {max(lags):.1f} orbits behind the kernel: {lags}"
             # when the page took the click (its clock is this machine's): Playwright's own click first waits
             # for the button to be visible and still, which on a loaded machine can take a second
             page.evaluate("document.addEventListener('click', () => { window.clickedAt = Date.now() / 1000 }, true)")
@@ -212,27 +237,30 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
                 time.sleep(0.05)
             paused = kernel_state(state)["paused"]
             assert paused, "Pause never reached the kernel"
-            if paused[0] - t_click >= 0.5:
-                soft.append(f"Pause reached the kernel {paused[0] - t_click:.2f} s after the click")
+            assert paused[0] - t_click < 0.5, f"Pause reached the kernel {paused[0] - t_click:.2f} s after the click"
             time.sleep(1.0)
             view.screenshot(path=str(SHOTS / f"hydro-paused-{load}.png"))
             page.locator(".hydro-start button").click()
-            time.sleep(1.5)
+            t_restart = time.time()  # Start takes longer than Pause in the kernel (it sets up the run: up to 1 s here)
+            while not kernel_state(state)["running"] and time.time() - t_restart < 10:
+                time.sleep(0.05)
+            time.sleep(1.0)  # frames go to the page meanwhile
             before = kernel_state(state)
-            assert before["running"]
+            assert before["running"], {key: before[key] for key in ("status", "orbits", "paused", "time")}
             assert page.js_errors == []
             page.close()
             t_close = time.time()
         time.sleep(4.0)
         after = kernel_state(state)
-        if not (after["running"] and after["orbits"] > before["orbits"]):
-            soft.append(f"the run stopped after the page closed: {after['status']!r} at orbit {after['orbits']}")
+        while not after["orbits"] > before["orbits"] and time.time() - t_close < 15:  # a page that has gone holds
+            time.sleep(0.2)  # the run for at most 2 s, and a loaded machine computes slowly
+            after = kernel_state(state)
+        assert after["running"] and after["orbits"] > before["orbits"], (  # the run goes on in the kernel
+            {key: after[key] for key in ("status", "running", "orbits", "time")}, before["orbits"], t_close)
         assert after["last"] < t_close + 2.0, (after, t_close)  # ... but nothing is sent to the gone page
         print(f"{load}: image end {ends[0]:.2f}..{ends[-1]:.2f} orbits in {len(ends)} samples, kernel ahead by "
               f"max {max(lags):.2f} orbits; Pause heard {paused[0] - t_click:.3f} s after the page's click ({paused[0] - t_call:.3f} s after the call); comm messages "
               f"{after['n']}, the last {after['last'] - t_close:.2f} s after the page closed; blocked {blocked}\nends {[round(e, 2) for e in ends]}\nlags {[round(x, 2) for x in lags]}")
-        if soft:
-            pytest.xfail("; ".join(soft))
     finally:
         if burner is not None:
             burner.kill()

@@ -24,6 +24,7 @@ from ringcore.analysis.saturation import C_EMPIRICAL
 from ringlab.live.buffers import SpaceTimeImage
 from ringlab.model.connect import allowed_wavelengths, slope_line, theory_mode
 from ringlab.ui.cite import publish
+from ringlab.ui.columns import replace_columns
 from ringlab.ui.figures import follow_time, log_ticks, new_figure, time_range, wavelength_markers
 from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.row_canvas import TRANSPARENT, RowCanvas
@@ -166,14 +167,17 @@ class HydroPlots:
                                       label=[f"buffer β = {e[1]:g}" if e[1] is not None else "buffer off"
                                              for e in ev])
 
-    def update_lines(self, runner, fr=None, stream: bool = False) -> None:
-        """Profiles, series and PSD (cheap; every frame).  With ``stream`` (a server session) only the new
-        points of the series are sent (a notebook's document never connected to a page keeps every
-        stream event it is sent, while whole replacements are compacted)."""
+    def update_lines(self, runner, fr=None, stream: bool = False, roll: bool = False) -> None:
+        """Profiles, series and PSD (cheap; every frame).  With ``stream`` (a server session or a notebook page)
+        only the new points of the series are sent (a notebook's document never connected to a page keeps every
+        stream event it is sent, while whole replacements are compacted); with ``roll`` (a notebook page) the
+        profiles, the PSD and the linear-theory line go as streams that replace them
+        (:func:`ringlab.ui.columns.replace_columns`)."""
         sim = runner.sim
         fr = sim.frame() if fr is None else fr  # ringcore.hydro.frame.HydroFrame: float32, the page's units
         f32 = np.float32
-        self.profile_source.data = dict(x=fr.x_m, sigma=fr.sigma, u=fr.u_mm_s, v=fr.v_mm_s, T=fr.T_mm2_s2)
+        replace_columns(self.profile_source, dict(x=fr.x_m, sigma=fr.sigma, u=fr.u_mm_s, v=fr.v_mm_s, T=fr.T_mm2_s2),
+                        roll)
         s = runner.series
         cols, stride = s.columns(("t", "e_kin", "lambda_p"))  # of one moment: samples may arrive meanwhile
         e = cols["e_kin"]  # [sigma0 (R_p Omega)^2]: the engine's e_kin (ringcore.units.E_KIN_UNIT)
@@ -183,8 +187,12 @@ class HydroPlots:
         follow_time(self.t_range, t)
         if self.mode is not None:
             line = _slope_line(t, e, self.mode["slope_per_orbit"])
-            self.slope_source.data = dict(t=list(line["t"]), e_kin=list(line["e_kin"]))  # own lists per page
-        self.psd_source.data = dict(wavelength=fr.psd_wavelength_m, power=np.maximum(fr.psd, f32(1e-12)))
+            if roll:  # own arrays (the memo's lists are shared), streamed over the last ones
+                replace_columns(self.slope_source, dict(t=np.array(line["t"]), e_kin=np.array(line["e_kin"])), roll)
+            else:
+                self.slope_source.data = dict(t=list(line["t"]), e_kin=list(line["e_kin"]))  # own lists per page
+        replace_columns(self.psd_source, dict(wavelength=fr.psd_wavelength_m, power=np.maximum(fr.psd, f32(1e-12))),
+                        roll)
         lp = fr.lambda_p_m
         if lp != self.allowed_lp:  # lambda_p moves seldom: it takes one of the few wavelengths L_x/n the box holds
             self.allowed_lp = lp
@@ -192,8 +200,9 @@ class HydroPlots:
             marks = allowed_wavelengths(sim.options.L_x, lp, span=lam[t >= min(1.0, t[-1])] if t.size else ())
             data = dict(y=[w for _, w in marks], n=[k for k, _ in marks])
             if data != self.allowed_source.data:
-                self.allowed_source.data = data
-            self.psd_markers.data = wavelength_markers(runner.numbers, [(lp, LP_COLOR, "solid", "λ_p now")])
+                replace_columns(self.allowed_source, data, roll)
+            replace_columns(self.psd_markers, wavelength_markers(runner.numbers, [(lp, LP_COLOR, "solid", "λ_p now")]),
+                            roll)
 
     def _send_series(self, s, stride: int, cols: dict, stream: bool) -> None:
         """e_kin(t) and lambda_p(t) to the page: only the points added since the last frame (a stream of a
@@ -211,8 +220,9 @@ class HydroPlots:
             self.series_source.data = dict(t=t.astype(f32), e_kin=e.astype(f32), lambda_p=lam.astype(f32))
         self._series_sent = (s, stride, n)
 
-    def update_image(self, runner) -> None:
-        """The space-time diagram (stroboscopic or orbit-resolved, as set)."""
+    def update_image(self, runner) -> bool:
+        """The space-time diagram (stroboscopic or orbit-resolved, as set); returns True if the image's source
+        changed (the page acknowledges such a frame)."""
         strobe = runner.settings.spacetime == "stroboscopic"
         img = runner.shown_image
         title = ("Space-time diagram of σ/σ₀, stroboscopic (one row per orbit)" if strobe else
@@ -223,12 +233,12 @@ class HydroPlots:
         if type(img) is SpaceTimeImage:  # rows in time order, only appended until it thins
             data = self.canvas.send(img, L)
             if data is None:
-                return
+                return False
         else:  # a window moving with the run: every row moves at every frame
             self.canvas.forget()
             data = img.image()
             if data.shape[0] == 0:
-                return
+                return False
             t0, t1 = img.extent()
             self.image_source.data = dict(image=[data], x=[-L / 2], y=[t0], dw=[L], dh=[t1 - t0])
         t0, t1 = img.extent()
@@ -238,6 +248,7 @@ class HydroPlots:
             lo, hi = lo - 0.01, hi + 0.01
         self.color_mapper.update(low=float(lo), high=float(hi))
         self.spacetime_fig.y_range.update(start=t0, end=max(t1, t0 + 1e-3), reset_start=t0, reset_end=t1)
+        return type(img) is not SpaceTimeImage or self.canvas.changed
 
 
 def _slope_line(t, e, slope_per_orbit: float) -> dict:

@@ -32,7 +32,7 @@ from ringlab.tabs.shared import ExportPanel, restore_widgets
 from ringlab.ui.a11y import button
 from ringlab.ui.checked_input import CheckedInputs
 from ringlab.ui.cite import publish
-from ringlab.ui.frame_gate import FrameGate, served
+from ringlab.ui.frame_gate import NO_PAGE, FrameGate, notebook_page, served
 from ringlab.ui.layout import responsive_grid, settings_beside, wrap_row
 from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
@@ -260,16 +260,18 @@ class HydroView(pn.viewable.Viewer):
                 self.plots.update_buffer(r)
                 self._buffer_shown = buf
             if lines:
-                self.plots.update_lines(r, fr, stream=served())
-                if force or now - self._readouts_sent >= READOUT_PERIOD_S or not served():
+                in_server = served()
+                page = not in_server and notebook_page(self.plots.spacetime_fig) != NO_PAGE
+                self.plots.update_lines(r, fr, stream=in_server or page, roll=page)
+                if force or now - self._readouts_sent >= READOUT_PERIOD_S or not (in_server or page):
                     self.readouts.object = readout_cards(self._readout_rows(fr), "hydro-readouts")
                     self._note_allowed(fr)
                     self._readouts_sent = now
-                self.line_gate.mark_sent(now)
+                self.line_gate.mark_sent(now, changed=True)
             if image:
-                self.plots.update_image(r)
+                changed = self.plots.update_image(r)
                 self._image_sent = (img, img.version)
-                self.image_gate.mark_sent(now)
+                self.image_gate.mark_sent(now, changed=changed)
 
     def _note_allowed(self, fr=None) -> None:
         """One line under the λ_p plot: why λ_p jumps between the grey marks (only when λ_p changed)."""
@@ -294,9 +296,9 @@ class HydroView(pn.viewable.Viewer):
         if self.runner.sim is not None:
             r = self.runner
             img = r.shown_image
-            self.plots.update_image(r)
+            changed = self.plots.update_image(r)
             self._image_sent = (img, img.version)
-            self.image_gate.mark_sent(time.perf_counter())
+            self.image_gate.mark_sent(time.perf_counter(), changed=changed)
 
     def _readout_rows(self, fr=None):
         r = self.runner
