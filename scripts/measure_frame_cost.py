@@ -5,8 +5,10 @@
 Builds the tab in a Bokeh document (as a server session would), starts the default run and, for every frame,
 advances it ``--orbits-per-frame`` orbits outside the measurement, then times (``time.process_time``) the
 view's frame (``runner.frame += 1``: profiles, series, spectrum, readouts, image when it changed) plus the
-``PATCH-DOC`` message the server would send for it (Bokeh's ``Protocol.create``), and its size.  The page's clock advances 0.22 s per
+``PATCH-DOC`` message the server would send for it, built as the app builds it
+(:func:`ringlab.server.fast_patch.patch_doc_message`), and its size.  The page's clock advances 0.22 s per
 frame (4.5 frames/s, the measured rate of a served student), so the image and readout periods act as served;
+``--bokeh-create`` builds the messages with Bokeh's ``Protocol.create`` (the code before, for an A/B);
 ``--not-served`` measures as in a notebook (every readout drawn, series replaced whole).  Prints CPU [ms] and
 kB per frame over orbits 0-30, 30-90 and 90-end, and one JSON line.  Not a test: the figures go to the teacher
 guide ("What a streaming student costs the app process").
@@ -26,6 +28,7 @@ def main() -> None:
     ap.add_argument("--frames", type=int, default=600)
     ap.add_argument("--orbits-per-frame", type=float, default=0.3)
     ap.add_argument("--not-served", action="store_true")
+    ap.add_argument("--bokeh-create", action="store_true", help="build the messages with Bokeh's own create (A/B)")
     a = ap.parse_args()
 
     from bokeh.document import Document
@@ -33,6 +36,7 @@ def main() -> None:
 
     import ringlab.tabs.hydro.view as hv
     from ringlab.live.hydro import HydroRunner
+    from ringlab.server.fast_patch import patch_doc_message
 
     clock = [1000.0]
     hv.time = types.SimpleNamespace(perf_counter=lambda: clock[0])  # the page's clock: 0.22 s per frame
@@ -56,7 +60,8 @@ def main() -> None:
         r.frame += 1
         n = 0
         if events:
-            msg = proto.create("PATCH-DOC", list(events))
+            msg = (proto.create("PATCH-DOC", list(events)) if a.bokeh_create else
+                   patch_doc_message(proto, list(events)))
             n = len(msg.content_json) + sum(len(b.to_bytes()) for b in msg._buffers)
         cpu.append(time.process_time() - t0)
         size.append(n)

@@ -58,7 +58,7 @@ from ringlab.cli.loadtest_join import join_together, stop_all
 from ringlab.cli import loadtest_lag
 from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.paths import PACKAGE_DIR
-from ringlab.server import joining
+from ringlab.server import fast_defaults, joining
 
 START_TIMEOUT_S = 300.0  # a loaded 2-core machine needs more than 2 minutes for `panel serve --warm`
 SHARED_STEP = (3, 2)  # --shared: lesson 3, step 2 (the default box at sigma0 = 400, started by "Set up this step")
@@ -123,6 +123,7 @@ def cpu_rss(procs) -> tuple[float, float]:
 
 
 def run(args) -> dict:
+    fast_defaults.install()  # the simulated pages build their documents' Bokeh models in this process
     if args.num_procs > 1 and args.compute != "threads":
         args.dask = True  # one cluster for all server processes, as `ringlab serve --num-procs N` starts
     env = dict(os.environ)

@@ -20,7 +20,7 @@ import param
 from panel.io.logging import panel_log_handler
 from tornado.ioloop import IOLoop
 
-from ringlab.server import gc_policy, loop_lag, remote, socket_guard
+from ringlab.server import fast_defaults, fast_patch, gc_policy, loop_lag, remote, socket_guard
 
 MAX_POINTS = 200
 
@@ -69,7 +69,9 @@ class SessionRuns(param.Parameterized):
 
     def __init__(self, **params):
         super().__init__(**params)
-        socket_guard.install()  # once per server process (both idempotent)
+        socket_guard.install()  # once per server process (all three idempotent)
+        fast_patch.install()  # Bokeh's messages without its per-message cost in the size of the page
+        fast_defaults.install()  # Bokeh's property defaults once per model class
         show_app_log()
         remote.warm()  # the worker processes start with the first page, not at the first Start
         doc = pn.state.curdoc
