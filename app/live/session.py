@@ -6,6 +6,7 @@ run's (sigma0, lambda_p) as a point.  ``ringlab.main.create_app`` makes one per 
 passes it to every tab factory that declares a ``runs`` parameter.  The tabs are built when first
 needed: :meth:`SessionRuns.tab` builds one by kind (a lesson preset, "Run this in ...").  Creating one also
 installs :mod:`ringlab.server.socket_guard` (a page that goes away mid-stream leaves no traceback),
+:mod:`ringlab.server.fast_patch` and :mod:`ringlab.server.fast_defaults` (Bokeh's costs in the size of a page),
 :mod:`ringlab.server.gc_policy` (garbage collection without pauses of seconds) and :func:`show_app_log`
 (the app's own ``pn.state.log`` lines reach the server log).
 """

@@ -31,31 +31,74 @@ ROOTS = ("app", "ringcore")
 LIBRARIES = ("panel", "bokeh", "tornado", "dask", "distributed")
 PACKAGE_ALIASES = {"app": "ringlab"}  # app/ is installed as the package ringlab
 
-# (file, kind, source text) -> why it stays.  Files of other work in progress are listed as they are today.
+# The remaining debt: file -> (why it stays, {(kind, source text)}).  Each reason gives what the use buys,
+# measured, and why no public API gives it (yet).
 ALLOWED = {
-    # The app's websocket handler (a subclass of Panel's) is chosen where Bokeh reads an application's routes
-    # when the server is made: Panel itself rewrites this list the same way, and neither library offers another
-    # way to choose the handler (extra_patterns come after the application's routes).  What it buys and why no
-    # public setting replaces it: an ERROR reply without the server's traceback and file paths (Bokeh sends
-    # both; tests/app/test_web_cases.py), no AssertionError/warning lines when a page leaves mid-stream, and
-    # the count of a page's open websockets (a closed tab frees its runs at once, not 15-32 s later).
-    ("app/server/socket_guard.py", "write", "urls.per_app_patterns[i] = (route[0], AppWSHandler, *route[2:])"):
-        "the app's websocket handler registered (no public route)",
-    # joining.py: the class joining at once (another work package owns it; measured there: 30 pages after
-    # 22.5-30.7 s instead of 48.0 s with two processes, first page after 2.4 s instead of 32.9 s).
-    ("app/server/joining.py", "write", "tornado.netutil._DEFAULT_BACKLOG"): "one accept per wake-up",
-    ("app/server/joining.py", "read", "tornado.netutil._DEFAULT_BACKLOG"): "one accept per wake-up",
-    ("app/server/joining.py", "replace", "replace_if_unchanged(ApplicationContext, 'create_session_if_needed', "
-                                         "create_session_if_needed, CREATE_SOURCE_SHA256, ORIGINAL)"):
-        "one page built per turn of the event loop",
-    ("app/server/joining.py", "read", "ctx._sessions"): "one page built per turn of the event loop",
-    ("app/server/joining.py", "read", "ctx._pending_sessions"): "one page built per turn of the event loop",
-    ("app/server/joining.py", "read", "state._sessions"): "each page built once (reuse_page_template)",
-    ("app/server/joining.py", "read", "state._session_key_funcs"): "each page built once (reuse_page_template)",
-    # kernel.py: the live views in a notebook (another work package owns it): Panel's notebook comms.
-    ("app/server/kernel.py", "read", "pn.state._views"): "notebook live views",
-    ("app/server/kernel.py", "read", "comm._comm"): "notebook live views",
-    ("app/server/kernel.py", "read", "pn.state._hold"): "notebook live views",
+    # The app's websocket handler (a subclass of Panel's, overriding Bokeh's public on_message, send_message and
+    # on_close) is chosen where Bokeh reads an application's routes when the server is made; Panel rewrites
+    # this list the same way, and neither library offers another way to choose the handler (extra_patterns come
+    # after the application's routes).  It buys an ERROR reply without the server's traceback and file paths
+    # (Bokeh sends both: tests/app/test_web_cases.py), no AssertionError or warning lines when a page leaves
+    # mid-stream, and the count of a page's open websockets (a closed tab frees its runs at once, not when
+    # Bokeh discards the session 15-32 s later).
+    "app/server/socket_guard.py": ("the app's websocket handler registered", {
+        ("write", "urls.per_app_patterns[i]"),
+    }),
+    # Bokeh's property defaults once per model class.  Measured 7 December 2026 (scripts/measure_page_cost.py's
+    # pages in one process, Bokeh's methods and these alternated, 6 pages each, CPU medians, load average 19):
+    # the class start link's page (498 models) 0.514 s instead of 0.859 s, the default page (230 models) 0.254 s
+    # instead of 0.394 s.  Bokeh has no setting for it; fewer models per page (the lever without a patch) is a
+    # redesign of the tabs' plots, not done yet.
+    "app/server/fast_defaults.py": ("Bokeh's property defaults cached per model class", {
+        ("read", "obj._property_values"), ("read", "obj._unstable_default_values"),
+        ("read", "self.property._default"), ("read", "type(obj)._overridden_defaults"),
+        ("read", "value._register_owner"), ("write", "HasProps.themed_values"),
+        ("write", "PropertyDescriptor._get_default"), ("write", "PropertyDescriptor.has_unstable_default"),
+    }),
+    # Bokeh's PATCH-DOC messages with the page's reference table kept, out (Panel's dispatch_tornado and
+    # schedule_write_events) and in (Document.apply_json_patch).  Measured 7 December 2026
+    # (scripts/measure_frame_cost.py --frames 150, alternated, twice): a hydro frame 4.7-5.3 ms of CPU instead of
+    # 6.1-6.3 ms with Bokeh's create, for the hydro tab's document alone (a page's lessons panel adds models and
+    # cost); py-spy at 30 streaming students put the three at 17 %, 8 % and 12 % of the main thread.  The lever
+    # without a patch: frames on a channel of their own (a ReactiveESM with binary messages) or fewer models.
+    "app/server/fast_patch.py": ("Bokeh's messages without a per-message cost in the size of the page", {
+        ("read", "conn._socket"), ("read", "manager._freeze_count"), ("read", "manager._models"),
+        ("read", "manager._new_models"), ("read", "pdoc._WRITE_BLOCK"), ("read", "pdoc._WRITE_MSGS"),
+        ("read", "pdoc._dispatch_msgs"), ("read", "pdoc._dispatch_write_task"), ("read", "self.models._models"),
+        ("replace", "replace_if_unchanged(Document, 'apply_json_patch', apply_json_patch, APPLY_SOURCE_SHA256, "
+                    "ORIGINAL)"),
+        ("write", "deserializer._references"), ("write", "pdoc._WRITE_BLOCK[doc]"), ("write", "pdoc._WRITE_MSGS[doc]"),
+        ("write", "pdoc.dispatch_tornado"), ("write", "pdoc.schedule_write_events"), ("write", "serializer._references"),
+    }),
+    # A class joining at once (another work package owns this file; its docstring has the figures: 30 pages
+    # after 22.5-30.7 s instead of 48.0 s with two processes, the first page after 2.4 s instead of 32.9 s).
+    "app/server/joining.py": ("one accept per wake-up, one page built per turn, each page built once", {
+        ("read", "getattr(tornado.netutil, '_DEFAULT_BACKLOG', None)"), ("write", "tornado.netutil._DEFAULT_BACKLOG"),
+        ("read", "self._pending_sessions"), ("read", "self._sessions"),
+        ("replace", "replace_if_unchanged(ApplicationContext, 'create_session_if_needed', create_session_if_needed, "
+                    "CREATE_SOURCE_SHA256, ORIGINAL)"),
+        ("write", "ApplicationContext.create_session_if_needed"),
+        ("read", "state._session_key_funcs"), ("read", "state._sessions"),
+        ("write", "state._session_key_funcs[path]"), ("write", "state._sessions[path]"),
+    }),
+    # The live views in a notebook (another work package owns this file): Panel's notebook comms and held events.
+    "app/server/kernel.py": ("a notebook's live views pushed once per frame", {
+        ("read", "doc.callbacks._held_events"), ("write", "doc.callbacks._held_events"),
+        ("read", "getattr(comm, '_comm', None)"), ("read", "pn.state._hold"), ("read", "pn.state._views"),
+    }),
+    # The load test's simulated pages (a developer's tool, never served): Bokeh's client session has no public
+    # way to pull a document without blocking, apply a patch or read the next message.
+    "app/cli/loadtest_clients.py": ("the load test's simulated pages drive Bokeh's client session", {
+        ("read", "HTTPRequest._DEFAULTS"), ("read", "conn._pop_message"), ("read", "s._attach_document"),
+        ("read", "s._connection"), ("read", "s._connection._protocol"),
+        ("read", "s._connection._send_message_wait_for_reply"), ("read", "self.s._attach_document"),
+        ("read", "self.s._handle_patch"), ("read", "session._connection"),
+    }),
+}
+# Findings that are no library's of this scan (a private name the package never defines, on an object of
+# the standard library): not debt, listed so that the scan stays exact.
+NOT_LIBRARY = {
+    ("ringcore/cli/main.py", "read", "p._actions"),  # argparse's parser
 }
 
 
@@ -309,9 +352,11 @@ class Mine:
 
 def test_the_package_uses_no_private_library_api_beyond_the_listed_debt():
     found = scan(parse())
-    new = sorted(set(found) - set(ALLOWED))
-    gone = sorted(set(ALLOWED) - set(found))
-    print(f"{sum(found.values())} private-API uses in {len(found)} places, all listed")
+    allowed = {(path, kind, text) for path, (_, uses) in ALLOWED.items() for kind, text in uses} | NOT_LIBRARY
+    new = sorted(set(found) - allowed)
+    gone = sorted(allowed - set(found))
+    debt = sum(n for key, n in found.items() if key not in NOT_LIBRARY)
+    print(f"{debt} private-API uses of Panel/Bokeh/Tornado/Dask in {len(found) - len(NOT_LIBRARY)} places, all listed")
     assert not new, "private library API used (see this file's docstring; use a public API instead):\n" + \
         "\n".join(map(repr, new))
     assert not gone, "listed but no longer used: remove from ALLOWED:\n" + "\n".join(map(repr, gone))
