@@ -10,7 +10,7 @@ BIN     = $(VENV)/bin
 STAMP   = $(VENV)/.installed
 CHROMIUM ?= /usr/bin/chromium
 
-.PHONY: app test test-fast slow-list lint-imports install clean bench browser udunits tutorials-html docs docs-site bench-record wheel
+.PHONY: app test test-fast test-newest slow-list lint-imports install clean bench browser udunits tutorials-html docs docs-site bench-record wheel
 
 # The venv gets uv (https://docs.astral.sh/uv/), which installs the same releases as pip in a fraction of the time
 # (measured on the 2-core machine: 32 s against 116 s for ".[app,test,docs]", bytecode compiled by both, as
@@ -93,6 +93,21 @@ test: $(STAMP) browser udunits lint-imports
 # tests/slow_tests.txt: 2 s or more each here; `make slow-list` re-measures and updates the list)
 test-fast: $(STAMP) udunits lint-imports
 	$(BIN)/python -m pytest $(PYTEST_XDIST) -m "not slow" tests/core tests/app
+
+# the app on the newest Panel and Bokeh releases (the pins are lower bounds): a venv of its own with them upgraded,
+# then the headless tests of the app's websocket handler, its web cases and the public-API scan, and two browser
+# tests (one at a time).  The replacements of library code (fast_defaults, fast_patch, joining) install only over
+# the source they were written for: on a newer release the app runs on the library's own code
+NEWEST_VENV ?= .venv-newest
+NEWEST_TESTS ?= tests/app/test_socket_guard.py tests/app/test_web_cases.py tests/app/test_public_api_only.py
+NEWEST_BROWSER ?= tests/browser/test_browser.py tests/browser/test_browser_reload.py
+test-newest: browser
+	$(MAKE) --no-print-directory $(NEWEST_VENV)/.installed VENV=$(NEWEST_VENV)
+	@if test -x $(NEWEST_VENV)/bin/uv; then $(NEWEST_VENV)/bin/uv pip install -q --upgrade --python $(NEWEST_VENV)/bin/python panel bokeh; \
+	  else $(NEWEST_VENV)/bin/python -m pip install -q --upgrade panel bokeh; fi
+	$(NEWEST_VENV)/bin/python -c "import bokeh, panel; print('newest: panel', panel.__version__, 'bokeh', bokeh.__version__)"
+	$(NEWEST_VENV)/bin/python -m pytest -p no:xdist $(NEWEST_TESTS)
+	for t in $(NEWEST_BROWSER); do $(NEWEST_VENV)/bin/python -m pytest -p no:xdist $$t || exit 1; done
 
 slow-list: $(STAMP)
 	$(BIN)/python tests/slow_list.py

@@ -67,7 +67,8 @@ def start_server(port: int, log_path: Path, extra=(), compute: str | None = None
     app's default).  ``env_extra``: more environment variables of the server.
     """
     cmd = [sys.executable, "-m", "panel", "serve", "app/main.py", "--port", str(port), "--address", "127.0.0.1",
-           "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness", *extra]
+           "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness",
+           "--setup", "app/server/serve_setup.py", *extra]
     env = dict(os.environ)
     env["RINGLAB_COMPUTE"] = compute if compute is not None else os.environ.get("RINGLAB_COMPUTE", "threads")
     env.pop("RINGLAB_MAX_FRAME_RATE", None)

@@ -77,6 +77,9 @@ def start_server(port: int, num_procs: int, env: dict) -> subprocess.Popen:
     if num_procs > 1:  # as `ringlab serve --num-procs N`: a class joining at once is spread over the processes, and
         # a page's address answered from one template (this client opens no address; a browser does)
         cmd += ["--setup", joining.__file__, "--reuse-sessions"]
+    else:  # the app's websocket handler, as `ringlab serve` installs it (Panel runs a setup script after the
+        # server is made when it forks, too late to choose the handler: with N > 1 the server has Bokeh's)
+        cmd += ["--setup", str(PACKAGE_DIR / "server" / "serve_setup.py")]
     log = open(CONFIG.load_log, "w")
     proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT)
     t_end = time.time() + START_TIMEOUT_S

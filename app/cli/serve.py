@@ -24,7 +24,7 @@ from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.lessons.tutorials import docs_building, docs_dir, docs_start, static_dirs
 from ringlab.ui.a11y import page_template
 from ringlab.main import TITLE, configure, create_app
-from ringlab.server import joining, remote, routes
+from ringlab.server import joining, remote, routes, socket_guard
 from ringlab.server.cluster import LocalClusterProcess
 from ringlab.server.compute import ENV_MAX
 from ringlab.server.remote import ENV_MODE, ENV_SCHEDULER, ENV_WORKERS, MODES
@@ -188,6 +188,7 @@ def run(args) -> int:
     os.environ.update(p["env"])  # the options' variables, for this process (CONFIG) and the worker processes
     CONFIG.reload()
     configure()
+    socket_guard.install()  # the app's websocket handler, for the server made below (and its forked processes)
     cluster = shared_cluster(p["num_procs"])  # before the fork: every server process uses its workers
     if p["num_procs"] > 1:
         joining.balance_accepts()  # before the fork: a class joining at once is spread over the processes

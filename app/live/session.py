@@ -6,6 +6,7 @@ run's (sigma0, lambda_p) as a point.  ``ringlab.main.create_app`` makes one per 
 passes it to every tab factory that declares a ``runs`` parameter.  The tabs are built when first
 needed: :meth:`SessionRuns.tab` builds one by kind (a lesson preset, "Run this in ...").  Creating one also
 installs :mod:`ringlab.server.socket_guard` (a page that goes away mid-stream leaves no traceback),
+:mod:`ringlab.server.fast_patch` and :mod:`ringlab.server.fast_defaults` (Bokeh's costs in the size of a page),
 :mod:`ringlab.server.gc_policy` (garbage collection without pauses of seconds) and :func:`show_app_log`
 (the app's own ``pn.state.log`` lines reach the server log).
 """
@@ -20,7 +21,7 @@ import param
 from panel.io.logging import panel_log_handler
 from tornado.ioloop import IOLoop
 
-from ringlab.server import gc_policy, loop_lag, remote, socket_guard
+from ringlab.server import fast_defaults, fast_patch, gc_policy, loop_lag, remote, socket_guard
 
 MAX_POINTS = 200
 
@@ -69,7 +70,9 @@ class SessionRuns(param.Parameterized):
 
     def __init__(self, **params):
         super().__init__(**params)
-        socket_guard.install()  # once per server process (both idempotent)
+        socket_guard.install()  # once per server process (all three idempotent)
+        fast_patch.install()  # Bokeh's messages without its per-message cost in the size of the page
+        fast_defaults.install()  # Bokeh's property defaults once per model class
         show_app_log()
         remote.warm()  # the worker processes start with the first page, not at the first Start
         doc = pn.state.curdoc

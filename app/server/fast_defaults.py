@@ -125,7 +125,7 @@ def _unstable_default(self, obj):
 
 def install() -> bool:
     """Put the cached methods in place of Bokeh's if Bokeh's are the ones they were written for; returns
-    True if installed.  Called once per process by :func:`ringlab.server.socket_guard.install`."""
+    True if installed.  Called once per process by :class:`ringlab.live.session.SessionRuns`."""
     if ORIGINAL:
         return True
     originals = {name: getattr(_OWNERS[name], name) for name in SOURCE_SHA256}

@@ -70,12 +70,71 @@ def patch_doc_message(protocol, events):
     return msg
 
 
+def install_fast_dispatch() -> bool:
+    """Panel's ``dispatch_tornado`` (a page's socket free: the frame's message written at once) builds its
+    message with Bokeh's ``create`` and that page's whole reference table; the same message via
+    :func:`patch_doc_message`, written frame by frame as Panel does.  A frame refused by a socket that closed
+    meanwhile ends the message (the rest cannot be sent); the futures of the frames written fail quietly.
+    Returns True if installed (False: this Panel has no such function); called once per process by
+    :func:`install`."""
+    if "dispatch_tornado" in ORIGINAL:
+        return True
+    import asyncio
+    import json
+
+    from tornado.iostream import StreamClosedError
+    from tornado.websocket import WebSocketClosedError, WebSocketHandler
+
+    original = getattr(pdoc, "dispatch_tornado", None)
+    if original is None:
+        return False
+    ORIGINAL["dispatch_tornado"] = original
+
+    async def quiet(fut):
+        try:
+            await fut
+        except (WebSocketClosedError, StreamClosedError):
+            pass  # the page has gone; its session logs one line when freed
+
+    def dispatch_tornado(conn, events=None, msg=None):
+        socket = conn._socket
+        ws = getattr(socket, "ws_connection", None)
+        if ws is None or ws.is_closing():
+            return []
+        if msg is None:
+            if not events:
+                return []
+            msg = patch_doc_message(conn.protocol, events)  # Bokeh's message, its reference table kept
+        frames = [(msg.header_json, False), (msg.metadata_json, False), (msg.content_json, False)]
+        for buffer in msg.buffers:
+            frames += [(json.dumps(buffer.ref), False), (buffer.to_bytes(), True)]
+        futures = []
+        for data, binary in frames:
+            try:
+                fut = WebSocketHandler.write_message(socket, data, binary=binary)
+            except WebSocketClosedError:
+                break  # the page went away in the middle of this message: the rest cannot be sent
+            futures.append(asyncio.ensure_future(quiet(fut)))
+        return futures
+
+    dispatch_tornado.__doc__ = original.__doc__
+    pdoc.dispatch_tornado = dispatch_tornado
+    return True
+
+
+def install() -> dict:
+    """Install the three fast paths once per process (called by every :class:`ringlab.live.session.SessionRuns`);
+    returns which are installed (name -> bool)."""
+    return dict(dispatch=install_fast_dispatch(), scheduled_writes=install_scheduled_writes(),
+                fast_apply=install_fast_apply())
+
+
 def install_scheduled_writes() -> bool:
     """Panel's ``schedule_write_events`` (used when a page's socket is still busy writing the last
     frame, i.e. often while 30 pages stream) builds its message with Bokeh's ``create`` and that
     page's whole reference table: 8 % of the main thread at 30 students (py-spy).  The same message
     via :func:`patch_doc_message`.  Returns True if installed (False: this Panel has no such function);
-    called once per process by :func:`ringlab.server.socket_guard.install`."""
+    called once per process by :func:`install`."""
     if "schedule_write_events" in ORIGINAL:
         return True
     original = getattr(pdoc, "schedule_write_events", None)
@@ -124,6 +183,5 @@ def apply_json_patch(self, patch_json, *, setter=None) -> None:
 
 def install_fast_apply() -> bool:
     """Put :func:`apply_json_patch` in place of Bokeh's if Bokeh's is the copied one (its source's SHA-256
-    is :data:`APPLY_SOURCE_SHA256`); returns True if installed.  Called once per process by
-    :func:`ringlab.server.socket_guard.install`."""
+    is :data:`APPLY_SOURCE_SHA256`); returns True if installed.  Called once per process by :func:`install`."""
     return replace_if_unchanged(Document, "apply_json_patch", apply_json_patch, APPLY_SOURCE_SHA256, ORIGINAL)

@@ -110,8 +110,8 @@ def _admit() -> None:  # event-loop thread
 
 
 def _destroyed(doc) -> bool:
-    session = getattr(getattr(doc, "session_context", None), "_session", None)
-    return bool(getattr(session, "destroyed", False))
+    ctx = getattr(doc, "session_context", None)  # Bokeh's session context says whether its session is gone
+    return bool(getattr(ctx, "destroyed", False))
 
 
 def _watchdog() -> None:

@@ -164,11 +164,13 @@ def test_closed_page_frees_the_run_at_the_next_chunk(pool1, cls, monkeypatch):
     logged = []
     monkeypatch.setattr("panel.state.log", lambda msg, *a, **k: logged.append(msg))
     doc = FakeDoc()
+    sockets = {doc: 1}  # the page's open websockets, as the app's websocket handler counts them
+    monkeypatch.setattr("ringlab.server.socket_guard.live_connections", lambda d: sockets.get(d))
     with set_curdoc(doc):
         r = cls()
         r.start()
         doc.drain(0.5)
-        doc.session_context._session.connection_count = 0  # the tab was closed
+        sockets[doc] = 0  # the tab was closed
         doc.drain(60.0, stop=lambda: r.sim is None)
     assert r.sim is None and r.status == "Closed." and not r.running
     assert doc.drain(0.3) == 0  # nothing computes any more

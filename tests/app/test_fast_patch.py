@@ -137,3 +137,33 @@ def test_incoming_patches_apply_as_bokehs_own():
         assert fig.title.text == f"t{n}" and fig.title.id in doc.models._models
         assert fig.title not in doc.models._new_models  # the page has it: not sent back as new
     v.runner.close()
+
+
+def test_the_fast_writer_stops_quietly_at_a_socket_reset_mid_message():
+    """Panel's writer raises at frame 2 (tests/app/test_socket_guard.py); the fast one ends the message there
+    and its futures end quietly."""
+    import asyncio
+    import gc
+
+    import panel.io.document as pdoc
+    from test_socket_guard import fake_conn
+    assert fast_patch.install_fast_dispatch()
+    conn, msg = fake_conn()
+    msg.buffers = []
+    got, errors = [], []
+
+    async def go():
+        futures = pdoc.dispatch_tornado(conn, msg=msg)
+        got.append(len(futures))
+        await asyncio.gather(*futures)
+        got.append(pdoc.dispatch_tornado(conn, msg=msg))  # a closing socket: nothing written
+    loop = asyncio.new_event_loop()
+    loop.set_exception_handler(lambda lp, ctx: errors.append(ctx.get("message")))
+    try:
+        loop.run_until_complete(go())
+        gc.collect()
+        loop.run_until_complete(asyncio.sleep(0.01))
+    finally:
+        loop.close()
+    assert got == [1, []] and conn._socket.ws_connection.written == ["{}"]
+    assert not errors, errors

@@ -90,7 +90,7 @@ class HeldDoc:
     """A server document whose next-tick callbacks wait until the test runs them (Bokeh's queue)."""
 
     def __init__(self):
-        self.session_context = type("Ctx", (), {"_session": type("S", (), {"destroyed": False})()})()
+        self.session_context = type("Ctx", (), {"destroyed": False})()  # Bokeh's BokehSessionContext.destroyed
         self.queue = []
 
     def add_next_tick_callback(self, fn):
@@ -142,7 +142,7 @@ def test_callbacks_of_a_destroyed_session_free_their_places(empty_handoff, monke
         await asyncio.sleep(0.02)
         assert not live.queue  # the queue is full of the dead session's callbacks
         for d in dead:
-            d.session_context._session.destroyed = True  # Bokeh discards them with the session
+            d.session_context.destroyed = True  # Bokeh discards them with the session
         await asyncio.sleep(0.2)  # the watchdog looks again
         assert len(live.queue) == 1
         live.queue.pop()()

@@ -2,24 +2,26 @@
 
 A fake Tornado connection plays what a page that navigates away does to the server: the first
 frame written meets a connection reset, Tornado closes the stream at once (``is_closing()``) and
-the future of that write fails with ``WebSocketClosedError``.  Panel's unguarded writer raises
-out of the event loop's task on the next frame; the guarded one stops quietly.  Bokeh's handler
-drops messages of a page that has gone, sends nothing to it without a warning, and closes a
-connection already detached (by its keep-alive ping) without ``AssertionError``.
+the future of that write fails with ``WebSocketClosedError``.  Panel's writer raises out of the event
+loop's task on the next frame; the event loop's handler (``quiet_closed_sockets``) drops exactly that.
+The app's websocket handler drops messages of a page that has gone, sends nothing to it without a
+warning, and closes a connection already detached (by Bokeh's keep-alive ping) without ``AssertionError``.
 """
 from __future__ import annotations
 
 import asyncio
+import gc
 import logging
 from types import SimpleNamespace
 
 import pytest
+from bokeh.server import urls
 from bokeh.server.connection import ServerConnection
-from bokeh.server.views.ws import WSHandler
+from panel.io.server import WSHandler as PanelWSHandler
 from tornado.websocket import WebSocketClosedError, WebSocketHandler
 
 import panel.io.document as pdoc
-from ringlab.server import socket_guard
+from ringlab.server import fast_patch, socket_guard
 
 
 class ResetOnFirstWrite:
@@ -48,112 +50,166 @@ def fake_conn():
     return SimpleNamespace(_socket=socket), msg
 
 
-def run_collecting_loop_errors(coro_fn):
-    """Run ``coro_fn()`` on a fresh loop; return the errors the loop reported (never-retrieved ones)."""
+def errors_of_panel_writer(quiet: bool) -> list:
+    """Panel's writer on a socket reset at its first frame, in a task nobody awaits (as Panel's own
+    ``_dispatch_msgs``); the errors the event loop reported."""
     errors = []
     loop = asyncio.new_event_loop()
     loop.set_exception_handler(lambda lp, ctx: errors.append(ctx.get("message")))
+    if quiet:
+        socket_guard.quiet_closed_sockets(loop)
+    conn, msg = fake_conn()
+
+    async def write():
+        fast_patch.ORIGINAL.get("dispatch_tornado", pdoc.dispatch_tornado)(conn, msg=msg)  # Panel's own
+
+    async def go():
+        asyncio.ensure_future(write())
+        await asyncio.sleep(0.01)
     try:
-        loop.run_until_complete(coro_fn())
-        loop.run_until_complete(asyncio.sleep(0.01))
-        import gc
+        loop.run_until_complete(go())
         gc.collect()
         loop.run_until_complete(asyncio.sleep(0.01))
     finally:
         loop.close()
+    assert conn._socket.ws_connection.written == ["{}"]  # frame 1 written, frame 2 raised
     return errors
 
 
-def test_unguarded_panel_writer_raises_mid_message():
-    """The upstream race the guard exists for (fails if Panel ever fixes it: then drop the guard)."""
-    original = socket_guard.ORIGINALS.get("dispatch_tornado", pdoc.dispatch_tornado)
-    conn, msg = fake_conn()
-    raised = []
+def test_panels_writer_raises_mid_message_and_the_quiet_loop_drops_only_that():
+    """The upstream race (fails if Panel ever fixes it: then quiet_closed_sockets can go)."""
+    assert any("never retrieved" in (e or "") for e in errors_of_panel_writer(quiet=False))
+    assert errors_of_panel_writer(quiet=True) == []
+    errors = []
+    loop = asyncio.new_event_loop()
+    loop.set_exception_handler(lambda lp, ctx: errors.append(ctx.get("message")))
+    socket_guard.quiet_closed_sockets(loop)
+
+    async def fails():
+        raise ValueError("a real error")
 
     async def go():
-        try:
-            original(conn, msg=msg)
-        except WebSocketClosedError:
-            raised.append(True)
-    errors = run_collecting_loop_errors(go)
-    assert raised == [True]
-    assert any("never retrieved" in (e or "") for e in errors), errors  # the lost future of frame 1
+        asyncio.ensure_future(fails())
+        await asyncio.sleep(0.01)
+    try:
+        loop.run_until_complete(go())
+        gc.collect()
+        loop.run_until_complete(asyncio.sleep(0.01))
+    finally:
+        loop.close()
+    assert any("never retrieved" in (e or "") for e in errors)  # any other error still reaches the handler
 
 
-def test_guarded_panel_writer_stops_quietly():
-    socket_guard.install()
-    conn, msg = fake_conn()
-    got = []
-
-    async def go():
-        futures = pdoc.dispatch_tornado(conn, msg=msg)  # unguarded: WebSocketClosedError at frame 2
-        got.append(len(futures))
-        await asyncio.gather(*futures)  # end quietly
-        got.append(pdoc.dispatch_tornado(conn, msg=msg))  # a closing socket: nothing written
-    errors = run_collecting_loop_errors(go)
-    assert got == [1, []] and conn._socket.ws_connection.written == ["{}"]
-    assert not errors, errors
+class Doc:
+    """A server session's document (weakly referable, as Bokeh's)."""
+    session_context = object()
 
 
-def fake_handler(closing: bool, detached: bool):
-    h = object.__new__(WSHandler)
+def fake_handler(closing: bool, detached: bool, doc=None):
+    doc = doc if doc is not None else Doc()
+    h = object.__new__(socket_guard.AppWSHandler)
     h.ws_connection = SimpleNamespace(is_closing=lambda: closing)
     lost = []
     h.application = SimpleNamespace(client_lost=lost.append)
     h.connection = object.__new__(ServerConnection)  # Bokeh's own, whose .session asserts it is attached
-    h.connection._session = None if detached else SimpleNamespace(notify_connection_lost=lambda: None)
+    h.connection._session = None if detached else SimpleNamespace(notify_connection_lost=lambda: None, document=doc)
     h.close_code, h.close_reason = 1001, None
     h.lost = lost
     return h
 
 
-def test_bokeh_handler_drops_messages_and_answers_of_a_page_that_has_gone(caplog):
-    socket_guard.install()
-    h = fake_handler(closing=True, detached=True)
-    asyncio.run(h.on_message("a fragment"))  # unguarded: AssertionError in the handler, logged with a traceback
-    asyncio.run(h._handle(object()))
+class Msg:
+    msgtype = "OK"
 
-    class Msg:
-        async def send(self, conn):
+    def __init__(self, fail=False):
+        self.fail, self.sent = fail, 0
+
+    async def send(self, conn):
+        if self.fail:
             raise WebSocketClosedError()
-    open_h = fake_handler(closing=False, detached=False)
-    # a handler of our own on bokeh's logger (other tests, e.g. dask's, reconfigure logging and propagation)
+        self.sent += 1
+
+
+def bokeh_records(fn) -> list:
+    """Log records of Bokeh's loggers while ``fn()`` runs (a handler of our own: other tests, e.g. dask's,
+    reconfigure logging and propagation)."""
     records = []
     catcher = logging.Handler(logging.DEBUG)
     catcher.emit = records.append
     bokeh_log = logging.getLogger("bokeh")
-    saved = (bokeh_log.level, bokeh_log.disabled)
+    ws_log = logging.getLogger("bokeh.server.views.ws")
+    saved = (bokeh_log.level, bokeh_log.disabled, ws_log.disabled)
     bokeh_log.addHandler(catcher)
     bokeh_log.setLevel(logging.INFO)
-    bokeh_log.disabled = False
-    ws_log = logging.getLogger("bokeh.server.views.ws")
-    ws_saved = ws_log.disabled
-    ws_log.disabled = False
+    bokeh_log.disabled = ws_log.disabled = False
     try:
-        asyncio.run(open_h.send_message(Msg()))  # the write finds the reset: no warning
-        h.on_close()  # already detached by the keep-alive: no AssertionError, clean-up done
+        fn()
     finally:
         bokeh_log.removeHandler(catcher)
         bokeh_log.setLevel(saved[0])
-        bokeh_log.disabled = saved[1]
-        ws_log.disabled = ws_saved
+        bokeh_log.disabled, ws_log.disabled = saved[1], saved[2]
+    return records
+
+
+def test_the_handler_drops_messages_and_answers_of_a_page_that_has_gone():
+    h = fake_handler(closing=True, detached=True)
+    asyncio.run(h.on_message("a fragment"))  # Bokeh's: AssertionError in its handler, logged with a traceback
+    msg = Msg()
+    asyncio.run(h.send_message(msg))
+    assert msg.sent == 0
+    open_h = fake_handler(closing=False, detached=False)
+
+    def go():
+        asyncio.run(open_h.send_message(Msg(fail=True)))  # the write finds the reset: no warning
+        h.on_close()  # already detached by the keep-alive: no AssertionError, clean-up done
+    records = bokeh_records(go)
     assert h.lost == [h.connection]
-    assert not [r for r in records if "Failed sending" in r.getMessage()]
     assert [r.getMessage() for r in records] == ["WebSocket connection closed: code=1001, reason=None"]
 
 
-def test_unguarded_bokeh_on_close_of_a_detached_connection_fails():
+def test_bokehs_on_close_of_a_detached_connection_fails():
+    """The upstream behaviour the handler's on_close exists for."""
     h = fake_handler(closing=True, detached=True)
     with pytest.raises(AssertionError):
-        socket_guard.ORIGINALS.get("on_close", WSHandler.on_close)(h)
+        PanelWSHandler.on_close(h)
 
 
-def test_live_connections_counts_open_sockets_only():
-    def conn(closing):
-        return SimpleNamespace(_socket=SimpleNamespace(ws_connection=SimpleNamespace(is_closing=lambda: closing)))
-    gone = SimpleNamespace(_socket=SimpleNamespace(ws_connection=None))  # Tornado's after the close
-    other = SimpleNamespace(_socket=object())  # not a Tornado websocket: counted as open
-    session = SimpleNamespace(_subscribed_connections=[conn(False), conn(True), gone, other])
-    doc = SimpleNamespace(session_context=SimpleNamespace(_session=session))
+def test_an_error_reply_carries_a_short_text_only():
+    h = fake_handler(closing=False, detached=False)
+    sent = []
+
+    class Error:
+        msgtype = "ERROR"
+        content = dict(text="KeyError('x')", traceback='File "/srv/lib/bokeh/document.py", line 1')
+
+        async def send(self, conn):
+            sent.append(dict(self.content))
+    asyncio.run(h.send_message(Error()))
+    assert sent == [dict(text=socket_guard.ERROR_TEXT, traceback=None)]
+
+
+def test_live_connections_counts_the_open_sockets_of_a_page_and_its_leaving_is_reported():
+    doc = Doc()
+    left = []
+    doc.add_next_tick_callback = lambda cb: left.append(cb)
+    assert socket_guard.live_connections(doc) is None  # no websocket has connected yet
+    assert socket_guard.live_connections(SimpleNamespace(session_context=None)) is None  # not a server session
+    a, b = fake_handler(False, False, doc), fake_handler(False, False, doc)
+    for h in (a, b):
+        asyncio.run(h.send_message(Msg()))  # the ACK: the handler is known from now on
     assert socket_guard.live_connections(doc) == 2
-    assert socket_guard.live_connections(SimpleNamespace(session_context=None)) is None
+    socket_guard.on_page_left(doc, "callback")
+    a.ws_connection = SimpleNamespace(is_closing=lambda: True)
+    a.on_close()
+    assert socket_guard.live_connections(doc) == 1 and left == []  # the page has another open socket
+    b.ws_connection = None  # Tornado's after the close
+    b.on_close()
+    assert socket_guard.live_connections(doc) == 0 and left == ["callback"]
+
+
+def test_install_makes_the_app_handler_the_websocket_route_of_new_servers(monkeypatch):
+    monkeypatch.setattr(urls, "per_app_patterns", list(urls.per_app_patterns))
+    monkeypatch.setitem(socket_guard._INSTALLED, "handler", False)
+    assert socket_guard.install_handler()
+    ws = [r for r in urls.per_app_patterns if r[0] == r"/ws"]
+    assert ws == [(r"/ws", socket_guard.AppWSHandler)]

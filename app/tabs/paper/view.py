@@ -24,6 +24,7 @@ from ringcore.experiments.longruns import FULL_COST, run_title
 
 from ringlab.server import kernel
 from ringlab.server.session_end import on_session_end
+from ringlab.server.socket_guard import live_connections
 from ringlab.tabs.paper.playback import Playback, SPEEDS, frame_at, list_runs, load_run
 from ringlab.tabs.paper.plots import PaperPlots, WINDOWS
 from ringlab.lessons.tutorials import docs_link
@@ -216,8 +217,7 @@ class PaperView(pn.viewable.Viewer):
 
     def _page_gone(self) -> bool:
         """True once this session had a websocket connection and has none any more (tab closed)."""
-        session = getattr(getattr(pn.state.curdoc, "session_context", None), "_session", None)
-        n = getattr(session, "connection_count", None)
+        n = live_connections(pn.state.curdoc)  # None: not a served page, or its websocket not yet connected
         self._had_connection = self._had_connection or bool(n)
         return n == 0 and self._had_connection
 
