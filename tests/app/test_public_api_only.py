@@ -81,10 +81,11 @@ ALLOWED = {
         ("read", "state._session_key_funcs"), ("read", "state._sessions"),
         ("write", "state._session_key_funcs[path]"), ("write", "state._sessions[path]"),
     }),
-    # The live views in a notebook (another work package owns this file): Panel's notebook comms and held events.
+    # The live views in a notebook: Panel keeps its only record of which document and comm belong to a displayed
+    # view in pn.state._views, and no public way to see whether events are held (whether a push is due).
     "app/server/kernel.py": ("a notebook's live views pushed once per frame", {
         ("read", "doc.callbacks._held_events"), ("write", "doc.callbacks._held_events"),
-        ("read", "getattr(comm, '_comm', None)"), ("read", "pn.state._hold"), ("read", "pn.state._views"),
+        ("read", "pn.state._hold"), ("read", "pn.state._views"),
     }),
     # The load test's simulated pages (a developer's tool, never served): Bokeh's client session has no public
     # way to pull a document without blocking, apply a patch or read the next message.
