@@ -89,7 +89,7 @@ def filled_from(times, sigma_rows, fill, threshold=0.5) -> float:
 
 # ---------------------------------------------------------------------------------------- vdispnb
 @recipe("vdispnb", "fig:vdispnb", "N-body <c>(sigma0) and collision frequency, with hydro points "
-        "(tau = 1.5, Omega_z = 3.6 and 2)", "3.7 min", "1460 h, beyond 2 cores")
+        "(tau = 1.5, Omega_z = 3.6 and 2)", "3.7 min", "~265 CPU h, beyond 2 cores")
 def vdispnb(mode, out):
     sigmas = pick(mode, (0.0, 800.0), (0.0, 100.0, 200.0, 300.0, 450.0, 600.0, 700.0, 800.0, 900.0))
     sets = pick(mode, ("tau15",), ("tau15", "tau15_oz2"))
@@ -136,7 +136,7 @@ def vdispnb(mode, out):
 
 # ---------------------------------------------------------------------------------------- boxdouble
 @recipe("boxdouble", "fig:boxdouble", "N-body box-size tests: a saturated box tiled to twice its size; "
-        "two box sizes (x4) at sigma0 = 300", "5.8 min", "120 h, beyond 2 cores")
+        "two box sizes (x4) at sigma0 = 300", "5.8 min", "~22 CPU h, beyond 2 cores")
 def boxdouble(mode, out):
     L, L_y, t1, t2 = pick(mode, 150.0, 2000.0), pick(mode, 10.0, 10.0), pick(mode, 50.0, 5000.0), pick(mode, 25.0, 3000.0)
     sizes, t3 = pick(mode, (150.0, 600.0), (2000.0, 8000.0)), pick(mode, 60.0, 5000.0)
@@ -229,7 +229,7 @@ def _radvar_result(box, fill):
 
 
 @planned("radvar", "fig:radvar", "N-body saturation wavelength vs particle radius, sigma0 = 900, periodic and "
-         "spreading boundaries (Eq. (56))", "2.7 min", "210 h, beyond 2 cores", tasks=_radvar_tasks)
+         "spreading boundaries (Eq. (56))", "2.7 min", "40 CPU h, 21 h on 2 cores", tasks=_radvar_tasks)
 def radvar(mode, out, models, st, partial=None):
     pb_lab = [k for k in models if k.startswith("pb_")]
     sb_lab = [k for k in models if k.startswith("sb_")]

@@ -59,4 +59,6 @@ def test_moved_recipes_registered():
     rec = load_all()
     for name in ("vdispnb", "boxdouble", "radvar"):
         assert rec[name].func.__module__ == R.__name__
-        assert "beyond 2 cores" in rec[name].full_cost  # full mode: say it does not fit
+        # full mode: the cost in CPU hours, and whether it fits a 2-core machine
+        assert "CPU h" in rec[name].full_cost
+        assert ("beyond 2 cores" in rec[name].full_cost) == (name != "radvar")
