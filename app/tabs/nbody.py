@@ -34,6 +34,7 @@ from ringlab.ui.layout import responsive_grid, settings_beside, wrap_row
 from ringlab.ui.palette import LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
 from ringlab.ui.style import CSS, EXPLANATION_FONT
+from ringlab.ui.tab import TabBase
 
 PARTICLE_PERIOD_S = 0.3  # particle views sent at most ~3 times per second
 C0_COLOR = "#c2185b"
@@ -56,7 +57,7 @@ radial self-gravity of the particle layer, **Eq. (54)**.
 """)
 
 
-class NBodyView(pn.viewable.Viewer):
+class NBodyView(TabBase, pn.viewable.Viewer):
     """The "N-body" tab of one session."""
 
     runner = param.ClassSelector(class_=NBodyRunner)
@@ -286,16 +287,7 @@ class NBodyView(pn.viewable.Viewer):
         show_message(self.message, (r.problem + ". The box shown keeps its last valid settings.") if r.problem else "")
         show_message(self.blowup, r.blowup)
 
-    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab)
-    @classmethod
-    def for_session(cls, runs):
-        """This tab with the session's runs (its runner is registered there)."""
-        return cls(runs=runs)
-
-    def set_tabs(self, tabs) -> None:
-        """This tab shows no other tab."""
-        return None
-
+    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab; the rest: TabBase)
     def set_shown(self, shown: bool) -> None:
         """Draw frames only while shown: a hidden tab sends nothing, the newest state is drawn when shown."""
         self.shown = bool(shown)
@@ -303,6 +295,3 @@ class NBodyView(pn.viewable.Viewer):
     def start_runner(self):
         """The N-body box."""
         return self.runner
-
-    def __panel__(self):
-        return self._layout

@@ -1,10 +1,11 @@
 """What the app shell (:mod:`ringlab.main`) calls on a tab: the :class:`Tab` protocol.
 
-Every tab class of the lab defines each of these methods itself (a test checks the class bodies), and the
-shell calls nothing else on a tab: it builds the tab for a session (:meth:`Tab.for_session`), hands it the
+Every tab class of the lab derives from :class:`TabBase` (the protocol's common answers, each said in its
+docstring) and defines in its own body what differs (a test checks each method is the tab's or the base's), and
+the shell calls nothing else on a tab: it builds the tab for a session (:meth:`Tab.for_session`), hands it the
 page's ``pn.Tabs`` (:meth:`Tab.set_tabs`), tells it whether it is the tab shown (:meth:`Tab.set_shown`),
 presses the Start of its run for a class start link (:meth:`Tab.start_runner`) and lays it out
-(``__panel__``).  A new tab implements the protocol and is listed in ``ringlab.main.TABS``.
+(``__panel__``).  A new tab derives from :class:`TabBase`, overrides what differs and is listed in ``ringlab.main.TABS``.
 """
 from __future__ import annotations
 
@@ -33,3 +34,29 @@ class Tab(Protocol):
 
     def __panel__(self):
         """The tab's layout (a Panel object)."""
+
+
+class TabBase:
+    """The :class:`Tab` protocol's common answers, for a tab class to derive from (before ``pn.viewable.Viewer``)
+    and override where it differs: built with the session's runs, shows no other tab, streams nothing (so being
+    shown changes nothing), has no run to start, laid out as its ``_layout``."""
+
+    @classmethod
+    def for_session(cls, runs):
+        """This tab with the session's runs."""
+        return cls(runs=runs)
+
+    def set_tabs(self, tabs) -> None:
+        """This tab shows no other tab."""
+        return None
+
+    def set_shown(self, shown: bool) -> None:
+        """Nothing streams here: what the tab shows does not depend on its being shown."""
+        return None
+
+    def start_runner(self):
+        """None: no run to start."""
+        return None
+
+    def __panel__(self):
+        return self._layout

@@ -1,5 +1,5 @@
-"""Every tab of the page implements the Tab protocol (ringlab.ui.tab) in its own class body, and the shell
-(ringlab.main) reaches a tab through it only."""
+"""Every tab of the page implements the Tab protocol (ringlab.ui.tab): in its own class body, or by TabBase's
+common answers, and the shell (ringlab.main) reaches a tab through it only."""
 from __future__ import annotations
 
 import inspect
@@ -8,14 +8,15 @@ import pytest
 
 from ringlab import main
 from ringlab.live.session import SessionRuns
-from ringlab.ui.tab import TAB_METHODS, Tab
+from ringlab.ui.tab import TAB_METHODS, Tab, TabBase
 
 
 @pytest.mark.parametrize("title,cls", main.TABS, ids=[t for t, _ in main.TABS])
 def test_each_tab_class_implements_the_protocol_itself(title, cls):
-    assert issubclass(cls, Tab)
+    assert issubclass(cls, Tab) and issubclass(cls, TabBase)
     for name in TAB_METHODS:
-        assert name in vars(cls), f"{cls.__name__} does not define {name} itself"
+        owner = next(k for k in cls.__mro__ if name in vars(k))
+        assert owner in (cls, TabBase), f"{cls.__name__}.{name} comes from {owner.__name__}, not the tab or TabBase"
         ours = inspect.signature(getattr(Tab, name))
         theirs = inspect.signature(getattr(cls, name))
         assert list(theirs.parameters) == list(ours.parameters), (cls.__name__, name)

@@ -34,6 +34,7 @@ from ringlab.ui.layout import responsive_grid, wrap_row
 from ringlab.ui.present import scalable
 from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
 from ringlab.ui.style import CSS, EXPLANATION_FONT
+from ringlab.ui.tab import TabBase
 
 IMAGE_PERIOD_S = 0.25  # both space-time images are sent at most 4 times per second
 
@@ -68,7 +69,7 @@ restarts **both** at orbit 0, so the comparison stays fair.
 """)
 
 
-class CompareView(pn.viewable.Viewer):
+class CompareView(TabBase, pn.viewable.Viewer):
     """The "Compare" tab of one session."""
 
     runner = param.ClassSelector(class_=CompareRunner)
@@ -243,23 +244,13 @@ class CompareView(pn.viewable.Viewer):
         self.status.object = f'<div class="status" id="compare-status">{html.escape(r.status)}</div>'
         show_message(self.blowup, r.blowup)
 
-    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab)
+    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab; the rest: TabBase)
     @classmethod
     def for_session(cls, runs):
         """This tab for a session: its two runs are its own (``runs`` is not used)."""
         return cls()
 
-    def set_tabs(self, tabs) -> None:
-        """This tab shows no other tab."""
-        return None
-
-    def set_shown(self, shown: bool) -> None:
-        """The pair's frames are paced by the page's acknowledgements whether shown or not."""
-        return None
-
     def start_runner(self):
-        """The pair of runs (one Start starts both)."""
+        """The pair of runs (one Start starts both; their frames are paced by the page's acknowledgements
+        whether shown or not)."""
         return self.runner
-
-    def __panel__(self):
-        return self._layout

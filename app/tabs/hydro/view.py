@@ -37,6 +37,7 @@ from ringlab.ui.layout import responsive_grid, settings_beside, wrap_row
 from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
 from ringlab.ui.style import CSS, EXPLANATION_FONT
+from ringlab.ui.tab import TabBase
 
 IMAGE_PERIOD_S = 0.25  # the space-time image is sent at most 4 times per second
 READOUT_PERIOD_S = 0.5  # readout cards and the lambda_p note (HTML panes, ~2-5 ms of server CPU per update) at most
@@ -67,7 +68,7 @@ If the scheme fails (a "blow-up": a density or temperature turns negative), the 
 """)
 
 
-class HydroView(pn.viewable.Viewer):
+class HydroView(TabBase, pn.viewable.Viewer):
     """The "Hydrodynamics" tab of one session."""
 
     runner = param.ClassSelector(class_=HydroRunner)
@@ -354,16 +355,7 @@ class HydroView(pn.viewable.Viewer):
         b["step"].disabled = r.running or bool(r.blowup)
         self.status.object = f'<div class="status" id="hydro-status">{r.status}</div>'
 
-    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab)
-    @classmethod
-    def for_session(cls, runs):
-        """This tab with the session's runs (its runner is registered there)."""
-        return cls(runs=runs)
-
-    def set_tabs(self, tabs) -> None:
-        """This tab shows no other tab."""
-        return None
-
+    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab; the rest: TabBase)
     def set_shown(self, shown: bool) -> None:
         """Draw frames only while shown: a hidden tab sends nothing, the newest state is drawn when shown."""
         self.shown = bool(shown)
@@ -371,6 +363,3 @@ class HydroView(pn.viewable.Viewer):
     def start_runner(self):
         """The hydro run."""
         return self.runner
-
-    def __panel__(self):
-        return self._layout

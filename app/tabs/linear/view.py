@@ -32,6 +32,7 @@ from ringlab.tabs.linear.carry import CarryButtons
 from ringlab.ui.layout import responsive_grid, settings_beside
 from ringlab.ui.palette import CURRENT_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.style import BASE_CSS as CSS
+from ringlab.ui.tab import TabBase
 
 PLOTS = (  # key in the curve dicts, y-axis label, title
     # the curves are the exact solution of Det M = 0, eq. (16); eqs. (21), (22) are only its long-wave limits
@@ -121,7 +122,7 @@ def _sigma_color(s: float) -> str:
     return Viridis256[int(round(min(max(s / 1000.0, 0.0), 1.0) * 200))]
 
 
-class LinearView(pn.viewable.Viewer):
+class LinearView(TabBase, pn.viewable.Viewer):
     """The "Linear theory" tab for one session (controls, readouts, three plots, explanation)."""
 
     controls = param.ClassSelector(class_=RingControls)
@@ -307,23 +308,7 @@ class LinearView(pn.viewable.Viewer):
                   for lab, c, d in zip(markers["mlabel"], markers["color"], markers["dash"])]
         return f'<div class="key" id="linear-key">{"".join(items)}</div>'
 
-    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab)
-    @classmethod
-    def for_session(cls, runs):
-        """This tab with the session's runs ("Run this in ..." reaches the other tabs' runners)."""
-        return cls(runs=runs)
-
+    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab; the rest: TabBase)
     def set_tabs(self, tabs) -> None:
         """Keep the page's tabs: "Run this in ..." shows another tab."""
         self.tabs = tabs
-
-    def set_shown(self, shown: bool) -> None:
-        """Nothing streams here: the curves follow the settings whether shown or not."""
-        return None
-
-    def start_runner(self):
-        """None: linear theory has no run to start."""
-        return None
-
-    def __panel__(self):
-        return self._layout

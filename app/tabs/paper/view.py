@@ -34,6 +34,7 @@ from ringlab.ui.frame_gate import FrameGate
 from ringlab.ui.layout import responsive_grid, wrap_row
 from ringlab.ui.readouts import fmt, message_html, readout_cards
 from ringlab.ui.style import CSS
+from ringlab.ui.tab import TabBase
 
 PERIOD_MS = 150  # playback clock period (~7 frames/s)
 TEXT_PERIOD_S = 0.5  # readouts and slider follow at most twice a second
@@ -70,7 +71,7 @@ def paper_html(label: str) -> str:
     return span(shown) if shown else html.escape(label)
 
 
-class PaperView(pn.viewable.Viewer):
+class PaperView(TabBase, pn.viewable.Viewer):
     """The "Paper results" tab of one session."""
 
     run = param.Selector(default=None, objects=[], label="Long run", doc="The run to browse and replay.")
@@ -274,23 +275,9 @@ class PaperView(pn.viewable.Viewer):
                 ("paper-ekin-now", "e<sub>kin</sub> at this orbit", fmt(fr["e_kin"], ".3g"),
                  "σ₀ (R_p Ω)², R_p = 1 m")]
 
-    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab)
+    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab; the rest: TabBase)
     @classmethod
     def for_session(cls, runs):
-        """This tab for a session: the shipped long runs (``runs`` is not used)."""
+        """This tab for a session: the shipped long runs (``runs`` is not used; playback goes on as the reader
+        left it, paced by the page's acknowledgements)."""
         return cls()
-
-    def set_tabs(self, tabs) -> None:
-        """This tab shows no other tab."""
-        return None
-
-    def set_shown(self, shown: bool) -> None:
-        """Playback goes on as the reader left it; its frames are paced by the page's acknowledgements."""
-        return None
-
-    def start_runner(self):
-        """None: playback of shipped runs, no run to start."""
-        return None
-
-    def __panel__(self):
-        return self._layout

@@ -38,6 +38,7 @@ from ringlab.ui.layout import settings_beside
 from ringlab.ui.palette import EMP_COLOR, LP_COLOR, MAXG_COLOR
 from ringlab.ui.readouts import message_html
 from ringlab.ui.style import CSS
+from ringlab.ui.tab import TabBase
 
 SWEEP_FILE = DATA_DIR / "saturation_sweep.nc"
 SIGMA0_GRID = np.linspace(25.0, 1000.0, 30)  # [kg/m^2]
@@ -146,7 +147,7 @@ def load_sweeps(paths) -> tuple[list, str]:
     return pts, " ".join(n for n in notes if n)
 
 
-class SaturationView(pn.viewable.Viewer):
+class SaturationView(TabBase, pn.viewable.Viewer):
     """The "Saturation" tab of one session."""
 
     param_set = param.Selector(default="tau15", objects=list(set_labels().values()), label="Parameter set",
@@ -312,24 +313,3 @@ class SaturationView(pn.viewable.Viewer):
         main = pn.Column(self._key(), pn.pane.Bokeh(self.fig, sizing_mode="stretch_width"), one_line, lb_note,
                          self.wave_card, explanation, sizing_mode="stretch_width")
         return settings_beside(head, controls, main, main_min_px=560, settings_first=True)
-
-    # ------------------------------------------------------------------ the Tab protocol (ringlab.ui.tab)
-    @classmethod
-    def for_session(cls, runs):
-        """This tab with the session's runs (it reads the session's hydro run)."""
-        return cls(runs=runs)
-
-    def set_tabs(self, tabs) -> None:
-        """This tab shows no other tab."""
-        return None
-
-    def set_shown(self, shown: bool) -> None:
-        """Nothing streams here: the sweeps and curves are drawn when settings change."""
-        return None
-
-    def start_runner(self):
-        """None: the tab shows shipped sweeps and theory, no run to start."""
-        return None
-
-    def __panel__(self):
-        return self._layout
