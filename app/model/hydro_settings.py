@@ -45,9 +45,9 @@ def toomre_problem(p) -> str:
     """Why a live hydro run refuses ``p`` (a RingParams) for its self-gravity ('' if it does not):
     Toomre Q0 < MIN_Q0 = 1 is gravitationally unstable and the axisymmetric scheme blows up."""
     if p.sigma0 > 0 and p.Q0 < MIN_Q0:
-        return (f"Toomre Q0 = {p.Q0:.2f} < {MIN_Q0:g} at sigma0 = {p.sigma0:g} kg/m^2: the ring is "
+        return (f"Toomre Q0 = {p.Q0:.2f} < {MIN_Q0:g} at sigma0 = {p.sigma0:g} kg/m²: the ring is "
                 "gravitationally unstable (clumps, not waves) and the axisymmetric hydro scheme blows "
-                f"up; choose sigma0 below {p.sigma0 * p.Q0 / MIN_Q0:.0f} kg/m^2")
+                f"up; choose sigma0 below {p.sigma0 * p.Q0 / MIN_Q0:.0f} kg/m²")
     return ""
 
 
@@ -117,11 +117,11 @@ class HydroSettings(RingControls):
                               doc="How long each step is. 'fast': the largest step that stays stable, about 10 "
                                   "times longer than the paper's cautious rule, so runs go about 10 times "
                                   "faster.")
-    T_floor = param.Selector(default=0.01, objects={"0.01 T0 (default)": 0.01, "0.001 T0": 0.001,
+    T_floor = param.Selector(default=0.01, objects={"0.01 T₀ (default)": 0.01, "0.001 T₀": 0.001,
                                                     "off (the paper's scheme)": 0.0},
                              label="Temperature floor",
                              doc="Non-isothermal model: the temperature T is kept above this fraction of its "
-                                 "ground-state value T0. Without it (as in the paper), strongly nonlinear runs stop "
+                                 "ground-state value T₀. Without it (as in the paper), strongly nonlinear runs stop "
                                  "when T reaches 0 where the shear heating vanishes.")
     buffer_on = param.Boolean(default=False, label="Buffer zone on",
                               doc="Lower the viscosity exponent β inside a radial zone so waves are damped "

@@ -359,7 +359,7 @@ def test_blow_up_disables_step_and_start_and_names_the_floor():
     r.tick()
     assert r.blowup and v.buttons["step"].disabled and v.buttons["start"].disabled
     assert not v.buttons["reset"].disabled
-    assert "temperature floor off" in v.blowup.object and "0.01 T0" in v.blowup.object
+    assert "temperature floor off" in v.blowup.object and "0.01 T₀" in v.blowup.object
     r.reset()
     assert not v.buttons["step"].disabled and not v.buttons["start"].disabled and not v.blowup.visible
 

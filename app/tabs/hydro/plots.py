@@ -121,7 +121,7 @@ class HydroPlots:
         self.allowed_lp = None  # lambda_p the allowed-wavelength marks and the PSD's markers were drawn for
         self._series_sent = None  # (series buffer, its stride, points) as last sent to the page
         self.psd_markers = ColumnDataSource(dict(x=[], color=[], dash=[], label=[]))
-        fig = new_figure(publish("Power spectrum of σ, Eq. (38)", html_out=False), "wavelength λ [m]", "PSD",
+        fig = new_figure(publish("Power spectrum of σ, Eq. (38)", html_out=False), "wavelength λ [m]", "PSD (its maximum = 1)",
                          height=260, x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
         r = fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR)
         fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.psd_markers)

@@ -343,7 +343,7 @@ class HydroView(TabBase, pn.viewable.Viewer):
         sim = r.sim
         if text and sim is not None and not sim.params.isothermal and sim.options.T_floor == 0:
             text += (" This run had the temperature floor off (the paper's scheme): strongly nonlinear runs stop "
-                     "when T reaches 0; set 'Temperature floor' to 0.01 T0 and press Reset to let it go on.")
+                     "when T reaches 0; set 'Temperature floor' to 0.01 T₀ and press Reset to let it go on.")
         return text
 
     def _on_running(self, *_):
