@@ -7,8 +7,9 @@ HoloViews); every figure has Bokeh's "save" tool for a PNG.
 from __future__ import annotations
 
 import math
+import re
 
-from bokeh.models import ColumnDataSource, CustomJSTickFormatter, DataRange1d, FixedTicker, Range1d
+from bokeh.models import ColumnDataSource, CustomJSTickFormatter, DataRange1d, FixedTicker, Range1d, SaveTool
 from bokeh.plotting import figure
 
 from ringlab.ui.cite import publish
@@ -25,11 +26,21 @@ def style_figure(fig, title_size: str = "14px") -> None:
     fig.toolbar.logo = None
 
 
+def png_name(title: str) -> str:
+    """File name (without extension) of a figure's PNG: ``ringlab-`` and the title's words (the save tool then
+    saves at once, instead of asking for a name with Bokeh's ``bokeh_plot``)."""
+    words = re.sub(r"[^0-9A-Za-z]+", "-", title.replace("σ", "sigma").replace("λ", "lambda")).strip("-").lower()
+    return f"ringlab-{words[:60].rstrip('-') or 'plot'}"
+
+
 def new_figure(title: str, xlabel: str, ylabel: str, height: int = 260, **kw):
-    """A styled figure with pan/zoom/reset/save tools (the title cites the paper by published numbers)."""
+    """A styled figure with pan/zoom/reset/save tools (the title cites the paper by published numbers; the PNG
+    is named after it, :func:`png_name`)."""
     kw.setdefault("min_width", 260)
-    fig = figure(title=publish(title, html_out=False), x_axis_label=xlabel, y_axis_label=ylabel, height=height, sizing_mode="stretch_width",
-                 tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="above", **kw)
+    title = publish(title, html_out=False)
+    fig = figure(title=title, x_axis_label=xlabel, y_axis_label=ylabel, height=height, sizing_mode="stretch_width",
+                 tools="pan,wheel_zoom,box_zoom,reset", toolbar_location="above", **kw)
+    fig.add_tools(SaveTool(filename=png_name(title)))
     style_figure(fig)
     quiet_auto_ranges(fig)
     return fig

@@ -20,7 +20,7 @@ import math
 import numpy as np
 import panel as pn
 import param
-from bokeh.models import ColumnDataSource, CustomJS, CustomJSTickFormatter, FixedTicker, HoverTool, Range1d, Span
+from bokeh.models import ColumnDataSource, CustomJS, CustomJSTickFormatter, FixedTicker, HoverTool, Range1d, SaveTool, Span
 from bokeh.palettes import Viridis256
 from bokeh.plotting import figure
 
@@ -29,6 +29,7 @@ from ringlab.lessons.tutorials import tab_links
 from ringlab.model.controls import RingControls, set_labels
 from ringlab.model.linear import LinearTheory, WAVELENGTH_RANGE_M
 from ringlab.tabs.linear.carry import CarryButtons
+from ringlab.ui.figures import png_name
 from ringlab.ui.layout import responsive_grid, settings_beside
 from ringlab.ui.palette import CURRENT_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.style import BASE_CSS as CSS
@@ -201,8 +202,9 @@ class LinearView(TabBase, pn.viewable.Viewer):
         fig = figure(x_axis_type="log", x_range=Range1d(*WAVELENGTH_RANGE_M), y_range=Range1d(-1, 1),
                      height=320, sizing_mode="stretch_width", min_width=280, title=title,
                      x_axis_label="wavelength λ [m]", y_axis_label=ylabel,
-                     tools="pan,wheel_zoom,box_zoom,reset,save", toolbar_location="right")
+                     tools="pan,wheel_zoom,box_zoom,reset", toolbar_location="right")
         # toolbar at the side: above, it shares a line with the title and sticks out on a phone
+        fig.add_tools(SaveTool(filename=png_name(title)))
         lines = fig.multi_line(xs="xs", ys="ys", line_color="color", line_width="width", line_dash="dash",
                                source=self.sources[key])
         fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.marker_source)
