@@ -74,6 +74,7 @@ class NBodyView(TabBase, pn.viewable.Viewer):
         if self.runs is not None:
             self.runs.register("nbody", self, r)
         self._shown_box = None
+        self._last_rate = (math.nan, math.nan)  # (steps/s, orbits/s) measured while last running
         self._figures()
         self.line_gate = FrameGate(self.sigma_fig, self.profile_source)
         self.particle_gate = FrameGate(self.xy_fig, self.particle_source, min_period_s=PARTICLE_PERIOD_S,
@@ -261,13 +262,16 @@ class NBodyView(TabBase, pn.viewable.Viewer):
 
     def _readout_rows(self):
         r, box = self.runner, self.runner.box
-        steps_s, orb_s = r.rates() if r.running else (math.nan, math.nan)
+        if r.running:
+            self._last_rate = r.rates()
+        steps_s, orb_s = self._last_rate
+        when = "now" if r.running else "when last running"
         tr = r.transport
         p = box.params
         c_now = r.series.last("c_mean")
         return [
             ("nbody-orbits", "Orbits elapsed", f"{box.orbits:.2f}", f"{box.N} particles"),
-            ("nbody-orbits-per-s", "Orbits per second", fmt(orb_s, ".2f"), f"{fmt(steps_s, '.0f')} steps/s"),
+            ("nbody-orbits-per-s", "Orbits per second", fmt(orb_s, ".2f"), f"{fmt(steps_s, '.0f')} steps/s, {when}"),
             ("nbody-c", "⟨c⟩ now", fmt(c_now * 1e3, ".3g", "mm/s"), "zone velocity dispersion"),
             ("nbody-ceff", "c<sub>eff</sub> [mm/s], last 5 orbits", fmt(tr.get("c_eff", math.nan) * 1e3, ".3g"),
              f"hydro c<sub>0</sub> = {p.c0 * 1e3:.3g} mm/s"),

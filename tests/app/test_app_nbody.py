@@ -164,3 +164,22 @@ def test_setup_change_keeps_the_box_restorable_and_blow_up_disables_step():
     r.start()
     r.tick()
     assert r.blowup and v.buttons["step"].disabled and v.buttons["start"].disabled
+
+
+def test_orbits_per_second_is_kept_when_paused():
+    """A paused run shows the speed it had when last running (was "—")."""
+    import time
+
+    v = NBodyView(runner=NBodyRunner(settings=NBodySettings(**SMALL)))
+    r = v.runner
+    r.start()
+    t0 = time.perf_counter()
+    while time.perf_counter() - t0 < 2.5:  # the rate needs a few seconds of records
+        r.tick()
+    steps_s, orb_s = r.rates()
+    assert orb_s > 0
+    rows = {rid: (val, note) for rid, _, val, note in v._readout_rows()}
+    assert rows["nbody-orbits-per-s"] == (f"{orb_s:.2f}", f"{steps_s:.0f} steps/s, now")
+    r.pause()
+    rows = {rid: (val, note) for rid, _, val, note in v._readout_rows()}
+    assert rows["nbody-orbits-per-s"] == (f"{orb_s:.2f}", f"{steps_s:.0f} steps/s, when last running")
