@@ -47,8 +47,8 @@ def test_the_growth_rate_curve_has_one_equation_number():
     (number,) = re.findall(r"eq\. \((\w+)\)", title)
     les = LESSONS[0]
     assert number in _eqs(les.goal)
-    growth_look = les.steps[0].look_for  # "Look at the growth rate ω_R (top left, ...)"
-    assert "top left" in growth_look and _eqs(growth_look) == {number}
+    growth_look = les.steps[0].look_for  # "Look at the growth rate ω_R (the first plot, ...)"
+    assert "the first plot" in growth_look and _eqs(growth_look) == {number}
     for step in les.steps:  # a step pointing at the plotted ω_I curve cites the plot's number too
         if "ω_I" in step.predict:
             assert number in _eqs(step.predict)

@@ -168,10 +168,16 @@ def test_the_cluster_ringlab_serve_shares_replaces_its_killed_workers():
             os.kill(pid, signal.SIGKILL)
         t_end = time.monotonic() + HEAL_WITHIN_S
         while time.monotonic() < t_end:
-            try:
-                now = client.run(os.getpid) if client.nthreads() else {}
-            except OSError:  # a dead worker still listed a moment
-                now = {}
+            # ask the new workers their process only once the scheduler lists two and no killed one (a new
+            # worker process has a new address): a run on a dead worker still listed waits for the connect
+            # timeout (30 s)
+            addresses = set(client.scheduler_info()["workers"])
+            now = {}
+            if len(addresses) == 2 and not addresses & set(before):
+                try:
+                    now = client.run(os.getpid)
+                except OSError:
+                    now = {}
             if len(now) == 2 and not set(now.values()) & set(before.values()):
                 break
             time.sleep(0.5)

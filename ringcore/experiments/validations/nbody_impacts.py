@@ -81,7 +81,7 @@ def ground_states(a, set_name) -> dict:
     p = params.get(set_name)
     box0 = ShearingBox(p, NBodyOptions(L_x=a.L_x, L_y=a.L_y, record_every=1.0, profile_every=0.0), seed=a.seed)
     box0.advance(a.equilibrate)
-    state = (box0.pos.copy(), box0.vel.copy(), box0._t0 + box0.steps * box0.dt)
+    state = (box0.pos.copy(), box0.vel.copy(), box0.t)
     out = {}
     for model in MODELS:
         o = _options(a, model, L_x=a.L_x, L_y=a.L_y, record_every=a.block_orbits, profile_every=0.0)
