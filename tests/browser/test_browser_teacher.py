@@ -119,7 +119,7 @@ def test_dashboard_sees_two_students_and_moves_them(class_server, browser):
         for p in (a, b):
             p.locator("#lesson-step-title", has_text="Step 3.").wait_for(timeout=30_000)
         # the dashboard reads the roster every 1.5 s; on a loaded machine its periodic callback comes later
-        t.locator(".teacher-student", has_text="step 3").nth(1).wait_for(timeout=30_000)
+        t.locator(".teacher-student", has_text="step 3").nth(1).wait_for(timeout=60_000)
         assert t.locator(".teacher-student", has_text="step 3").count() == 2
         t.screenshot(path=str(SHOTS / "dashboard.png"), full_page=True)
 
