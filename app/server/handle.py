@@ -144,7 +144,9 @@ class ShownStateReads:
     frames do not come this way (``frame()``), only rarer reads: a lesson's check, a buffer change, an export."""
 
     def _reader(self):
-        raise NotImplementedError
+        """The local engine in the shown state: each handle class that mixes this in defines it (a mixin
+        without it is a programming error, said at the first read)."""
+        raise NotImplementedError(f"{type(self).__name__} mixes in ShownStateReads without defining _reader()")
 
     @property
     def dt_orbits(self) -> float:

@@ -20,41 +20,34 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def _thread_list(text):
-    """``--threads 1,2`` as a tuple of validated thread counts (UsageError naming --threads)."""
+def _int_list(option: str, text, lo: int, hi: int, what: str, example: str, why: str):
+    """``--option 1,2`` as a tuple of integers in [lo, hi] (UsageError naming the option), None if not given."""
     if text is None:
         return None
-    from .. import threads
-
     out = []
     for part in text.split(","):
         try:
             n = int(part.strip())
         except ValueError:
-            raise UsageError(f"--threads = {text!r} is not valid: give thread counts 1 <= N <= {threads.maximum()} "
-                             "separated by commas, e.g. 1,2") from None
-        if not 1 <= n <= threads.maximum():
-            raise UsageError(f"--threads = {n} is out of range: allowed 1 <= N <= {threads.maximum()} (the cores "
-                             "numba may use on this machine)")
+            raise UsageError(f"{option} = {text!r} is not valid: give {what} {lo} <= N <= {hi} separated by commas, "
+                             f"e.g. {example}") from None
+        if not lo <= n <= hi:
+            raise UsageError(f"{option} = {n} is out of range: allowed {lo} <= N <= {hi} {why}")
         out.append(n)
     return tuple(out)
+
+
+def _thread_list(text):
+    """``--threads 1,2`` as a tuple of validated thread counts (UsageError naming --threads)."""
+    from .. import threads
+
+    return _int_list("--threads", text, 1, threads.maximum(), "thread counts", "1,2",
+                     "(the cores numba may use on this machine)")
 
 
 def _cell_list(text):
     """``--cells 1000,4000`` as a tuple of grid sizes (UsageError naming --cells)."""
-    if text is None:
-        return None
-    out = []
-    for part in text.split(","):
-        try:
-            n = int(part.strip())
-        except ValueError:
-            raise UsageError(f"--cells = {text!r} is not valid: give grid sizes 64 <= N <= 1000000 separated by "
-                             "commas, e.g. 1000,4000") from None
-        if not 64 <= n <= 1_000_000:
-            raise UsageError(f"--cells = {n} is out of range: allowed 64 <= N <= 1000000 nodes")
-        out.append(n)
-    return tuple(out)
+    return _int_list("--cells", text, 64, 1_000_000, "grid sizes", "1000,4000", "nodes")
 
 
 def run(args) -> int:
