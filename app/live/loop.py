@@ -14,7 +14,8 @@ where the runner bumps ``frame`` (the views draw it, gated by the page's acknowl
 and submits its next chunk.  Everything that reads or changes the simulation from the
 event loop either runs between chunks (frames) or takes ``compute_lock`` (setup changes,
 exports).  A session whose page has gone (websocket closed) is freed at its next chunk
-boundary, with one log line, instead of computing until Bokeh destroys the session.
+boundary, with one log line, instead of computing until Bokeh destroys the session (or, where the page set
+``on_page_gone``, as that says: the hydro tab parks its run for the browser's next page).
 With the chunks on Dask workers (:mod:`ringlab.server.remote`) the runner's ``sim`` may have a chunk
 computed ahead; Pause takes it into the shown state (``settle``) before the final frame.
 
@@ -87,6 +88,7 @@ class LiveLoop:
     """Mixin: compute chunks in the shared pool; pause; measure steps/orbits per second."""
 
     budget_s = 0.06  # wall time of one chunk [s]
+    on_page_gone = None  # called (no arguments) when a chunk finds the page gone; None: close()
 
     def __init__(self, **params):
         super().__init__(**params)
@@ -233,7 +235,9 @@ class LiveLoop:
         # a kernel's loop has no document to make current (kernel.deliver sends the changes)
         with set_curdoc(doc) if doc.session_context is not None else contextlib.nullcontext():
             if self._page_gone(doc):
-                self.close()
+                # the same as the page-left callbacks (due on the next tick): a chunk delivered in between must
+                # not free a run that the page's own callback would park for its reload
+                (self.on_page_gone or self.close)()
                 return
             self.chunk_waits = (self.chunk_waits + [wait_s])[-20:]
             if error is not None:

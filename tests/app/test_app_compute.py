@@ -187,3 +187,24 @@ def test_live_runs_compute_on_one_thread_each():
             "import ringcore.threads as t; print(t.default())")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "1"
+
+
+def test_a_chunk_that_finds_the_page_gone_hands_the_run_to_the_page_s_own_callback(pool1, monkeypatch):
+    """The hydro tab parks its run for the browser's reload (``on_page_gone``); a chunk delivered between the
+    websocket's close and the page-left callback (next tick) must do the same, not free the run (it did: one
+    reload in five of the browser test lost its run on a loaded machine, "freed at orbit 54.35")."""
+    logged, handed = [], []
+    monkeypatch.setattr("panel.state.log", lambda msg, *a, **k: logged.append(msg))
+    doc = FakeDoc()
+    sockets = {doc: 1}
+    monkeypatch.setattr("ringlab.server.socket_guard.live_connections", lambda d: sockets.get(d))
+    with set_curdoc(doc):
+        r = HydroRunner()
+        r.on_page_gone = lambda: handed.append(r.hand_off())
+        r.start()
+        doc.drain(0.5)
+        sockets[doc] = 0
+        doc.drain(60.0, stop=lambda: bool(handed))
+    assert len(handed) == 1 and handed[0]["orbits"] > 0  # the run itself, not freed
+    assert not any("freed" in m for m in logged), logged
+    assert not r.running and doc.drain(0.3) == 0

@@ -60,6 +60,30 @@ def still(page, quiet_s: float = 2.0) -> float:
     return o
 
 
+def known(page, timeout_s: float = 60.0) -> None:
+    """Wait until the page has read its storage and written its run's memo (local storage ``ringlab-run``): from
+    then on the server knows the browser and parks its run on a reload.  A reload in the first seconds, before
+    the page's storage components have reported (over 3 s on a loaded machine), cannot name the browser: its run
+    is freed like any closed page's (the server log says so)."""
+    t_end = time.perf_counter() + timeout_s
+    while time.perf_counter() < t_end:
+        if page.evaluate("() => window.localStorage.getItem('ringlab-run') || ''"):
+            return
+        page.wait_for_timeout(200)
+    raise AssertionError(f"the page wrote no memo of its run within {timeout_s} s")
+
+
+def shows(page, orbit: float, timeout_s: float = 30.0) -> None:
+    """Wait until the orbit readout shows ``orbit``: the status line says "back at orbit" at once, the readout
+    follows with the next drawn frame (2 per second here, later on a loaded machine)."""
+    t_end = time.perf_counter() + timeout_s
+    while time.perf_counter() < t_end:
+        if abs(orbits(page) - orbit) < 0.006:
+            return
+        page.wait_for_timeout(200)
+    raise AssertionError(f"the readout did not show orbit {orbit} within {timeout_s} s (at {orbits(page)})")
+
+
 def hydro_shown(page):
     page.locator(".bk-tab.bk-active", has_text="Hydrodynamics").wait_for(timeout=LOAD_TIMEOUT_MS)
     page.locator("#hydro-orbits .ro-value").wait_for(timeout=LOAD_TIMEOUT_MS)
@@ -80,10 +104,12 @@ def test_a_reload_mid_run_gives_the_same_run_back_on_its_tab(server):
         hydro_shown(page)
         page.locator(".hydro-start button").click()
         seen = wait_orbits(page, 3.0)
+        known(page)
         label = page.locator("#hydro-run-label").inner_text()
         page.reload(wait_until="commit", timeout=LOAD_TIMEOUT_MS)
         hydro_shown(page)  # the tab it was on, not the Linear tab
         page.locator("#hydro-status", has_text="back at orbit").wait_for(timeout=60_000)
+        shows(page, parked_at(app))
         back = still(page)
         # the page's readout lags the run (frames at 2 per second here): the run is back at the orbit it had
         # reached when its page left, and stays there
@@ -111,12 +137,14 @@ def test_a_reload_of_the_class_start_link_does_not_restart_the_run_past_the_less
         length = float(re.search(r"started for ([\d.]+) orbits", result.inner_text()).group(1))
         page.locator("#hydro-status", has_text="Running").wait_for(timeout=60_000)
         seen = wait_orbits(page, 1.0)
+        known(page)
         page.reload(wait_until="commit", timeout=LOAD_TIMEOUT_MS)
         hydro_shown(page)
         # the page reports its storage, then gets its run back: on a loaded machine (the full test run) this
         # took over 60 s once in three runs
         page.locator("#hydro-status", has_text="back at orbit").wait_for(timeout=150_000)
         assert f"pauses it at orbit {length:.3g}" in status(page), status(page)
+        shows(page, parked_at(app))
         back = still(page)  # autostart did not start a new run
         assert seen <= back == parked_at(app) < length, (seen, back, parked_at(app), length)
         page.screenshot(path=str(SHOTS / "class_link_reload_restored.png"))

@@ -119,7 +119,8 @@ class HydroView(TabBase, pn.viewable.Viewer):
         self._on_problems()
         self._on_running()
         # a page that leaves (reload, dropped connection) parks its run for the browser's next page
-        on_session_end(lambda: leave(r, self.runs))
+        r.on_page_gone = lambda: leave(r, self.runs)  # a chunk that finds the page gone parks the run too
+        on_session_end(r.on_page_gone)
         self._sync_location()
 
     def show_gone(self, text: str) -> None:
