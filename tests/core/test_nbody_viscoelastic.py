@@ -194,3 +194,6 @@ def test_validate_command_prints_both_models_with_error_bars(tmp_path, capsys):
     assert main(["validate", "nbody-impacts", "--blocks", "1"]) == 2
     err = capsys.readouterr().err
     assert "--blocks = 1 is out of range" in err and len(err.strip().splitlines()) == 1
+    assert main(["validate", "nbody-impacts", "--what", "growth", "--settle", "-1"]) == 2
+    err = capsys.readouterr().err
+    assert "--settle = -1" in err and len(err.strip().splitlines()) == 1
