@@ -41,7 +41,7 @@ from ringcore.hydro import Hydro1D, HydroBlowUp
 from ringlab.live.buffers import RollingImage, SeriesBuffer, SpaceTimeImage
 from ringlab.live.export import run_file_bytes
 from ringlab.live.keeper import KeepsRuns
-from ringlab.live.loop import RATE_SAMPLES, LiveLoop
+from ringlab.live.loop import RATE_SAMPLES, LiveLoop, measured_rates
 from ringlab.live.revert import reset_status, revert, snapshot
 from ringlab.live.run import HydroRun, part
 from ringlab.model.hydro_settings import BUFFER_PARAMS, HydroSettings, SETTINGS_PARAMS, SETUP_PARAMS
@@ -252,6 +252,13 @@ class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
             self.status = "Blown up: paused at the last good state."
         self._rates.append((time.perf_counter(), sim.orbits, sim.steps))
         return sim.steps - steps0
+
+    def rates(self) -> tuple[float, float]:
+        """(steps per second, orbits per second) of wall time (:func:`ringlab.live.loop.measured_rates`); a run
+        following a shared computation gives the computation's, so every page following it shows one figure
+        (its own takes are paced by its page's frames, and a page that joined late has only a few of them)."""
+        comp = self.sim.computation if isinstance(self.sim, SharedSim) else None
+        return measured_rates(self._rates if comp is None else comp.rate_records)
 
     def _on_sample(self, sim, sample: dict) -> None:
         """Copy a new sample (pushed by the solver right after recording it) into the live buffers."""

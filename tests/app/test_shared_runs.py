@@ -6,6 +6,9 @@ SHA-256 of the complete state (kernel state and every recorded sample) and the l
 """
 from __future__ import annotations
 
+import math
+import time
+
 import numpy as np
 import pytest
 
@@ -16,6 +19,7 @@ from ringlab.server.shared_sim import SharedSim
 
 SMALL = dict(L_x=500.0, h=2.5)  # 200 cells
 END = 200.0  # orbits: the lesson-like end time every run stops at (far beyond a few chunks on any machine)
+LONG = 1e5  # orbits: an end time no run of a few seconds reaches
 
 
 @pytest.fixture
@@ -159,6 +163,38 @@ def test_closing_every_session_frees_the_computation(sharing):
     for r in rs:
         r.close()
     assert comp.followers == 0 and comp.host is None and shared.computations() == []
+
+
+def test_pages_following_one_computation_show_its_orbits_per_second(sharing):
+    """Every page of one shared run shows the computation's speed: a page that joined late, and takes the chunks
+    only every 0.7 s (its frames are slow), shows the figure of a page that takes every chunk, within 3 %, at
+    once (it had shown nothing for 2 s, then its own takes' figure: five pages read 1.1-5.8 orbits/s)."""
+    a = runner(**SMALL)
+    a.pause_at = LONG
+    track = []  # (wall time [s], orbits) of every chunk a takes: the computation's progress, measured here
+    t0 = time.perf_counter()
+    while time.perf_counter() - t0 < 2.5:
+        a.tick()
+        track.append((time.perf_counter(), a.sim.orbits))
+    b = runner(**SMALL)
+    b.pause_at = LONG
+    checks, next_b = 0, time.perf_counter()
+    while time.perf_counter() - t0 < 6.5:
+        a.tick()
+        track.append((time.perf_counter(), a.sim.orbits))
+        if time.perf_counter() >= next_b:
+            b.tick()
+            next_b = time.perf_counter() + 0.7
+            (_, rate_a), (_, rate_b) = a.rates(), b.rates()
+            assert b.sim.computation is a.sim.computation
+            assert math.isfinite(rate_b) and rate_b == pytest.approx(rate_a, rel=0.03), (rate_a, rate_b)
+            checks += 1
+    assert checks >= 5
+    t_end, orb_end = track[-1]
+    t_start, orb_start = next(rec for rec in reversed(track) if t_end - rec[0] >= 5.0)
+    assert a.rates()[1] == pytest.approx((orb_end - orb_start) / (t_end - t_start), rel=0.1)  # the run's own pace
+    a.close()
+    b.close()
 
 
 def test_sharing_switch_from_the_environment(monkeypatch, ringlab_env):
