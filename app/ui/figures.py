@@ -9,7 +9,9 @@ from __future__ import annotations
 import math
 import re
 
-from bokeh.models import ColumnDataSource, CustomJSTickFormatter, DataRange1d, FixedTicker, Range1d, SaveTool
+from bokeh.core.properties import field, value
+from bokeh.models import (ColumnDataSource, CustomJSTickFormatter, DataRange1d, FixedTicker, Legend, LegendItem, Range1d,
+                          SaveTool)
 from bokeh.plotting import figure
 
 from ringlab.ui.cite import publish
@@ -44,6 +46,30 @@ def new_figure(title: str, xlabel: str, ylabel: str, height: int = 260, **kw):
     style_figure(fig)
     quiet_auto_ranges(fig)
     return fig
+
+
+def plot_key(fig, items, ncols: int | None = None) -> Legend:
+    """A legend drawn in ``fig`` below its plot, so that the PNG of Bokeh's save tool (the figure's canvas) says
+    which line is which: a key in the page beside the plot is not in it.
+
+    Parameters
+    ----------
+    fig : bokeh figure
+    items : sequence of (label, renderers)
+        ``renderers`` a glyph renderer or a list of them (a line and its dots: one entry); a label ``"@column"``
+        gives one entry per distinct value of that column of the renderers' source (marker lines, the curves of a
+        multi-line), in the colour and dash of its first row.
+    ncols : int, optional
+        Entries per row (default: all in one row); a long key wraps onto rows of this many.
+    """
+    entries = [LegendItem(label=field(lab[1:]) if lab.startswith("@") else value(lab),
+                          renderers=list(rs) if isinstance(rs, (list, tuple)) else [rs]) for lab, rs in items]
+    legend = Legend(items=entries, location="left", orientation="horizontal", label_text_font_size="12px",
+                    padding=2, margin=2, spacing=8, glyph_width=22, border_line_alpha=0, click_policy="none")
+    if ncols is not None:
+        legend.ncols = ncols
+    fig.add_layout(legend, "below")
+    return legend
 
 
 def quiet_auto_ranges(fig) -> None:
