@@ -30,7 +30,7 @@ from ringlab.ui.checked_input import CheckedInputs
 from ringlab.ui.cite import publish
 from ringlab.ui.figures import follow_time, new_figure, plot_key, time_range, wavelength_markers
 from ringlab.ui.frame_gate import FrameGate
-from ringlab.ui.layout import responsive_grid, settings_beside, wrap_row
+from ringlab.ui.layout import PHONE_PX, responsive_grid, settings_beside, wrap_row
 from ringlab.ui.palette import LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
 from ringlab.ui.style import CSS, EXPLANATION_FONT
@@ -183,14 +183,14 @@ class NBodyView(TabBase, pn.viewable.Viewer):
                                                           sizing_mode="stretch_width"), sizing_mode="stretch_width")
         buttons = wrap_row(*self.buttons.values())
         kept = wrap_row(self.kept, self.restore_button)
-        # the run's buttons and status first, the settings beside the plots on wide screens and below them on
-        # narrow ones (projector-first), the readouts under the particles; the keyboard reaches Start and the
-        # settings before the plots' toolbars
+        # the run's buttons and status first, the settings beside the plots on wide screens, below them on narrow
+        # ones (a projector with the lessons panel) and between Start and the plots on a phone, the readouts under
+        # the particles; the keyboard reaches Start and the settings before the plots' toolbars
         head = pn.Column(self.header, buttons, self.status, kept, self.blowup, sizing_mode="stretch_width",
                          css_classes=["nbody-run"])
         main = pn.Column(key, self.note, main_plots, self.readouts, series, explanation, sizing_mode="stretch_width")
         return settings_beside(head, pn.Column(widgets, self.export, width=340, css_classes=["nbody-settings"]), main,
-                               main_min_px=580)
+                               main_min_px=580, phone_px=PHONE_PX)
 
     @staticmethod
     def _key_html() -> str:
