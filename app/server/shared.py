@@ -30,6 +30,8 @@ eight different runs, 2.6 GB after 150 s).
 """
 from __future__ import annotations
 
+import collections
+import math
 import threading
 import time
 
@@ -46,6 +48,7 @@ WAIT_S = 30.0  # longest wait for another session's chunk before checking again 
 IDLE_FOLLOW_PERIOD_S = 1 / 6  # [s] while the event loop keeps up, a following session takes new chunks this often
 FOLLOW_PERIOD_S = 0.2  # ... and once it lags, this often times the lag factor [s] (5 frames/s and fewer) ...
 MAX_FOLLOW_PERIOD_S = 2.0  # ... and at least this often [s], however busy the event loop (compute.loop_load)
+RATE_RECORDS = 400  # (wall time, orbits, steps) records a computation keeps for its followers' orbits/s readout
 
 _REGISTRY: dict = {}  # identity -> Computation that may be joined
 _REGISTRY_LOCK = threading.Lock()
@@ -101,6 +104,9 @@ class Computation:
         self.bytes = 0
         self.started = time.monotonic()
         self.joinable = True
+        # (time.perf_counter() [s], orbits, steps) each time chunks arrive: the computation's own speed, which every
+        # follower shows (each page's takes are paced by its own frames: five pages read 1.1-5.8 orbits/s of one run)
+        self.rate_records = collections.deque(maxlen=RATE_RECORDS)
         self._cond = threading.Condition()
         self._next_id = 0
 
@@ -180,6 +186,9 @@ class Computation:
             self._append(results)
 
     def _append(self, results) -> None:
+        if results:
+            meta = results[-1]["light"].meta
+            self.rate_records.append((time.perf_counter(), meta["t"] / (2.0 * math.pi), int(meta["steps"])))
         for res in results:
             self.results.append(res)
             self.chunks += 1

@@ -28,9 +28,9 @@ from ringlab.tabs.shared import ExportPanel, restore_widgets
 from ringlab.ui.a11y import button
 from ringlab.ui.checked_input import CheckedInputs
 from ringlab.ui.cite import publish
-from ringlab.ui.figures import follow_time, new_figure, time_range, wavelength_markers
+from ringlab.ui.figures import follow_time, new_figure, plot_key, time_range, wavelength_markers
 from ringlab.ui.frame_gate import FrameGate
-from ringlab.ui.layout import responsive_grid, settings_beside, wrap_row
+from ringlab.ui.layout import PHONE_PX, responsive_grid, settings_beside, wrap_row
 from ringlab.ui.palette import LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
 from ringlab.ui.style import CSS, EXPLANATION_FONT
@@ -134,7 +134,8 @@ class NBodyView(TabBase, pn.viewable.Viewer):
                                 x_range=self.t_range)
         r = self.c_fig.line("t", "c_mean", source=self.series_source, line_width=2, color=LINE_COLOR)
         self.c0_source = ColumnDataSource(dict(y=[], color=[]))
-        self.c_fig.hspan(y="y", line_color="color", line_dash="dashed", line_width=2, source=self.c0_source)
+        c0 = self.c_fig.hspan(y="y", line_color="color", line_dash="dashed", line_width=2, source=self.c0_source)
+        plot_key(self.c_fig, [("this run", r), ("hydro c₀ (effective, incl. nonlocal)", c0)])  # in the saved PNG too
         self.c_fig.add_tools(HoverTool(renderers=[r], tooltips=[("t", "@t{0.00}"), ("<c>", "@c_mean{0.000} mm/s")]))
         self.coll_fig = new_figure("Collision frequency", "time [orbits]", "per particle per orbit",
                                    height=230, x_range=self.t_range)
@@ -143,9 +144,10 @@ class NBodyView(TabBase, pn.viewable.Viewer):
         self.psd_markers = ColumnDataSource(dict(x=[], color=[], dash=[], label=[]))
         self.psd_fig = new_figure("PSD of σ", "wavelength λ [m]", "PSD", height=230,
                                   x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-4, 2))
-        self.psd_fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR)
-        self.psd_fig.scatter("wavelength", "power", source=self.psd_source, size=5, color=LINE_COLOR)
-        self.psd_fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.psd_markers)
+        psd = [self.psd_fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR),
+               self.psd_fig.scatter("wavelength", "power", source=self.psd_source, size=5, color=LINE_COLOR)]
+        marks = self.psd_fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.psd_markers)
+        plot_key(self.psd_fig, [("PSD now", psd), ("@label", marks)], ncols=2)
         for fig in (self.xy_fig, self.xz_fig, self.sigma_fig, self.u_fig, self.ekin_fig, self.c_fig, self.coll_fig,
                     self.psd_fig):
             fig.toolbar_location = "right"  # above, a long title pushes the toolbar off a phone screen
@@ -181,14 +183,14 @@ class NBodyView(TabBase, pn.viewable.Viewer):
                                                           sizing_mode="stretch_width"), sizing_mode="stretch_width")
         buttons = wrap_row(*self.buttons.values())
         kept = wrap_row(self.kept, self.restore_button)
-        # the run's buttons and status first, the settings beside the plots on wide screens and below them on
-        # narrow ones (projector-first), the readouts under the particles; the keyboard reaches Start and the
-        # settings before the plots' toolbars
+        # the run's buttons and status first, the settings beside the plots on wide screens, below them on narrow
+        # ones (a projector with the lessons panel) and between Start and the plots on a phone, the readouts under
+        # the particles; the keyboard reaches Start and the settings before the plots' toolbars
         head = pn.Column(self.header, buttons, self.status, kept, self.blowup, sizing_mode="stretch_width",
                          css_classes=["nbody-run"])
         main = pn.Column(key, self.note, main_plots, self.readouts, series, explanation, sizing_mode="stretch_width")
         return settings_beside(head, pn.Column(widgets, self.export, width=340, css_classes=["nbody-settings"]), main,
-                               main_min_px=580)
+                               main_min_px=580, phone_px=PHONE_PX)
 
     @staticmethod
     def _key_html() -> str:

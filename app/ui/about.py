@@ -66,8 +66,37 @@ def about_html() -> str:
         f'<pre id="about-bibtex">{html.escape(bib)}</pre></div>')
 
 
+# opened: the button and the text under it scrolled to the top of what holds them (the lessons panel, its own scroll
+# area as tall as the window, where the text opened below the visible bottom); tried for up to 3 s, while the page
+# lays the text out
+SHOW_JS = """
+if (!cb_obj.active) return;
+const find = (root) => { for (const el of root.querySelectorAll('*')) {
+    if (el.classList && el.classList.contains('about-cite')) return el;
+    if (el.shadowRoot) { const f = find(el.shadowRoot); if (f) return f; } } return null; };
+const text = (root) => { for (const el of root.querySelectorAll('*')) {
+    if (el.id === 'about-cite') return el;
+    if (el.shadowRoot) { const f = text(el.shadowRoot); if (f) return f; } } return null; };
+const scroller = (el) => { for (let e = el.parentElement || el.getRootNode().host; e;
+    e = e.parentElement || (e.getRootNode() && e.getRootNode().host)) {
+  const y = getComputedStyle(e).overflowY;
+  if ((y === 'auto' || y === 'scroll') && e.scrollHeight > e.clientHeight + 1) return e; } return null; };
+let tries = 0;
+const show = () => { const box = find(document), body = text(document);
+  if (box && body && body.getBoundingClientRect().height > 0) {
+    const panel = scroller(box);  // the panel alone, not the page (the tab beside it stays where it was)
+    if (panel) panel.scrollTop += box.getBoundingClientRect().top - panel.getBoundingClientRect().top;
+    const r = box.getBoundingClientRect();
+    if (r.top < 0 || r.top > innerHeight - 200) box.scrollIntoView({block: 'start'});
+    return; }
+  if (++tries < 60) setTimeout(show, 50); };
+setTimeout(show, 0);
+"""
+
+
 class AboutCite(pn.viewable.Viewer):
-    """A button "About / Cite" that shows or hides :func:`about_html` (one per session)."""
+    """A button "About / Cite" that shows or hides :func:`about_html` (one per session); opened, the text is
+    scrolled into view (:data:`SHOW_JS`)."""
 
     def __init__(self, **params):
         super().__init__(**params)
@@ -76,6 +105,8 @@ class AboutCite(pn.viewable.Viewer):
         self.pane = pn.pane.HTML(about_html(), stylesheets=[CSS, ABOUT_CSS], sizing_mode="stretch_width",
                                  visible=False, margin=(0, 5))
         self.button.param.watch(lambda e: setattr(self.pane, "visible", e.new), "value")
+        self.button.jslink(self.pane, value="visible")  # shown at once in the page, then scrolled to
+        self.button.jscallback(value=SHOW_JS)
         self._layout = pn.Column(self.button, self.pane, sizing_mode="stretch_width", css_classes=["about-cite"])
 
     def __panel__(self):

@@ -9,7 +9,9 @@ from __future__ import annotations
 import math
 import re
 
-from bokeh.models import ColumnDataSource, CustomJSTickFormatter, DataRange1d, FixedTicker, Range1d, SaveTool
+from bokeh.core.properties import field, value
+from bokeh.models import (ColumnDataSource, CustomJS, CustomJSTickFormatter, DataRange1d, FixedTicker, Legend,
+                          LegendItem, Range1d, SaveTool)
 from bokeh.plotting import figure
 
 from ringlab.ui.cite import publish
@@ -44,6 +46,49 @@ def new_figure(title: str, xlabel: str, ylabel: str, height: int = 260, **kw):
     style_figure(fig)
     quiet_auto_ranges(fig)
     return fig
+
+
+KEY_WIDE_PX = 480  # [px] plot width from which a plot's key puts several entries on a row
+KEY_ROW_PX = 22  # [px] height of one row of a plot's key
+# one entry per row in a narrow plot, and the figure taller by the rows the key adds (a phone's PSD plot kept
+# ~60 px of its 260 for the curve); a field label gives one entry per distinct value of its column
+KEY_COLUMNS_JS = """
+const cols = cb_obj.inner_width >= px ? wide : 1;
+let n = 0;
+for (const it of legend.items) {
+  const f = it.label != null && typeof it.label === "object" ? it.label.field : null;
+  const src = it.renderers.length ? it.renderers[0].data_source : null;
+  n += f != null && src != null && src.data[f] != null ? new Set(src.data[f]).size : 1;
+}
+const h = base + Math.max(0, Math.ceil(n / cols) - 1) * row;
+if (legend.ncols !== cols) legend.ncols = cols;
+if (cb_obj.height !== h) cb_obj.height = h;
+"""
+
+
+def plot_key(fig, items, ncols: int | None = None) -> Legend:
+    """A legend drawn in ``fig`` below its plot, so that the PNG of Bokeh's save tool (the figure's canvas) says
+    which line is which: a key in the page beside the plot is not in it.
+
+    Parameters
+    ----------
+    fig : bokeh figure
+    items : sequence of (label, renderers)
+        ``renderers`` a glyph renderer or a list of them (a line and its dots: one entry); a label ``"@column"``
+        gives one entry per distinct value of that column of the renderers' source (marker lines, the curves of a
+        multi-line), in the colour and dash of its first row.
+    ncols : int, optional
+        Entries per row in a plot at least :data:`KEY_WIDE_PX` wide (default: all in one row); a narrower plot (a
+        phone) lists them one per row, as a key wider than the plot widened the page beyond a phone's screen.
+    """
+    entries = [LegendItem(label=field(lab[1:]) if lab.startswith("@") else value(lab),
+                          renderers=list(rs) if isinstance(rs, (list, tuple)) else [rs]) for lab, rs in items]
+    legend = Legend(items=entries, location="left", orientation="horizontal", label_text_font_size="12px",
+                    padding=2, margin=2, spacing=8, glyph_width=22, border_line_alpha=0, click_policy="none", ncols=1)
+    fig.js_on_change("inner_width", CustomJS(args=dict(legend=legend, wide=ncols or len(entries), px=KEY_WIDE_PX,
+                                                       base=fig.height, row=KEY_ROW_PX), code=KEY_COLUMNS_JS))
+    fig.add_layout(legend, "below")
+    return legend
 
 
 def quiet_auto_ranges(fig) -> None:

@@ -6,16 +6,20 @@ SHA-256 of the complete state (kernel state and every recorded sample) and the l
 """
 from __future__ import annotations
 
+import math
+import time
+
 import numpy as np
 import pytest
 
-from ringlab.live.hydro import HydroRunner
+from ringlab.live.hydro import SHARED_RATE_STEP_S, HydroRunner
 from ringlab.model.hydro_settings import HydroSettings
 from ringlab.server import remote, shared
 from ringlab.server.shared_sim import SharedSim
 
 SMALL = dict(L_x=500.0, h=2.5)  # 200 cells
 END = 200.0  # orbits: the lesson-like end time every run stops at (far beyond a few chunks on any machine)
+LONG = 1e5  # orbits: an end time no run of a few seconds reaches
 
 
 @pytest.fixture
@@ -159,6 +163,43 @@ def test_closing_every_session_frees_the_computation(sharing):
     for r in rs:
         r.close()
     assert comp.followers == 0 and comp.host is None and shared.computations() == []
+
+
+def test_pages_following_one_computation_show_its_orbits_per_second(sharing):
+    """Every page of one shared run shows the computation's speed: a page that joined late, and takes the chunks
+    only every 0.7 s (its frames are slow), shows the figure of a page that takes every chunk, within 3 %, at
+    once (it had shown nothing for 2 s, then its own takes' figure: five pages read 1.1-5.8 orbits/s), and that
+    figure is the run's pace."""
+    a = runner(**SMALL)
+    a.pause_at = LONG
+    track = []  # (wall time [s], orbits) of every chunk a takes: the computation's progress, measured here
+    t0 = time.perf_counter()
+    while time.perf_counter() - t0 < 4.5:  # a's figure is out (over 2 s up to the last whole step of the clock)
+        a.tick()
+        track.append((time.perf_counter(), a.sim.orbits))
+    b = runner(**SMALL)
+    b.pause_at = LONG
+    checks, next_b = 0, time.perf_counter()
+    while time.perf_counter() - t0 < 9.0:
+        a.tick()
+        track.append((time.perf_counter(), a.sim.orbits))
+        if time.perf_counter() >= next_b:
+            b.tick()
+            next_b = time.perf_counter() + 0.7
+            (_, rate_a), (_, rate_b) = a.rates(), b.rates()
+            assert b.sim.computation is a.sim.computation
+            assert math.isfinite(rate_b) and rate_b == pytest.approx(rate_a, rel=0.03), (rate_a, rate_b)
+            checks += 1
+    assert checks >= 5
+    # the run's own pace over what the figure averages: the whole run (younger than its window), up to the last
+    # whole step of the clock
+    rate = a.rates()[1]
+    end = math.floor(time.perf_counter() / SHARED_RATE_STEP_S) * SHARED_RATE_STEP_S
+    t_end, orb_end = [rec for rec in track if rec[0] <= end][-1]
+    t_start, orb_start = track[0]
+    assert rate == pytest.approx((orb_end - orb_start) / (t_end - t_start), rel=0.1)
+    a.close()
+    b.close()
 
 
 def test_sharing_switch_from_the_environment(monkeypatch, ringlab_env):

@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from bokeh.core.properties import value
 from bokeh.models import (ColorBar, ColumnDataSource, CustomJSTickFormatter, FixedTicker, HoverTool,
                           LinearColorMapper, Range1d)
 from bokeh.palettes import Viridis256
@@ -20,7 +21,7 @@ from bokeh.palettes import Viridis256
 from ringcore.analysis.saturation import C_EMPIRICAL
 
 from ringlab.lessons.refs import cite
-from ringlab.ui.figures import log_ticks, new_figure
+from ringlab.ui.figures import log_ticks, new_figure, plot_key
 from ringlab.ui.row_canvas import TRANSPARENT, RowCanvas
 
 COLORS = {"A": "#0072b2", "B": "#d55e00"}  # Okabe-Ito blue and vermillion (told apart by colour-blind eyes)
@@ -60,8 +61,9 @@ class ComparePlots:
                                                    name=f"compare-{k.lower()}-series-source") for k in "AB"}
         self.psd_sources = {k: ColumnDataSource(dict(wavelength=[], power=[]), name=f"compare-{k.lower()}-psd-source")
                             for k in "AB"}
-        self.lp_markers = ColumnDataSource(dict(y=[], color=[], dash=[]))
-        self.psd_markers = ColumnDataSource(dict(x=[], color=[], dash=[]))
+        self.lp_markers = ColumnDataSource(dict(y=[], color=[], dash=[], label=[]))
+        self.psd_markers = ColumnDataSource(dict(x=[], color=[], dash=[], label=[]))
+        self.run_items = []  # the legend entries of the runs, named with their settings by key_html
         self._series_figures()
         for fig in self.figures():
             fig.toolbar_location = "right"
@@ -81,18 +83,33 @@ class ComparePlots:
                                   height=270, x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
         self.psd_fig.xaxis.ticker = FixedTicker(ticks=[1, 3, 10, 30, 100, 300, 1000, 3000, 10000])
         self.psd_fig.xaxis.formatter = CustomJSTickFormatter(code="return tick.toString()")
+        runs = {fig: [] for fig in (self.ekin_fig, self.lp_fig, self.psd_fig)}
         for k in "AB":
             c, d, src = COLORS[k], DASH[k], self.series_sources[k]
             r = self.ekin_fig.line("t", "e_kin", source=src, line_width=2.5, color=c, line_dash=d)
+            runs[self.ekin_fig].append((f"run {k}", r))
             self.ekin_fig.add_tools(HoverTool(renderers=[r], tooltips=[("run", k), ("t", "@t{0.0} orbits"),
                                                                       ("e_kin", "@e_kin{0.000e}")]))
             r = self.lp_fig.scatter("t", "lambda_p", source=src, size=4, color=c,
                                     marker="circle" if k == "A" else "triangle")
+            runs[self.lp_fig].append((f"run {k}", r))
             self.lp_fig.add_tools(HoverTool(renderers=[r], tooltips=[("run", k), ("t", "@t{0.0} orbits"),
                                                                     ("λ_p", "@lambda_p{0.0} m")]))
-            self.psd_fig.line("wavelength", "power", source=self.psd_sources[k], line_width=2.5, color=c, line_dash=d)
-        self.lp_fig.hspan(y="y", line_color="color", line_dash="dash", line_width=1.5, source=self.lp_markers)
-        self.psd_fig.vspan(x="x", line_color="color", line_dash="dash", line_width=1.5, source=self.psd_markers)
+            r = self.psd_fig.line("wavelength", "power", source=self.psd_sources[k], line_width=2.5, color=c,
+                                  line_dash=d)
+            runs[self.psd_fig].append((f"run {k}", r))
+        marks = {self.lp_fig: self.lp_fig.hspan(y="y", line_color="color", line_dash="dash", line_width=1.5,
+                                                source=self.lp_markers),
+                 self.psd_fig: self.psd_fig.vspan(x="x", line_color="color", line_dash="dash", line_width=1.5,
+                                                  source=self.psd_markers)}
+        for fig, items in runs.items():  # the key above the plots is not in a saved PNG: each plot has its own
+            key = plot_key(fig, items + ([("@label", marks[fig])] if fig in marks else []), ncols=2)
+            self.run_items += key.items[:2]
+
+    def name_runs(self, tags) -> None:
+        """Name runs A and B with their settings (``tags``) in the plots' own legends, as :meth:`key_html` does."""
+        for i, item in enumerate(self.run_items):
+            item.label = value(f"run {'AB'[i % 2]} ({tags[i % 2]})")
 
     @staticmethod
     def key_html(tags) -> str:
@@ -113,19 +130,20 @@ class ComparePlots:
         self.x_range.update(start=-L / 2, end=L / 2, reset_start=-L / 2, reset_end=L / 2)
         for k, title in zip("AB", titles):
             self.spacetime_figs[k].title.text = title
-        ys, cs = [], []
+        ys, cs, labels = [], [], []
         for k, s in zip("AB", sides):
             lz = s["numbers"].get("lambda_zero_m", math.nan) if s is not None else math.nan
             if math.isfinite(lz):
                 ys.append(C_EMPIRICAL * lz)
                 cs.append(COLORS[k])
-        self.lp_markers.data = dict(y=ys, color=cs, dash=["dashed"] * len(ys))
+                labels.append(f"run {k}: {C_EMPIRICAL:g} λ_zero")
+        self.lp_markers.data = dict(y=ys, color=cs, dash=["dashed"] * len(ys), label=labels)
         self.t_range.update(start=0.0, end=1.0, reset_start=0.0, reset_end=1.0)
 
     def update_lines(self, sides) -> None:
         """e_kin(t), lambda_p(t), the PSD and the lambda_p markers of both runs."""
         f32 = np.float32
-        xs, cs = [], []
+        xs, cs, labels = [], [], []
         for k, s in zip("AB", sides):
             if s is None:
                 continue
@@ -139,7 +157,8 @@ class ComparePlots:
             if math.isfinite(s["lambda_p_now"]):
                 xs.append(s["lambda_p_now"])
                 cs.append(COLORS[k])
-        self.psd_markers.data = dict(x=xs, color=cs, dash=["dashed"] * len(xs))
+                labels.append(f"run {k}: λ_p now")
+        self.psd_markers.data = dict(x=xs, color=cs, dash=["dashed"] * len(xs), label=labels)
 
     def update_images(self, sides) -> None:
         """Both space-time diagrams, on one time axis (up to the earlier of the two ends) and one colour scale."""

@@ -217,6 +217,7 @@ class CompareView(TabBase, pn.viewable.Viewer):
                 self._header()
                 self.plots.set_runs(sides, self._titles())
                 self.key.object = self.plots.key_html(self.runner.tags())
+                self.plots.name_runs(self.runner.tags())
             if lines:
                 self.plots.update_lines(sides)
                 for k, s in zip("AB", sides):

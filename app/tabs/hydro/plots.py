@@ -15,8 +15,7 @@ import math
 
 import numpy as np
 from bokeh.core.properties import value
-from bokeh.models import (BoxAnnotation, ColorBar, ColumnDataSource, HoverTool, Legend, LegendItem, LinearColorMapper,
-                          Range1d)
+from bokeh.models import BoxAnnotation, ColorBar, ColumnDataSource, HoverTool, LinearColorMapper, Range1d
 from bokeh.palettes import Viridis256
 
 from ringcore.analysis.saturation import C_EMPIRICAL
@@ -25,7 +24,7 @@ from ringlab.live.buffers import SpaceTimeImage
 from ringlab.model.connect import allowed_wavelengths, slope_line, theory_mode
 from ringlab.ui.cite import publish
 from ringlab.ui.columns import replace_columns
-from ringlab.ui.figures import follow_time, log_ticks, new_figure, time_range, wavelength_markers
+from ringlab.ui.figures import follow_time, log_ticks, new_figure, plot_key, time_range, wavelength_markers
 from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LINE_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.row_canvas import TRANSPARENT, RowCanvas
 
@@ -93,25 +92,26 @@ class HydroPlots:
         fig = new_figure(publish("Wave kinetic energy e_kin, Eq. (39)", html_out=False), "time [orbits]",
                          "e_kin [σ₀ (R_p Ω)²]", height=260, y_axis_type="log", x_range=self.t_range)
         r = fig.line("t", "e_kin", source=self.series_source, line_width=2, color=LINE_COLOR)
-        fig.vspan(x="x", line_color="color", line_dash="dashed", line_width=2, source=self.event_source)
+        events = fig.vspan(x="x", line_color="color", line_dash="dashed", line_width=2, source=self.event_source)
         # linear theory: e_kin ~ amplitude^2 grows as exp(2 omega_R t) (Eqs. (39), (21))
         self.slope_source = ColumnDataSource(dict(t=[], e_kin=[]), name="hydro-slope-source")
         slope = fig.line("t", "e_kin", source=self.slope_source, line_width=3, line_dash="dashed", color=SLOPE_COLOR)
         # the legend under the plot: inside, its long label would cover the curve at one end or the other
-        fig.add_layout(Legend(items=[LegendItem(label=value("linear theory"), renderers=[slope])], location="left",
-                              orientation="horizontal", label_text_font_size="12px", padding=2, margin=2,
-                              border_line_alpha=0), "below")
+        key = plot_key(fig, [("linear theory", slope), ("this run", r), ("@label", events)], ncols=2)
+        self.slope_item = key.items[0]
         fig.add_tools(HoverTool(renderers=[r], tooltips=[("t", "@t{0.0} orbits"), ("e_kin", "@e_kin{0.000e}")],
                                 mode="vline"))
         self.ekin_fig = fig
         self.mode = None  # the linear-theory mode of the run shown (ringlab.model.connect.theory_mode)
         self.lp_marker_source = ColumnDataSource(dict(y=[], color=[], dash=[], label=[]))
         fig = new_figure("Prevalent wavelength λ_p", "time [orbits]", "λ_p [m]",
-                         height=260, y_axis_type="log", x_range=self.t_range)
+                         height=300, y_axis_type="log", x_range=self.t_range)
         self.allowed_source = ColumnDataSource(dict(y=[], n=[]), name="hydro-allowed-source")
-        fig.hspan(y="y", line_color=ALLOWED_COLOR, line_dash="dotted", line_width=1, source=self.allowed_source)
+        allowed = fig.hspan(y="y", line_color=ALLOWED_COLOR, line_dash="dotted", line_width=1,
+                            source=self.allowed_source)
         r = fig.scatter("t", "lambda_p", source=self.series_source, size=3, color=LP_COLOR)
-        fig.hspan(y="y", line_color="color", line_dash="dash", line_width=2, source=self.lp_marker_source)
+        marks = fig.hspan(y="y", line_color="color", line_dash="dash", line_width=2, source=self.lp_marker_source)
+        plot_key(fig, [("λ_p of this run", r), ("L_x/n: the box's wavelengths", allowed), ("@label", marks)], ncols=2)
         fig.add_tools(HoverTool(renderers=[r], tooltips=[("t", "@t{0.0} orbits"), ("λ_p", "@lambda_p{0.0} m")]))
         log_ticks(fig, [10, 20, 30, 50, 70, 100, 150, 200, 300, 500, 700, 1000, 2000, 5000, 10000])
         self.lp_fig = fig
@@ -124,7 +124,8 @@ class HydroPlots:
         fig = new_figure(publish("Power spectrum of σ, Eq. (38)", html_out=False), "wavelength λ [m]", "PSD (its maximum = 1)",
                          height=260, x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
         r = fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR)
-        fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.psd_markers)
+        marks = fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.psd_markers)
+        plot_key(fig, [("PSD now", r), ("@label", marks)], ncols=3)
         fig.add_tools(HoverTool(renderers=[r], tooltips=[("λ", "@wavelength{0.0} m"), ("PSD", "@power{0.0e}")],
                                 mode="vline"))
         self.psd_fig = fig
@@ -148,7 +149,7 @@ class HydroPlots:
                                           dash=[r[2] for r in rows], label=[r[3] for r in rows])
         s = runner.settings
         self.mode = m = theory_mode(sim.params, L, sim.n, s.initial, s.wavelength)
-        self.ekin_fig.legend.items[0].label = value(
+        self.slope_item.label = value(
             "linear theory, " + ("seeded wave" if s.initial == "mode" else "box's fastest wave")
             + f" λ = {m['wavelength_m']:.4g} m")  # short: the legend must fit a 390 px phone
         self.allowed_lp = None

@@ -33,7 +33,7 @@ from ringlab.ui.a11y import button
 from ringlab.ui.checked_input import CheckedInputs
 from ringlab.ui.cite import publish
 from ringlab.ui.frame_gate import NO_PAGE, FrameGate, notebook_page, served
-from ringlab.ui.layout import responsive_grid, settings_beside, wrap_row
+from ringlab.ui.layout import PHONE_PX, responsive_grid, settings_beside, wrap_row
 from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
 from ringlab.ui.style import CSS, EXPLANATION_FONT
@@ -210,13 +210,15 @@ class HydroView(TabBase, pn.viewable.Viewer):
         controls = wrap_row(*self.buttons.values())
         kept = wrap_row(self.kept, self.restore_button, self.gone.note, self.gone.button)
         # the run's buttons and status first, the settings form beside the plots on wide screens and below them
-        # on narrow ones (projector-first: Start and the space-time diagram in the first screen), the readouts
-        # under the main plots; the keyboard reaches Start and the settings before the plots' toolbars
+        # on narrow ones (projector-first: Start and the space-time diagram in the first screen), on a phone
+        # between Start and the plots (they came after every plot and readout), the readouts under the main plots;
+        # the keyboard reaches Start and the settings before the plots' toolbars
         head = pn.Column(self.header, controls, self.status, kept, self.blowup, sizing_mode="stretch_width",
                          css_classes=["hydro-run"])
         main = pn.Column(self.key, top, self.readouts, bottom, explanation, sizing_mode="stretch_width")
         return settings_beside(head, pn.Column(self._widgets(), self.export, width=340,
-                                               css_classes=["hydro-settings"]), main, main_min_px=580)
+                                               css_classes=["hydro-settings"]), main, main_min_px=580,
+                               phone_px=PHONE_PX)
 
     @staticmethod
     def _key_pane() -> pn.pane.HTML:

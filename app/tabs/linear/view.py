@@ -29,7 +29,7 @@ from ringlab.lessons.tutorials import tab_links
 from ringlab.model.controls import RingControls, set_labels
 from ringlab.model.linear import LinearTheory, WAVELENGTH_RANGE_M
 from ringlab.tabs.linear.carry import CarryButtons
-from ringlab.ui.figures import png_name
+from ringlab.ui.figures import plot_key, png_name
 from ringlab.ui.layout import responsive_grid, settings_beside
 from ringlab.ui.palette import CURRENT_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.style import BASE_CSS as CSS
@@ -141,7 +141,7 @@ class LinearView(TabBase, pn.viewable.Viewer):
             self.runs.register("linear", self, self.controls)
         self.sources = {key: ColumnDataSource(dict(xs=[], ys=[], label=[], color=[], width=[], dash=[]))
                         for key, *_ in PLOTS}
-        self.marker_source = ColumnDataSource(dict(x=[], mlabel=[], color=[], dash=[]))
+        self.marker_source = ColumnDataSource(dict(x=[], mlabel=[], plabel=[], color=[], dash=[]))
         self.figures = {key: self._figure(key, ylabel, title) for key, ylabel, title in PLOTS}
         self.key = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.readouts = pn.pane.HTML("", stylesheets=[CSS, READOUTS_CSS], sizing_mode="stretch_width", margin=(0, 10))
@@ -207,7 +207,8 @@ class LinearView(TabBase, pn.viewable.Viewer):
         fig.add_tools(SaveTool(filename=png_name(title)))
         lines = fig.multi_line(xs="xs", ys="ys", line_color="color", line_width="width", line_dash="dash",
                                source=self.sources[key])
-        fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.marker_source)
+        marks = fig.vspan(x="x", line_color="color", line_dash="dash", line_width=2, source=self.marker_source)
+        plot_key(fig, [("@label", lines), ("@plabel", marks)], ncols=2)  # in the saved PNG too
         if key != "frequency":
             fig.add_layout(Span(location=0, dimension="width", line_color="#888", line_width=1))
         fig.add_tools(HoverTool(tooltips=[("", "@label"), ("λ", "$x{0.0} m"), (ylabel.split(" [")[0], "$y{0.000}")],
@@ -262,13 +263,14 @@ class LinearView(TabBase, pn.viewable.Viewer):
             lo, hi = m.y_range(key)  # also the target of the "reset" tool
             self.figures[key].y_range.update(start=lo, end=hi, reset_start=lo, reset_end=hi)
         n = m.numbers
-        markers = dict(x=[], mlabel=[], color=[], dash=[])
-        for x, label, color, dash in ((n.get("lambda_zero_m", math.nan), "λ<sub>zero</sub>", ZERO_COLOR, "dashed"),
-                                      (n.get("lambda_max_growth_m", math.nan), "fastest growth", MAXG_COLOR,
-                                       "dotted")):
+        markers = dict(x=[], mlabel=[], plabel=[], color=[], dash=[])
+        for x, label, plain, color, dash in (
+                (n.get("lambda_zero_m", math.nan), "λ<sub>zero</sub>", "λ_zero", ZERO_COLOR, "dashed"),
+                (n.get("lambda_max_growth_m", math.nan), "fastest growth", "fastest growth", MAXG_COLOR, "dotted")):
             if math.isfinite(x):
                 markers["x"].append(x)
                 markers["mlabel"].append(f"{label} = {x:.4g} m")
+                markers["plabel"].append(f"{plain} = {x:.4g} m")  # the plot's own legend draws text, not HTML
                 markers["color"].append(color)
                 markers["dash"].append(dash)
         self.marker_source.data = markers

@@ -44,12 +44,14 @@ def empty_sources() -> tuple[ColumnDataSource, ColumnDataSource]:
             ColumnDataSource(dict(sigma0=[], y=[], label=[]), name="sat-no-st-source"))
 
 
-def add_glyphs(fig, line: ColumnDataSource, none: ColumnDataSource) -> None:
-    """Draw lambda_st on ``fig`` with a hover that gives the value or the reason."""
-    fig.line("sigma0", "lambda_st", source=line, line_width=3, color=ST_COLOR)
+def add_glyphs(fig, line: ColumnDataSource, none: ColumnDataSource) -> list:
+    """Draw lambda_st on ``fig`` with a hover that gives the value or the reason; returns the entries of the plot's
+    legend, ``[(label, renderers), ...]``."""
+    curve = fig.line("sigma0", "lambda_st", source=line, line_width=3, color=ST_COLOR)
     dots = fig.scatter("sigma0", "lambda_st", source=line, size=9, color=ST_COLOR, line_color="black")
     crosses = fig.scatter("sigma0", "y", source=none, marker="x", size=14, line_width=3, color=ST_COLOR)
     fig.add_tools(HoverTool(renderers=[dots, crosses], tooltips=[("", "@label"), ("σ₀", "@sigma0{0} kg/m²")]))
+    return [(KEY_LABEL, [curve, dots]), ("no single λ_st found", crosses)]
 
 
 def source_data(table: dict, name: str, isothermal: bool) -> tuple[dict, dict]:

@@ -33,7 +33,7 @@ from ringlab.tabs.saturation import stability
 from ringlab.tabs.saturation.wave_train import WaveTrainCard
 from ringlab.paths import DATA_DIR
 from ringlab.ui.cite import publish
-from ringlab.ui.figures import log_ticks, new_figure
+from ringlab.ui.figures import log_ticks, new_figure, plot_key
 from ringlab.ui.layout import settings_beside
 from ringlab.ui.palette import EMP_COLOR, LP_COLOR, MAXG_COLOR
 from ringlab.ui.readouts import message_html
@@ -194,15 +194,21 @@ class SaturationView(TabBase, pn.viewable.Viewer):
         fig = new_figure("Saturated prevalent wavelength λ_p against surface density (Figure 20)",
                          "surface density σ₀ [kg/m²]", "λ_p [m]", height=520, y_axis_type="log",
                          x_range=Range1d(-25, 1020), y_range=Range1d(30, 3000))
-        fig.line("sigma0", "empirical", source=self.curve_source, line_dash="dashed", line_width=3, color=EMP_COLOR)
-        fig.line("sigma0", "fastest", source=self.curve_source, line_dash="dotted", line_width=3, color=MAXG_COLOR)
+        emp = fig.line("sigma0", "empirical", source=self.curve_source, line_dash="dashed", line_width=3,
+                       color=EMP_COLOR)
+        fastest = fig.line("sigma0", "fastest", source=self.curve_source, line_dash="dotted", line_width=3,
+                           color=MAXG_COLOR)
         r1 = fig.scatter("sigma0", "lambda_p", source=self.sweep_source, marker="square", size=10, color=SWEEP_COLOR,
                          fill_alpha="alpha", line_alpha="alpha")
         r3 = fig.scatter("sigma0", "lambda_p", source=self.lower_source, marker="triangle", size=14,
                          color=SWEEP_COLOR, fill_color="white", line_width=2, fill_alpha="alpha", line_alpha="alpha")
         r2 = fig.scatter("sigma0", "lambda_p", source=self.user_source, size=13, color=LP_COLOR, line_color="black",
                          fill_alpha="alpha", line_alpha="alpha")
-        stability.add_glyphs(fig, self.st_source, self.no_st_source)
+        st_items = stability.add_glyphs(fig, self.st_source, self.no_st_source)
+        # the key beside the plot is not in its saved PNG: the plot has its own
+        plot_key(fig, [(publish(f"{C_EMPIRICAL:g} λ_zero, Eq. (55)", html_out=False), emp),
+                       ("fastest-growing λ (linear)", fastest), *st_items, ("shipped sweep", r1),
+                       ("sweep run not saturated (lower bound)", r3), ("my runs", r2)], ncols=2)
         fig.add_tools(HoverTool(renderers=[r1, r3, r2], tooltips=[("", "@label"), ("σ₀", "@sigma0{0} kg/m²"),
                                                               ("λ_p", "@lambda_p{0.0} m")]))
         log_ticks(fig, [30, 50, 100, 200, 500, 1000, 2000, 3000])
