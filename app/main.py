@@ -85,7 +85,7 @@ def create_app(args: dict | None = None) -> pn.Column:
     if doc is not None and doc.session_context is not None:
         doc.template = VIEWPORT_TEMPLATE
     joining.local_stylesheets()  # before any component is built (a page built where its websocket landed)
-    joining.give_build_order()  # (if no setup did it) a class opening the link at once gets its first pages first
+    joining.order_builds()  # a class opening the link at once gets its first pages while the rest are built
     args = pn.state.session_args if args is None else args
     runs = SessionRuns()
     holder = {}

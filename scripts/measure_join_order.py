@@ -37,7 +37,6 @@ from bokeh.server.contexts import ApplicationContext
 from bokeh.server.session import ServerSession
 from ringlab.server import joining
 joining.BUILD_ORDER["on"] = not {bokeh_order}  # off: the app's pages add no BuildOrder (Bokeh's own order)
-joining.order_builds()
 if {num_procs} > 1:
     joining.balance_accepts()
 LOG = open({log!r}, "a", buffering=1)

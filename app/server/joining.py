@@ -21,7 +21,7 @@ document before the last one was built (sampled every 2 s: the event loop busy f
 documents sent together).  :class:`BuildOrder` lets one new session be built at a time, and before
 each build lets the event loop answer what is waiting (a built page asking for its document, frames,
 clicks), so the first pages arrive while the others are still being built.  It is a handler of the Bokeh
-application (Bokeh's public ``Handler``; :func:`order_builds` adds it as the first page is made): Bokeh awaits
+application (Bokeh's public ``Handler``; :func:`order_builds` adds it from the first page built): Bokeh awaits
 the handlers' ``on_session_created`` hooks right before it builds a new session's page, and builds it in the
 same turn of the event loop once they return, so the hook waits for its turn and the next turn (after the
 build) gives the turn on.  A page that is already built or being built is returned at once (Bokeh runs the
@@ -40,7 +40,7 @@ depend on the page's query, and the page itself is built once, by the process it
 6 builds).
 
 ``ringlab serve`` calls the balance and the page template before its processes start (with ``--num-procs``
-N > 1) and :func:`order_builds`; ``panel serve ... --setup <this file>`` (or ``app/server/serve_setup.py``)
+N > 1), and every page calls :func:`order_builds` (``ringlab.main``); ``panel serve ... --setup <this file>``
 runs this file as the server's setup script (add ``--warm --reuse-sessions`` there).
 """
 from __future__ import annotations
@@ -60,7 +60,6 @@ from ringlab.server import gc_policy
 
 ACCEPTS_PER_WAKEUP = 1
 _BALANCING: dict = {}  # {"on": True} once balance_accepts() ran in this process (inherited by forked processes)
-_ORDERING: dict = {}  # {"on": True} once order_builds() registered its session-created callback
 _PENDING: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # event loop -> new pages queued or being built
 # [s] before each page is built, the event loop first answers what is waiting (a few turns of the loop: a built
 # page's request for its document has arrived by then); at 0.05 s thirty pages waited 1.5 s in all for nothing
@@ -121,29 +120,14 @@ def _built(loop, lock) -> None:
     gc_policy.page_built()  # the new page's objects out of the next pages' garbage collections
 
 
-def order_builds() -> bool:
-    """Have the new pages of this server's Panel applications built one per turn (:class:`BuildOrder`), from the
-    first page on: Panel runs its session-created callbacks before Bokeh runs the application's hooks, and this
-    one gives the session's application the handler.  Call before the server starts (``ringlab serve``, a ``panel
-    serve --setup`` script); idempotent.  False (nothing done) if ``BUILD_ORDER["on"]`` is False."""
-    if not BUILD_ORDER["on"]:
-        return False
-    if not _ORDERING:
-        pn.state.on_session_created(lambda session_context: give_build_order(session_context))
-        _ORDERING["on"] = True
-    return True
-
-
-def give_build_order(session_context=None) -> bool:
-    """Give the Bokeh application of a server session (default: the current document's) a :class:`BuildOrder`
-    handler, once; its new pages from the next one on are built one per turn (``ringlab.main`` calls it for each
-    page: without :func:`order_builds`, from the second page on).  True if the application has the handler (False
-    outside a server session, or with ``BUILD_ORDER["on"]`` False)."""
-    if session_context is None:
-        session_context = getattr(pn.state.curdoc, "session_context", None)
+def order_builds(doc=None) -> bool:
+    """Give the Bokeh application of ``doc``'s server session (default: the current one) a :class:`BuildOrder`
+    handler, once: its new pages are built one per turn from then on.  Call while a page is built; returns True
+    if the application has the handler (False outside a server session, or with ``BUILD_ORDER["on"]`` False)."""
+    doc = pn.state.curdoc if doc is None else doc
     try:
-        app = session_context.server_context.application_context.application
-    except AttributeError:  # not a server session (a notebook, a test, Panel's warm-up or template page)
+        app = doc.session_context.server_context.application_context.application
+    except AttributeError:  # not a server session (a notebook, a test, Panel's page template)
         return False
     if any(isinstance(h, BuildOrder) for h in app.handlers):
         return True
@@ -190,4 +174,3 @@ if __name__ != "ringlab.server.joining":  # run as `panel serve --setup` script:
     from ringlab.server import joining  # that its state (the balance) is the one the server uses
 
     joining.balance_accepts()
-    joining.order_builds()

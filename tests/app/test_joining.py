@@ -11,9 +11,9 @@ import types
 import panel as pn
 import pytest
 import tornado.netutil
+from bokeh.application import Application
 from bokeh.application.handlers import FunctionHandler
 from bokeh.server.contexts import ApplicationContext
-from panel.io.application import Application as PanelApplication
 from panel.io.state import state
 from tornado.ioloop import IOLoop
 
@@ -60,22 +60,19 @@ def test_one_connection_per_wakeup(tornado_default):
     assert inspect.signature(tornado.netutil.bind_sockets).parameters["backlog"].default == 128
 
 
-def test_runs_as_a_panel_setup_script(tornado_default, monkeypatch):
-    monkeypatch.setattr(state, "_on_session_created", [])  # this test's server only
-    monkeypatch.setattr(joining, "_ORDERING", {})
+def test_runs_as_a_panel_setup_script(tornado_default):
     runpy.run_path(joining.__file__, run_name="panel_setup_module")
     assert tornado.netutil._DEFAULT_BACKLOG == 1
-    assert len(state._on_session_created) == 1  # the pages of the server built one per turn
 
 
 def _app_context(build, ordered: bool) -> ApplicationContext:
-    """Bokeh's application context of an app whose page is ``build(doc)`` (blocking, as the lab's), each page
-    giving its application the build order as ``ringlab.main`` does (or not)."""
+    """Bokeh's application context of an app whose page is ``build(doc)`` (blocking, as the lab's), the first page
+    adding the build order as ``ringlab.main`` does (or not)."""
     def page(doc):
         if ordered:
-            assert joining.give_build_order(doc.session_context)
+            assert joining.order_builds(doc)
         build(doc)
-    return ApplicationContext(PanelApplication(FunctionHandler(page)), io_loop=IOLoop.current())
+    return ApplicationContext(Application(FunctionHandler(page)), io_loop=IOLoop.current())
 
 
 def _joins(monkeypatch, ordered: bool) -> list:
@@ -120,36 +117,8 @@ def test_first_page_gets_its_document_before_the_others_are_built(monkeypatch):
 
 
 def test_order_builds_outside_a_server_session_does_nothing():
-    assert not joining.give_build_order() and not joining.give_build_order(types.SimpleNamespace())
-
-
-def test_ordered_from_the_first_page_when_set_up_before_the_server(monkeypatch):
-    """``order_builds()`` (a setup script, ``ringlab serve``): Panel's session-created callback gives the
-    application its build order before the first page is built, so a class arriving at once is ordered from the
-    first page on."""
-    monkeypatch.setattr(state, "_on_session_created", [])  # this test's server only
-    monkeypatch.setattr(joining, "_ORDERING", {})
-    monkeypatch.setitem(joining.BUILD_ORDER, "on", False)
-    assert not joining.order_builds() and state._on_session_created == []  # off (the A/B's Bokeh order)
-    monkeypatch.setitem(joining.BUILD_ORDER, "on", True)
-    assert joining.order_builds() and joining.order_builds() and len(state._on_session_created) == 1
-    order, built = [], set()
-    monkeypatch.setattr(joining.gc_policy, "page_built", lambda: order.append("freeze"))
-
-    def build(doc):
-        order.append(f"build {doc.session_context.id}")
-        time.sleep(0.02)
-        built.add(doc.session_context.id)
-
-    async def scenario():
-        ctx = _app_context(build, ordered=False)
-        joins = [asyncio.ensure_future(ctx.create_session_if_needed(f"p{i}")) for i in range(3)]
-        await asyncio.gather(*joins, first_page_asks_for("p0", built, order))
-        assert sum(isinstance(h, joining.BuildOrder) for h in ctx.application.handlers) == 1
-
-    asyncio.run(scenario())
-    assert order[0] == "build p0" and sorted(order[1:3]) == ["freeze", "p0 gets its document"]
-    assert order[3:] == ["build p1", "freeze", "build p2", "freeze"]
+    from bokeh.document import Document
+    assert not joining.order_builds(Document()) and not joining.order_builds(None)
 
 
 def test_a_process_with_a_page_to_build_leaves_new_connections_to_the_others(monkeypatch, tornado_default):
