@@ -4,7 +4,7 @@
                      [--compute auto|threads|processes] [--dask] [--num-procs N] --json
 
 Starts ``panel serve <package>/main.py`` (subprocess, loopback, free port) and opens K real Panel
-sessions without a browser (Bokeh client sessions on one event loop).  Each student opens
+sessions without a browser (websockets speaking Bokeh's protocol, on one event loop).  Each student opens
 the teacher's link ``/main?tab=hydro&autostart=1`` (the app opens the Hydrodynamics tab and
 presses Start, exactly as a click would; see ``ringlab.main.apply_query``) and acknowledges every
 frame the way the page does (the page's ``CustomJS`` bumps the figure's ``tags`` after a

@@ -1,4 +1,4 @@
-"""The simulated pages of ``ringlab loadtest`` (:mod:`ringlab.cli.loadtest`): Bokeh client sessions, no browser.
+"""The simulated pages of ``ringlab loadtest`` (:mod:`ringlab.cli.loadtest`): Bokeh's protocol, no browser.
 
 :class:`Student` follows a hydro run the way a page does (it acknowledges every frame and reads the
 "Orbits elapsed" readout), :class:`Prober` moves a Linear-tab slider and opens a never-opened tab and
@@ -12,11 +12,11 @@ import re
 import time
 
 import panel  # noqa: F401  (registers Panel's models for the client documents)
-from bokeh.client import ClientSession
 from bokeh.document import Document
 from bokeh.document.events import MessageSentEvent
 from bokeh.events import ButtonClick, DocumentReady
-from tornado.httpclient import HTTPRequest
+
+from ringlab.cli.loadtest_page import PageSession
 
 # A browser waits minutes for a page; Tornado's websocket handshake gives up after 20 s, which a server
 # building many pages at once exceeds: the simulated pages wait like a browser
@@ -26,7 +26,7 @@ START_CLASS = "hydro-start"  # CSS class of the Hydrodynamics tab's Start button
 ORBITS_RE = re.compile(r'id="hydro-orbits">.*?class="ro-value">([0-9.]+)<.*?class="ro-note">([0-9]+) steps<')
 
 
-def connect(url: str, loop, arguments: dict | None = None, defer_build: bool = False) -> ClientSession:
+def connect(url: str, loop, arguments: dict | None = None, defer_build: bool = False) -> PageSession:
     """Open a session at ``url`` (``ws://.../main/ws``) on the IOLoop ``loop`` with the page address query
     ``arguments``, pull its document and tell the server it is rendered, as a page does.
 
@@ -38,11 +38,8 @@ def connect(url: str, loop, arguments: dict | None = None, defer_build: bool = F
     is sent at once, as a browser on its own computer sends it) and keeps the pulled message as
     ``pulled_reply`` for :meth:`Student.build`.
     """
-    HTTPRequest._DEFAULTS.update(connect_timeout=HANDSHAKE_TIMEOUT_S, request_timeout=HANDSHAKE_TIMEOUT_S)
-    s = ClientSession(websocket_url=url, io_loop=loop, arguments=arguments)
-    s.connect()
-    s.check_connection_errors()
-    reply = s._connection._send_message_wait_for_reply(s._connection._protocol.create("PULL-DOC-REQ"))
+    s = PageSession(url, loop, arguments, timeout_s=HANDSHAKE_TIMEOUT_S)
+    reply = s.request("PULL-DOC-REQ")
     s.pulled_at = time.perf_counter()
     if reply is None or reply.header["msgtype"] == "ERROR":
         raise RuntimeError(f"could not pull the page's document from {url}: "
@@ -53,7 +50,7 @@ def connect(url: str, loop, arguments: dict | None = None, defer_build: bool = F
         s.pulled_reply = reply
     else:
         reply.push_to_document(doc)
-    s._attach_document(doc)  # as ClientSession.pull does
+    s.attach(doc)
     # the page tells the server it has rendered the document (Bokeh's DocumentReady event): Panel
     # then counts the session as connected; until then it sends no held changes (plot data)
     s.document.callbacks.trigger_on_change(MessageSentEvent(s.document, "bokeh_event", DocumentReady()))
@@ -122,8 +119,7 @@ class Student:
         doc = Document()
         self.s.pulled_reply.push_to_document(doc)
         self.s.pulled_reply = None
-        self.s.document.remove_on_change(self.s)
-        self.s._attach_document(doc)
+        self.s.attach(doc)
         self.doc = doc
         waiting, self.waiting = self.waiting, None
         self.poll()
@@ -178,7 +174,7 @@ class Student:
         if len(self.hooked) < 3:
             if self.ready_at is None and START_CLASS in message.content_json:
                 self.ready_at = time.perf_counter()  # arrived; building its models is this client's work
-            self.s._handle_patch(message)
+            self.s.apply(message)
             self.poll()
             return
         for ev in message.content.get("events", ()):
@@ -262,7 +258,7 @@ class Prober:
 
     def on_message(self, message):
         if self.slider is None or self.readout is None:
-            self.s._handle_patch(message)  # the Linear tab's pieces
+            self.s.apply(message)  # the Linear tab's pieces
             self._find()
             return
         if self.tab_marker is not None and self.tab_latency_s is None and self.tab_marker in message.content_json:
@@ -278,12 +274,9 @@ class Prober:
 async def pump(session, reader) -> None:
     """Read the server's messages for one client session and hand each PATCH-DOC to ``reader``.
 
-    (Bokeh's own ``ClientConnection._next`` awaits itself once per message and overflows the
-    stack after a few thousand frames; this is the same loop without the recursion.)
     """
-    conn = session._connection
     while True:
-        message = await conn._pop_message()
+        message = await session.read()
         if message is None:
             return
         if message.msgtype == "PATCH-DOC":

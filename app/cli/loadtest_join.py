@@ -1,8 +1,8 @@
 """Students who open their pages at the same moment (``ringlab loadtest --join-together``).
 
-Bokeh's client API runs its IOLoop while it connects and pulls a document, so K pages can only be
-opened at once from K loops: each :class:`JoiningStudent` is a thread with its own IOLoop.  All wait at
-a barrier and open their page when it is released; a page is ready when its document holds the
+A page's session (:class:`ringlab.cli.loadtest_page.PageSession`) runs its IOLoop while it connects and pulls a
+document, so K pages can only be opened at once from K loops: each :class:`JoiningStudent` is a thread with its
+own IOLoop.  All wait at a barrier and open their page when it is released; a page is ready when its document holds the
 Hydrodynamics tab's Start button (at the pull for the class start link; after the patch that brings
 the tab for ``--shared``, whose students press "Set up this step").  Then each thread reads its
 session's messages like the students of one loop (:func:`ringlab.cli.loadtest_clients.pump`) until

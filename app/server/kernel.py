@@ -38,7 +38,9 @@ from contextlib import contextmanager
 
 import panel as pn
 from bokeh.document.events import ColumnDataChangedEvent
-from panel.io.notebook import block_comm, push
+from panel.io.model import diff
+from panel.io.notebook import block_comm, send
+from panel.models.comm_manager import CommManager
 
 
 class KernelTarget:
@@ -120,17 +122,28 @@ def in_kernel_loop() -> bool:
     return (doc is None or doc.session_context is None) and target() is not None
 
 
+# How deep frame_changes() blocks are nested (the kernel's main thread only): the outermost one holds Panel's
+# pushes and sends the changes (an inner block_comm() would end the outer one's hold when it ends).
+_depth = 0
+# The documents of the live plots shown in this kernel (each notebook output renders into a document of its own),
+# as their frame gates ask about them (page_state): the documents a frame's changes are pushed from.
+_DOCS: "weakref.WeakSet" = weakref.WeakSet()
+
+
 @contextmanager
 def frame_changes():
     """Collect the view changes made in the body and send them at the end in one push per displayed
     document whose comm a page has opened (:func:`push_views`)."""
-    if pn.state._hold:  # nested: the outer one pushes
+    global _depth
+    if _depth:  # nested: the outer one pushes
         yield
         return
+    _depth = 1
     try:
         with block_comm():  # Panel's per-pane pushes wait: the changes stay on the held documents
             yield
     finally:
+        _depth = 0
         push_views()
 
 
@@ -148,36 +161,54 @@ def page_state(model) -> int:
     if doc is None or doc.session_context is not None:
         return 0
     t = target()
-    if t is None:
+    if t is None or comm_id(doc) is None:
         return 0
-    for _viewable, _root, view_doc, comm in list(pn.state._views.values()):
-        if view_doc is doc and opened(comm):
-            return 1 if t.waiting else 2
-    return 0
+    _DOCS.add(doc)  # a notebook output's document: push_views sends its changes
+    return (1 if t.waiting else 2) if page_comm(doc) is not None else 0
 
 
-def opened(comm) -> bool:
-    """Has a page opened ``comm`` (a ``pyviz_comms.Comm``; None: no comm)?  Its public ``comm`` property raises
-    ValueError until then."""
-    if comm is None:
-        return False
+def comm_id(doc) -> str | None:
+    """The id of the comm over which Panel sends ``doc``'s changes to a notebook page, or None (not a notebook
+    output's document).  Panel adds a ``CommManager`` model, which carries it, to each output's document."""
+    for root in doc.roots:
+        if isinstance(root, CommManager):
+            return root.comm_id
+    return None
+
+
+def page_comm(doc):
+    """The kernel's comm to the notebook page showing ``doc`` once a page has opened it, else None.
+
+    Panel registers the comm's id as a comm target of the kernel; a page that renders the output opens a comm
+    to that target (the kernel's ``comm_manager.comms``, newest last: a page reloaded opens another)."""
+    cid = comm_id(doc)
+    if cid is None:
+        return None
     try:
-        return comm.comm is not None
-    except ValueError:
-        return False
+        from IPython import get_ipython
+        comms = get_ipython().kernel.comm_manager.comms
+    except (ImportError, AttributeError):  # not an IPython kernel (no frontend can have opened it)
+        return None
+    found = None
+    for c in list(comms.values()):
+        if c.target_name == cid:
+            found = c
+    return found
 
 
 def push_views() -> int:
-    """Send the pending changes of every displayed document over its comm if a page has opened it
-    (returns how many documents were pushed).  Uses Panel's registry of rendered views
-    (``pn.state._views``: ref -> (viewable, root model, document, comm); Panel <1.10, pinned)."""
+    """Send the pending changes of every displayed live document over its comm if a page has opened it
+    (returns how many documents were pushed).  Panel's own ``push`` would resend an unopened comm's message
+    every 0.1 s; an unopened comm's changes stay held instead (compacted)."""
     n = 0
-    for _viewable, root, doc, comm in list(pn.state._views.values()):
-        if comm is None or "embedded" in root.tags:
-            continue  # a server session's document: Bokeh sends its changes
+    for doc in list(_DOCS):
         compact(doc)
-        if opened(comm) and doc.callbacks._held_events:
-            push(doc, comm)  # else no page has opened the comm (yet): the changes stay held
+        c = page_comm(doc)
+        if c is None:
+            continue  # no page has opened the comm (yet): the changes stay held
+        msg = diff(doc)  # None: nothing changed
+        if msg is not None:
+            send(c, msg)
             n += 1
     return n
 
