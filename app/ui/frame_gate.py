@@ -14,7 +14,30 @@ from bokeh.models import CustomJS
 
 from ringlab.config import CONFIG
 
-ACK_JS = "fig.tags = [(fig.tags.length ? fig.tags[0] : 0) + 1]"
+# Panel 1.9's notebook page (its CommManager, a root of each output's document) sends every change it applies from
+# the kernel back to the kernel: a whole frame per frame, which the kernel deserializes and applies again before it
+# hears the page's next message (a Pause click), and an old value sent back late overwrote a newer one (the
+# space-time image's time range stepped back for ~0.7 s).  Bokeh marks such changes ``sync = false`` and its own
+# server connection sends none of them; the first acknowledgement of a notebook page makes its CommManager do the
+# same (once per page: the class is shared by every output).  A served page has no CommManager: nothing changes.
+NO_ECHO_JS = """
+const doc = fig.document
+if (doc != null && doc._ringlab_no_echo === undefined) {
+  doc._ringlab_no_echo = false
+  for (const root of doc.roots()) {
+    const proto = Object.getPrototypeOf(root)
+    if (typeof proto._document_changed === "function" && typeof proto.process_events === "function") {
+      if (!proto._ringlab_no_echo) {
+        const changed = proto._document_changed
+        proto._document_changed = function (event) { if (event.sync !== false) changed.call(this, event) }
+        proto._ringlab_no_echo = true
+      }
+      doc._ringlab_no_echo = true
+    }
+  }
+}
+"""
+ACK_JS = NO_ECHO_JS + "fig.tags = [(fig.tags.length ? fig.tags[0] : 0) + 1]"
 RATE_ENV = "RINGLAB_MAX_FRAME_RATE"
 # A browser repaints a whole figure (axes, grids, labels: ~10-20 ms of its main thread on the 2-core test
 # machine) for every frame, and a page that acknowledges frames as fast as it can keeps a core of the

@@ -87,6 +87,11 @@ ALLOWED = {
         ("read", "doc.callbacks._held_events"), ("write", "doc.callbacks._held_events"),
         ("read", "pn.state._hold"), ("read", "pn.state._views"),
     }),
+    # An offline notebook: Panel (1.9.4) sends its CDN stylesheet addresses with every update of a pane drawn
+    # inline, and looks each address up only in its per-document cache, pn.state._stylesheets (no public setting).
+    "app/server/installed_css.py": ("an offline notebook's stylesheets from the installed package", {
+        ("read", "pn.state._stylesheets"), ("write", "pn.state._stylesheets"),
+    }),
     # The load test's simulated pages (a developer's tool, never served): Bokeh's client session has no public
     # way to pull a document without blocking, apply a patch or read the next message.
     "app/cli/loadtest_clients.py": ("the load test's simulated pages drive Bokeh's client session", {

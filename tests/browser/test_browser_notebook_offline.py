@@ -60,6 +60,18 @@ def timed_comm_msg(*args, **kwargs):
 
 
 _kernel.shell_handlers["comm_msg"] = timed_comm_msg
+import ringlab.server.kernel as _rk
+delivered = []  # (when, how long) each frame or chunk hand-over took in the kernel's main thread
+_deliver = _rk.deliver
+
+
+def timed_deliver(callback):
+    t = time.time()
+    _deliver(callback)
+    delivered.append((t, time.time() - t))
+
+
+_rk.deliver = timed_deliver
 '''
 VIEW = '''\
 hydro = HydroView()
@@ -79,7 +91,7 @@ def report():
         history.append((time.time(), orbits))
         del history[:-600]
         state = dict(n=len(comm_sent), last=comm_sent[-1] if comm_sent else None, paused=paused[-1:],
-                     drawn=drawn[-1:], comm_in=comm_in[-3:], running=hydro.runner.running,
+                     drawn=drawn[-1:], comm_in=comm_in[-300:], delivered=delivered[-300:], running=hydro.runner.running,
                      status=hydro.runner.status, orbits=orbits, time=time.time(), history=history)
         STATE.with_suffix(".tmp").write_text(json.dumps(state))
         os.replace(STATE.with_suffix(".tmp"), STATE)
@@ -207,12 +219,15 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
             view = page.locator(".jp-OutputArea-output").last  # the view (cell 2's output)
             page.evaluate(SAMPLE_ENDS_JS)
             page.locator(".hydro-start button").click()
+            no_echo = False
             t_click_start = time.time()
             while kernel_state(state)["orbits"] in (None, 0.0):  # numba's cache may be cold: the first chunk
                 assert time.time() - t_click_start < 120, "the run never started"  # compiles (~60 s here)
                 time.sleep(0.2)
             t_start = time.time()
             time.sleep(8.0)
+            # the page's notebook comm sends none of the kernel's own changes back (ringlab.ui.frame_gate.NO_ECHO_JS)
+            no_echo = page.evaluate("() => (window.Bokeh.documents || []).some(d => d._ringlab_no_echo === true)")
             view.screenshot(path=str(SHOTS / f"hydro-running-{load}.png"))
             k = kernel_state(state)
             assert k["running"], {key: k[key] for key in ("status", "orbits", "paused", "time")}
@@ -226,7 +241,9 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
             assert not back, f"the time range went back: {back[:3]}; kernel {k['history'][-100:]}"  # it only grows
             # the kernel's orbit is compared with the end of the image's time axis: that is one row per orbit
             # (stroboscopic), so up to an orbit behind even when every frame is drawn at once
-            assert max(lags) < 8.0, f"the page fell {max(lags):.1f} orbits behind the kernel: {lags}"
+            assert max(lags) < 8.0, (f"the page fell {max(lags):.1f} orbits behind the kernel: {lags}; page "
+                                     f"{[(round(t - t_start, 2), e) for (t, e) in samples if t < t_start + 3]}; kernel "
+                                     f"{[(round(t - t_start, 2), o) for (t, o) in k['history'] if t < t_start + 3]}")
             # when the page took the click (its clock is this machine's): Playwright's own click first waits
             # for the button to be visible and still, which on a loaded machine can take a second
             page.evaluate("document.addEventListener('click', () => { window.clickedAt = Date.now() / 1000 }, true)")
@@ -237,7 +254,11 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
                 time.sleep(0.05)
             paused = kernel_state(state)["paused"]
             assert paused, "Pause never reached the kernel"
-            assert paused[0] - t_click < 0.5, f"Pause reached the kernel {paused[0] - t_click:.2f} s after the click"
+            k = kernel_state(state)
+            busy = sorted([(round(t - t_click, 3), "in", round(d, 3), n) for (t, d, n) in k["comm_in"]]
+                          + [(round(t - t_click, 3), "frame", round(d, 3)) for (t, d) in k["delivered"]])
+            busy = [b for b in busy if -1.5 < b[0] < paused[0] - t_click + 0.2]  # the kernel's main thread then
+            assert paused[0] - t_click < 0.5, f"Pause reached the kernel {paused[0] - t_click:.2f} s after the click: {busy}"
             time.sleep(1.0)
             view.screenshot(path=str(SHOTS / f"hydro-paused-{load}.png"))
             page.locator(".hydro-start button").click()
@@ -248,6 +269,9 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
             before = kernel_state(state)
             assert before["running"], {key: before[key] for key in ("status", "orbits", "paused", "time")}
             assert page.js_errors == []
+            assert no_echo, "the view's notebook comm still sends the kernel's changes back"
+            # the stylesheets Panel sends again with a changed pane come from the installed package, as the scripts
+            assert blocked == [], f"requests to hosts other than this machine: {blocked}"
             page.close()
             t_close = time.time()
         time.sleep(4.0)
@@ -260,7 +284,7 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
         assert after["last"] < t_close + 2.0, (after, t_close)  # ... but nothing is sent to the gone page
         print(f"{load}: image end {ends[0]:.2f}..{ends[-1]:.2f} orbits in {len(ends)} samples, kernel ahead by "
               f"max {max(lags):.2f} orbits; Pause heard {paused[0] - t_click:.3f} s after the page's click ({paused[0] - t_call:.3f} s after the call); comm messages "
-              f"{after['n']}, the last {after['last'] - t_close:.2f} s after the page closed; blocked {blocked}\nends {[round(e, 2) for e in ends]}\nlags {[round(x, 2) for x in lags]}")
+              f"{after['n']}, the last {after['last'] - t_close:.2f} s after the page closed; blocked {blocked}\npause timeline {busy}\nends {[round(e, 2) for e in ends]}\nlags {[round(x, 2) for x in lags]}")
     finally:
         if burner is not None:
             burner.kill()
