@@ -16,10 +16,11 @@ Offline notebooks
 Frames in a notebook
     A view sends a frame to the page only when the page has drawn the previous ones (the page acknowledges each
     frame) and at most twice per second, and a run shown by a page computes its next chunk only once the page has
-    drawn (at most 2 s without an acknowledgement): the page keeps step with the kernel however loaded the
+    drawn (at most 6 s without an acknowledgement): the page keeps step with the kernel however loaded the
     machine is, and a page that has gone (closed tab, closed notebook) gets no more frames while the run goes on
-    in the kernel.  Whole columns go as streams, which the page's reply (Panel's notebook page sends each change
-    it applies back to the kernel) costs the kernel little: a click waits for no long reply.
+    in the kernel.  Whole columns go as streams, and the page sends none of the kernel's changes back (Panel's
+    notebook page did, a whole frame per frame: :data:`ringlab.ui.frame_gate.NO_ECHO_JS`), so a click waits for
+    no long reply.
 """
 from __future__ import annotations
 

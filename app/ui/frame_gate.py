@@ -81,8 +81,10 @@ _WAITING: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # document 
 # A live run shown by a notebook page computes its next chunk only when the page has drawn its frames (no gate of
 # the page is full of unacknowledged frames), so that the page keeps step with the kernel however slowly it draws
 # (on a loaded machine a page took 1-3 s per frame and fell 10-20 orbits behind a run that went on).  A page that
-# acknowledges nothing for HOLD_S seconds no longer holds the run (it has gone: the kernel is not told).
-HOLD_S = 2.0
+# acknowledges nothing for HOLD_S seconds no longer holds the run (it has gone: the kernel is not told).  A JupyterLab
+# page of the loaded 2-core test machine stood still (its timers and messages too) for 3-4 s right after Start: with
+# 2 s it counted as gone, the run went on, and the page showed the image 14.5 orbits behind the kernel when it woke.
+HOLD_S = 6.0
 _FULL: "weakref.WeakSet" = weakref.WeakSet()  # gates of notebook pages that wait for an acknowledgement
 
 

@@ -277,7 +277,7 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
         time.sleep(4.0)
         after = kernel_state(state)
         while not after["orbits"] > before["orbits"] and time.time() - t_close < 15:  # a page that has gone holds
-            time.sleep(0.2)  # the run for at most 2 s, and a loaded machine computes slowly
+            time.sleep(0.2)  # the run for at most frame_gate.HOLD_S (6 s), and a loaded machine computes slowly
             after = kernel_state(state)
         assert after["running"] and after["orbits"] > before["orbits"], (  # the run goes on in the kernel
             {key: after[key] for key in ("status", "running", "orbits", "time")}, before["orbits"], t_close)
