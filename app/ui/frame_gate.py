@@ -19,7 +19,10 @@ from ringlab.config import CONFIG
 # hears the page's next message (a Pause click), and an old value sent back late overwrote a newer one (the
 # space-time image's time range stepped back for ~0.7 s).  Bokeh marks such changes ``sync = false`` and its own
 # server connection sends none of them; the first acknowledgement of a notebook page makes its CommManager do the
-# same (once per page: the class is shared by every output).  A served page has no CommManager: nothing changes.
+# same (once per page: the class is shared by every output), and sends a click at once instead of 50 ms later
+# (a timer that waits behind whatever the page draws: a Pause click reached an idle kernel 0.45 s after the page
+# took it on the loaded test machine); it still waits, as Panel's page does, while the kernel has not answered the
+# previous message.  A served page has no CommManager.
 NO_ECHO_JS = """
 const doc = fig.document
 if (doc != null && doc._ringlab_no_echo === undefined) {
@@ -29,7 +32,17 @@ if (doc != null && doc._ringlab_no_echo === undefined) {
     if (typeof proto._document_changed === "function" && typeof proto.process_events === "function") {
       if (!proto._ringlab_no_echo) {
         const changed = proto._document_changed
-        proto._document_changed = function (event) { if (event.sync !== false) changed.call(this, event) }
+        proto._document_changed = function (event) {
+          if (event.sync === false) return
+          if (event.kind === "MessageSent" && !this._reconnect && (!this._blocked || Date.now() > this._timeout)) {
+            this._event_buffer.push(event)  // a click goes now, not after Panel's 50 ms (and a frame drawn meanwhile)
+            this._blocked = true
+            this._timeout = Date.now() + this.timeout
+            this.process_events()
+            return
+          }
+          changed.call(this, event)
+        }
         proto._ringlab_no_echo = true
       }
       doc._ringlab_no_echo = true
@@ -191,7 +204,10 @@ class FrameGate:
             return True
         doc = self.fig.document
         if doc is not None and now - _WAITING.get(doc, now) > PAGE_GONE_S:
-            return False  # the page has gone or stalls
+            # the page has gone or stalls: it holds the runs too (up to HOLD_S); without this a page that stood
+            # still for 3 s right after Start got no frames and held nothing, and showed the image 10 orbits behind
+            _FULL.add(self)
+            return False
         if len(self._in_flight) < self.max_in_flight:
             return True
         if doc is not None and _READ.get(doc, 0) > self._in_flight[-1]:
