@@ -84,6 +84,9 @@ hydro.runner.param.watch(lambda e: e.new or drawn.append(time.time()), "running"
 history = []  # (time, orbit of the run) every 0.1 s: the page's samples are compared with it
 
 
+start_button = hydro.buttons["start"]
+
+
 def report():
     while True:
         sim = hydro.runner.sim
@@ -92,7 +95,8 @@ def report():
         del history[:-600]
         state = dict(n=len(comm_sent), last=comm_sent[-1] if comm_sent else None, paused=paused[-1:],
                      drawn=drawn[-1:], comm_in=comm_in[-300:], delivered=delivered[-300:], running=hydro.runner.running,
-                     status=hydro.runner.status, orbits=orbits, time=time.time(), history=history)
+                     status=hydro.runner.status, orbits=orbits, start_disabled=[start_button.disabled] + [
+                         m.disabled for (m, _) in list(start_button._models.values())], time=time.time(), history=history)
         STATE.with_suffix(".tmp").write_text(json.dumps(state))
         os.replace(STATE.with_suffix(".tmp"), STATE)
         time.sleep(0.1)
@@ -170,11 +174,11 @@ def kernel_state(path: Path) -> dict:
 
 
 @pytest.mark.slow
-# Passed 3 times in a row (both loads) on the shared 2-core machine, but 5 of 12 runs had one failing check: the run
-# not running at a check (once 8 s after Start, once 10 s after a second Start, once not going on after the page
-# closed), Pause heard 0.65 s after the click (load), the time range one step back (once).  Reported as XFAIL/XPASS
-# until those are understood; the checks themselves are hard (the reason is in the report)
-@pytest.mark.xfail(strict=False, reason="intermittent on a loaded machine: run stopped at a check, Pause >0.5 s")
+# On the shared 2-core machine (load average 10-19 from other work), 10 runs after the stylesheet, echo, stall-hold
+# and click fixes: 8 passed both loads, 2 had one load fail the same way: after Pause the page kept its Start button
+# disabled (status "Paused." and Pause disabled were applied, the kernel had paused); not understood yet.
+# Lag, Pause latency, time-range and CDN failures (3 of 6 runs before the fixes) were not seen in those 10 runs.
+@pytest.mark.xfail(strict=False, reason="intermittent: the page's Start button stays disabled after Pause (2 of 10 runs)")
 @pytest.mark.parametrize("load", ["idle", "loaded"])
 def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
     root, port = jupyter_lab
@@ -267,7 +271,7 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
             if start.is_disabled():  # seen once in 16 runs: the kernel had answered (sent its frames) and was paused
                 k = kernel_state(state)
                 raise AssertionError(f"Start still disabled in the page {time.time() - t_click:.1f} s after Pause: "
-                                     f"{ {key: k[key] for key in ('status', 'running', 'orbits', 'n', 'last')} }, "
+                                     f"{ {key: k[key] for key in ('status', 'running', 'orbits', 'n', 'last', 'start_disabled')} }, "
                                      f"Pause heard at {paused[0]:.2f}, the click at {t_click:.2f}")
             start.click()
             t_restart = time.time()  # Start takes longer than Pause in the kernel (it sets up the run: up to 1 s here)
