@@ -76,6 +76,7 @@ _rk.deliver = timed_deliver
 VIEW = '''\
 hydro = HydroView()
 hydro.runner.settings.timestep = "paper"  # the default, 10x larger steps, blows up near orbit 80 (~8 s here)
+hydro.runner.settings.isothermal = True  # the non-isothermal run blew up at orbit 30-37 (T < 0): Start disabled
 hydro.runner.param.watch(lambda e: e.new or paused.append(time.time()), "running")
 drawn = []  # after the view's own watchers (its buttons and status for the paused run)
 hydro.runner.param.watch(lambda e: e.new or drawn.append(time.time()), "running")
