@@ -7,7 +7,8 @@ Python through ``view.runner`` (``runner.start()``, ``runner.pause()``, ``runner
 Offline notebooks
     Importing this module in a Jupyter kernel makes Panel load BokehJS and Panel's JavaScript from the installed
     packages (``pn.config.inline = True``) instead of their CDN hosts, so ``pn.extension()`` called after the
-    import gives views that draw without internet access.  The cost is the size of the notebook's extension
+    import gives views that draw without internet access; the stylesheets Panel sends again when a pane changes
+    come from the installed package too (:mod:`ringlab.server.installed_css`), never from its CDN.  The cost is the size of the notebook's extension
     output: 5.95 MB of JavaScript written into the saved notebook instead of 38 kB of CDN links (Panel 1.9.4,
     Bokeh 3.9.2).  ``pn.extension(inline=False)`` chooses the CDN again.  Outside a kernel (``panel serve``, a
     script) nothing changes.
@@ -15,15 +16,17 @@ Offline notebooks
 Frames in a notebook
     A view sends a frame to the page only when the page has drawn the previous ones (the page acknowledges each
     frame) and at most twice per second, and a run shown by a page computes its next chunk only once the page has
-    drawn (at most 2 s without an acknowledgement): the page keeps step with the kernel however loaded the
+    drawn (at most 6 s without an acknowledgement): the page keeps step with the kernel however loaded the
     machine is, and a page that has gone (closed tab, closed notebook) gets no more frames while the run goes on
-    in the kernel.  Whole columns go as streams, which the page's reply (Panel's notebook page sends each change
-    it applies back to the kernel) costs the kernel little: a click waits for no long reply.
+    in the kernel.  Whole columns go as streams, and the page sends none of the kernel's changes back (Panel's
+    notebook page did, a whole frame per frame: :data:`ringlab.ui.frame_gate.NO_ECHO_JS`), so a click waits for
+    no long reply.
 """
 from __future__ import annotations
 
 import panel as pn
 
+from ringlab.server.installed_css import use_installed_stylesheets
 from ringlab.tabs.hydro.view import HydroView
 from ringlab.tabs.linear.view import LinearView
 from ringlab.tabs.nbody import NBodyView
@@ -48,6 +51,7 @@ def use_installed_resources() -> bool:
     if not in_jupyter_kernel():
         return False
     pn.config.inline = True
+    use_installed_stylesheets()
     return True
 
 

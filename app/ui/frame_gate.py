@@ -14,7 +14,43 @@ from bokeh.models import CustomJS
 
 from ringlab.config import CONFIG
 
-ACK_JS = "fig.tags = [(fig.tags.length ? fig.tags[0] : 0) + 1]"
+# Panel 1.9's notebook page (its CommManager, a root of each output's document) sends every change it applies from
+# the kernel back to the kernel: a whole frame per frame, which the kernel deserializes and applies again before it
+# hears the page's next message (a Pause click), and an old value sent back late overwrote a newer one (the
+# space-time image's time range stepped back for ~0.7 s).  Bokeh marks such changes ``sync = false`` and its own
+# server connection sends none of them; the first acknowledgement of a notebook page makes its CommManager do the
+# same (once per page: the class is shared by every output), and sends a click at once instead of 50 ms later
+# (a timer that waits behind whatever the page draws: a Pause click reached an idle kernel 0.45 s after the page
+# took it on the loaded test machine); it still waits, as Panel's page does, while the kernel has not answered the
+# previous message.  A served page has no CommManager.
+NO_ECHO_JS = """
+const doc = fig.document
+if (doc != null && doc._ringlab_no_echo === undefined) {
+  doc._ringlab_no_echo = false
+  for (const root of doc.roots()) {
+    const proto = Object.getPrototypeOf(root)
+    if (typeof proto._document_changed === "function" && typeof proto.process_events === "function") {
+      if (!proto._ringlab_no_echo) {
+        const changed = proto._document_changed
+        proto._document_changed = function (event) {
+          if (event.sync === false) return
+          if (event.kind === "MessageSent" && !this._reconnect && (!this._blocked || Date.now() > this._timeout)) {
+            this._event_buffer.push(event)  // a click goes now, not after Panel's 50 ms (and a frame drawn meanwhile)
+            this._blocked = true
+            this._timeout = Date.now() + this.timeout
+            this.process_events()
+            return
+          }
+          changed.call(this, event)
+        }
+        proto._ringlab_no_echo = true
+      }
+      doc._ringlab_no_echo = true
+    }
+  }
+}
+"""
+ACK_JS = NO_ECHO_JS + "fig.tags = [(fig.tags.length ? fig.tags[0] : 0) + 1]"
 RATE_ENV = "RINGLAB_MAX_FRAME_RATE"
 # A browser repaints a whole figure (axes, grids, labels: ~10-20 ms of its main thread on the 2-core test
 # machine) for every frame, and a page that acknowledges frames as fast as it can keeps a core of the
@@ -58,8 +94,10 @@ _WAITING: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()  # document 
 # A live run shown by a notebook page computes its next chunk only when the page has drawn its frames (no gate of
 # the page is full of unacknowledged frames), so that the page keeps step with the kernel however slowly it draws
 # (on a loaded machine a page took 1-3 s per frame and fell 10-20 orbits behind a run that went on).  A page that
-# acknowledges nothing for HOLD_S seconds no longer holds the run (it has gone: the kernel is not told).
-HOLD_S = 2.0
+# acknowledges nothing for HOLD_S seconds no longer holds the run (it has gone: the kernel is not told).  A JupyterLab
+# page of the loaded 2-core test machine stood still (its timers and messages too) for 3-4 s right after Start: with
+# 2 s it counted as gone, the run went on, and the page showed the image 14.5 orbits behind the kernel when it woke.
+HOLD_S = 6.0
 _FULL: "weakref.WeakSet" = weakref.WeakSet()  # gates of notebook pages that wait for an acknowledgement
 
 
@@ -166,7 +204,10 @@ class FrameGate:
             return True
         doc = self.fig.document
         if doc is not None and now - _WAITING.get(doc, now) > PAGE_GONE_S:
-            return False  # the page has gone or stalls
+            # the page has gone or stalls: it holds the runs too (up to HOLD_S); without this a page that stood
+            # still for 3 s right after Start got no frames and held nothing, and showed the image 10 orbits behind
+            _FULL.add(self)
+            return False
         if len(self._in_flight) < self.max_in_flight:
             return True
         if doc is not None and _READ.get(doc, 0) > self._in_flight[-1]:

@@ -67,3 +67,16 @@ def test_a_full_gate_holds_the_runs_until_the_page_draws_or_has_gone(monkeypatch
     assert not frame_gate.page_behind(now + HOLD_S + 0.1)  # no acknowledgement for HOLD_S: the page has gone
     fig.tags = [1]
     assert not frame_gate.page_behind(now + 0.7)
+
+
+def test_a_page_that_stalls_holds_the_runs_though_no_gate_is_full(monkeypatch):
+    fig, gate = notebook_gate(monkeypatch, max_in_flight=2)
+    now = 300.0
+    assert gate.ready(now)
+    gate.mark_sent(now, changed=True)  # one frame of two in flight: not full
+    later = now + frame_gate.PAGE_GONE_S + 0.1
+    assert not gate.ready(later)  # no acknowledgement for PAGE_GONE_S: no more frames to a page that stalls ...
+    assert frame_gate.page_behind(later)  # ... and the runs wait for it (they went on: the page fell behind)
+    assert not frame_gate.page_behind(now + HOLD_S + 0.1)  # it has gone
+    fig.tags = [1]
+    assert not frame_gate.page_behind(later) and gate.ready(later)
