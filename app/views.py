@@ -6,12 +6,12 @@ Python through ``view.runner`` (``runner.start()``, ``runner.pause()``, ``runner
 
 Offline notebooks
     Importing this module in a Jupyter kernel makes Panel load BokehJS and Panel's JavaScript from the installed
-    packages (``pn.config.inline = True``) instead of their CDN hosts, so ``pn.extension()`` called after the
-    import gives views that draw without internet access; the stylesheets Panel sends again when a pane changes
-    come from the installed package too (:mod:`ringlab.server.installed_css`), never from its CDN.  The cost is the size of the notebook's extension
-    output: 5.95 MB of JavaScript written into the saved notebook instead of 38 kB of CDN links (Panel 1.9.4,
-    Bokeh 3.9.2).  ``pn.extension(inline=False)`` chooses the CDN again.  Outside a kernel (``panel serve``, a
-    script) nothing changes.
+    packages (``pn.config.inline = True``) instead of their CDN hosts, so ``pn.extension()`` called after the import
+    gives views that draw without internet access; the stylesheets Panel sends again when a pane changes come from
+    the installed package too (``ringlab.server.installed_css``), never from its CDN. The cost is the size of the
+    notebook's extension output: 5.95 MB of JavaScript written into the saved notebook instead of 38 kB of CDN links
+    (Panel 1.9.4, Bokeh 3.9.2). ``pn.extension(inline=False)`` chooses the CDN again. Outside a kernel (``panel
+    serve``, a script) nothing changes.
 
 Frames in a notebook
     A view sends a frame to the page only when the page has drawn the previous ones (the page acknowledges each
@@ -19,7 +19,7 @@ Frames in a notebook
     drawn (at most 6 s without an acknowledgement): the page keeps step with the kernel however loaded the
     machine is, and a page that has gone (closed tab, closed notebook) gets no more frames while the run goes on
     in the kernel.  Whole columns go as streams, and the page sends none of the kernel's changes back (Panel's
-    notebook page did, a whole frame per frame: :data:`ringlab.ui.frame_gate.NO_ECHO_JS`), so a click waits for
+    notebook page did, a whole frame per frame: ``ringlab.ui.frame_gate.NO_ECHO_JS``), so a click waits for
     no long reply.
 """
 from __future__ import annotations
