@@ -143,10 +143,9 @@ def test_the_fast_writer_stops_quietly_at_a_socket_reset_mid_message():
     """Panel's writer raises at frame 2 (tests/app/test_socket_guard.py); the fast one ends the message there
     and its futures end quietly."""
     import asyncio
-    import gc
 
     import panel.io.document as pdoc
-    from test_socket_guard import fake_conn
+    from test_socket_guard import fake_conn, run_on
     assert fast_patch.install_fast_dispatch()
     conn, msg = fake_conn()
     msg.buffers = []
@@ -159,11 +158,6 @@ def test_the_fast_writer_stops_quietly_at_a_socket_reset_mid_message():
         got.append(pdoc.dispatch_tornado(conn, msg=msg))  # a closing socket: nothing written
     loop = asyncio.new_event_loop()
     loop.set_exception_handler(lambda lp, ctx: errors.append(ctx.get("message")))
-    try:
-        loop.run_until_complete(go())
-        gc.collect()
-        loop.run_until_complete(asyncio.sleep(0.01))
-    finally:
-        loop.close()
+    run_on(loop, go)
     assert got == [1, []] and conn._socket.ws_connection.written == ["{}"]
     assert not errors, errors

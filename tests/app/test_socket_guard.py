@@ -50,6 +50,17 @@ def fake_conn():
     return SimpleNamespace(_socket=socket), msg
 
 
+def run_on(loop, go) -> None:
+    """Run the coroutine ``go()`` on ``loop``, then a collection and one more turn (so a future nobody retrieved
+    reports its error to the loop's handler), and close the loop."""
+    try:
+        loop.run_until_complete(go())
+        gc.collect()
+        loop.run_until_complete(asyncio.sleep(0.01))
+    finally:
+        loop.close()
+
+
 def errors_of_panel_writer(quiet: bool) -> list:
     """Panel's writer on a socket reset at its first frame, in a task nobody awaits (as Panel's own
     ``_dispatch_msgs``); the errors the event loop reported."""
@@ -66,12 +77,7 @@ def errors_of_panel_writer(quiet: bool) -> list:
     async def go():
         asyncio.ensure_future(write())
         await asyncio.sleep(0.01)
-    try:
-        loop.run_until_complete(go())
-        gc.collect()
-        loop.run_until_complete(asyncio.sleep(0.01))
-    finally:
-        loop.close()
+    run_on(loop, go)
     assert conn._socket.ws_connection.written == ["{}"]  # frame 1 written, frame 2 raised
     return errors
 
@@ -91,12 +97,7 @@ def test_panels_writer_raises_mid_message_and_the_quiet_loop_drops_only_that():
     async def go():
         asyncio.ensure_future(fails())
         await asyncio.sleep(0.01)
-    try:
-        loop.run_until_complete(go())
-        gc.collect()
-        loop.run_until_complete(asyncio.sleep(0.01))
-    finally:
-        loop.close()
+    run_on(loop, go)
     assert any("never retrieved" in (e or "") for e in errors)  # any other error still reaches the handler
 
 
