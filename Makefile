@@ -81,33 +81,47 @@ PYTEST_XDIST = -n $(PYTEST_WORKERS) --dist loadgroup
 lint-imports: $(STAMP)
 	$(BIN)/lint-imports --no-cache
 
-# the install tier runs while `make docs` builds (one core each: Sphinx runs on one); it installs the fresh venv's
-# packages first and waits for the docs build (RINGLAB_DOCS_PID) before it builds the wheel with the site inside
+# the install tier and `make test-newest` run while `make docs` builds (Sphinx runs on one core; the install tier
+# installs the fresh venv's packages first and waits for the docs build (RINGLAB_DOCS_PID) before it builds the
+# wheel with the site inside; test-newest reuses its venv when present and logs to $(NEWEST_LOG), shown at the end)
+NEWEST_LOG ?= build/test-newest.log
 test: $(STAMP) browser udunits lint-imports
 	$(BIN)/python -m pytest $(PYTEST_XDIST) --ignore=tests/install
-	@$(MAKE) docs & docs_pid=$$!; \
+	@mkdir -p $(dir $(NEWEST_LOG)); $(MAKE) docs & docs_pid=$$!; \
+	$(MAKE) --no-print-directory test-newest > $(NEWEST_LOG) 2>&1 & newest_pid=$$!; \
 	RINGLAB_DOCS_PID=$$docs_pid $(BIN)/python -m pytest tests/install; rc=$$?; \
-	wait $$docs_pid || { echo "make docs failed"; exit 1; }; exit $$rc
+	wait $$newest_pid; newest_rc=$$?; echo "---- make test-newest ($(NEWEST_LOG)):"; tail -n 40 $(NEWEST_LOG); \
+	wait $$docs_pid || { echo "make docs failed"; exit 1; }; \
+	test $$newest_rc -eq 0 || { echo "make test-newest failed (log: $(NEWEST_LOG))"; exit 1; }; exit $$rc
 
 # the developer's check: the core and app tiers without the `slow` tests (marked in their files, or listed in
 # tests/slow_tests.txt: 2 s or more each here; `make slow-list` re-measures and updates the list)
 test-fast: $(STAMP) udunits lint-imports
 	$(BIN)/python -m pytest $(PYTEST_XDIST) -m "not slow" tests/core tests/app
 
-# the app on the newest Panel and Bokeh releases (the pins are lower bounds): a venv of its own with them upgraded,
-# then the headless tests of the app's websocket handler, its web cases and the public-API scan, and two browser
-# tests (one at a time).  The replacements of library code (fast_defaults, fast_patch, joining) install only over
-# the source they were written for: on a newer release the app runs on the library's own code
+# the app on the newest Panel and Bokeh releases (the pins are lower bounds): a venv of its own (made once, reused
+# while pyproject.toml and setup.py are older than it) with them upgraded to the newest releases on the index
+# (--refresh-package: not an index page uv cached earlier; scripts/newest_versions.py prints the versions before and
+# after and fails unless they are the index's newest), then the headless tests of the app's websocket handler, its
+# web cases and the public-API scan, and two browser tests (one at a time).  The replacements of library code
+# (fast_defaults, fast_patch, joining) install only over the source they were written for: on a newer release the
+# app runs on the library's own code
 NEWEST_VENV ?= .venv-newest
+NEWEST_PACKAGES ?= panel bokeh
 NEWEST_TESTS ?= tests/app/test_socket_guard.py tests/app/test_web_cases.py tests/app/test_public_api_only.py
 NEWEST_BROWSER ?= tests/browser/test_browser.py tests/browser/test_browser_reload.py
 test-newest: browser
-	$(MAKE) --no-print-directory $(NEWEST_VENV)/.installed VENV=$(NEWEST_VENV)
-	@if test -x $(NEWEST_VENV)/bin/uv; then $(NEWEST_VENV)/bin/uv pip install -q --upgrade --python $(NEWEST_VENV)/bin/python panel bokeh; \
-	  else $(NEWEST_VENV)/bin/python -m pip install -q --upgrade panel bokeh; fi
-	$(NEWEST_VENV)/bin/python -c "import bokeh, panel; print('newest: panel', panel.__version__, 'bokeh', bokeh.__version__)"
-	$(NEWEST_VENV)/bin/python -m pytest -p no:xdist $(NEWEST_TESTS)
-	for t in $(NEWEST_BROWSER); do $(NEWEST_VENV)/bin/python -m pytest -p no:xdist $$t || exit 1; done
+	@start=$$(date +%s); \
+	$(MAKE) --no-print-directory $(NEWEST_VENV)/.installed VENV=$(NEWEST_VENV) || exit 1; \
+	$(NEWEST_VENV)/bin/python scripts/newest_versions.py --before $(NEWEST_PACKAGES); \
+	if test -x $(NEWEST_VENV)/bin/uv; then \
+	  $(NEWEST_VENV)/bin/uv pip install -q --upgrade $(addprefix --refresh-package ,$(NEWEST_PACKAGES)) \
+	    --python $(NEWEST_VENV)/bin/python $(NEWEST_PACKAGES) || exit 1; \
+	else $(NEWEST_VENV)/bin/python -m pip install -q --upgrade $(NEWEST_PACKAGES) || exit 1; fi; \
+	$(NEWEST_VENV)/bin/python scripts/newest_versions.py --check $(NEWEST_PACKAGES) || exit 1; \
+	$(NEWEST_VENV)/bin/python -m pytest -p no:xdist $(NEWEST_TESTS) || exit 1; \
+	for t in $(NEWEST_BROWSER); do $(NEWEST_VENV)/bin/python -m pytest -p no:xdist $$t || exit 1; done; \
+	echo "test-newest: passed in $$(( $$(date +%s) - start )) s"
 
 slow-list: $(STAMP)
 	$(BIN)/python tests/slow_list.py
