@@ -37,7 +37,9 @@ ALLOWED = {
     # The app's websocket handler (a subclass of Panel's, overriding Bokeh's public on_message, send_message and
     # on_close) is chosen where Bokeh reads an application's routes when the server is made; Panel rewrites
     # this list the same way, and neither library offers another way to choose the handler (extra_patterns come
-    # after the application's routes).  It buys an ERROR reply without the server's traceback and file paths
+    # after the application's routes; Tornado's public Application.add_handlers would put a route before them, but
+    # neither Bokeh's Server nor Panel's serve exposes its Tornado application, and ``panel serve`` takes no Tornado
+    # settings from a setup script).  It buys an ERROR reply without the server's traceback and file paths
     # (Bokeh sends both: tests/app/test_web_cases.py), no AssertionError or warning lines when a page leaves
     # mid-stream, and the count of a page's open websockets (a closed tab frees its runs at once, not when
     # Bokeh discards the session 15-32 s later).
