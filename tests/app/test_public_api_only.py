@@ -72,13 +72,14 @@ ALLOWED = {
         ("write", "deserializer._references"), ("write", "pdoc._WRITE_BLOCK[doc]"), ("write", "pdoc._WRITE_MSGS[doc]"),
         ("write", "pdoc.dispatch_tornado"), ("write", "pdoc.schedule_write_events"), ("write", "serializer._references"),
     }),
-    # A class joining at once (the file's docstring has the figures: 30 pages after 22.5-30.7 s instead of 48.0 s
-    # with two processes).  Tornado accepts up to 128 waiting connections per wake-up and has no setting for it
-    # (a process busy building pages takes a whole class); Panel's reuse_sessions keeps the first real page of an
-    # address as its template and offers no way to give it an empty one made before the processes fork (``panel
-    # serve --warm --reuse-sessions`` does it from Panel's command line only).
-    "app/server/joining.py": ("one accept per wake-up, each page built once", {
+    # A class joining at once (another work package owns this file; its docstring has the figures: 30 pages
+    # after 22.5-30.7 s instead of 48.0 s with two processes, the first page after 2.4 s instead of 32.9 s).
+    "app/server/joining.py": ("one accept per wake-up, one page built per turn, each page built once", {
         ("read", "getattr(tornado.netutil, '_DEFAULT_BACKLOG', None)"), ("write", "tornado.netutil._DEFAULT_BACKLOG"),
+        ("read", "self._pending_sessions"), ("read", "self._sessions"),
+        ("replace", "replace_if_unchanged(ApplicationContext, 'create_session_if_needed', create_session_if_needed, "
+                    "CREATE_SOURCE_SHA256, ORIGINAL)"),
+        ("write", "ApplicationContext.create_session_if_needed"),
         ("read", "state._session_key_funcs"), ("read", "state._sessions"),
         ("write", "state._session_key_funcs[path]"), ("write", "state._sessions[path]"),
     }),
