@@ -79,10 +79,12 @@ def create_app(args: dict | None = None) -> pn.Column:
     """The app for one session: a header and one tab per entry of TABS (``app.tabs``), the lessons beside.
 
     ``args``: the page address's query (default ``pn.state.session_args``, see :func:`apply_query`).
-    Only the tab shown first is built now; ``app.views[i]`` builds tab ``i`` when read.
+    Only the tab shown first is built (a served page's after its document has reached the page, in steps:
+    :class:`ringlab.ui.lazy_tabs.LazyTabs`); ``app.views[i]`` builds tab ``i`` when read.
     """
     doc = pn.state.curdoc
-    if doc is not None and doc.session_context is not None:
+    served = doc is not None and doc.session_context is not None
+    if served:
         doc.template = VIEWPORT_TEMPLATE
     joining.local_stylesheets()  # before any component is built (a page built where its websocket landed)
     args = pn.state.session_args if args is None else args
@@ -90,7 +92,9 @@ def create_app(args: dict | None = None) -> pn.Column:
     holder = {}
     lazy = LazyTabs([t for t, _ in TABS], [lambda f=f: _make(f, runs) for _, f in TABS],
                     first=TAB_KEYS.get(_query_value(args, "tab"), 0),
-                    on_built=lambda lazy, i, view: _built(holder.get("app"), lazy.tabs, i, view),
+                    on_built=lambda lazy, i, view: _built(holder.get("app"), lazy.tabs, i, view, served),
+                    # a served page gets its first tab after its document, in steps (ringlab.ui.lazy_tabs)
+                    later=served,
                     # beside the 340 px lessons panel from a 1000 px window on (a 1024 px projector keeps the
                     # question in view)
                     sizing_mode="stretch_width", stylesheets=TABS_CSS, styles={"flex": "1 1 620px", "min-width": "0"})
@@ -128,15 +132,18 @@ def create_app(args: dict | None = None) -> pn.Column:
     return app
 
 
-def _built(app, tabs, index: int, view) -> None:
+def _built(app, tabs, index: int, view, served: bool = False) -> None:
     """A tab was just built: [connect] the Linear tab's "Run this in ..." buttons show the other tabs, a live
     tab draws its frames only while it is the tab shown, and presentation mode (if on) applies to its figures
-    too."""
+    too.  In a served page its objects, which live as long as the page, leave the garbage collector's scans
+    (as the page's own do once it is built: :func:`ringlab.server.gc_policy.page_built`)."""
     view.set_tabs(tabs)
     view.set_shown(tabs.active == index)
     tabs.param.watch(lambda e: view.set_shown(e.new == index), "active")
     if app is not None and app.present.value:
         _present_view(view, True)
+    if served:
+        pn.state.execute(gc_policy.page_built, schedule=True)  # a turn of the event loop of its own
 
 
 def set_presentation(app: pn.Column, on: bool) -> None:
@@ -182,9 +189,11 @@ def apply_query(app: pn.Column, args: dict) -> None:
         return
     app.tabs.active = index
     if first("autostart") in ("1", "true", "yes"):
-        runner = app.views[index].start_runner()
-        if runner is not None:
-            pn.state.onload(lambda: _autostart(app, runner))  # at once outside a server (no document)
+        def start(view):  # once the tab is built (a served page builds it after the page has loaded)
+            runner = view.start_runner()
+            if runner is not None:
+                pn.state.onload(lambda: _autostart(app, runner))  # at once outside a server (no document)
+        app.lazy.when_built(index, start)
 
 
 def _autostart(app: pn.Column, runner) -> None:

@@ -4,14 +4,15 @@ Every tab class of the lab derives from :class:`TabBase` (the protocol's common 
 docstring) and defines in its own body what differs (a test checks each method is the tab's or the base's), and
 the shell calls nothing else on a tab: it builds the tab for a session (:meth:`Tab.for_session`), hands it the
 page's ``pn.Tabs`` (:meth:`Tab.set_tabs`), tells it whether it is the tab shown (:meth:`Tab.set_shown`),
-presses the Start of its run for a class start link (:meth:`Tab.start_runner`) and lays it out
-(``__panel__``).  A new tab derives from :class:`TabBase`, overrides what differs and is listed in ``ringlab.main.TABS``.
+presses the Start of its run for a class start link (:meth:`Tab.start_runner`), lays it out (``__panel__``) and, in a
+served page, may have its heavy parts come after the rest (:meth:`Tab.fill_steps`).  A new tab derives from
+:class:`TabBase`, overrides what differs and is listed in ``ringlab.main.TABS``.
 """
 from __future__ import annotations
 
 from typing import Any, Protocol, runtime_checkable
 
-TAB_METHODS = ("for_session", "set_tabs", "set_shown", "start_runner", "__panel__")
+TAB_METHODS = ("for_session", "set_tabs", "set_shown", "start_runner", "fill_steps", "__panel__")
 
 
 @runtime_checkable
@@ -32,6 +33,12 @@ class Tab(Protocol):
     def start_runner(self) -> Any | None:
         """The runner whose ``start()`` a class start link (``?tab=...&autostart=1``) presses, or None."""
 
+    def fill_steps(self) -> list:
+        """Take the heavy parts out of the layout (not shown yet; each leaves a note) and return the callables
+        that put them back, one by one: a served page runs each in a turn of the server's event loop of its own
+        after the rest of the tab reached the page (``ringlab.ui.lazy_tabs``).  Called at most once; a layout
+        nobody asks is whole.  Empty: nothing comes later."""
+
     def __panel__(self):
         """The tab's layout (a Panel object)."""
 
@@ -39,7 +46,7 @@ class Tab(Protocol):
 class TabBase:
     """The :class:`Tab` protocol's common answers, for a tab class to derive from (before ``pn.viewable.Viewer``)
     and override where it differs: built with the session's runs, shows no other tab, streams nothing (so being
-    shown changes nothing), has no run to start, laid out as its ``_layout``."""
+    shown changes nothing), has no run to start, laid out whole as its ``_layout``."""
 
     @classmethod
     def for_session(cls, runs):
@@ -57,6 +64,10 @@ class TabBase:
     def start_runner(self):
         """None: no run to start."""
         return None
+
+    def fill_steps(self) -> list:
+        """Nothing comes later: the layout stays whole."""
+        return []
 
     def __panel__(self):
         return self._layout

@@ -135,3 +135,57 @@ def test_a_hidden_live_tab_draws_nothing_and_the_newest_state_when_shown(kind):
     if kind == "hydro":  # the profiles drawn are those of the newest state
         np.testing.assert_allclose(source.data["sigma"], r.sim.frame().sigma)
     r.pause()
+
+
+class _Stepped:
+    """A tab whose heavy part comes later (fill_steps), recording what happened in which order."""
+
+    def __init__(self, log):
+        self.log = log
+        self.column = pn.Column(pn.pane.HTML("head"), pn.pane.HTML("heavy"))
+
+    def fill_steps(self):
+        part, self.column[1] = self.column[1], pn.pane.HTML("note")
+        self.log.append("taken out")
+        return [lambda: (self.column.__setitem__(1, part), self.log.append("filled"))]
+
+    def __panel__(self):
+        return self.column
+
+
+def test_a_tab_in_steps_is_placed_then_filled_then_announced():
+    """Outside a server the steps of ``later`` run at once, in the order a served page runs them, each its own
+    turn there: the tab's objects, its place without the heavy part, the heavy part, then on_built and the
+    callers waiting for the tab (ringlab.ui.lazy_tabs.LazyTabs.build_soon)."""
+    from ringlab.ui.lazy_tabs import LazyTabs
+    log = []
+    views = []
+
+    def factory():
+        views.append(_Stepped(log))
+        log.append("built")
+        return views[-1]
+
+    lazy = LazyTabs(["a", "b"], [factory, lambda: pn.pane.HTML("b")], first=0, later=True,
+                    on_built=lambda lz, i, v: log.append(f"on_built {i}"))
+    lazy.when_built(0, lambda v: log.append("waiter"))
+    assert log == ["built", "taken out", "filled", "on_built 0", "waiter"]
+    assert lazy.tabs[0] is views[0].column and views[0].column[1].object == "heavy"
+    lazy.tabs.active = 1  # opened later: the same steps (a tab without fill steps is whole at once)
+    assert lazy.is_built(1) and log[-1] == "on_built 1"
+    assert len(views) == 1 and log.count("on_built 0") == 1
+
+
+def test_the_hydro_tabs_plots_can_come_after_the_rest():
+    view = HydroView()
+    try:
+        whole = len(view.__panel__().select(pn.pane.Bokeh))
+        steps = view.fill_steps()
+        assert whole == 8 and len(steps) == 2 and len(view.__panel__().select(pn.pane.Bokeh)) == 0
+        assert view.fill_steps() == []  # taken out once
+        steps[0]()
+        assert len(view.__panel__().select(pn.pane.Bokeh)) == 5  # the space-time diagram and the four profiles
+        steps[1]()
+        assert len(view.__panel__().select(pn.pane.Bokeh)) == whole
+    finally:
+        view.runner.close()

@@ -68,6 +68,12 @@ If the scheme fails (a "blow-up": a density or temperature turns negative), the 
 """)
 
 
+def _plots_note() -> pn.pane.HTML:
+    """What holds a plot group's place until it reaches the page (a turn of the event loop later)."""
+    return pn.pane.HTML('<div class="tab-opening">Plots coming …</div>', stylesheets=[CSS],
+                        sizing_mode="stretch_width", margin=(0, 10))
+
+
 class HydroView(TabBase, pn.viewable.Viewer):
     """The "Hydrodynamics" tab of one session."""
 
@@ -216,6 +222,7 @@ class HydroView(TabBase, pn.viewable.Viewer):
         head = pn.Column(self.header, controls, self.status, kept, self.blowup, sizing_mode="stretch_width",
                          css_classes=["hydro-run"])
         main = pn.Column(self.key, top, self.readouts, bottom, explanation, sizing_mode="stretch_width")
+        self._later = [(main, 1), (main, 3)]  # the plot groups: 350 of the tab's 450 Bokeh models (fill_steps)
         return settings_beside(head, pn.Column(self._widgets(), self.export, width=340,
                                                css_classes=["hydro-settings"]), main, main_min_px=580,
                                phone_px=PHONE_PX)
@@ -366,3 +373,13 @@ class HydroView(TabBase, pn.viewable.Viewer):
     def start_runner(self):
         """The hydro run."""
         return self.runner
+
+    def fill_steps(self) -> list:
+        """The plots come after the rest of the tab: the space-time diagram with the profiles, then the time
+        series and the PSD (each a note until then)."""
+        steps = []
+        for column, k in self._later:
+            part, column[k] = column[k], _plots_note()
+            steps.append(lambda column=column, k=k, part=part: column.__setitem__(k, part))
+        self._later = []
+        return steps
