@@ -6,6 +6,11 @@ teacher's dashboard.  :class:`RosterStore` keeps the same in an SQLite file in t
 (:func:`data_dir`): written as the answers arrive (one small transaction each, write-ahead log, no
 fsync per answer), read back when the next server process first serves a page.  Open pages are not
 stored (they register again when they reconnect).
+
+The writes are made by one writer thread per process, in the order they were asked for: the roster is
+updated on the server's event loop, and a commit that waits for the disk (a busy machine took 1.6 s for
+one) would stop every page meanwhile.  Reading back (:meth:`RosterStore.load`) first waits for the
+writes asked for before it; a write that fails is logged, and the answers stay in memory.
 """
 from __future__ import annotations
 
@@ -13,6 +18,7 @@ import logging
 import os
 import sqlite3
 import threading
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from ringlab.config import CONFIG
@@ -24,6 +30,22 @@ SCHEMA = (
     "CREATE TABLE IF NOT EXISTS answers (lesson INTEGER NOT NULL, step INTEGER NOT NULL, student TEXT NOT NULL, "
     "text TEXT NOT NULL, status TEXT NOT NULL, PRIMARY KEY (lesson, step, student))",
 )
+
+
+_WRITER: list = [None, None]  # [executor, pid]: one writer thread per process (threads do not cross a fork)
+_WRITER_LOCK = threading.Lock()
+
+
+def _writer() -> ThreadPoolExecutor:
+    with _WRITER_LOCK:
+        if _WRITER[0] is None or _WRITER[1] != os.getpid():
+            _WRITER[:] = [ThreadPoolExecutor(max_workers=1, thread_name_prefix="ringlab-roster"), os.getpid()]
+        return _WRITER[0]
+
+
+def flush() -> None:
+    """Wait until every roster write asked for in this process so far is on disk (or was logged as failed)."""
+    _writer().submit(lambda: None).result()
 
 
 def data_dir() -> Path:
@@ -70,6 +92,15 @@ class RosterStore:
         return self._conn
 
     def _run(self, *statements) -> None:
+        _writer().submit(self._write, statements)
+
+    def _write(self, statements) -> None:
+        try:
+            self._commit(statements)
+        except Exception as exc:
+            logging.getLogger("panel.state").warning(f"class roster not saved to {self.path}: {exc!r}")
+
+    def _commit(self, statements) -> None:
         with self._lock:
             db = self._db()
             db.execute("BEGIN")
@@ -82,7 +113,9 @@ class RosterStore:
             db.execute("COMMIT")
 
     def load(self) -> tuple[dict, dict]:
-        """({student key: name number}, {(lesson, step): {student key: (text, status)}}) as stored."""
+        """({student key: name number}, {(lesson, step): {student key: (text, status)}}) as stored (after the
+        writes asked for before)."""
+        flush()
         with self._lock:
             db = self._db()
             names = dict(db.execute("SELECT student, number FROM names").fetchall())
@@ -117,6 +150,8 @@ class RosterStore:
         self._run(("DELETE FROM answers", ()))
 
     def close(self) -> None:
+        """Close the file, after the writes asked for before."""
+        flush()
         with self._lock:
             if self._conn is not None and self._pid == os.getpid():
                 self._conn.close()

@@ -3,6 +3,8 @@ restores from the browser reach it however the page's three local-storage update
 from __future__ import annotations
 
 import sqlite3
+import threading
+import time
 
 import pytest
 
@@ -92,6 +94,7 @@ def test_the_server_keeps_its_roster_in_its_data_folder_once(tmp_path, monkeypat
     assert roster_store.keep(r) and not roster_store.keep(r)
     r.register("s")
     r.answered("s", 1, 1, "49", "correct")
+    roster_store.flush()
     rows = sqlite3.connect(str(tmp_path / "lab" / "roster.sqlite3")).execute(
         "SELECT lesson, step, student, text, status FROM answers").fetchall()
     assert rows == [(1, 1, "s", "49", "correct")]
@@ -127,3 +130,25 @@ def test_restored_answers_reach_the_roster_however_the_pages_updates_arrive(arri
     assert got == {k: [(a["text"], a["status"], 1)] for k, a in rejudged(ANSWERS, "fast").items()}
     assert got["1.1"] == [("49", "wrong", 1)]  # stored as "correct" by the browser
     assert r.seats()[0]["name"] == "Student 1"
+
+
+def test_a_slow_disk_does_not_hold_the_caller_and_a_reader_sees_every_write_asked_before(tmp_path, monkeypatch):
+    """The roster is written on the server's event loop: a commit that waits for the disk would stop every page."""
+    commit = RosterStore._commit
+    threads = []
+
+    def slow_commit(self, statements):
+        threads.append(threading.current_thread())
+        time.sleep(0.4)
+        commit(self, statements)
+
+    monkeypatch.setattr(RosterStore, "_commit", slow_commit)
+    store = RosterStore(tmp_path / "roster.sqlite3")
+    t0 = time.perf_counter()
+    for k in range(3):
+        store.answer(1, k + 1, "s", str(k), "correct")
+    assert time.perf_counter() - t0 < 0.2
+    names, answers = RosterStore(tmp_path / "roster.sqlite3").load()
+    assert {key: a["s"] for key, a in answers.items()} == {(1, 1): ("0", "correct"), (1, 2): ("1", "correct"),
+                                                             (1, 3): ("2", "correct")}
+    assert threads and threading.current_thread() not in threads
