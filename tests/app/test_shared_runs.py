@@ -226,7 +226,7 @@ def test_pages_following_one_computation_show_one_number_at_a_time(sharing, monk
         v.image_gate.ready = lambda now: False
         v.line_gate.ready = (lambda now: True) if i < 2 else (lambda now: now - acked[0] >= 3.0)
     newest = [None] * len(views)  # the clock step of each page's newest frame (None: it straddled a step)
-    compared = changes = 0
+    compared = 0
     seen = set()
     t0 = time.perf_counter()
     while time.perf_counter() - t0 < 12.0:
