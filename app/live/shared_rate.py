@@ -4,10 +4,11 @@ Pages following one computation (:mod:`ringlab.server.shared`) take its chunks a
 each page's own takes measure the page, not the run: the figure comes from the computation's records of its chunks
 as they arrived (``Computation.rate_records``: wall time [s], orbits, steps), over :data:`SHARED_RATE_WINDOW_S` up
 to the last whole :data:`SHARED_RATE_STEP_S` of the process's clock.  It is computed once per step, by the first
-page that asks, and every page asks for the same published value until the next step: the value can no longer
-differ between pages that ask at different moments of one step (the records kept are bounded: a busy computation's
-oldest ones drop out while the step lasts), and a page sees from the step number when its card shows an older
-value (:meth:`ringlab.tabs.hydro.view.HydroView` then redraws it at its next frame, not up to half a second later).
+page that asks, and every page gets that published value until the next step: the value can no longer differ
+between pages that ask at different moments of one step (the records kept are bounded: a busy computation's oldest
+ones drop out while the step lasts), and a page sees from the step number when its card shows an older value (the
+Hydrodynamics tab, ``ringlab.tabs.hydro.view``, then redraws the card at its next frame, not up to half a second
+later, nor only once the browser has drawn its previous frame).
 """
 from __future__ import annotations
 
