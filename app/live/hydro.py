@@ -44,6 +44,7 @@ from ringlab.live.keeper import KeepsRuns
 from ringlab.live.loop import RATE_SAMPLES, LiveLoop, measured_rates
 from ringlab.live.revert import reset_status, revert, snapshot
 from ringlab.live.run import HydroRun, part
+from ringlab.live.shared_rate import SHARED_RATE_STEP_S, SHARED_RATE_WINDOW_S, published_rate  # noqa: F401
 from ringlab.model.hydro_settings import BUFFER_PARAMS, HydroSettings, SETTINGS_PARAMS, SETUP_PARAMS
 from ringlab.server import remote, shared
 from ringlab.server.handle import PlacedRun, RunHandle
@@ -54,8 +55,6 @@ MAX_RECORD_SAMPLES = 5000  # solver recorder samples kept (older ones thinned by
 MAX_STROBE_BYTES = 2e6  # stroboscopic rows kept by the solver's recorder (625 at n = 800; then thinned by 2)
 STEP_ORBITS = 1.0  # the "Step" button advances this many orbits (or STEP_MAX_S of wall time)
 STEP_MAX_S = 1.0
-SHARED_RATE_WINDOW_S = 30.0  # [s] the orbits/s of a shared computation averages over this much wall time ...
-SHARED_RATE_STEP_S = 2.0  # ... up to the last whole multiple of this on the clock (the same for all its pages)
 
 
 class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
@@ -261,15 +260,20 @@ class HydroRunner(LiveLoop, KeepsRuns, param.Parameterized):
         A run following a shared computation gives the computation's, the same figure on every page following it:
         its chunks as they arrived (a page's own takes are paced by its frames, and a page that joined late has
         few of them), over :data:`SHARED_RATE_WINDOW_S` up to the last whole :data:`SHARED_RATE_STEP_S` of the
-        clock, so that pages refreshing their cards at different moments read the same span (the computation
-        advances in bursts while the event loop serves its pages, and a busy page redraws its card seconds late:
-        five pages' cards, each over the last 5 s at its own moment, differed by 55 % (median over a minute; 0.8-7.0
-        orbits/s of one run), by 12 % with this)."""
+        clock, computed once per step and published to every page (:mod:`ringlab.live.shared_rate`): the
+        computation advances in bursts while the event loop serves its pages, and a busy page redraws its card
+        late; five pages' cards, each over the last 5 s at its own moment, differed by 55 % (median over a minute;
+        0.8-7.0 orbits/s of one run), by 12 % over 30 s up to the last whole 2 s."""
         comp = self.sim.computation if isinstance(self.sim, SharedSim) else None
         if comp is None:
             return measured_rates(self._rates)
-        end = math.floor(time.perf_counter() / SHARED_RATE_STEP_S) * SHARED_RATE_STEP_S
-        return measured_rates([r for r in tuple(comp.rate_records) if r[0] <= end], window_s=SHARED_RATE_WINDOW_S)
+        return tuple(published_rate(comp)[1:])
+
+    def rate_step(self) -> int | None:
+        """The clock step of the published speed :meth:`rates` gives now (it changes at most once per step), or
+        None for a run of its own (its speed changes with every chunk)."""
+        comp = self.sim.computation if isinstance(self.sim, SharedSim) else None
+        return None if comp is None else published_rate(comp).step
 
     def _on_sample(self, sim, sample: dict) -> None:
         """Copy a new sample (pushed by the solver right after recording it) into the live buffers."""

@@ -6,7 +6,9 @@
 
   - the tabs of every ``pn.Tabs`` (Bokeh's tab headers are plain ``div`` elements, not reachable by Tab and
     deaf to keys) become ARIA tabs: one Tab stop per tab bar (the active tab), Left/Right arrows (Home/End)
-    move to the neighbouring tab and open it, Enter and Space open the focused tab;
+    move to the neighbouring tab and open it, Enter and Space open the focused tab; the tab bar comes before the
+    tabs' content in the page (Bokeh puts it after, and draws it above), so the keyboard reaches the tab bar,
+    then the open tab's controls, then its plot toolbars;
   - slider handles (noUiSlider) get the slider's title as their name, a checkbox without a label its text, the
     arrow buttons of a number box "Increase"/"Decrease" and the box's label, a file input its hidden label's text;
   - a settings file (the file input of class ``settings-upload``) over :data:`UPLOAD_LIMIT_BYTES` is refused
@@ -64,7 +66,29 @@ PAGE_SCRIPT = r"""
     for (const r of roots(document, [])) { const el = r.querySelector(sel); if (el) return el; }
     return null;
   }
+  // Bokeh puts a tab bar after the tabs' content in its shadow root (drawn above it by a CSS grid area), and a
+  // tab built later is appended after it again: the keyboard reached every control and plot toolbar of the open
+  // tab before the tab bar.  The bar goes first, at once after every change of the root's children (moveBefore
+  // keeps the focus of a tab header the student is on; insertBefore where it does not exist loses it).
+  const watched = new WeakSet();
+  function bar(root) {  // the tab bar of a Tabs' shadow root (":scope" matches nothing in a shadow root)
+    for (const el of root.children) if (el.classList.contains("bk-header") && el.querySelector(".bk-headers-wrapper")) return el;
+    return null;
+  }
+  function barFirst(root) {
+    const header = bar(root);
+    if (!header) return;
+    let first = root.firstElementChild;
+    while (first && (first.tagName === "STYLE" || first.tagName === "LINK")) first = first.nextElementSibling;
+    if (!first || first === header) return;
+    if (root.moveBefore) { try { root.moveBefore(header, first); return; } catch (err) { /* fall through */ } }
+    root.insertBefore(header, first);
+  }
   function fixTabs(r) {
+    if (r.host && bar(r)) {
+      barFirst(r);
+      if (!watched.has(r)) { watched.add(r); new MutationObserver(function () { barFirst(r); }).observe(r, {childList: true}); }
+    }
     for (const bar of r.querySelectorAll(".bk-headers-wrapper")) {
       bar.setAttribute("role", "tablist");
       for (const tab of bar.querySelectorAll(".bk-tab")) {

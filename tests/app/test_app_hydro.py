@@ -232,8 +232,12 @@ def test_view_fills_the_plots_and_readouts():
     assert v.messages["grid"].visible and "too coarse" in v.messages["grid"].object
     r.settings.h = 2.5
     assert not v.messages["grid"].visible
+    # the title's lines fit a phone's plot (~330 px of 13 px bold: a one-line title was cut after "(one row")
+    assert "stroboscopic (one row per orbit)" in p.spacetime_fig.title.text
+    assert max(len(line) for line in p.spacetime_fig.title.text.split("\n")) <= 40, p.spacetime_fig.title.text
     r.settings.spacetime = "orbit-resolved"  # shown at once, not at the next image frame
     assert "orbit-resolved (last 25 orbits)" in p.spacetime_fig.title.text
+    assert max(len(line) for line in p.spacetime_fig.title.text.split("\n")) <= 40, p.spacetime_fig.title.text
     assert p.image_source.data["image"][0].shape[0] == r.orbit_image.rows
     marks = p.psd_markers.data["x"]
     assert r.numbers["lambda_zero_m"] in marks and r.numbers["lambda_max_growth_m"] in marks

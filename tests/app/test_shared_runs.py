@@ -7,12 +7,14 @@ SHA-256 of the complete state (kernel state and every recorded sample) and the l
 from __future__ import annotations
 
 import math
+import re
 import time
 
 import numpy as np
 import pytest
 
 from ringlab.live.hydro import SHARED_RATE_STEP_S, HydroRunner
+from ringlab.live.shared_rate import clock_step
 from ringlab.model.hydro_settings import HydroSettings
 from ringlab.server import remote, shared
 from ringlab.server.shared_sim import SharedSim
@@ -200,6 +202,52 @@ def test_pages_following_one_computation_show_its_orbits_per_second(sharing):
     assert rate == pytest.approx((orb_end - orb_start) / (t_end - t_start), rel=0.1)
     a.close()
     b.close()
+
+
+CARD = re.compile(r'id="hydro-orbits-per-s".*?class="ro-value">([^<]*)<')
+
+
+def test_pages_following_one_computation_show_one_number_at_a_time(sharing, monkeypatch):
+    """At any moment, the pages of one shared run whose newest frame falls in the same step of the clock show the
+    same orbits/s on their cards, to the card's precision: each step's value is published once for every page,
+    and a page shows it from its first frame in that step on, also a page still drawing its previous frames (its
+    line plots wait for the page; a busy browser acknowledges them seconds late).  Before, a page redrew its
+    card only with its line plots and at most every READOUT_PERIOD_S: five browser pages' cards differed by 12 %
+    (median over a minute).  A page differs from the others only until its next frame (when its newest frame is
+    in an older step)."""
+    import ringlab.tabs.hydro.view as view_module
+    from ringlab.tabs.hydro.view import HydroView
+
+    monkeypatch.setattr(view_module, "served", lambda: True)  # a server session's pacing of the cards
+    views = [HydroView(runner=runner(**SMALL)) for _ in range(3)]
+    acked = [0.0]  # the busy page's browser acknowledges its line plots once every 3 s
+    for i, v in enumerate(views):
+        v.runner.pause_at = LONG
+        v.image_gate.ready = lambda now: False
+        v.line_gate.ready = (lambda now: True) if i < 2 else (lambda now: now - acked[0] >= 3.0)
+    newest = [None] * len(views)  # the clock step of each page's newest frame (None: it straddled a step)
+    compared = 0
+    seen = set()
+    t0 = time.perf_counter()
+    while time.perf_counter() - t0 < 12.0:
+        for i, v in enumerate(views):
+            before = clock_step()
+            v.runner.tick()  # a frame of page i
+            after = clock_step()
+            if i == 2 and v.line_gate.ready(time.perf_counter()):
+                acked[0] = time.perf_counter()
+            newest[i] = before if before == after else None
+            # a common moment: the pages whose newest frame is in one step show one text
+            texts = [CARD.search(w.readouts.object).group(1) for w in views]
+            for step in {s for s in newest if s is not None}:
+                shown = {texts[k] for k in range(len(views)) if newest[k] == step}
+                assert len(shown) == 1, (step, newest, texts)
+                compared += sum(newest[k] == step for k in range(len(views))) >= 2
+            seen.update(t for t in texts if t != "—")
+    assert views[0].runner.sim.computation is views[2].runner.sim.computation
+    assert compared >= 50 and len(seen) >= 3, (compared, seen)  # the figure changed while the pages were compared
+    for v in views:
+        v.runner.close()
 
 
 def test_sharing_switch_from_the_environment(monkeypatch, ringlab_env):

@@ -1,7 +1,8 @@
 """Access checked by a tool: axe-core (``vendor/axe.min.js``, injected by Playwright) finds no serious or critical
 violation on any tab, the lesson step beside them or the teacher's dashboard, at 1280x720 (a projector) and 390x844
-(a phone); the tabs work from the keyboard (arrows, Home/End, Enter/Space, one Tab stop per tab bar); the first Tab
-stop is a skip link to the lesson's answer box.  Screenshots in ``$RINGLAB_SHOTS`` (default test-artifacts/shots)."""
+(a phone); the tabs work from the keyboard (arrows, Home/End, Enter/Space, one Tab stop per tab bar, reached before
+the open tab's controls and plot toolbars); the first Tab stop is a skip link to the lesson's answer box.
+Screenshots in ``$RINGLAB_SHOTS`` (default test-artifacts/shots)."""
 from __future__ import annotations
 
 import os
@@ -30,6 +31,22 @@ FOCUSED_JS = """() => { let el = document.activeElement;
   while (el && el.shadowRoot && el.shadowRoot.activeElement) el = el.shadowRoot.activeElement;
   return el ? (el.className || el.tagName) + "|" + (el.textContent || "").trim().slice(0, 40) : ""; }"""
 
+# where the focus is: "tab bar" (the lab's tab headers), "plot toolbar" or "tab content" (inside the open tab),
+# "outside" (the skip link, the header's toggle, the lessons panel), "none"; with the element's text
+WHERE_JS = """() => {
+  let el = document.activeElement;
+  while (el && el.shadowRoot && el.shadowRoot.activeElement) el = el.shadowRoot.activeElement;
+  if (!el || el === document.body) return "none|";
+  const what = "|" + (el.className || el.tagName) + " " + (el.getAttribute("aria-label") || el.textContent || "").trim().slice(0, 30);
+  const labBar = (n) => n.classList && n.classList.contains("bk-header") && n.textContent.includes("Linear theory");
+  let toolbar = false;
+  for (let n = el; n; n = (n.parentNode && n.parentNode.nodeType === 11) ? n.parentNode.host : n.parentNode) {
+    if (n.classList && n.classList.contains("bk-Toolbar")) toolbar = true;
+    if (labBar(n)) return "tab bar" + what;
+    if (n.shadowRoot && Array.from(n.shadowRoot.children).some(labBar)) return (toolbar ? "plot toolbar" : "tab content") + what;
+  }
+  return "outside" + what;
+}"""
 
 @pytest.fixture(scope="module")
 def lab():
@@ -171,4 +188,45 @@ def test_a_settings_file_over_the_limit_is_refused_before_it_is_sent(lab, tmp_pa
         page.locator("#settings-message").first.wait_for(timeout=60_000)
         page.locator(".bk-tab", has_text="Linear theory").first.click()  # tab switches work after it
         page.locator("#ro-lambda-zero .ro-value").wait_for(timeout=LOAD_MS)
+        assert not page.js_errors, page.js_errors[:5]
+
+
+def tab_walk(page, presses: int = 40) -> list:
+    """Where the focus is after each of up to ``presses`` Tab presses from the page's start, up to the tab bar."""
+    walk = []
+    for _ in range(presses):
+        page.keyboard.press("Tab")
+        walk.append(page.evaluate(WHERE_JS))
+        if walk[-1].startswith("tab bar"):
+            break
+    return walk
+
+
+@pytest.mark.timeout(600)
+@pytest.mark.parametrize("tab,first_control", [("linear", "tab content"), ("hydro", "tab content|bk-btn bk-btn-success Start")])
+def test_the_keyboard_reaches_the_tab_bar_before_the_tabs_content_and_plot_toolbars(lab, tab, first_control):
+    with context(width=1280, height=720, timeout_ms=60_000) as ctx:
+        page = new_page(ctx)
+        page.goto(f"{lab}/main?tab={tab}", timeout=LOAD_MS)
+        page.locator(".bk-Canvas").first.wait_for(state="visible", timeout=LOAD_MS)
+        page.wait_for_timeout(1500)  # the page's access script runs once a second
+        walk = tab_walk(page)
+        places = [w.split("|")[0] for w in walk]
+        assert places[-1] == "tab bar" and set(places[:-1]) == {"outside"}, walk  # skip link, presentation toggle
+        assert len(walk) <= 4, walk
+        # from the tab bar into the open tab's first control, and back
+        page.keyboard.press("Tab")
+        assert page.evaluate(WHERE_JS).startswith(first_control), page.evaluate(WHERE_JS)
+        page.keyboard.press("Shift+Tab")
+        assert page.evaluate(WHERE_JS).startswith("tab bar"), page.evaluate(WHERE_JS)
+        # a tab opened (and built) from the keyboard: Tab leads from its header into its content, not past it
+        page.keyboard.press("ArrowRight")
+        nxt = "Hydrodynamics" if tab == "linear" else "N-body"
+        start = ".hydro-start" if tab == "linear" else ".nbody-start"
+        page.locator(".bk-tab.bk-active", has_text=nxt).wait_for()
+        page.locator(start).first.wait_for(state="visible", timeout=LOAD_MS)
+        page.wait_for_function(f"() => ({WHERE_JS})().startsWith('tab bar|') && ({WHERE_JS})().includes({nxt!r})",
+                               timeout=10_000)
+        page.keyboard.press("Tab")
+        assert page.evaluate(WHERE_JS).startswith("tab content|bk-btn bk-btn-success Start"), page.evaluate(WHERE_JS)
         assert not page.js_errors, page.js_errors[:5]

@@ -226,8 +226,9 @@ class HydroPlots:
         changed (the page acknowledges such a frame)."""
         strobe = runner.settings.spacetime == "stroboscopic"
         img = runner.shown_image
-        title = ("Space-time diagram of σ/σ₀, stroboscopic (one row per orbit)" if strobe else
-                 f"Space-time diagram of σ/σ₀, orbit-resolved (last {img.max_rows * img.interval:g} orbits)")
+        # two short lines: a phone's plot (~330 px) cut the one-line title after "stroboscopic (one row"
+        title = ("Space-time diagram of σ/σ₀\nstroboscopic (one row per orbit)" if strobe else
+                 f"Space-time diagram of σ/σ₀\norbit-resolved (last {img.max_rows * img.interval:g} orbits)")
         if self.spacetime_fig.title.text != title:
             self.spacetime_fig.title.text = title
         L = runner.sim.options.L_x

@@ -98,6 +98,7 @@ class HydroView(TabBase, pn.viewable.Viewer):
         self._buffer_shown = None
         self._image_sent = None  # (image buffer, its version) last sent
         self._readouts_sent = -math.inf  # time.perf_counter() of the last readout cards sent
+        self._rate_step = None  # the clock step of the shared run's speed they show (HydroRunner.rate_step)
         self.header = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.status = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
         self.readouts = pn.pane.HTML("", stylesheets=[CSS], sizing_mode="stretch_width", margin=(0, 10))
@@ -258,7 +259,11 @@ class HydroView(TabBase, pn.viewable.Viewer):
         img = r.shown_image
         # an unchanged image is not sent again (it is the largest part of a frame: up to 500 x 500 float32)
         image = force or ((img, img.version) != self._image_sent and self.image_gate.ready(now))
-        if not (lines or image):
+        # a shared run's speed changed (once per step of the clock, for every page following it at once): the card
+        # shows the new value now, not up to READOUT_PERIOD_S later, nor after a frame the page is still drawing
+        rate_step = r.rate_step() if r.running else None
+        rate_due = rate_step is not None and rate_step != self._rate_step
+        if not (lines or image or rate_due):
             return  # the page is still drawing the previous frame: skip this one
         fr = r.sim.frame()  # computed beside the engine (a worker's, with its chunk): no local rebuild
         with pn.io.hold():
@@ -270,15 +275,18 @@ class HydroView(TabBase, pn.viewable.Viewer):
             if buf != self._buffer_shown:
                 self.plots.update_buffer(r)
                 self._buffer_shown = buf
+            cards = rate_due
             if lines:
                 in_server = served()
                 page = not in_server and notebook_page(self.plots.spacetime_fig) != NO_PAGE
                 self.plots.update_lines(r, fr, stream=in_server or page, roll=page)
-                if force or now - self._readouts_sent >= READOUT_PERIOD_S or not (in_server or page):
-                    self.readouts.object = readout_cards(self._readout_rows(fr), "hydro-readouts")
-                    self._note_allowed(fr)
-                    self._readouts_sent = now
                 self.line_gate.mark_sent(now, changed=True)
+                cards = cards or force or now - self._readouts_sent >= READOUT_PERIOD_S or not (in_server or page)
+            if cards:
+                self.readouts.object = readout_cards(self._readout_rows(fr), "hydro-readouts")
+                self._note_allowed(fr)
+                self._readouts_sent = now
+                self._rate_step = rate_step
             if image:
                 changed = self.plots.update_image(r)
                 self._image_sent = (img, img.version)
@@ -317,8 +325,8 @@ class HydroView(TabBase, pn.viewable.Viewer):
         if r.running:
             self._last_rate = r.rates()
         steps_s, orb_s = self._last_rate
-        # the speed measured now (last ~2 s), not a fixed figure: it falls from ~11 to ~5 orbits/s as the
-        # waves become nonlinear and the time step shrinks
+        # the speed measured now (over the last seconds), not a fixed figure: it falls from ~11 to ~5 orbits/s as
+        # the waves become nonlinear and the time step shrinks
         when = "now, of wall-clock time" if r.running else "when last running"
         n = r.numbers
         return [
