@@ -44,8 +44,10 @@ import os
 import signal
 import socket
 import statistics
+import shutil
 import subprocess
 import sys
+import tempfile
 import time
 import urllib.request
 
@@ -143,6 +145,9 @@ def run(args) -> dict:
                                dashboard_address="127.0.0.1:0")
         env["RINGLAB_DASK_SCHEDULER"] = cluster.scheduler_address
     env[loadtest_lag.ENV_FILE] = lag_file = loadtest_lag.lag_path()  # the server's event-loop stalls
+    # the simulated class keeps its roster in a folder of its own: never among the answers of the real class
+    # kept in the server's data folder (it would number the next real students from 31, 61, ...)
+    env["RINGLAB_DATA_DIR"] = data_dir = tempfile.mkdtemp(prefix="ringlab-loadtest-")
     port = free_port()
     server = start_server(port, args.num_procs, env)
     try:
@@ -244,6 +249,7 @@ def run(args) -> dict:
             except psutil.Error:
                 pass
         psutil.wait_procs(children, timeout=10)
+        shutil.rmtree(data_dir, ignore_errors=True)
         if cluster is not None:
             cluster.close()
 

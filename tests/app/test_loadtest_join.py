@@ -7,6 +7,7 @@ import json
 import os
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -38,6 +39,8 @@ def test_a_class_joining_together_on_one_lesson_step_is_reported(tmp_path):
     assert len(r["frames_per_s"]) == 3 and all(f > 0 for f in r["frames_per_s"]), r["frames_per_s"]
     assert r["app_process_cores_per_student"] == pytest.approx(r["server_process_cores"] / 3, abs=0.01)
     assert all(r["started"]), r["started"]  # the lesson's preset built the Hydrodynamics tab and started its run
+    # the simulated class is not kept among the real class's answers in the server's data folder
+    assert not list(Path(os.environ["RINGLAB_DATA_DIR"]).glob("roster*")), os.environ["RINGLAB_DATA_DIR"]
 
 
 @pytest.mark.slow  # a server, 3 pages and 11 s of running: 30-80 s on a 2-core machine
