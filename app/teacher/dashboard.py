@@ -147,10 +147,16 @@ class TeacherDashboard(pn.viewable.Viewer):
         self.send_btn = W.Button(label="Send everyone to this step", color="primary",
                                  css_classes=["teacher-send"])
         # resetting the class forgets every answer: it is asked for twice, away from "Send", and can be undone
-        self.reset_btn = W.Button(label="Reset everyone…", color="light", css_classes=["teacher-reset"])
+        # a light button on the white panel read as plain text: an outline marks it as a button (and a dark
+        # red one as the destructive choice), still a step away from "Send everyone to this step"
+        # (Panel's solid buttons set a transparent border with :host(.solid) .bk-btn)
+        outline = [":host(.solid) .bk-btn.bk-btn-light {border: 1px solid #6c757d;}"]
+        self.reset_btn = W.Button(label="Reset everyone…", color="light", css_classes=["teacher-reset"],
+                                  stylesheets=[":host(.solid) .bk-btn.bk-btn-light {border: 1px solid #8b1a1a; color: #8b1a1a;}"])
         self.confirm_btn = button(label="Yes, reset every student", color="danger", visible=False,
                                     css_classes=["teacher-reset-confirm"])
-        self.cancel_btn = W.Button(label="Cancel", color="light", visible=False, css_classes=["teacher-reset-cancel"])
+        self.cancel_btn = W.Button(label="Cancel", color="light", visible=False, css_classes=["teacher-reset-cancel"],
+                                   stylesheets=outline)
         self.undo_btn = button(label="Undo the reset", color="warning", visible=False,
                                  css_classes=["teacher-reset-undo"])
         self.closed = W.Checkbox(label="Count the answers of closed pages too", value=False,

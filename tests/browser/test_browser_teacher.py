@@ -131,6 +131,10 @@ def test_dashboard_sees_two_students_and_moves_them(class_server, browser):
         a.locator("#lesson-progress", has_text="1 of").wait_for()
         send_box, reset_box = (t.locator(sel).bounding_box() for sel in (".teacher-send", ".teacher-reset"))
         assert reset_box["y"] - (send_box["y"] + send_box["height"]) > 40, (send_box, reset_box)
+        # ... and it looks like a button (a light button without an outline read as plain text on the panel)
+        border = t.locator(".teacher-reset button").evaluate(
+            "b => [getComputedStyle(b).borderTopWidth, getComputedStyle(b).borderTopColor]")
+        assert float(border[0].rstrip("px")) >= 1 and border[1] not in ("rgba(0, 0, 0, 0)", "transparent"), border
         t.locator(".teacher-reset button").click()
         t.locator("#teacher-reset-question", has_text="Reset all 2 student pages?").wait_for()
         t.wait_for_timeout(2000)
