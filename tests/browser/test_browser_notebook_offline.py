@@ -21,9 +21,10 @@ import pytest
 from browser_support import context, free_port, new_page, stop_server
 
 SHOTS = Path("/tmp/nb53")
+CHECKED_ORBITS = 10  # the notebook's run is compared with the run computed headless up to this orbit
 TOKEN = "ringlab-offline-test"
 SETUP = '''\
-import json, os, threading, time
+import hashlib, json, os, threading, time
 from pathlib import Path
 
 import panel as pn
@@ -75,8 +76,17 @@ _rk.deliver = timed_deliver
 '''
 VIEW = '''\
 hydro = HydroView()
-hydro.runner.settings.timestep = "paper"  # the default, 10x larger steps, blows up near orbit 80 (~8 s here)
-hydro.runner.settings.isothermal = True  # the non-isothermal run blew up at orbit 30-37 (T < 0): Start disabled
+hydro.runner.settings.timestep = "paper"  # 10x smaller steps than the default: a pace the page can follow
+sums = {}  # the run's state at whole orbits (a checksum): the test compares them with the run computed headless
+
+
+def checksum(sim, sample):  # in the compute thread, right after each sample
+    k = round(sample["orbit"])
+    if abs(sample["orbit"] - k) < 1e-9 and 1 <= k <= CHECKED_ORBITS:
+        sums[k] = hashlib.sha1(sim.U.tobytes()).hexdigest()
+
+
+hydro.runner.sim.on_sample(checksum)
 hydro.runner.param.watch(lambda e: e.new or paused.append(time.time()), "running")
 drawn = []  # after the view's own watchers (its buttons and status for the paused run)
 hydro.runner.param.watch(lambda e: e.new or drawn.append(time.time()), "running")
@@ -96,7 +106,7 @@ def report():
         del history[:-600]
         state = dict(n=len(comm_sent), last=comm_sent[-1] if comm_sent else None, paused=paused[-1:],
                      drawn=drawn[-1:], comm_in=comm_in[-300:], delivered=delivered[-300:], running=hydro.runner.running,
-                     status=hydro.runner.status, orbits=orbits, start_disabled=[start_button.disabled] + [
+                     status=hydro.runner.status, orbits=orbits, sums=sums, start_disabled=[start_button.disabled] + [
                          m.disabled for (m, _) in list(start_button._models.values())], time=time.time(), history=history)
         STATE.with_suffix(".tmp").write_text(json.dumps(state))
         os.replace(STATE.with_suffix(".tmp"), STATE)
@@ -127,6 +137,28 @@ SAMPLE_ENDS_JS = """() => {
     if (range !== null) window.ringlabEnds.push([Date.now() / 1000, range.end]);
   }, 100);
 }"""
+
+
+def headless_sums(orbits: int) -> dict:
+    """{orbit: state checksum} of the notebook's run (the Hydrodynamics defaults, the paper's time step) at whole
+    orbits up to ``orbits``, computed here without a kernel or a page."""
+    import hashlib
+
+    from ringlab.live.hydro import HydroRunner
+    r = HydroRunner()
+    r.settings.timestep = "paper"
+    sums = {}
+
+    def checksum(sim, sample):
+        k = round(sample["orbit"])
+        if abs(sample["orbit"] - k) < 1e-9 and 1 <= k <= orbits:
+            sums[str(k)] = hashlib.sha1(sim.U.tobytes()).hexdigest()
+
+    r.sim.on_sample(checksum)
+    r.running = True
+    while r.sim.orbits < orbits:
+        r.tick()
+    return sums
 
 
 def orbit_at(history, t):
@@ -186,7 +218,7 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
     state = root / f"kernel-{load}.json"
     name = f"offline-{load}.ipynb"
     nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(SETUP.format(state=str(state))),
-                                         nbformat.v4.new_code_cell(VIEW)])
+                                         nbformat.v4.new_code_cell(f"CHECKED_ORBITS = {CHECKED_ORBITS}\n" + VIEW)])
     nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3", "language": "python"}
     nbformat.write(nb, root / name)
     SHOTS.mkdir(exist_ok=True)
@@ -295,6 +327,11 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
         assert after["running"] and after["orbits"] > before["orbits"], (  # the run goes on in the kernel
             {key: after[key] for key in ("status", "running", "orbits", "time")}, before["orbits"], t_close)
         assert after["last"] < t_close + 2.0, (after, t_close)  # ... but nothing is sent to the gone page
+        # the run in the notebook (started, paused and started again from the page, read by the thread above) is
+        # the run computed headless, bit for bit: a monitor's reads once changed it from orbit 1 and it blew up
+        checked = min(CHECKED_ORBITS, int(after["orbits"]))
+        sums = {k: v for (k, v) in after["sums"].items() if int(k) <= checked}
+        assert checked >= 3 and sums == headless_sums(checked), (sums, after["orbits"])
         print(f"{load}: image end {ends[0]:.2f}..{ends[-1]:.2f} orbits in {len(ends)} samples, kernel ahead by "
               f"max {max(lags):.2f} orbits; Pause heard {paused[0] - t_click:.3f} s after the page's click ({paused[0] - t_call:.3f} s after the call); comm messages "
               f"{after['n']}, the last {after['last'] - t_close:.2f} s after the page closed; blocked {blocked}\npause timeline {busy}\nends {[round(e, 2) for e in ends]}\nlags {[round(x, 2) for x in lags]}")
