@@ -96,6 +96,10 @@ history = []  # (time, orbit of the run) every 0.1 s: the page's samples are com
 
 
 start_button = hydro.buttons["start"]
+buttons_log = []  # (time, button, disabled, thread) of every change of the Start and Pause widgets' disabled
+for _name in ("start", "pause"):
+    hydro.buttons[_name].param.watch(lambda e, b=_name: buttons_log.append(
+        (time.time(), b, e.new, threading.current_thread().name)), "disabled")
 
 
 def report():
@@ -106,7 +110,7 @@ def report():
         del history[:-600]
         state = dict(n=len(comm_sent), last=comm_sent[-1] if comm_sent else None, paused=paused[-1:],
                      drawn=drawn[-1:], comm_in=comm_in[-300:], delivered=delivered[-300:], running=hydro.runner.running,
-                     status=hydro.runner.status, orbits=orbits, sums=sums, start_disabled=[start_button.disabled] + [
+                     status=hydro.runner.status, orbits=orbits, sums=sums, buttons_log=buttons_log[-20:], start_disabled=[start_button.disabled] + [
                          m.disabled for (m, _) in list(start_button._models.values())], time=time.time(), history=history)
         STATE.with_suffix(".tmp").write_text(json.dumps(state))
         os.replace(STATE.with_suffix(".tmp"), STATE)
@@ -136,6 +140,16 @@ SAMPLE_ENDS_JS = """() => {
     range = range || find();
     if (range !== null) window.ringlabEnds.push([Date.now() / 1000, range.end]);
   }, 100);
+}"""
+
+
+# the page's own Bokeh models of the view's Start and Pause buttons: (label, disabled)
+BUTTON_MODELS_JS = """() => {
+  const out = [];
+  for (const d of (window.Bokeh && window.Bokeh.documents) || [])
+    for (const m of d.all_models)
+      if (m.disabled !== undefined && (m.label === "Start" || m.label === "Pause")) out.push([m.label, m.disabled]);
+  return out;
 }"""
 
 
@@ -237,6 +251,9 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
         with context(width=1400, height=1300, timeout_ms=30_000) as ctx:
             ctx.route("**/*", route)
             page = new_page(ctx)
+            console = []  # the page's console errors and warnings (Panel's comm handler logs what it cannot apply)
+            page.on("console", lambda m: console.append((round(time.time(), 3), m.type, m.text[:300]))
+                    if m.type in ("error", "warning") else None)
             page.goto(f"http://127.0.0.1:{port}/lab/workspaces/{load}/tree/{name}?token={TOKEN}", timeout=60_000)
             accept = page.locator(".jp-Dialog .jp-mod-accept")  # "Select Kernel": the notebook's own (python3)
             try:
@@ -305,7 +322,9 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
                 k = kernel_state(state)
                 raise AssertionError(f"Start still disabled in the page {time.time() - t_click:.1f} s after Pause: "
                                      f"{ {key: k[key] for key in ('status', 'running', 'orbits', 'n', 'last', 'start_disabled')} }, "
-                                     f"Pause heard at {paused[0]:.2f}, the click at {t_click:.2f}")
+                                     f"Pause heard at {paused[0]:.2f}, the click at {t_click:.2f}; kernel's changes "
+                                     f"{k['buttons_log']}; the page's models {page.evaluate(BUTTON_MODELS_JS)}; "
+                                     f"console {console[-20:]}")
             start.click()
             t_restart = time.time()  # Start takes longer than Pause in the kernel (it sets up the run: up to 1 s here)
             while not kernel_state(state)["running"] and time.time() - t_restart < 10:
