@@ -21,7 +21,8 @@ import pytest
 from browser_support import context, free_port, new_page, stop_server
 
 SHOTS = Path("/tmp/nb53")
-CHECKED_ORBITS = 10  # the notebook's run is compared with the run computed headless up to this orbit
+CHECKED_ORBITS = 30  # the notebook's run is compared with the run computed headless up to this orbit (the Pause
+# and the second Start come at orbit 5-50)
 TOKEN = "ringlab-offline-test"
 SETUP = '''\
 import hashlib, json, os, threading, time
