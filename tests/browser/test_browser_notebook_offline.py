@@ -31,11 +31,9 @@ from pathlib import Path
 import panel as pn
 from IPython import get_ipython
 
-from ringlab import HydroView
-
-pn.extension()
 STATE = Path({state!r})
-_session = get_ipython().kernel.session
+_kernel = get_ipython().kernel
+_session = _kernel.session
 _send = _session.send
 comm_sent = []
 
@@ -49,19 +47,24 @@ def counting_send(stream, msg_or_type, *args, **kwargs):
 
 _session.send = counting_send
 paused = []
-comm_in = []  # when the kernel took each message of the page (before Panel handles it)
-_kernel = get_ipython().kernel
-_on_comm_msg = _kernel.shell_handlers["comm_msg"]
+comm_in = []  # when the kernel's main thread handled each message of the page (Panel's handler), how long, its size
+arrived = []  # when each message of the page reached the kernel (a subshell's thread, if JupyterLab sent it there)
 
 
-def timed_comm_msg(*args, **kwargs):
-    t = time.time()
-    out = _on_comm_msg(*args, **kwargs)
-    comm_in.append((t, time.time() - t, len(str(args[-1])) if args else 0))
-    return out
+def timed(handler, record):
+    def timed_handler(*args, **kwargs):
+        t = time.time()
+        out = handler(*args, **kwargs)
+        record.append((t, time.time() - t, len(str(args[-1])) if args else 0))
+        return out
+    return timed_handler
 
 
-_kernel.shell_handlers["comm_msg"] = timed_comm_msg
+_kernel.shell_handlers["comm_msg"] = timed(_kernel.shell_handlers["comm_msg"], comm_in)
+from ringlab import HydroView  # the page's messages to the views go to the kernel's main thread from here on
+
+_kernel.shell_handlers["comm_msg"] = timed(_kernel.shell_handlers["comm_msg"], arrived)
+pn.extension()
 import ringlab.server.kernel as _rk
 delivered = []  # (when, how long) each frame or chunk hand-over took in the kernel's main thread
 _deliver = _rk.deliver
@@ -110,7 +113,7 @@ def report():
         history.append((time.time(), orbits))
         del history[:-600]
         state = dict(n=len(comm_sent), last=comm_sent[-1] if comm_sent else None, paused=paused[-1:],
-                     drawn=drawn[-1:], comm_in=comm_in[-300:], delivered=delivered[-300:], running=hydro.runner.running,
+                     drawn=drawn[-1:], comm_in=comm_in[-300:], arrived=arrived[-300:], delivered=delivered[-300:], running=hydro.runner.running,
                      status=hydro.runner.status, orbits=orbits, sums=sums, buttons_log=buttons_log[-20:], start_disabled=[start_button.disabled] + [
                          m.disabled for (m, _) in list(start_button._models.values())], time=time.time(), history=history)
         STATE.with_suffix(".tmp").write_text(json.dumps(state))
@@ -311,6 +314,7 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
             assert paused, "Pause never reached the kernel"
             k = kernel_state(state)
             busy = sorted([(round(t - t_click, 3), "in", round(d, 3), n) for (t, d, n) in k["comm_in"]]
+                          + [(round(t - t_click, 3), "arrived", n) for (t, _, n) in k["arrived"]]
                           + [(round(t - t_click, 3), "frame", round(d, 3)) for (t, d) in k["delivered"]])
             busy = [b for b in busy if -1.5 < b[0] < paused[0] - t_click + 0.2]  # the kernel's main thread then
             assert paused[0] - t_click < 0.5, f"Pause reached the kernel {paused[0] - t_click:.2f} s after the click: {busy}"
