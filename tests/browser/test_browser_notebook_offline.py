@@ -227,9 +227,9 @@ def kernel_state(path: Path) -> dict:
 
 
 @pytest.mark.slow
-# On the shared 2-core machine (load average 5-18 from other work), 14 runs of both loads after the two fixes (the
+# On the shared 2-core machine (load average 3-18 from other work), 18 runs of both loads after the two fixes (the
 # monitor's reads no longer touch the run's work arrays; the page's messages handled in the kernel's main thread):
-# 13 passed, 8 of them in a row at the end; 1 failed on Pause heard 0.68 s after the click (its message reached the
+# 17 passed, the last 12 in a row; 1 failed on Pause heard 0.68 s after the click (its message reached the
 # kernel 0.65 s after the page took the click; the kernel then paused within 0.04 s).
 @pytest.mark.parametrize("load", ["idle", "loaded"])
 def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
