@@ -20,12 +20,14 @@ Frames in a notebook
     machine is, and a page that has gone (closed tab, closed notebook) gets no more frames while the run goes on
     in the kernel.  Whole columns go as streams, and the page sends none of the kernel's changes back (Panel's
     notebook page did, a whole frame per frame: ``ringlab.ui.frame_gate.NO_ECHO_JS``), so a click waits for
-    no long reply.
+    no long reply.  The page's messages (clicks, acknowledgements) are handled in the kernel's main thread between
+    the frames, also where JupyterLab sends them to a kernel subshell (``ringlab.server.kernel_comms``).
 """
 from __future__ import annotations
 
 import panel as pn
 
+from ringlab.server import kernel
 from ringlab.server.installed_css import use_installed_stylesheets
 from ringlab.tabs.hydro.view import HydroView
 from ringlab.tabs.linear.view import LinearView
@@ -56,3 +58,5 @@ def use_installed_resources() -> bool:
 
 
 use_installed_resources()
+if in_jupyter_kernel():
+    kernel.target()  # the pages' messages to the views handled in the kernel's main thread (ringlab.server.kernel_comms)

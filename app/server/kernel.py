@@ -11,7 +11,8 @@ cells and while a cell awaits (``await asyncio.sleep(...)``).
 A :class:`KernelTarget` stands in for the server document there: chunks still compute in the
 shared pool (:mod:`ringlab.server.compute`), and their results are handed to the kernel's loop
 with ``loop.call_soon_threadsafe`` (asyncio's one thread-safe entry), so everything that touches
-a view, a widget or a Bokeh model runs on the kernel's main thread, as in the server.  A frame's
+a view, a widget or a Bokeh model runs on the kernel's main thread, as in the server; so do the page's messages to
+Panel's comms where JupyterLab sends them to a kernel subshell (:mod:`ringlab.server.kernel_comms`).  A frame's
 changes are then sent in one push per displayed document (:func:`push_views`) instead of one per
 changed pane, and only over comms a page has opened: a kernel without a frontend (nbclient,
 papermill) keeps the changes on the held document instead of Panel rescheduling every unsent
@@ -41,6 +42,8 @@ from bokeh.document.events import ColumnDataChangedEvent
 from panel.io.model import diff
 from panel.io.notebook import block_comm, send
 from panel.models.comm_manager import CommManager
+
+from ringlab.server.kernel_comms import route_to_main_thread
 
 
 class KernelTarget:
@@ -105,7 +108,9 @@ _TARGETS: "weakref.WeakKeyDictionary[asyncio.AbstractEventLoop, KernelTarget]" =
 
 def target() -> KernelTarget | None:
     """The :class:`KernelTarget` of the event loop running in this thread (one per loop), or None (no
-    running loop: a plain script or a headless test, where the runners are advanced by ``tick()``)."""
+    running loop: a plain script or a headless test, where the runners are advanced by ``tick()``).  The first one
+    made in an IPython kernel's main thread has the kernel handle the page's messages to Panel's comms in that
+    thread (:func:`ringlab.server.kernel_comms.route_to_main_thread`: JupyterLab may send them to a subshell)."""
     try:
         loop = asyncio.get_running_loop()
     except RuntimeError:
@@ -113,7 +118,19 @@ def target() -> KernelTarget | None:
     t = _TARGETS.get(loop)
     if t is None:
         t = _TARGETS[loop] = KernelTarget(loop)
+        kernel = ipython_kernel()
+        if kernel is not None:
+            route_to_main_thread(kernel, loop)
     return t
+
+
+def ipython_kernel():
+    """The running IPython kernel (``get_ipython().kernel``), or None (no IPython, or IPython without a kernel)."""
+    try:
+        from IPython import get_ipython
+    except ImportError:
+        return None
+    return getattr(get_ipython(), "kernel", None)
 
 
 def in_kernel_loop() -> bool:

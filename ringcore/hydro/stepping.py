@@ -62,17 +62,24 @@ class Stepping:
     """
 
     def stable_dt(self) -> float:
-        """Time step [1/Omega] the criterion gives for the current state (no step taken)."""
-        vmax, numax, rmax = K.compute_rhs(self._U[0], self._W, self._beta, self.gravity.g, self._par, self._L[0])
+        """Time step [1/Omega] the criterion gives for the current state (no step taken).
+
+        It works on a copy of the state and a scratch array of its own, never on the step's work arrays, so
+        asking changes nothing: a view or a monitor may ask from another thread while a chunk advances the run
+        (a notebook's cells and threads run beside the chunks in the kernel's pool): the step's scratch written
+        mid-step changed such a run's numbers from the first orbit and made it blow up.  The value is the one
+        the step's own arrays give (the grid maxima need neither the scratch's old contents nor self-gravity);
+        asked mid-chunk it may mix two steps' states (a readout only: the run is not changed)."""
+        U = self._U[0].copy()
+        K.fill_ghosts(U, self.n)
+        vmax, numax, rmax = K.rhs_fluxes(U, np.zeros_like(self._W), self._beta, self._par, True)
         return K.stable_dt(vmax, numax, rmax, self.h, int(self._par[K.P_DTMODE]), self._par[K.P_DTFACTOR])
 
     def estimate_steps(self, orbits: float) -> float:
         """Steps that ``orbits`` more orbits would take at the time step of the current state (an
-        estimate, without self-gravity, for refusing runs that could not finish; it works on copies
-        of the work arrays, so the run is untouched).  inf if the criterion gives no positive step."""
-        vmax, numax, rmax = K.compute_rhs(self._U[0].copy(), self._W.copy(), self._beta,
-                                          np.zeros_like(self.gravity.g), self._par, self._L[0].copy())
-        dt = K.stable_dt(vmax, numax, rmax, self.h, int(self._par[K.P_DTMODE]), self._par[K.P_DTFACTOR])
+        estimate for refusing runs that could not finish; the run is untouched, :meth:`stable_dt`).
+        inf if the criterion gives no positive step."""
+        dt = self.stable_dt()
         n = orbits * TWO_PI / dt if dt > 0.0 and math.isfinite(dt) else math.inf
         return max(n, orbits * self.options.samples_per_orbit)
 

@@ -56,3 +56,17 @@ def test_frame_names_the_buffer_zone_and_has_no_time_step_before_the_first():
     assert s.frame().buffer == (-50.0, 50.0, -0.5)
     s.clear_buffer()
     assert s.frame().buffer is None
+
+
+def test_frame_and_time_step_write_none_of_the_engines_arrays(sim):
+    """frame(), stable_dt() and estimate_steps() work on arrays of their own: a view or a monitor may call them from
+    another thread while a chunk steps the run (the step's scratch, right-hand sides and stage states untouched)."""
+    sim = Hydro1D.restore(sim.snapshot())
+    sim.advance(orbits=0.1)  # the arrays as the last step left them
+    arrays = dict(U=sim._Ustack, L=sim._Lstack, W=sim._W, g=sim.gravity.g, beta=sim._beta, par=sim._par)
+    before = {k: a.copy() for k, a in arrays.items()}
+    sim.frame()
+    sim.stable_dt()
+    sim.estimate_steps(1.0)
+    for k, a in arrays.items():
+        np.testing.assert_array_equal(a, before[k], err_msg=k)
