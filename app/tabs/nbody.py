@@ -137,12 +137,12 @@ class NBodyView(TabBase, pn.viewable.Viewer):
         c0 = self.c_fig.hspan(y="y", line_color="color", line_dash="dashed", line_width=2, source=self.c0_source)
         plot_key(self.c_fig, [("this run", r), ("hydro c₀ (effective, incl. nonlocal)", c0)])  # in the saved PNG too
         self.c_fig.add_tools(HoverTool(renderers=[r], tooltips=[("t", "@t{0.00}"), ("<c>", "@c_mean{0.000} mm/s")]))
-        self.coll_fig = new_figure("Collision frequency", "time [orbits]", "per particle per orbit",
+        self.coll_fig = new_figure("Collision frequency", "time [orbits]", "collisions [per particle per orbit]",
                                    height=230, x_range=self.t_range)
         self.coll_fig.line("t", "collision_frequency", source=self.series_source, line_width=2, color=LINE_COLOR)
         self.psd_source = ColumnDataSource(dict(wavelength=[], power=[]), name="nbody-psd-source")
         self.psd_markers = ColumnDataSource(dict(x=[], color=[], dash=[], label=[]))
-        self.psd_fig = new_figure("PSD of σ", "wavelength λ [m]", "PSD", height=230,
+        self.psd_fig = new_figure("PSD of σ", "wavelength λ [m]", "PSD (its maximum = 1)", height=230,
                                   x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-4, 2))
         psd = [self.psd_fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR),
                self.psd_fig.scatter("wavelength", "power", source=self.psd_source, size=5, color=LINE_COLOR)]

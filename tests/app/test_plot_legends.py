@@ -78,3 +78,17 @@ def test_every_saved_plot_of_several_lines_names_them_in_a_legend_drawn_in_the_p
                 label = item.label  # a fixed text (Value) or one entry per value of a source column (Field)
                 assert label is not None and (getattr(label, "value", None) or getattr(label, "field", None)), where
     assert checked >= 10  # the tabs' multi-series plots (linear curves, PSDs with markers, Compare, Figure 20, ...)
+
+
+def test_every_axis_gives_its_unit_or_says_it_is_a_ratio_or_normalised(saved_figures):
+    """A saved plot's axes say what their numbers are in: a unit in brackets, a ratio of two quantities, or the
+    normalisation of a spectrum ("PSD" alone left a student to guess)."""
+    from bokeh.models import Axis
+
+    bad = []
+    for tab, fig in saved_figures:
+        for ax in fig.select({"type": Axis}):
+            label = ax.axis_label or ""
+            if label and not ("[" in label or "/" in label or "maximum = 1" in label):
+                bad.append((TABS[tab][0], fig.title.text, label))
+    assert not bad, bad

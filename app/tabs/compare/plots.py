@@ -79,7 +79,7 @@ class ComparePlots:
         self.lp_fig = new_figure("Prevalent wavelength λ_p(t)", "time [orbits]", "λ_p [m]", height=270,
                                  y_axis_type="log")
         log_ticks(self.lp_fig, [10, 20, 30, 50, 70, 100, 150, 200, 300, 500, 700, 1000, 2000, 5000, 10000])
-        self.psd_fig = new_figure(f"PSD of σ now, {cite('fourier', False)}", "wavelength λ [m]", "PSD (max = 1)",
+        self.psd_fig = new_figure(f"PSD of σ now, {cite('fourier', False)}", "wavelength λ [m]", "PSD (its maximum = 1)",
                                   height=270, x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
         self.psd_fig.xaxis.ticker = FixedTicker(ticks=[1, 3, 10, 30, 100, 300, 1000, 3000, 10000])
         self.psd_fig.xaxis.formatter = CustomJSTickFormatter(code="return tick.toString()")

@@ -61,7 +61,7 @@ class PaperPlots:
             f.add_layout(self.futures[-1])
         self.psd_source = ColumnDataSource(dict(wavelength=[], power=[]), name="paper-psd-source")
         self.psd_fig = new_figure(f"Final PSD of σ, {eq('fourier')} (green: λ_p at the orbit shown)",
-                                  "wavelength λ [m]", "PSD", height=260,
+                                  "wavelength λ [m]", "PSD (its maximum = 1)", height=260,
                                   x_axis_type="log", y_axis_type="log", y_range=Range1d(1e-8, 2.0))
         self.psd_fig.line("wavelength", "power", source=self.psd_source, line_width=2, color=LINE_COLOR)
         self.psd_fig.add_layout(self.paper_spans[1])
