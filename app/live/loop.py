@@ -247,6 +247,10 @@ class LiveLoop:
                 pn.state.log(f"live run stopped by an error in a chunk: {error!r}{where(error)}")
             if then is not None:
                 then()
+            if not self.running and then is None and self._ahead() and self.offload(self._settle):
+                # Pause landed after this chunk left compute_chunk (its settle check) and before it got here:
+                # settle now, or the page shows this chunk while the run keeps what was computed ahead
+                return
             self.frame += 1  # the views draw the new state (the final one after Pause)
             if self.running and doc.session_context is None and frame_gate.page_behind(time.perf_counter()):
                 doc.loop.call_later(HOLD_POLL_S, self._resume, doc)  # a notebook page draws: keep step with it

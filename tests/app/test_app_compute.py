@@ -208,3 +208,28 @@ def test_a_chunk_that_finds_the_page_gone_hands_the_run_to_the_page_s_own_callba
     assert len(handed) == 1 and handed[0]["orbits"] > 0  # the run itself, not freed
     assert not any("freed" in m for m in logged), logged
     assert not r.running and doc.drain(0.3) == 0
+
+
+def test_a_pause_while_a_chunk_is_handed_over_takes_the_computed_chunks_into_the_shown_state(pool1):
+    """Pause can land after a chunk has finished on its worker thread but before its delivery reaches the
+    event loop.  The run (here following a shared computation, as a Dask worker's run computes a chunk
+    ahead) must still be settled: the state kept is the state shown, and it follows nothing any more
+    (seen in a browser: the page stood at orbit 25.05 while the closed page's run was kept at 33.30)."""
+    doc = FakeDoc()
+    with set_curdoc(doc):
+        r = HydroRunner()
+    shown = []
+    r.param.watch(lambda e: shown.append(r.sim.orbits), "frame")
+    with set_curdoc(doc):
+        r.start()
+        t0 = time.perf_counter()
+        while doc.q.empty():  # the first chunk is done and its delivery waits for the loop
+            assert time.perf_counter() - t0 < 120
+            time.sleep(0.002)
+        assert r._inflight and r.sim.computing_ahead  # following the shared computation
+        r.pause()
+        doc.drain(30.0, stop=lambda: not r._inflight and not r.sim.computing_ahead)
+        doc.drain(0.3)
+    assert not r.sim.computing_ahead
+    assert shown and shown[-1] == r.sim.orbits
+    assert r.status == "Paused."
