@@ -89,11 +89,6 @@ ALLOWED = {
         ("read", "state._session_key_funcs"), ("read", "state._sessions"),
         ("write", "state._session_key_funcs[path]"), ("write", "state._sessions[path]"),
     }),
-    # An offline notebook: Panel (1.9.4) sends its CDN stylesheet addresses with every update of a pane drawn
-    # inline, and looks each address up only in its per-document cache, pn.state._stylesheets (no public setting).
-    "app/server/installed_css.py": ("an offline notebook's stylesheets from the installed package", {
-        ("read", "pn.state._stylesheets"), ("write", "pn.state._stylesheets"),
-    }),
 }
 # Findings that are no library's of this scan (a private name the package never defines, on an object of
 # the standard library): not debt, listed so that the scan stays exact.
