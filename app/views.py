@@ -8,7 +8,8 @@ Offline notebooks
     Importing this module in a Jupyter kernel makes Panel load BokehJS and Panel's JavaScript from the installed
     packages (``pn.config.inline = True``) instead of their CDN hosts, so ``pn.extension()`` called after the import
     gives views that draw without internet access; the stylesheets Panel sends again when a pane changes come from
-    the installed package too (``ringlab.server.installed_css``), never from its CDN. The cost is the size of the
+    the Jupyter server (Panel's server extension serves the installed package's files: ``ringlab.server.installed_css``),
+    never from its CDN. The cost is the size of the
     notebook's extension output: 5.95 MB of JavaScript written into the saved notebook instead of 38 kB of CDN links
     (Panel 1.9.4, Bokeh 3.9.2). ``pn.extension(inline=False)`` chooses the CDN again. Outside a kernel (``panel
     serve``, a script) nothing changes.
@@ -28,13 +29,15 @@ from __future__ import annotations
 import panel as pn
 
 from ringlab.server import kernel
-from ringlab.server.installed_css import use_installed_stylesheets
+from ringlab.server.installed_css import serve_stylesheets
 from ringlab.tabs.hydro.view import HydroView
 from ringlab.tabs.linear.view import LinearView
 from ringlab.tabs.nbody import NBodyView
 from ringlab.tabs.paper.view import PaperView
+from ringlab.ui import tab
 
-__all__ = ["HydroView", "LinearView", "NBodyView", "PaperView", "in_jupyter_kernel", "use_installed_resources"]
+__all__ = ["HydroView", "LinearView", "NBodyView", "PaperView", "in_jupyter_kernel", "serve_panel_stylesheets",
+           "use_installed_resources"]
 
 
 def in_jupyter_kernel() -> bool:
@@ -53,8 +56,18 @@ def use_installed_resources() -> bool:
     if not in_jupyter_kernel():
         return False
     pn.config.inline = True
-    use_installed_stylesheets()
+    if serve_panel_stylesheets not in tab.ON_DISPLAY:
+        tab.ON_DISPLAY.append(serve_panel_stylesheets)
     return True
+
+
+def serve_panel_stylesheets(view) -> int:
+    """Have the notebook output of ``view`` (just displayed) load the stylesheets Panel sends with a changed pane
+    from the Jupyter server (:func:`ringlab.server.installed_css.serve_stylesheets`); returns for how many of its
+    documents it did (the documents of the view's Bokeh plots: the output's)."""
+    docs = {id(p.object.document): p.object.document for p in view.__panel__().select(pn.pane.Bokeh)
+            if p.object is not None and p.object.document is not None}
+    return sum(serve_stylesheets(doc) for doc in docs.values())
 
 
 use_installed_resources()

@@ -1,114 +1,92 @@
-"""Panel's own stylesheets from the installed package in a notebook that loads its resources inline.
+"""Panel's own stylesheets from the Jupyter server in a notebook that loads its resources inline.
 
 With ``pn.config.inline`` a notebook output is rendered with Panel's stylesheets written into it, but a pane that
 is updated later (an HTML pane whose text changes: a view's status line, its readouts) sends its whole list of
 stylesheets again, and Panel builds that list with the addresses of its CDN host (``cdn.holoviz.org``:
-``css/loading.css`` and the theme's ``bundled/theme/default.css`` and ``native.css``; Panel 1.9.4; the first one
-is made with the relative address of a Panel server and moved to the CDN later).  A notebook
-without internet then asks the CDN for them with every such update, and the pane loses those styles.
+``css/loading.css`` and the theme's ``bundled/theme/default.css`` and ``native.css``; Panel 1.9.4, and its
+1.10.0a3 the same: an updated pane's properties go out as Panel makes them, without the inline stylesheets of the
+first render).  A notebook without internet then asks the CDN for them with every such update, and the pane loses
+those styles.
 
-Panel looks each stylesheet address up in a cache per document (``pn.state._stylesheets``: document -> {address:
-``ImportedStyleSheet``}) before it makes a new one.  :func:`use_installed_stylesheets` gives every document a cache
-that answers an address on Panel's CDN with the same file of the installed package, as a ``data:`` address: the
-page loads it from the notebook's own message, never from the network.  Private API of Panel (<1.10, pinned), as
-:mod:`ringlab.server.kernel`.
+Panel makes those addresses relative to another place for its files when the document's template variable
+``dist_url`` names one (``Document.template_variables``: Bokeh's public dictionary, which Panel's own pages fill
+for a Panel server).  Panel's Jupyter server extension, enabled wherever Panel is installed beside JupyterLab or
+Jupyter Notebook, serves the installed package's files at ``{base_url}panel_dist/``: :func:`serve_stylesheets`
+points a notebook output's document there, so the page loads them from the Jupyter server it already talks to,
+never from the network.  The server is the one that started this kernel (its process id is the kernel's
+``JPY_PARENT_PID``, its address in its ``jpserver-<pid>.json`` in Jupyter's runtime folder), and it is used only if
+it serves Panel's files (one request, once per kernel).  Without such a server (a kernel started by nbclient or an
+editor's own notebook front end, a Jupyter server without Panel) the addresses stay Panel's.
 """
 from __future__ import annotations
 
-import base64
 import functools
-import weakref
+import json
+import os
+import urllib.request
+from pathlib import Path
 
 import panel as pn
-from bokeh.models import ImportedStyleSheet
-from panel.io.resources import CDN_DIST, DIST_DIR, LOCAL_DIST
+
+PROBE = "css/loading.css"  # a file of Panel's dist folder every pane's stylesheets name
+PROBE_TIMEOUT_S = 2.0  # [s] a Jupyter server answers a static file on this machine in milliseconds
 
 
-@functools.lru_cache(maxsize=64)
-def data_address(url: str) -> str | None:
-    """The ``data:`` address of the installed file that ``url`` (an address on Panel's CDN, or the relative address
-    Panel gives it when it serves its files itself, with or without a ``?v=`` query) names; None for any other
-    address or a file the package does not have."""
-    prefix = next((p for p in (CDN_DIST, LOCAL_DIST) if isinstance(url, str) and url.startswith(p)), None)
-    if prefix is None:
-        return None
-    path = DIST_DIR / url[len(prefix):].split("?")[0]
-    if path.suffix != ".css" or not path.is_file():
-        return None
-    return "data:text/css;base64," + base64.b64encode(path.read_bytes()).decode("ascii")
-
-
-class InstalledSheets(dict):
-    """One document's stylesheet cache (address -> ``ImportedStyleSheet``) in which an address on Panel's CDN maps
-    to a stylesheet of the installed file (while ``pn.config.inline`` is on); other addresses as Panel stores them."""
-
-    def _installed(self, url) -> bool:
-        if not pn.config.inline or data_address(url) is None:
-            return False
-        sheet = dict.get(self, url)
-        if sheet is None or sheet.url != data_address(url):
-            dict.__setitem__(self, url, ImportedStyleSheet(url=data_address(url)))  # one model per document
-        return True
-
-    def __contains__(self, url) -> bool:
-        return self._installed(url) or dict.__contains__(self, url)
-
-    def __getitem__(self, url):
-        self._installed(url)
-        return dict.__getitem__(self, url)
-
-    def get(self, url, default=None):
-        return self[url] if url in self else default
-
-    def __setitem__(self, url, sheet) -> None:
-        if not self._installed(url):  # Panel stores the CDN stylesheet it made: the installed one stays
-            dict.__setitem__(self, url, sheet)
-
-    def __bool__(self) -> bool:
-        return True  # Panel looks a stylesheet up only in a non-empty cache ("if cache and url in cache")
-
-
-class InstalledCaches(weakref.WeakKeyDictionary):
-    """``pn.state._stylesheets`` (document -> its stylesheet cache) whose every document has an
-    :class:`InstalledSheets` from the start (Panel makes a plain dict for a document it has not seen)."""
-
-    def _cache(self, doc) -> InstalledSheets:
-        cache = self.data.get(weakref.ref(doc))
-        if not isinstance(cache, InstalledSheets):
-            cache = InstalledSheets(cache or {})
-            weakref.WeakKeyDictionary.__setitem__(self, doc, cache)
-        return cache
-
-    def __contains__(self, doc) -> bool:
+def jupyter_server_info(pid: int | None = None, runtime_dir: str | os.PathLike | None = None) -> dict | None:
+    """The ``jpserver-<pid>.json`` of the Jupyter server that started this kernel (``pid``: default the
+    ``JPY_PARENT_PID`` that Jupyter gives a kernel it starts) in Jupyter's runtime folder (default:
+    ``jupyter_core.paths.jupyter_runtime_dir()``), or None (no such server or file)."""
+    if pid is None:
         try:
-            self._cache(doc)
-        except TypeError:  # None or another object without weak references
-            return False
-        return True
-
-    def __getitem__(self, doc):
+            pid = int(os.environ.get("JPY_PARENT_PID", ""))
+        except ValueError:
+            return None
+    if runtime_dir is None:
         try:
-            return self._cache(doc)
-        except TypeError:
-            raise KeyError(doc) from None
-
-    def get(self, doc, default=None):
-        return self[doc] if doc in self else default
-
-    def __setitem__(self, doc, cache) -> None:
-        own = self._cache(doc)
-        if cache is not own:
-            for url, sheet in dict(cache).items():
-                own[url] = sheet
+            from jupyter_core.paths import jupyter_runtime_dir
+        except ImportError:
+            return None
+        runtime_dir = jupyter_runtime_dir()
+    try:
+        info = json.loads((Path(runtime_dir) / f"jpserver-{pid}.json").read_text())
+    except (OSError, ValueError):
+        return None
+    return info if isinstance(info, dict) and isinstance(info.get("base_url"), str) else None
 
 
-def use_installed_stylesheets() -> bool:
-    """Make Panel's stylesheet caches answer addresses on its CDN with the installed files (see the module);
-    returns True if it did now, False if they already do."""
-    if isinstance(pn.state._stylesheets, InstalledCaches):
+def dist_url_of(info: dict, timeout_s: float = PROBE_TIMEOUT_S) -> str | None:
+    """The address, from the page's origin, of Panel's files on the Jupyter server described by ``info`` (a
+    ``jpserver-<pid>.json``: ``base_url``, ``url``), if the server serves them (a request for one, at most
+    ``timeout_s`` seconds); else None."""
+    base = "/" + info["base_url"].strip("/") + "/" if info["base_url"].strip("/") else "/"
+    url = str(info.get("url", ""))
+    if not url.startswith(("http://", "https://")):
+        return None
+    direct = urllib.request.build_opener(urllib.request.ProxyHandler({}))  # the kernel's own server: no proxy
+    try:
+        with direct.open(url.rstrip("/") + "/panel_dist/" + PROBE, timeout=timeout_s) as reply:
+            if reply.status != 200:
+                return None
+    except (OSError, ValueError):
+        return None
+    return base + "panel_dist/"
+
+
+@functools.lru_cache(maxsize=1)
+def server_dist_url() -> str | None:
+    """:func:`dist_url_of` the Jupyter server that started this kernel (found once per kernel), or None."""
+    info = jupyter_server_info()
+    return None if info is None else dist_url_of(info)
+
+
+def serve_stylesheets(doc, dist_url: str | None = None) -> bool:
+    """Make the panes of the notebook output ``doc`` name Panel's stylesheets at ``dist_url`` (default:
+    :func:`server_dist_url`) when they are updated, while ``pn.config.inline`` is on (``pn.extension(inline=False)``
+    chooses the CDN again); returns True if it did.  A document that names a place already keeps it."""
+    if doc is None or not pn.config.inline:
         return False
-    caches = InstalledCaches()
-    for doc, cache in list(pn.state._stylesheets.items()):
-        caches[doc] = cache
-    pn.state._stylesheets = caches
-    return True
+    dist_url = server_dist_url() if dist_url is None else dist_url
+    if dist_url is None:
+        return False
+    doc.template_variables.setdefault("dist_url", dist_url)
+    return doc.template_variables["dist_url"] == dist_url

@@ -16,10 +16,12 @@ Panel's comms where JupyterLab sends them to a kernel subshell (:mod:`ringlab.se
 changes are then sent in one push per displayed document (:func:`push_views`) instead of one per
 changed pane, and only over comms a page has opened: a kernel without a frontend (nbclient,
 papermill) keeps the changes on the held document instead of Panel rescheduling every unsent
-message every 0.1 s.  Bokeh combines repeated changes of one property there, but not repeated
-``source.data = ...`` (each a ``ColumnDataChangedEvent``); those carry no data of their own (it is
-read from the source when the message is built), so :func:`compact` keeps only the last one per
-source: memory stays flat however long the run goes without a page.
+message every 0.1 s.  Bokeh combines repeated changes of one property there, but keeps every
+``source.data = ...``, stream and patch (one event each) for the page that may open the output later;
+so while no page has opened an output (:func:`page_state` UNOPENED) its frame gates let only the forced
+frames through (:class:`ringlab.ui.frame_gate.FrameGate`): memory stays flat however long the run goes
+without a page, the runner keeps the state, and a page that opens the output gets the held changes,
+then the frames.
 
 ``pn.io.unlocked`` is not needed here (it only applies to server sessions) and ``pn.io.hold()``
 without a document does nothing in a kernel: the documents are held by Panel already.
@@ -38,7 +40,6 @@ import weakref
 from contextlib import contextmanager
 
 import panel as pn
-from bokeh.document.events import ColumnDataChangedEvent
 from panel.io.model import diff
 from panel.io.notebook import block_comm, send
 from panel.models.comm_manager import CommManager
@@ -171,9 +172,10 @@ def deliver(callback) -> None:
 
 
 def page_state(model) -> int:
-    """Is ``model`` shown by a notebook page?  0: no (not in a kernel's loop, a server session's model, or no page
-    has opened its view's comm yet), 1: yes, but a cell blocks the kernel in :meth:`KernelTarget.wait` (the
-    page's messages are not heard until it ends), 2: yes (``ringlab.ui.frame_gate``'s NO_PAGE, PAGE_UNHEARD, PAGE)."""
+    """Is ``model`` shown by a notebook page?  0: no (not in a kernel's loop, a server session's model, not a
+    notebook output), 3: not yet (a notebook output that no page has opened: its comm is not open), 1: yes, but a
+    cell blocks the kernel in :meth:`KernelTarget.wait` (the page's messages are not heard until it ends), 2: yes
+    (``ringlab.ui.frame_gate``'s NO_PAGE, UNOPENED, PAGE_UNHEARD, PAGE)."""
     doc = model.document
     if doc is None or doc.session_context is not None:
         return 0
@@ -181,7 +183,7 @@ def page_state(model) -> int:
     if t is None or comm_id(doc) is None:
         return 0
     _DOCS.add(doc)  # a notebook output's document: push_views sends its changes
-    return (1 if t.waiting else 2) if page_comm(doc) is not None else 0
+    return (1 if t.waiting else 2) if page_comm(doc) is not None else 3
 
 
 def comm_id(doc) -> str | None:
@@ -216,10 +218,9 @@ def page_comm(doc):
 def push_views() -> int:
     """Send the pending changes of every displayed live document over its comm if a page has opened it
     (returns how many documents were pushed).  Panel's own ``push`` would resend an unopened comm's message
-    every 0.1 s; an unopened comm's changes stay held instead (compacted)."""
+    every 0.1 s; an unopened comm's changes stay held instead, for the page that may open it."""
     n = 0
     for doc in list(_DOCS):
-        compact(doc)
         c = page_comm(doc)
         if c is None:
             continue  # no page has opened the comm (yet): the changes stay held
@@ -228,22 +229,3 @@ def push_views() -> int:
             send(c, msg)
             n += 1
     return n
-
-
-def compact(doc) -> int:
-    """Drop the held ``ColumnDataChangedEvent`` s of ``doc`` that a later one of the same source and
-    columns repeats (they serialize the source's current data, so only the last counts); returns how
-    many were dropped."""
-    events = doc.callbacks._held_events
-    seen, kept = set(), []
-    for e in reversed(events):
-        if isinstance(e, ColumnDataChangedEvent) and e.data is None:
-            key = (id(e.model), e.attr, None if e.cols is None else tuple(sorted(e.cols)))
-            if key in seen:
-                continue
-            seen.add(key)
-        kept.append(e)
-    dropped = len(events) - len(kept)
-    if dropped:
-        doc.callbacks._held_events = kept[::-1]
-    return dropped

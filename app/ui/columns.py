@@ -26,8 +26,8 @@ def replace_columns(source, data: dict, stream: bool) -> None:
     data : dict
         Column name -> new values (numpy arrays or lists; not kept by reference as the source's lists).
     stream : bool
-        True in a notebook page (:func:`ringlab.ui.frame_gate.notebook_page` is not NO_PAGE); False in a
-        server session or without a page (a held document compacts whole replacements, not streams).
+        True in a notebook page (:func:`ringlab.ui.frame_gate.notebook_page` is PAGE or PAGE_UNHEARD); False
+        in a server session or without a page.
     """
     old = source.data
     if stream and data and set(old) == set(data):

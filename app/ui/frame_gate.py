@@ -75,12 +75,13 @@ def max_frame_rate() -> float:
     return DEFAULT_MAX_FRAME_RATE if CONFIG.max_frame_rate is None else CONFIG.max_frame_rate
 
 
-# How a frame gate asks whether a notebook page shows its plot: NO_PAGE (not in a Jupyter kernel, or no page has
-# opened the view's comm), PAGE (a page has, and the kernel hears its acknowledgements) or PAGE_UNHEARD (a page
-# has, but a cell blocks the kernel in runner.wait(): the page's messages wait until the cell ends, so frames
-# go at the capped rate without acknowledgements).  ringlab.live.loop installs ringlab.server.kernel.page_state
-# (this leaf layer may not import the server layer).
-NO_PAGE, PAGE_UNHEARD, PAGE = 0, 1, 2
+# How a frame gate asks whether a notebook page shows its plot: NO_PAGE (not a notebook output in a Jupyter kernel:
+# a server session, a script, a headless test), UNOPENED (a notebook output that no page has opened yet: a kernel
+# without a frontend, nbclient, or an output JupyterLab has not drawn yet), PAGE (a page has, and the kernel hears
+# its acknowledgements) or PAGE_UNHEARD (a page has, but a cell blocks the kernel in runner.wait(): the page's
+# messages wait until the cell ends, so frames go at the capped rate without acknowledgements).
+# ringlab.live.loop installs ringlab.server.kernel.page_state (this leaf layer may not import the server layer).
+NO_PAGE, PAGE_UNHEARD, PAGE, UNOPENED = 0, 1, 2, 3
 _page_probe = None
 # Frames counted for a notebook page are numbered in the order they are sent (all gates share the count); the
 # newest acknowledged number of each document shows how far the page has read (it reads its messages in order).
@@ -119,7 +120,7 @@ def set_page_probe(probe) -> None:
 
 
 def notebook_page(model) -> int:
-    """NO_PAGE, PAGE_UNHEARD or PAGE: is ``model`` shown by a notebook page (see ``_page_probe``)?"""
+    """NO_PAGE, UNOPENED, PAGE_UNHEARD or PAGE: is ``model`` shown by a notebook page (see ``_page_probe``)?"""
     return NO_PAGE if _page_probe is None else _page_probe(model)
 
 
@@ -139,7 +140,13 @@ class FrameGate:
     instead of a growing backlog (``shared/guides/panel-live-app.md``).  Frames sent while
     the plot is not shown (hidden tab) are never acknowledged: after ``timeout_s`` the gate
     resynchronises.  In a server session frames come at most ``max_frame_rate()`` per second;
-    outside one (headless tests, a kernel without a page) at most one per ``min_period_s``.
+    outside one (headless tests, a script) at most one per ``min_period_s``.
+
+    A notebook output that no page has opened yet (UNOPENED: a kernel without a frontend) gets no frames but the
+    forced ones (Pause, Start, a setting changed, a run that stopped by itself): Bokeh keeps every data change of
+    such an output's document for the page that may open it later (one event per replacement, never combined), so
+    frames drawn for nobody would pile up in the kernel for as long as the run goes.  The state shown stays the
+    runner's own, and the page that opens the output gets the forced frames' changes, then frames again.
 
     In a notebook page (a Jupyter kernel whose page has opened the view's comm) the same acknowledgements and
     rate apply, without the resynchronisation: frames the page has not acknowledged stop the next ones until it
@@ -191,6 +198,8 @@ class FrameGate:
         """May a frame be sent at time ``now`` (time.perf_counter())?"""
         in_server = served()
         page = NO_PAGE if in_server else notebook_page(self.fig)
+        if page == UNOPENED:
+            return False  # drawn for nobody: held in the kernel until a page opens the output (see the class)
         if now < self.t_slot + (1.0 - EARLY_FRACTION) * self._period(in_server, page):
             return False
         if in_server:

@@ -43,10 +43,22 @@ class Tab(Protocol):
         """The tab's layout (a Panel object)."""
 
 
+# Called with a tab each time it is displayed as a notebook output (after Panel rendered it): ringlab.views adds the
+# one that has the output load Panel's stylesheets from the Jupyter server (this layer may not import the server's).
+ON_DISPLAY: list = []
+
+
 class TabBase:
     """The :class:`Tab` protocol's common answers, for a tab class to derive from (before ``pn.viewable.Viewer``)
     and override where it differs: built with the session's runs, shows no other tab, streams nothing (so being
     shown changes nothing), has no run to start, laid out whole as its ``_layout``."""
+
+    def _repr_mimebundle_(self, include=None, exclude=None):
+        """IPython's display of the tab: Panel's notebook output, then each of :data:`ON_DISPLAY` with the tab."""
+        bundle = super()._repr_mimebundle_(include, exclude)
+        for hook in list(ON_DISPLAY):
+            hook(self)
+        return bundle
 
     @classmethod
     def for_session(cls, runs):

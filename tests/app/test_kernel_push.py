@@ -1,5 +1,6 @@
 """A frame's changes in a Jupyter kernel go to a notebook page in one push per output, over the comm the page
-opened, and stay held (compacted) while no page has opened it (:mod:`ringlab.server.kernel`).
+opened, and stay held while no page has opened it, when the live views draw no frames but the forced ones
+(:mod:`ringlab.server.kernel`).
 
 The output is rendered by Panel's own notebook display (``_repr_mimebundle_``); the kernel's comm manager is a
 stand-in whose ``comms`` holds what a page opens (in a real kernel ipykernel's, as
@@ -7,17 +8,21 @@ tests/browser/test_browser_notebook_offline.py exercises with JupyterLab).
 """
 import asyncio
 import json
+import time
 import types
+import weakref
 
 import IPython
 import numpy as np
 import panel as pn
-from bokeh.document.events import ColumnDataChangedEvent
+from bokeh.document.events import ColumnDataChangedEvent, ColumnsPatchedEvent, ColumnsStreamedEvent
 from bokeh.models import ColumnDataSource
 from bokeh.plotting import figure
 
+from ringlab import HydroView
 from ringlab.server import kernel
-from ringlab.ui.frame_gate import NO_PAGE, PAGE, PAGE_UNHEARD
+from ringlab.ui import frame_gate
+from ringlab.ui.frame_gate import NO_PAGE, PAGE, PAGE_UNHEARD, UNOPENED
 
 
 class PageComm:
@@ -50,6 +55,12 @@ def output():
     return fig, src
 
 
+def data_events(doc):
+    """The kinds of the data changes held on ``doc`` for a page (Bokeh keeps each one: none is combined)."""
+    kinds = (ColumnDataChangedEvent, ColumnsStreamedEvent, ColumnsPatchedEvent)
+    return [type(e).__name__.replace("Event", "") for e in doc.callbacks._held_events if isinstance(e, kinds)]
+
+
 def contents(comm):
     """The PATCH-DOC messages' event kinds sent over ``comm`` (each message: header, metadata, content, buffers)."""
     kinds = []
@@ -59,7 +70,7 @@ def contents(comm):
     return kinds
 
 
-def test_changes_go_once_a_page_opened_the_comm_and_stay_compacted_before(monkeypatch):
+def test_changes_go_once_a_page_opened_the_comm_and_stay_held_before(monkeypatch):
     fig, src = output()
     comms = kernel_comms(monkeypatch)
 
@@ -67,12 +78,10 @@ def test_changes_go_once_a_page_opened_the_comm_and_stay_compacted_before(monkey
         doc = fig.document
         cid = kernel.comm_id(doc)
         assert cid is not None and kernel.comm_id(figure().document or doc) == cid
-        assert kernel.page_state(fig) == NO_PAGE  # no page has opened the output's comm
-        for k in range(5):
-            with kernel.frame_changes():
-                src.data = dict(x=np.arange(3.0) + k)
-        held = [e for e in doc.callbacks._held_events if isinstance(e, ColumnDataChangedEvent)]
-        assert len(held) == 1  # kept for a page that may open later: the last of the repeated replacements
+        assert kernel.page_state(fig) == UNOPENED  # no page has opened the output's comm
+        with kernel.frame_changes():
+            src.data = dict(x=np.arange(3.0) + 1)
+        assert data_events(doc) == ["ColumnDataChanged"]  # held for a page that may open later
 
         page = comms["c1"] = PageComm(cid)  # a page renders the output and opens the comm
         other = comms["c0"] = PageComm("another output's comm")
@@ -83,9 +92,9 @@ def test_changes_go_once_a_page_opened_the_comm_and_stay_compacted_before(monkey
                 src.data = dict(x=np.arange(3.0) * 3)
             assert page.sent == []
         sent = contents(page)  # the held changes (the output's roots added as Panel rendered it, the source's
-        assert len(sent) == 1 and sent[0].count("ColumnDataChanged") == 1  # data) and the two new ones: one message
+        assert len(sent) == 1 and sent[0].count("ColumnDataChanged") == 3  # data) and the two new ones: one message
         assert other.sent == []
-        assert not [e for e in doc.callbacks._held_events if isinstance(e, ColumnDataChangedEvent)]
+        assert data_events(doc) == []
         assert kernel.push_views() == 0  # nothing left to send
 
         kernel.target().waiting = True  # a cell blocks in runner.wait(): the page is not heard
@@ -95,6 +104,46 @@ def test_changes_go_once_a_page_opened_the_comm_and_stay_compacted_before(monkey
         with kernel.frame_changes():
             src.data = dict(x=np.arange(3.0) * 4)
         assert contents(reloaded) == [["ColumnDataChanged"]] and len(contents(page)) == 1
+
+    asyncio.run(run())
+
+
+def test_a_view_no_page_has_opened_holds_no_frames_while_it_runs_and_draws_once_one_has(monkeypatch):
+    """A hydro view displayed in a kernel without a frontend: its run goes on, but no frame is drawn into the
+    output's held document (Bokeh would keep each one: memory grew with the run) until the run stops or a page
+    opens the output; then the page gets the held changes and the frames."""
+    pn.extension()
+    view = HydroView()
+    assert view._repr_mimebundle_() is not None
+    runner, plots = view.runner, view.plots
+    doc = plots.profile_source.document
+    comms = kernel_comms(monkeypatch)
+    monkeypatch.setattr(frame_gate, "_FULL", weakref.WeakSet())  # this view's full gates hold no other test's runs
+
+    async def run():
+        assert kernel.page_state(plots.spacetime_fig) == UNOPENED
+        sigma0 = np.asarray(plots.profile_source.data["sigma"]).copy()
+        held0 = data_events(doc)
+        runner.start()
+        frame0 = runner.frame
+        t_end = time.perf_counter() + 300  # a cold numba cache compiles the kernels in the first chunk
+        while runner.frame < frame0 + 12 and time.perf_counter() < t_end:
+            await asyncio.sleep(0.02)
+        assert runner.frame >= frame0 + 12 and runner.running
+        assert data_events(doc) == held0  # 12 frames, none drawn for nobody (each was an event before)
+        np.testing.assert_array_equal(plots.profile_source.data["sigma"], sigma0)
+
+        page = comms["c1"] = PageComm(kernel.comm_id(doc))  # a page opens the output
+        frame1 = runner.frame
+        while not contents(page) and time.perf_counter() < t_end:
+            await asyncio.sleep(0.02)
+        assert any("ColumnsStreamed" in kinds or "ColumnDataChanged" in kinds for kinds in contents(page))
+        assert runner.frame > frame1
+        runner.pause()
+        while runner._inflight:
+            await asyncio.sleep(0.02)
+        await asyncio.sleep(0.1)
+        np.testing.assert_array_equal(plots.profile_source.data["sigma"], runner.sim.frame().sigma)
 
     asyncio.run(run())
 

@@ -9,7 +9,7 @@ from bokeh.plotting import figure
 
 from ringlab.ui import frame_gate
 from ringlab.ui.columns import replace_columns
-from ringlab.ui.frame_gate import HOLD_S, PAGE, FrameGate
+from ringlab.ui.frame_gate import HOLD_S, NO_PAGE, PAGE, UNOPENED, FrameGate
 
 
 def test_same_shape_columns_are_streamed_in_a_notebook_page_only():
@@ -32,8 +32,8 @@ def test_same_shape_columns_are_streamed_in_a_notebook_page_only():
     assert lists.data is kept and lists.data["label"] == ["c", "d"]
 
 
-def notebook_gate(monkeypatch, max_in_flight=2):
-    monkeypatch.setattr(frame_gate, "_page_probe", lambda model: PAGE)  # a notebook page shows the plot
+def notebook_gate(monkeypatch, max_in_flight=2, page=PAGE):
+    monkeypatch.setattr(frame_gate, "_page_probe", lambda model: page)  # a notebook page shows the plot (default)
     monkeypatch.setattr(frame_gate, "_FULL", weakref.WeakSet())  # no other test's gates
     fig = figure()
     Document().add_root(fig)
@@ -80,3 +80,19 @@ def test_a_page_that_stalls_holds_the_runs_though_no_gate_is_full(monkeypatch):
     assert not frame_gate.page_behind(now + HOLD_S + 0.1)  # it has gone
     fig.tags = [1]
     assert not frame_gate.page_behind(later) and gate.ready(later)
+
+
+def test_an_output_no_page_has_opened_gets_no_frames_until_one_has(monkeypatch):
+    """A kernel without a frontend: a frame drawn into an output no page has opened would stay in the kernel (Bokeh
+    holds every data change for the page), so the gate lets none through; once a page has opened it, frames go."""
+    state = {"page": UNOPENED}
+    fig, gate = notebook_gate(monkeypatch, page=None)
+    monkeypatch.setattr(frame_gate, "_page_probe", lambda model: state["page"])
+    now = 400.0
+    for _ in range(20):
+        assert not gate.ready(now) and not frame_gate.page_behind(now)  # and the runs go on
+        now += 0.5
+    state["page"] = PAGE
+    assert gate.ready(now)
+    state["page"] = NO_PAGE  # a script or a headless test: frames at the gate's own period
+    assert gate.ready(now)

@@ -89,19 +89,6 @@ ALLOWED = {
         ("read", "state._session_key_funcs"), ("read", "state._sessions"),
         ("write", "state._session_key_funcs[path]"), ("write", "state._sessions[path]"),
     }),
-    # The changes held for a notebook output that no page has opened (a kernel without a frontend): Bokeh does not
-    # combine repeated ``source.data = ...`` (one event each), and only the last of them counts (each is
-    # serialized from the source's current data); no public API reads or drops a document's held events, and
-    # dropping them all would lose the streamed rows a page opening later needs.  Keeps a headless kernel's
-    # memory flat (tests/notebooks/test_notebook_live.py).
-    "app/server/kernel.py": ("a notebook output's repeated data replacements compacted while no page shows it", {
-        ("read", "doc.callbacks._held_events"), ("write", "doc.callbacks._held_events"),
-    }),
-    # An offline notebook: Panel (1.9.4) sends its CDN stylesheet addresses with every update of a pane drawn
-    # inline, and looks each address up only in its per-document cache, pn.state._stylesheets (no public setting).
-    "app/server/installed_css.py": ("an offline notebook's stylesheets from the installed package", {
-        ("read", "pn.state._stylesheets"), ("write", "pn.state._stylesheets"),
-    }),
 }
 # Findings that are no library's of this scan (a private name the package never defines, on an object of
 # the standard library): not debt, listed so that the scan stays exact.

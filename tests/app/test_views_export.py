@@ -39,6 +39,10 @@ def test_installed_resources_only_in_a_jupyter_kernel(monkeypatch):
     import IPython
 
     monkeypatch.setattr(IPython, "get_ipython", lambda: Shell())
-    monkeypatch.setattr(pn.state, "_stylesheets", type(pn.state._stylesheets)())  # process-wide: dropped after
-    assert views.in_jupyter_kernel() and views.use_installed_resources()
+    from ringlab.ui import tab
+
+    monkeypatch.setattr(tab, "ON_DISPLAY", [])  # process-wide: dropped after
+    assert views.in_jupyter_kernel() and views.use_installed_resources() and views.use_installed_resources()
     assert pn.config.inline is True  # pn.extension() now loads BokehJS and Panel from the installed packages
+    assert tab.ON_DISPLAY == [views.serve_panel_stylesheets]  # a view's output names Panel's stylesheets on the
+    # Jupyter server once displayed (once, however often it is called)

@@ -1,5 +1,6 @@
 """A live view in a real JupyterLab without internet: it draws, keeps step with the kernel, hears Pause, and
-the kernel stops sending once the page has gone; idle and with a second process burning a core.
+the kernel stops sending once the page has gone; idle and with a second process burning a core.  The stylesheets
+Panel sends with a changed pane load from the Jupyter server (``ringlab.server.installed_css``).
 
 JupyterLab runs on a loopback port with a temporary root folder; Chromium reaches nothing else (every other
 request is aborted).  The notebook makes a ``HydroView`` after ``from ringlab import HydroView`` and a plain
@@ -256,6 +257,8 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
         with context(width=1400, height=1300, timeout_ms=30_000) as ctx:
             ctx.route("**/*", route)
             page = new_page(ctx)
+            panel_files = []  # (address, status) of Panel's files the page loaded from the Jupyter server
+            page.on("response", lambda r: panel_files.append((r.url, r.status)) if "/panel_dist/" in r.url else None)
             console = []  # the page's console errors and warnings (Panel's comm handler logs what it cannot apply)
             page.on("console", lambda m: console.append((round(time.time(), 3), m.type, m.text[:300]))
                     if m.type in ("error", "warning") else None)
@@ -340,8 +343,10 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
             assert before["running"], {key: before[key] for key in ("status", "orbits", "paused", "time")}
             assert page.js_errors == []
             assert no_echo, "the view's notebook comm still sends the kernel's changes back"
-            # the stylesheets Panel sends again with a changed pane come from the installed package, as the scripts
+            # the stylesheets Panel sends again with a changed pane (the status line, the readouts) come from the
+            # Jupyter server (Panel's server extension serves the installed package's files), not from its CDN
             assert blocked == [], f"requests to hosts other than this machine: {blocked}"
+            assert panel_files and all(status in (200, 304) for (_, status) in panel_files), panel_files
             page.close()
             t_close = time.time()
         time.sleep(4.0)
@@ -359,7 +364,8 @@ def test_hydro_view_offline_in_jupyterlab(jupyter_lab, load):
         assert checked >= 3 and sums == headless_sums(checked), (sums, after["orbits"])
         print(f"{load}: image end {ends[0]:.2f}..{ends[-1]:.2f} orbits in {len(ends)} samples, kernel ahead by "
               f"max {max(lags):.2f} orbits; Pause heard {paused[0] - t_click:.3f} s after the page's click ({paused[0] - t_call:.3f} s after the call); comm messages "
-              f"{after['n']}, the last {after['last'] - t_close:.2f} s after the page closed; blocked {blocked}\npause timeline {busy}\nends {[round(e, 2) for e in ends]}\nlags {[round(x, 2) for x in lags]}")
+              f"{after['n']}, the last {after['last'] - t_close:.2f} s after the page closed; blocked {blocked}; Panel's files "
+              f"from the Jupyter server {sorted({(u.split('/panel_dist/')[1], st) for (u, st) in panel_files})}\npause timeline {busy}\nends {[round(e, 2) for e in ends]}\nlags {[round(x, 2) for x in lags]}")
     finally:
         if burner is not None:
             burner.kill()

@@ -4,8 +4,9 @@
 N-body, Compare and Paper-results views, starts them from Python and awaits (or blocks in
 ``runner.wait()``): the runs must advance on the kernel's event loop (:mod:`ringlab.server.kernel`).  Without a frontend the comm messages go nowhere,
 so the checks are on the Python side: the runner's orbit counter, the frames, the Bokeh sources the page
-draws (their lengths, and that the plotted profile is the run's state), the readouts, and that the
-changes held for a page that never connected stay bounded.  The hydro and N-body runs stop at a known
+draws once the run has stopped (their lengths, and that the plotted profile is the run's state: a view that no page
+has opened draws only the forced frames, Pause's among them), the readouts, and that the changes held for a page
+that never connected stay bounded.  The hydro and N-body runs stop at a known
 orbit (a lesson's classroom length), and their final states must equal, bit for bit, the same runs
 advanced here outside any kernel: the numbers in a notebook are the served app's numbers.
 """
@@ -51,7 +52,7 @@ def test_hydro_view_runs_in_a_kernel(executed):
     np.testing.assert_array_equal(plotted, state.astype(np.float32))  # the final frame shows the kept state
     t = np.load(out / "hydro_series_t.npy")
     assert t[-1] == pytest.approx(2.0, abs=0.06) and np.all(np.diff(t) > 0)
-    assert 0 <= h["held_events"] < 60  # changes for a page that never connected: compacted, not piling up
+    assert 0 <= h["held_events"] < 60  # changes for a page that never connected: no frames drawn, none piling up
 
 
 @pytest.mark.slow

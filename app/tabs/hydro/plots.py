@@ -170,9 +170,9 @@ class HydroPlots:
 
     def update_lines(self, runner, fr=None, stream: bool = False, roll: bool = False) -> None:
         """Profiles, series and PSD (cheap; every frame).  With ``stream`` (a server session or a notebook page)
-        only the new points of the series are sent (a notebook's document never connected to a page keeps every
-        stream event it is sent, while whole replacements are compacted); with ``roll`` (a notebook page) the
-        profiles, the PSD and the linear-theory line go as streams that replace them
+        only the new points of the series are sent (without: the whole series, as for a notebook output that no page
+        has opened, which gets only the forced frames: :class:`ringlab.ui.frame_gate.FrameGate`); with ``roll`` (a
+        notebook page) the profiles, the PSD and the linear-theory line go as streams that replace them
         (:func:`ringlab.ui.columns.replace_columns`)."""
         sim = runner.sim
         fr = sim.frame() if fr is None else fr  # ringcore.hydro.frame.HydroFrame: float32, the page's units

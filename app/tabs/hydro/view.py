@@ -32,7 +32,7 @@ from ringlab.tabs.shared import ExportPanel, restore_widgets
 from ringlab.ui.a11y import button
 from ringlab.ui.checked_input import CheckedInputs
 from ringlab.ui.cite import publish
-from ringlab.ui.frame_gate import NO_PAGE, FrameGate, notebook_page, served
+from ringlab.ui.frame_gate import PAGE, PAGE_UNHEARD, FrameGate, notebook_page, served
 from ringlab.ui.layout import PHONE_PX, responsive_grid, settings_beside, wrap_row
 from ringlab.ui.palette import BUFFER_COLOR, EMP_COLOR, LP_COLOR, MAXG_COLOR, ZERO_COLOR
 from ringlab.ui.readouts import fmt, message_pane, readout_cards, show_message
@@ -278,7 +278,7 @@ class HydroView(TabBase, pn.viewable.Viewer):
             cards = rate_due
             if lines:
                 in_server = served()
-                page = not in_server and notebook_page(self.plots.spacetime_fig) != NO_PAGE
+                page = not in_server and notebook_page(self.plots.spacetime_fig) in (PAGE, PAGE_UNHEARD)
                 self.plots.update_lines(r, fr, stream=in_server or page, roll=page)
                 self.line_gate.mark_sent(now, changed=True)
                 cards = cards or force or now - self._readouts_sent >= READOUT_PERIOD_S or not (in_server or page)
