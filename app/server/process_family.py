@@ -18,7 +18,6 @@ else (they are forked after it disarms, or from another thread).
 from __future__ import annotations
 
 import ctypes
-import ctypes.util
 import os
 import signal
 import sys
@@ -37,11 +36,12 @@ class Stopped(SystemExit):
 
 
 def _libc_prctl():
-    """``prctl`` of the C library, None where there is none (not Linux)."""
+    """``prctl`` of the C library, None where there is none (not Linux).  The symbols of the running program
+    (``dlopen(NULL)``): no library search, which would start a subprocess in a process just forked."""
     if not sys.platform.startswith("linux"):
         return None
     try:
-        return ctypes.CDLL(ctypes.util.find_library("c") or None, use_errno=True).prctl
+        return ctypes.CDLL(None, use_errno=True).prctl
     except (OSError, AttributeError):
         return None
 

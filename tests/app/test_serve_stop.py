@@ -61,8 +61,12 @@ def test_a_signal_to_the_parent_alone_stops_every_server_process_and_closes_the_
                                 stdout=out, stderr=subprocess.STDOUT, start_new_session=True)
     try:
         _wait_live(proc, port)
-        family = psutil.Process(proc.pid).children(recursive=True)
-        assert len(family) == 2, [" ".join(p.cmdline()) for p in family]  # the two forked server processes
+        deadline = time.monotonic() + 20  # the first forked process may answer before the second is forked
+        while len(family := psutil.Process(proc.pid).children(recursive=True)) < 2 and time.monotonic() < deadline:
+            time.sleep(0.2)
+        # the two forked server processes
+        assert len(family) == 2, ([(p.pid, p.ppid(), p.status(), " ".join(p.cmdline())) for p in family],
+                                  log.read_text()[-3000:])
         os.kill(proc.pid, sig)  # `kill <pid>` (or Ctrl-C sent to this process only; kill -9: nothing to forward)
         assert proc.wait(STOP_S) == status, log.read_text()[-2000:]  # a requested stop, not a failure
         gone, alive = psutil.wait_procs(family, timeout=STOP_S)
