@@ -24,7 +24,7 @@ from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.lessons.tutorials import docs_building, docs_dir, docs_start, static_dirs
 from ringlab.ui.a11y import page_template
 from ringlab.main import TITLE, configure, create_app
-from ringlab.server import joining, remote, routes, socket_guard
+from ringlab.server import joining, process_family, remote, routes, socket_guard
 from ringlab.server.cluster import LocalClusterProcess
 from ringlab.server.compute import ENV_MAX
 from ringlab.server.remote import ENV_MODE, ENV_SCHEDULER, ENV_WORKERS, MODES
@@ -185,6 +185,9 @@ def shared_cluster(num_procs: int) -> LocalClusterProcess | None:
 def run(args) -> int:
     """Start the server (blocks until Ctrl-C)."""
     p = plan(args)
+    owner = os.getpid()
+    if p["num_procs"] > 1:  # `kill <pid>` of this process stops the processes it forks, and the cluster after them
+        process_family.stop_on_signals()
     os.environ.update(p["env"])  # the options' variables, for this process (CONFIG) and the worker processes
     CONFIG.reload()
     configure()
@@ -203,11 +206,16 @@ def run(args) -> int:
         joining.reuse_page_template("/main", TITLE, page_template())
         joining.reuse_page_template("/teacher", TEACHER_TITLE, page_template())
     try:
+        if p["num_procs"] > 1:
+            process_family.arm()  # the processes forked below stop when this one does, however it ends
         pn.serve(apps, port=p["port"], address=p["address"], websocket_origin=p["origins"],
                  num_procs=p["num_procs"], show=args.show, extra_patterns=routes.patterns(p["docs"], docs_start),
                  title={"main": TITLE, "teacher": TEACHER_TITLE}, liveness=True,
                  start=True, threaded=False, verbose=False)
     finally:
-        if cluster is not None:
+        if p["num_procs"] > 1 and os.getpid() == owner:  # the process that was started (a forked one ends alone)
+            process_family.disarm()
+            process_family.stop_children(exclude=[cluster.proc.pid] if cluster is not None else [])
+        if cluster is not None:  # after the server processes: its process ends when the last of them has
             cluster.close()
     return 0

@@ -5,6 +5,7 @@ images, websockets) and every one goes to the app server; no plot toolbar links 
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -12,7 +13,7 @@ from urllib.parse import urlparse
 
 import pytest
 
-from browser_support import ARTIFACTS, TEST_FRAME_RATE, context, free_port, new_page, stop_server, wait_live
+from browser_support import ARTIFACTS, TEST_FRAME_RATE, context, free_port, new_page, wait_live
 
 pytestmark = [pytest.mark.slow]
 WALKS = 5
@@ -40,13 +41,17 @@ def lab_url():
     env = dict(os.environ, RINGLAB_COMPUTE="threads", RINGLAB_LESSONS_SCALE="fast", PYTHONUNBUFFERED="1",
                RINGLAB_MAX_FRAME_RATE=TEST_FRAME_RATE)
     proc = subprocess.Popen([sys.executable, "-m", "ringlab.cli.main", "serve", "--port", str(port), "--num-procs", "2"],
-                            env=env,
-                            stdout=log, stderr=subprocess.STDOUT)
+                            env=env, stdout=log, stderr=subprocess.STDOUT, start_new_session=True)
     try:
         wait_live(proc, port, log_path)
         yield f"http://127.0.0.1:{port}"
     finally:
-        stop_server(proc)
+        os.killpg(proc.pid, signal.SIGINT)  # Ctrl-C: the server and the processes it forked
+        try:
+            proc.wait(timeout=40)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
         log.close()
 
 
