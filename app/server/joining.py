@@ -14,26 +14,29 @@ in the server with ``scripts/measure_join_order.py --num-procs 2``): while it ha
 the making it now accepts none (:class:`BuildOrder`), so the next page goes to the process that is
 free first.
 
-**One page built per turn of the event loop.**  Bokeh builds a session's page as soon as its connection
-asks for one, on the event loop.  When thirty connections arrive together, all thirty builds are queued
-before the first page can ask for its document, and the event loop runs them back to back: no page got its
-document before the last one was built (sampled every 2 s: the event loop busy for 45 s, then all
-documents sent together).  :class:`BuildOrder` lets one new session be built at a time, and before
-each build lets the event loop answer what is waiting (a built page asking for its document, frames,
-clicks), so the first pages arrive while the others are still being built.  It is a handler of the Bokeh
-application (Bokeh's public ``Handler``; :func:`order_builds` adds it as the first page is made): Bokeh awaits
-the handlers' ``on_session_created`` hooks right before it builds a new session's page, and builds it in the
-same turn of the event loop once they return, so the hook waits for its turn and the next turn (after the
-build) gives the turn on.  A page that is already built or being built is returned at once (Bokeh runs the
-hooks of new sessions only).  Unlike a replaced ``ApplicationContext.create_session_if_needed``, a page waiting
-for its turn already has its (empty) document and session context, made by Bokeh before the hooks; nothing
-reaches that document before its build (its page has no connection yet).  Measured in the server (``scripts/measure_join_order.py``,
-30 class start link pages, one process): the first, median and last page were sent their documents after
-32.9, 35.5 and 38.4 s with Bokeh's order and after 2.4, 20.1 and 38.0 s with pages built one per turn (then by a
-replaced ``create_session_if_needed``).  The hook builds in the same order (7 December 2026, alternated with
-that replacement, loaded 2-core machine): 0.89 / 16.6 / 40.3 s and 0.32 / 6.0 / 13.0 s against 6.2 / 16.4 / 34.4 s
-and 0.50 / 6.9 / 13.1 s; ``ringlab loadtest --students 30 --join-together``, three runs each alternated: pages
-ready after 11.4, 8.6, 14.0 s (median) against 20.2, 10.6, 15.2 s, every page of every run with its plots.
+**One page built per turn of the event loop.** Bokeh builds a session's page as soon as its connection asks for
+one, on the event loop. When thirty connections arrive together, all thirty builds are queued before the first page
+can ask for its document, and the event loop runs them back to back: no page got its document before the last one
+was built (sampled every 2 s: the event loop busy for 45 s, then all documents sent together). :class:`BuildOrder`
+lets one new session be built at a time, and before each build lets the event loop answer what is waiting (a built
+page asking for its document, frames, clicks), so the first pages arrive while the others are still being built. It
+is a handler of the Bokeh application (Bokeh's public ``Handler``; :func:`order_builds` adds it as the first page
+is made): Bokeh awaits the handlers' ``on_session_created`` hooks right before it builds a new session's page, and
+builds it in the same turn of the event loop once they return, so the hook waits for its turn and the next turn
+(after the build) gives the turn on. A page that is already built or being built is returned at once (Bokeh runs
+the hooks of new sessions only). Unlike a replaced ``ApplicationContext.create_session_if_needed``, a page waiting
+for its turn already has its (empty) document and session context, made by Bokeh before the hooks; nothing reaches
+that document before its build (its page has no connection yet). Measured in the server
+(``scripts/measure_join_order.py``, 30 class start link pages, one process): the first, median and last page were
+sent their documents after 32.9, 35.5 and 38.4 s with Bokeh's order and after 2.4, 20.1 and 38.0 s with pages built
+one per turn (then by a replaced ``create_session_if_needed``). The hook builds in the same order (7 December 2026,
+alternated with that replacement, loaded 2-core machine): 0.89 / 16.6 / 40.3 s and 0.32 / 6.0 / 13.0 s against 6.2
+/ 16.4 / 34.4 s and 0.50 / 6.9 / 13.1 s; ``ringlab loadtest --students 30 --join-together``, three runs each
+alternated: pages ready after 11.4, 8.6, 14.0 s (median) against 20.2, 10.6, 15.2 s, every page of every run with
+its plots. Since a page's document is sent with a note in its first tab (:mod:`ringlab.ui.lazy_tabs`), Bokeh's own
+order sends all thirty documents sooner (5.7-5.9 s against 1.1 / 11.5 / 21.9 s, one pair), but their tabs then come
+together: the pages are ready after 21.1 and 14.9 s (median; last 21.5, 16.6 s) against 11.1 and 12.9 s (last 19.8,
+20.5 s) with the order (load test, alternated).
 
 **Each page built once, where its websocket lands.**  A browser asks for the page's address (HTTP) and then
 opens the page's websocket: two connections, which with ``--num-procs`` N > 1 may reach two different
