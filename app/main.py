@@ -87,6 +87,7 @@ def create_app(args: dict | None = None) -> pn.Column:
     if served:
         doc.template = VIEWPORT_TEMPLATE
     joining.local_stylesheets()  # before any component is built (a page built where its websocket landed)
+    joining.give_build_order()  # (if no setup did it) a class opening the link at once gets its first pages first
     args = pn.state.session_args if args is None else args
     runs = SessionRuns()
     holder = {}
@@ -221,7 +222,6 @@ def warm_engines() -> None:
 def configure() -> None:
     """Panel's settings for the app's pages (before the first session: ``panel serve`` or ``ringlab serve``)."""
     pn.extension(sizing_mode="stretch_width", notifications=False, raw_css=[BODY_CSS])
-    joining.install_build_order()  # a class opening the link at once gets its first pages while the rest are built
     warm_engines()
     gc_policy.startup_done()  # the imported modules out of the garbage collector's scans
 

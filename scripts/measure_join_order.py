@@ -9,7 +9,7 @@ server, when each new session's page is built and when each page is sent its doc
 until each page was sent its document (first, median, last).  ``ringlab loadtest --join-together`` times
 the same from the simulated pages, whose threads build every document's Bokeh models in one Python process
 and so see the later documents late; this script sees the server's side alone.  ``--bokeh-order`` serves
-with Bokeh's own session creation instead of :func:`ringlab.server.joining.install_build_order`, for an A/B.
+with Bokeh's own order of session creation instead of :class:`ringlab.server.joining.BuildOrder`, for an A/B.
 ``--num-procs N`` serves from N app processes with one accept per wake-up (as ``ringlab serve``) and reports
 the pages each process built and its CPU seconds of building them (``time.process_time`` around each build).
 """
@@ -36,10 +36,8 @@ import time
 from bokeh.server.contexts import ApplicationContext
 from bokeh.server.session import ServerSession
 from ringlab.server import joining
-if {bokeh_order}:  # marked installed, never installed: the app's configure() leaves Bokeh's in place
-    joining.ORIGINAL["create_session_if_needed"] = ApplicationContext.create_session_if_needed
-else:
-    assert joining.install_build_order()  # before the wrapper below (configure() would then find it)
+joining.BUILD_ORDER["on"] = not {bokeh_order}  # off: the app's pages add no BuildOrder (Bokeh's own order)
+joining.order_builds()
 if {num_procs} > 1:
     joining.balance_accepts()
 LOG = open({log!r}, "a", buffering=1)

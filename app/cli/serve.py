@@ -192,6 +192,7 @@ def run(args) -> int:
     CONFIG.reload()
     configure()
     socket_guard.install()  # the app's websocket handler, for the server made below (and its forked processes)
+    joining.order_builds()  # a class opening the link at once gets its first pages while the rest are built
     cluster = shared_cluster(p["num_procs"])  # before the fork: every server process uses its workers
     if p["num_procs"] > 1:
         joining.balance_accepts()  # before the fork: a class joining at once is spread over the processes

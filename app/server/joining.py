@@ -11,19 +11,32 @@ and 23.6-32.8 s (three runs) with one connection per wake-up.  The listen backlo
 the accept loop reads this value at run time.  A process with a page to build still accepted the connections
 that arrived while it waited between two builds, and took more than its share (19 and 11 of 30 pages, logged
 in the server with ``scripts/measure_join_order.py --num-procs 2``): while it has a new page queued or in
-the making it now accepts none (:func:`create_session_if_needed`), so the next page goes to the process that is
+the making it now accepts none (:class:`BuildOrder`), so the next page goes to the process that is
 free first.
 
-**One page built per turn of the event loop.**  Bokeh builds a session's page as soon as its connection
-asks for one, on the event loop.  When thirty connections arrive together, all thirty builds are queued
-before the first page can ask for its document, and the event loop runs them back to back: no page got its
-document before the last one was built (sampled every 2 s: the event loop busy for 45 s, then all
-documents sent together).  :func:`install_build_order` lets one new session be built at a time, and before
-each build lets the event loop answer what is waiting (a built page asking for its document, frames,
-clicks), so the first pages arrive while the others are still being built.  A page that is already built
-or being built is returned at once, as before.  Measured in the server (``scripts/measure_join_order.py``,
-30 class start link pages, one process): the first, median and last page were sent their documents after
-32.9, 35.5 and 38.4 s with Bokeh's order and after 2.4, 20.1 and 38.0 s with this one.
+**One page built per turn of the event loop.** Bokeh builds a session's page as soon as its connection asks for
+one, on the event loop. When thirty connections arrive together, all thirty builds are queued before the first page
+can ask for its document, and the event loop runs them back to back: no page got its document before the last one
+was built (sampled every 2 s: the event loop busy for 45 s, then all documents sent together). :class:`BuildOrder`
+lets one new session be built at a time, and before each build lets the event loop answer what is waiting (a built
+page asking for its document, frames, clicks), so the first pages arrive while the others are still being built. It
+is a handler of the Bokeh application (Bokeh's public ``Handler``; :func:`order_builds` adds it as the first page
+is made): Bokeh awaits the handlers' ``on_session_created`` hooks right before it builds a new session's page, and
+builds it in the same turn of the event loop once they return, so the hook waits for its turn and the next turn
+(after the build) gives the turn on. A page that is already built or being built is returned at once (Bokeh runs
+the hooks of new sessions only). Unlike a replaced ``ApplicationContext.create_session_if_needed``, a page waiting
+for its turn already has its (empty) document and session context, made by Bokeh before the hooks; nothing reaches
+that document before its build (its page has no connection yet). Measured in the server
+(``scripts/measure_join_order.py``, 30 class start link pages, one process): the first, median and last page were
+sent their documents after 32.9, 35.5 and 38.4 s with Bokeh's order and after 2.4, 20.1 and 38.0 s with pages built
+one per turn (then by a replaced ``create_session_if_needed``). The hook builds in the same order (7 December 2026,
+alternated with that replacement, loaded 2-core machine): 0.89 / 16.6 / 40.3 s and 0.32 / 6.0 / 13.0 s against 6.2
+/ 16.4 / 34.4 s and 0.50 / 6.9 / 13.1 s; ``ringlab loadtest --students 30 --join-together``, three runs each
+alternated: pages ready after 11.4, 8.6, 14.0 s (median) against 20.2, 10.6, 15.2 s, every page of every run with
+its plots. Since a page's document is sent with a note in its first tab (:mod:`ringlab.ui.lazy_tabs`), Bokeh's own
+order sends all thirty documents sooner (5.7-5.9 s against 1.1 / 11.5 / 21.9 s, one pair), but their tabs then come
+together: the pages are ready after 21.1 and 14.9 s (median; last 21.5, 16.6 s) against 11.1 and 12.9 s (last 19.8,
+20.5 s) with the order (load test, alternated).
 
 **Each page built once, where its websocket lands.**  A browser asks for the page's address (HTTP) and then
 opens the page's websocket: two connections, which with ``--num-procs`` N > 1 may reach two different
@@ -35,9 +48,9 @@ built twice (29 November 2026), and the copy nobody shows lives until the server
 depend on the page's query, and the page itself is built once, by the process its websocket reaches (6 pages,
 6 builds).
 
-``ringlab serve`` calls all three before its processes start (the balance and the page template with
-``--num-procs`` N > 1); ``panel serve ... --setup <this file>`` runs this file as the server's setup script
-(add ``--warm --reuse-sessions`` there).
+``ringlab serve`` calls the balance and the page template before its processes start (with ``--num-procs``
+N > 1) and :func:`order_builds`; ``panel serve ... --setup <this file>`` (or ``app/server/serve_setup.py``)
+runs this file as the server's setup script (add ``--warm --reuse-sessions`` there).
 """
 from __future__ import annotations
 
@@ -47,24 +60,21 @@ import weakref
 import panel as pn
 import tornado.netutil
 from bokeh.application import Application
-from bokeh.server.contexts import ApplicationContext
+from bokeh.application.handlers import Handler
 from panel.io.resources import LOCAL_DIST
 from panel.io.session import generate_session
 from panel.io.state import set_curdoc, state
 
 from ringlab.server import gc_policy
-from ringlab.server.library_patch import replace_if_unchanged
 
 ACCEPTS_PER_WAKEUP = 1
 _BALANCING: dict = {}  # {"on": True} once balance_accepts() ran in this process (inherited by forked processes)
+_ORDERING: dict = {}  # {"on": True} once order_builds() registered its session-created callback
 _PENDING: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # event loop -> new pages queued or being built
 # [s] before each page is built, the event loop first answers what is waiting (a few turns of the loop: a built
 # page's request for its document has arrived by then); at 0.05 s thirty pages waited 1.5 s in all for nothing
 YIELD_S = 0.005
-ORIGINAL: dict = {}  # Bokeh's ApplicationContext.create_session_if_needed while install_build_order is installed
-# SHA-256 of the source of Bokeh 3.9.2's ApplicationContext.create_session_if_needed (what the wrapper assumes:
-# a session id in ``_sessions`` or ``_pending_sessions`` is returned without building)
-CREATE_SOURCE_SHA256 = "047e758c152be0f6262e0a7d9fe451dc9e1fd407fe93a63e74f79a7048e1006b"
+BUILD_ORDER = {"on": True}  # False: order_builds() adds nothing (Bokeh's order, an A/B: scripts/measure_join_order.py)
 _BUILD_LOCKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # event loop -> its build lock
 
 
@@ -86,24 +96,70 @@ def _pending(loop, change: int) -> None:
         tornado.netutil._DEFAULT_BACKLOG = 0 if n > 0 else ACCEPTS_PER_WAKEUP
 
 
-async def create_session_if_needed(self, session_id, request=None, token=None):
-    """Bokeh's ``ApplicationContext.create_session_if_needed``, one new page at a time per event loop."""
-    original = ORIGINAL["create_session_if_needed"]
-    if not session_id or session_id in self._sessions or session_id in self._pending_sessions:
-        return await original(self, session_id, request, token)
-    loop = asyncio.get_running_loop()
-    lock = _BUILD_LOCKS.get(loop)
-    if lock is None:
-        lock = _BUILD_LOCKS.setdefault(loop, asyncio.Lock())
-    _pending(loop, +1)
-    try:
-        async with lock:
+class BuildOrder(Handler):
+    """A Bokeh application handler that adds nothing to a page: its ``on_session_created`` hook lets one new page
+    of the application be built at a time per event loop, each after a turn in which the loop answered what was
+    waiting (:data:`YIELD_S`), and freezes each built page's objects out of the next garbage collections."""
+
+    def modify_document(self, doc) -> None:
+        return None  # the page is the other handlers' (the app's script or function)
+
+    async def on_session_created(self, session_context) -> None:
+        loop = asyncio.get_running_loop()
+        lock = _BUILD_LOCKS.get(loop)
+        if lock is None:
+            lock = _BUILD_LOCKS.setdefault(loop, asyncio.Lock())
+        _pending(loop, +1)
+        try:
+            await lock.acquire()
+        except BaseException:
+            _pending(loop, -1)
+            raise
+        try:
             await asyncio.sleep(YIELD_S)  # what waits on the loop (a built page asking for its document) goes first
-            session = await original(self, session_id, request, token)
-            gc_policy.page_built()  # the new page's objects out of the next pages' garbage collections
-            return session
-    finally:
-        _pending(loop, -1)
+        except BaseException:
+            _built(loop, lock)
+            raise
+        # Bokeh builds the page as soon as the hooks return, awaiting nothing: the next turn comes after the build
+        loop.call_soon(_built, loop, lock)
+
+
+def _built(loop, lock) -> None:
+    lock.release()
+    _pending(loop, -1)
+    gc_policy.page_built()  # the new page's objects out of the next pages' garbage collections
+
+
+def order_builds() -> bool:
+    """Have the new pages of this server's Panel applications built one per turn (:class:`BuildOrder`), from the
+    first page on: Panel runs its session-created callbacks before Bokeh runs the application's hooks, and this
+    one gives the session's application the handler.  Call before the server starts (``ringlab serve``, a ``panel
+    serve --setup`` script); idempotent.  False (nothing done) if ``BUILD_ORDER["on"]`` is False."""
+    if not BUILD_ORDER["on"]:
+        return False
+    if not _ORDERING:
+        pn.state.on_session_created(lambda session_context: give_build_order(session_context))
+        _ORDERING["on"] = True
+    return True
+
+
+def give_build_order(session_context=None) -> bool:
+    """Give the Bokeh application of a server session (default: the current document's) a :class:`BuildOrder`
+    handler, once; its new pages from the next one on are built one per turn (``ringlab.main`` calls it for each
+    page: without :func:`order_builds`, from the second page on).  True if the application has the handler (False
+    outside a server session, or with ``BUILD_ORDER["on"]`` False)."""
+    if session_context is None:
+        session_context = getattr(pn.state.curdoc, "session_context", None)
+    try:
+        app = session_context.server_context.application_context.application
+    except AttributeError:  # not a server session (a notebook, a test, Panel's warm-up or template page)
+        return False
+    if any(isinstance(h, BuildOrder) for h in app.handlers):
+        return True
+    if not BUILD_ORDER["on"]:
+        return False
+    app.add(BuildOrder())
+    return True
 
 
 def reuse_page_template(path: str = "/main", title: str | None = None, template: str | None = None) -> None:
@@ -111,7 +167,15 @@ def reuse_page_template(path: str = "/main", title: str | None = None, template:
     ``reuse_sessions``); the page of each student is then built when its websocket arrives, by the process it
     reaches.  The template has no content (Bokeh refuses to fork after application code ran; ``panel serve
     --warm --reuse-sessions`` does the same on Python < 3.12): the page's roots arrive with its document.
-    Call before the server forks its processes."""
+    Call before the server forks its processes.
+
+    Panel's public setting alone (``pn.config.reuse_sessions = True``, ``pn.serve(reuse_sessions=...)``) does not
+    do this: it keeps the first real page requested at an address as that process's template, for the life of
+    the server (a student's page, with its run), and every request that reaches a process before that first page
+    is built builds a page of its own there (a class arriving at once: all of them, in the process of the HTTP
+    request, which their websockets may not reach: built twice again).  ``pn.serve(warm=True)`` destroys its
+    warm-up page; only Panel's command line (``panel serve --warm --reuse-sessions``) keeps an empty one made
+    before the fork, in the same two places of Panel's state that this function fills."""
     session = generate_session(Application(), initialize=False)
     if title is not None:
         session.document.title = title
@@ -139,21 +203,8 @@ def local_stylesheets() -> None:
     doc.template_variables["dist_url"] = f"{state.rel_path}/{LOCAL_DIST}" if state.rel_path else LOCAL_DIST
 
 
-def install_build_order() -> bool:
-    """Put :func:`create_session_if_needed` in place of Bokeh's if Bokeh's is the one it was written for;
-    returns True if installed."""
-    return replace_if_unchanged(ApplicationContext, "create_session_if_needed", create_session_if_needed,
-                                CREATE_SOURCE_SHA256, ORIGINAL)
-
-
-def uninstall_build_order() -> None:
-    """Put Bokeh's method back."""
-    if ORIGINAL:
-        ApplicationContext.create_session_if_needed = ORIGINAL.pop("create_session_if_needed")
-
-
 if __name__ != "ringlab.server.joining":  # run as `panel serve --setup` script: the package's module does it, so
-    from ringlab.server import joining  # that its state (the replaced method) is the one the server uses
+    from ringlab.server import joining  # that its state (the balance) is the one the server uses
 
     joining.balance_accepts()
-    joining.install_build_order()
+    joining.order_builds()

@@ -1,7 +1,7 @@
 """Replacing a library's function only where it is the code the replacement was written for.
 
-The server replaces a few functions of Bokeh and Panel with faster or better-ordered copies
-(:mod:`ringlab.server.fast_patch`, :mod:`ringlab.server.fast_defaults`, :mod:`ringlab.server.joining`).
+The server replaces a few functions of Bokeh and Panel with faster copies
+(:mod:`ringlab.server.fast_patch`, :mod:`ringlab.server.fast_defaults`).
 Each records the SHA-256 of the source text of the function it replaces; after a library upgrade that
 changes that function, the library's own is kept (the app is then as fast as the library, never wrong).
 Every such use is listed, with what it buys, in ``tests/app/test_public_api_only.py``.

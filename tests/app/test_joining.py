@@ -7,10 +7,14 @@ import runpy
 import socket
 import time
 import types
+from pathlib import Path
 
 import panel as pn
 import pytest
 import tornado.netutil
+from bokeh.application.handlers import FunctionHandler
+from bokeh.server.contexts import ApplicationContext
+from panel.io.application import Application as PanelApplication
 from panel.io.state import state
 from tornado.ioloop import IOLoop
 
@@ -57,87 +61,139 @@ def test_one_connection_per_wakeup(tornado_default):
     assert inspect.signature(tornado.netutil.bind_sockets).parameters["backlog"].default == 128
 
 
-def test_runs_as_a_panel_setup_script(tornado_default):
-    was = bool(joining.ORIGINAL)
-    joining.uninstall_build_order()
-    try:
-        runpy.run_path(joining.__file__, run_name="panel_setup_module")
-        assert tornado.netutil._DEFAULT_BACKLOG == 1
-        from bokeh.server.contexts import ApplicationContext
-        assert ApplicationContext.create_session_if_needed is joining.create_session_if_needed
-    finally:
-        joining.uninstall_build_order()
-        if was:
-            joining.install_build_order()
+def _bokehs_own_session_creation() -> bool:
+    return ApplicationContext.create_session_if_needed.__module__ == "bokeh.server.contexts"
 
 
-def _joins(monkeypatch, wrapped: bool) -> list:
-    """Three pages connect at once; the first page asks for its document as soon as it is built.  Returns
-    the order of the builds (blocking, as Bokeh's) and of that request."""
-    order = []
+def test_runs_as_a_panel_setup_script(tornado_default, monkeypatch):
+    monkeypatch.setattr(state, "_on_session_created", [])  # this test's server only
+    monkeypatch.setattr(joining, "_ORDERING", {})
+    runpy.run_path(joining.__file__, run_name="panel_setup_module")
+    assert tornado.netutil._DEFAULT_BACKLOG == 1
+    assert len(state._on_session_created) == 1  # the pages of the server built one per turn
+    assert _bokehs_own_session_creation()  # through Bokeh's public Handler hook, nothing of Bokeh's replaced
 
-    async def bokeh_create(self, sid, request=None, token=None):
-        if sid not in self._sessions:
-            order.append(f"build {sid}")
-            time.sleep(0.02)  # building a page blocks the event loop
-            self._sessions[sid] = sid
-        return self._sessions[sid]
 
-    monkeypatch.setitem(joining.ORIGINAL, "create_session_if_needed", bokeh_create)
+def test_the_app_leaves_bokehs_session_creation_alone(monkeypatch):
+    """The app's set-up (``ringlab.main.configure``, the ``panel serve`` setup script) orders the builds through
+    Bokeh's public application-handler hook: Bokeh's ``ApplicationContext.create_session_if_needed`` stays Bokeh's
+    (a Bokeh release that changes it cannot break the lab's session creation)."""
+    from bokeh.server import urls
+
+    from ringlab import main
+    from ringlab.server import socket_guard
+
+    monkeypatch.setattr(urls, "per_app_patterns", list(urls.per_app_patterns))  # the setup's handler: this test's
+    monkeypatch.setattr(socket_guard, "_INSTALLED", {})
+    monkeypatch.setattr(state, "_on_session_created", [])
+    monkeypatch.setattr(joining, "_ORDERING", {}, raising=False)
+    monkeypatch.setattr(main, "warm_engines", lambda: None)  # the compiled kernels: not this test's concern
+    main.configure()
+    runpy.run_path(str(Path(joining.__file__).with_name("serve_setup.py")), run_name="panel_setup_module")
+    assert _bokehs_own_session_creation()
+
+
+def _app_context(build, ordered: bool) -> ApplicationContext:
+    """Bokeh's application context of an app whose page is ``build(doc)`` (blocking, as the lab's), each page
+    giving its application the build order as ``ringlab.main`` does (or not)."""
+    def page(doc):
+        if ordered:
+            assert joining.give_build_order(doc.session_context)
+        build(doc)
+    return ApplicationContext(PanelApplication(FunctionHandler(page)), io_loop=IOLoop.current())
+
+
+def _joins(monkeypatch, ordered: bool) -> list:
+    """The server's first page, then three pages connecting at once, the first of which asks for its document as soon
+    as it is built.  Returns the order of the builds and of that request (Bokeh's own create_session_if_needed, in
+    a real event loop)."""
+    order, built = [], set()
     monkeypatch.setattr(joining.gc_policy, "page_built", lambda: order.append("freeze"))
-    create = joining.create_session_if_needed if wrapped else bokeh_create
-    ctx = types.SimpleNamespace(_sessions={}, _pending_sessions={})
 
-    async def first_page_asks():
-        while "p0" not in ctx._sessions:
-            await asyncio.sleep(0)
-        order.append("p0 gets its document")
+    def build(doc):
+        sid = doc.session_context.id
+        order.append(f"build {sid}")
+        time.sleep(0.02)  # building a page blocks the event loop
+        built.add(sid)
 
     async def scenario():
-        joins = [asyncio.ensure_future(create(ctx, f"p{i}")) for i in range(3)]
-        await asyncio.gather(*joins, first_page_asks())
-        assert await create(ctx, "p0") == "p0"  # a built page is returned, not built again
+        ctx = _app_context(build, ordered)
+        first = await ctx.create_session_if_needed("p0")  # the first page of the server adds the order
+        joins = [asyncio.ensure_future(ctx.create_session_if_needed(f"p{i}")) for i in range(1, 4)]
+        await asyncio.gather(*joins, first_page_asks_for("p1", built, order))
+        assert await ctx.create_session_if_needed("p0") is first  # a built page is returned, not built again
+        assert sum(isinstance(h, joining.BuildOrder) for h in ctx.application.handlers) == int(ordered)
 
     asyncio.run(scenario())
     return order
 
 
+async def first_page_asks_for(sid, built, order):
+    while sid not in built:
+        await asyncio.sleep(0)
+    order.append(f"{sid} gets its document")
+
+
 def test_first_page_gets_its_document_before_the_others_are_built(monkeypatch):
-    assert _joins(monkeypatch, wrapped=False) == ["build p0", "build p1", "build p2", "p0 gets its document"]
+    assert _joins(monkeypatch, ordered=False) == ["build p0", "build p1", "build p2", "build p3",
+                                                  "p1 gets its document"]
     # each new page's objects are frozen out of the garbage collector's scans once it is built
-    assert _joins(monkeypatch, wrapped=True) == ["build p0", "freeze", "p0 gets its document", "build p1", "freeze",
-                                                 "build p2", "freeze"]
+    order = _joins(monkeypatch, ordered=True)
+    assert order[:2] == ["build p0", "build p1"]  # the first page of the server adds the order as it is built
+    assert sorted(order[2:4]) == ["freeze", "p1 gets its document"]  # the turn after p1's build
+    assert order[4:] == ["build p2", "freeze", "build p3", "freeze"]
 
 
-def test_installed_with_this_bokeh():
-    assert joining.install_build_order()
-    from bokeh.server.contexts import ApplicationContext
-    assert ApplicationContext.create_session_if_needed is joining.create_session_if_needed
+def test_order_builds_outside_a_server_session_does_nothing():
+    assert not joining.give_build_order() and not joining.give_build_order(types.SimpleNamespace())
+
+
+def test_ordered_from_the_first_page_when_set_up_before_the_server(monkeypatch):
+    """``order_builds()`` (a setup script, ``ringlab serve``): Panel's session-created callback gives the
+    application its build order before the first page is built, so a class arriving at once is ordered from the
+    first page on."""
+    monkeypatch.setattr(state, "_on_session_created", [])  # this test's server only
+    monkeypatch.setattr(joining, "_ORDERING", {})
+    monkeypatch.setitem(joining.BUILD_ORDER, "on", False)
+    assert not joining.order_builds() and state._on_session_created == []  # off (the A/B's Bokeh order)
+    monkeypatch.setitem(joining.BUILD_ORDER, "on", True)
+    assert joining.order_builds() and joining.order_builds() and len(state._on_session_created) == 1
+    order, built = [], set()
+    monkeypatch.setattr(joining.gc_policy, "page_built", lambda: order.append("freeze"))
+
+    def build(doc):
+        order.append(f"build {doc.session_context.id}")
+        time.sleep(0.02)
+        built.add(doc.session_context.id)
+
+    async def scenario():
+        ctx = _app_context(build, ordered=False)
+        joins = [asyncio.ensure_future(ctx.create_session_if_needed(f"p{i}")) for i in range(3)]
+        await asyncio.gather(*joins, first_page_asks_for("p0", built, order))
+        assert sum(isinstance(h, joining.BuildOrder) for h in ctx.application.handlers) == 1
+
+    asyncio.run(scenario())
+    assert order[0] == "build p0" and sorted(order[1:3]) == ["freeze", "p0 gets its document"]
+    assert order[3:] == ["build p1", "freeze", "build p2", "freeze"]
 
 
 def test_a_process_with_a_page_to_build_leaves_new_connections_to_the_others(monkeypatch, tornado_default):
     """With balanced accepts, a process accepts no connection from the moment a new page is queued until the
     last queued page is built; then one per wake-up again.  Without balancing (one process) nothing changes."""
     seen = []
-
-    async def bokeh_create(self, sid, request=None, token=None):
-        seen.append((sid, tornado.netutil._DEFAULT_BACKLOG))
-        self._sessions[sid] = sid
-        return sid
-
-    monkeypatch.setitem(joining.ORIGINAL, "create_session_if_needed", bokeh_create)
     monkeypatch.setattr(joining.gc_policy, "page_built", lambda: None)
 
     def join(n):
-        ctx = types.SimpleNamespace(_sessions={}, _pending_sessions={})
-
         async def scenario():
-            await asyncio.gather(*[joining.create_session_if_needed(ctx, f"p{i}") for i in range(n)])
+            ctx = _app_context(lambda doc: seen.append((doc.session_context.id, tornado.netutil._DEFAULT_BACKLOG)),
+                               ordered=True)
+            await ctx.create_session_if_needed("first")
+            seen.clear()
+            await asyncio.gather(*[ctx.create_session_if_needed(f"p{i}") for i in range(n)])
         asyncio.run(scenario())
 
     join(2)
     assert seen == [("p0", 128), ("p1", 128)] and tornado.netutil._DEFAULT_BACKLOG == 128
-    seen.clear()
     assert joining.balance_accepts()
     join(3)
     assert seen == [("p0", 0), ("p1", 0), ("p2", 0)]

@@ -72,20 +72,15 @@ ALLOWED = {
         ("write", "deserializer._references"), ("write", "pdoc._WRITE_BLOCK[doc]"), ("write", "pdoc._WRITE_MSGS[doc]"),
         ("write", "pdoc.dispatch_tornado"), ("write", "pdoc.schedule_write_events"), ("write", "serializer._references"),
     }),
-    # A class joining at once (another work package owns this file; its docstring has the figures: 30 pages
-    # after 22.5-30.7 s instead of 48.0 s with two processes, the first page after 2.4 s instead of 32.9 s).
-    # The build order through Bokeh's public Handler.on_session_created hook (branch s47-api 62775e3 + 6125c2e)
-    # ordered the builds as well in the server (scripts/measure_join_order.py, 30 pages, alternated with this,
-    # 7 December 2026, load 9-13: first page 3.6 / 2.3 s, last 47.6 / 22.3 s against 3.7 / 6.5 s and 57.3 /
-    # 92.9 s), but in `ringlab loadtest --students 30 --join-together` (4 runs each, alternated, load 9-21)
-    # 2 of its 4 runs had pages that never got their plots (4 and 20 of 30; the shared run then sent almost no
-    # frames) and none of this code's 4: the cause is not found, so the replacement stays.
-    "app/server/joining.py": ("one accept per wake-up, one page built per turn, each page built once", {
+    # A class joining at once (its docstring has the figures: 30 pages after 22.5-30.7 s instead of 48.0 s with two
+    # processes).  Tornado accepts up to 128 waiting connections per wake-up and has no setting for it (a process
+    # busy building pages takes a whole class).  Each page built once: Panel's public reuse_sessions setting keeps
+    # the first real page of an address as its template and builds a page in the HTTP request's process for every
+    # request before it; an empty template made before the fork is only made by `panel serve --warm
+    # --reuse-sessions` (Panel's command line), so reuse_page_template puts one in the same place (its docstring).
+    # The build order is Bokeh's public Handler.on_session_created hook (BuildOrder): no replaced method.
+    "app/server/joining.py": ("one accept per wake-up, each page built once", {
         ("read", "getattr(tornado.netutil, '_DEFAULT_BACKLOG', None)"), ("write", "tornado.netutil._DEFAULT_BACKLOG"),
-        ("read", "self._pending_sessions"), ("read", "self._sessions"),
-        ("replace", "replace_if_unchanged(ApplicationContext, 'create_session_if_needed', create_session_if_needed, "
-                    "CREATE_SOURCE_SHA256, ORIGINAL)"),
-        ("write", "ApplicationContext.create_session_if_needed"),
         ("read", "state._session_key_funcs"), ("read", "state._sessions"),
         ("write", "state._session_key_funcs[path]"), ("write", "state._sessions[path]"),
     }),
