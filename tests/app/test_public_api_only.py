@@ -34,18 +34,6 @@ PACKAGE_ALIASES = {"app": "ringlab"}  # app/ is installed as the package ringlab
 # The remaining debt: file -> (why it stays, {(kind, source text)}).  Each reason gives what the use buys,
 # measured, and why no public API gives it (yet).
 ALLOWED = {
-    # The app's websocket handler (a subclass of Panel's, overriding Bokeh's public on_message, send_message and
-    # on_close) is chosen where Bokeh reads an application's routes when the server is made; Panel rewrites
-    # this list the same way, and neither library offers another way to choose the handler (extra_patterns come
-    # after the application's routes; Tornado's public Application.add_handlers would put a route before them, but
-    # neither Bokeh's Server nor Panel's serve exposes its Tornado application, and ``panel serve`` takes no Tornado
-    # settings from a setup script).  It buys an ERROR reply without the server's traceback and file paths
-    # (Bokeh sends both: tests/app/test_web_cases.py), no AssertionError or warning lines when a page leaves
-    # mid-stream, and the count of a page's open websockets (a closed tab frees its runs at once, not when
-    # Bokeh discards the session 15-32 s later).
-    "app/server/socket_guard.py": ("the app's websocket handler registered", {
-        ("write", "urls.per_app_patterns[i]"),
-    }),
     # Bokeh's property defaults once per model class.  Measured 7 December 2026 (scripts/measure_page_cost.py's
     # pages in one process, Bokeh's methods and these alternated, 6 pages each, CPU medians, load average 19):
     # the class start link's page (498 models) 0.514 s instead of 0.859 s, the default page (230 models) 0.254 s
@@ -80,8 +68,7 @@ ALLOWED = {
     # 92.9 s), but in `ringlab loadtest --students 30 --join-together` (4 runs each, alternated, load 9-21)
     # 2 of its 4 runs had pages that never got their plots (4 and 20 of 30; the shared run then sent almost no
     # frames) and none of this code's 4: the cause is not found, so the replacement stays.
-    "app/server/joining.py": ("one accept per wake-up, one page built per turn, each page built once", {
-        ("read", "getattr(tornado.netutil, '_DEFAULT_BACKLOG', None)"), ("write", "tornado.netutil._DEFAULT_BACKLOG"),
+    "app/server/joining.py": ("one page built per turn, each page built once", {
         ("read", "self._pending_sessions"), ("read", "self._sessions"),
         ("replace", "replace_if_unchanged(ApplicationContext, 'create_session_if_needed', create_session_if_needed, "
                     "CREATE_SOURCE_SHA256, ORIGINAL)"),
