@@ -10,7 +10,8 @@ until each page was sent its document (first, median, last).  ``ringlab loadtest
 the same from the simulated pages, whose threads build every document's Bokeh models in one Python process
 and so see the later documents late; this script sees the server's side alone.  ``--bokeh-order`` serves
 with Bokeh's own order of session creation instead of :class:`ringlab.server.joining.BuildOrder`, for an A/B.
-``--num-procs N`` serves from N app processes with one accept per wake-up (as ``ringlab serve``) and reports
+``--num-procs N`` serves from N app processes (``panel serve``: Tornado's accept loop, not ``ringlab serve``'s
+one accept per wake-up, :mod:`ringlab.server.accepting`) and reports
 the pages each process built and its CPU seconds of building them (``time.process_time`` around each build).
 """
 from __future__ import annotations
@@ -38,8 +39,6 @@ from bokeh.server.session import ServerSession
 from ringlab.server import joining
 joining.BUILD_ORDER["on"] = not {bokeh_order}  # off: the app's pages add no BuildOrder (Bokeh's own order)
 joining.order_builds()
-if {num_procs} > 1:
-    joining.balance_accepts()
 LOG = open({log!r}, "a", buffering=1)
 inner, pull = ApplicationContext.create_session_if_needed, ServerSession._handle_pull
 
@@ -111,7 +110,7 @@ def cli(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--students", type=int, default=30)
     ap.add_argument("--bokeh-order", action="store_true", help="Bokeh's own session creation (A/B)")
-    ap.add_argument("--num-procs", type=int, default=1, help="app processes (one accept per wake-up)")
+    ap.add_argument("--num-procs", type=int, default=1, help="app processes (Tornado's accept loop)")
     ap.add_argument("--json", action="store_true", help="one JSON object (the default output)")
     a = ap.parse_args(argv)
     print(json.dumps(measure(a.students, a.bokeh_order, a.num_procs)))

@@ -68,7 +68,7 @@ def start_server(port: int, log_path: Path, extra=(), compute: str | None = None
     """
     cmd = [sys.executable, "-m", "panel", "serve", "app/main.py", "--port", str(port), "--address", "127.0.0.1",
            "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness",
-           "--setup", "app/server/serve_setup.py", *extra]
+           "--setup", "tests/panel_serve_setup.py", *extra]  # the app's websocket handler, as ringlab serve has it
     env = dict(os.environ)
     env["RINGLAB_COMPUTE"] = compute if compute is not None else os.environ.get("RINGLAB_COMPUTE", "threads")
     env.pop("RINGLAB_MAX_FRAME_RATE", None)

@@ -3,7 +3,7 @@
     ringlab loadtest --students K --seconds S [--shared | --different] [--join-together] [--no-share]
                      [--compute auto|threads|processes] [--dask] [--num-procs N] --json
 
-Starts ``panel serve <package>/main.py`` (subprocess, loopback, free port) and opens K real Panel
+Starts ``ringlab serve`` (subprocess, loopback, free port) and opens K real Panel
 sessions without a browser (websockets speaking Bokeh's protocol, on one event loop).  Each student opens
 the teacher's link ``/main?tab=hydro&autostart=1`` (the app opens the Hydrodynamics tab and
 presses Start, exactly as a click would; see ``ringlab.main.apply_query``) and acknowledges every
@@ -60,10 +60,9 @@ from ringlab.cli.loadtest_clients import START_CLASS, Prober, Student, connect, 
 from ringlab.cli.loadtest_join import join_together, stop_all
 from ringlab.cli import loadtest_lag
 from ringlab.lessons.presets import LENGTH_ENV
-from ringlab.paths import PACKAGE_DIR
-from ringlab.server import fast_defaults, joining
+from ringlab.server import fast_defaults
 
-START_TIMEOUT_S = 300.0  # a loaded 2-core machine needs more than 2 minutes for `panel serve --warm`
+START_TIMEOUT_S = 300.0  # a loaded 2-core machine needed more than 2 minutes for `panel serve --warm`
 SHARED_STEP = (3, 2)  # --shared: lesson 3, step 2 (the default box at sigma0 = 400, started by "Set up this step")
 
 
@@ -74,14 +73,9 @@ def free_port() -> int:
 
 
 def start_server(port: int, num_procs: int, env: dict) -> subprocess.Popen:
-    cmd = [sys.executable, "-m", "panel", "serve", str(PACKAGE_DIR / "main.py"), "--port", str(port), "--address", "127.0.0.1",
-           "--allow-websocket-origin", f"127.0.0.1:{port}", "--liveness", "--warm", "--num-procs", str(num_procs)]
-    if num_procs > 1:  # as `ringlab serve --num-procs N`: a class joining at once is spread over the processes, and
-        # a page's address answered from one template (this client opens no address; a browser does)
-        cmd += ["--setup", joining.__file__, "--reuse-sessions"]
-    else:  # the app's websocket handler, as `ringlab serve` installs it (Panel runs a setup script after the
-        # server is made when it forks, too late to choose the handler: with N > 1 the server has Bokeh's)
-        cmd += ["--setup", str(PACKAGE_DIR / "server" / "serve_setup.py")]
+    # what a class gets: the app's websocket handler and, with N > 1 processes, one accept per wake-up and each
+    # page's address answered from one template (this client opens no address; a browser does)
+    cmd = [sys.executable, "-m", "ringlab.cli.main", "serve", "--port", str(port), "--num-procs", str(num_procs)]
     log = open(CONFIG.load_log, "w")
     proc = subprocess.Popen(cmd, env=env, stdout=log, stderr=subprocess.STDOUT)
     t_end = time.time() + START_TIMEOUT_S

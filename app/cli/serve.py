@@ -1,5 +1,5 @@
-"""``ringlab serve``: the full lab for a class, with ``pn.serve`` on the per-session factory
-:func:`ringlab.main.create_app`.
+"""``ringlab serve``: the full lab for a class, served by :mod:`ringlab.server.class_server` (Bokeh's and
+Tornado's public parts, as ``pn.serve`` would serve them) on the per-session factory :func:`ringlab.main.create_app`.
 
 The server listens on the loopback address unless asked otherwise: ``--class`` (or an explicit
 ``--address``) binds the network so that students' machines reach it, and then accepts pages from
@@ -15,8 +15,6 @@ from __future__ import annotations
 import os
 import socket
 
-import panel as pn
-
 from ringcore.checks import check_int, check_real
 
 from ringlab.config import CONFIG
@@ -24,7 +22,7 @@ from ringlab.lessons.presets import LENGTH_ENV
 from ringlab.lessons.tutorials import docs_building, docs_dir, docs_start, static_dirs
 from ringlab.ui.a11y import page_template
 from ringlab.main import TITLE, configure, create_app
-from ringlab.server import joining, process_family, remote, routes, socket_guard
+from ringlab.server import class_server, joining, process_family, remote, routes, socket_guard
 from ringlab.server.cluster import LocalClusterProcess
 from ringlab.server.compute import ENV_MAX
 from ringlab.server.remote import ENV_MODE, ENV_SCHEDULER, ENV_WORKERS, MODES
@@ -191,11 +189,9 @@ def run(args) -> int:
     os.environ.update(p["env"])  # the options' variables, for this process (CONFIG) and the worker processes
     CONFIG.reload()
     configure()
-    socket_guard.install()  # the app's websocket handler, for the server made below (and its forked processes)
+    socket_guard.install()  # where a loop runs already; the server made below routes the app's websocket handler
     joining.order_builds()  # a class opening the link at once gets its first pages while the rest are built
     cluster = shared_cluster(p["num_procs"])  # before the fork: every server process uses its workers
-    if p["num_procs"] > 1:
-        joining.balance_accepts()  # before the fork: a class joining at once is spread over the processes
     lines = link_lines(p)
     if cluster is not None:
         lines.append(f"  compute: one local Dask cluster of {remote.local_workers()} worker processes for the "
@@ -209,10 +205,10 @@ def run(args) -> int:
     try:
         if p["num_procs"] > 1:
             process_family.arm()  # the processes forked below stop when this one does, however it ends
-        pn.serve(apps, port=p["port"], address=p["address"], websocket_origin=p["origins"],
-                 num_procs=p["num_procs"], show=args.show, extra_patterns=routes.patterns(p["docs"], docs_start),
-                 title={"main": TITLE, "teacher": TEACHER_TITLE}, liveness=True,
-                 start=True, threaded=False, verbose=False)
+        # with N > 1 processes each accepts one connection per wake-up: a class joining at once is spread over them
+        class_server.serve(apps, port=p["port"], address=p["address"], origins=p["origins"], num_procs=p["num_procs"],
+                           title={"main": TITLE, "teacher": TEACHER_TITLE}, show=args.show,
+                           extra_patterns=routes.patterns(p["docs"], docs_start))
     finally:
         if p["num_procs"] > 1 and os.getpid() == owner:  # the process that was started (a forked one ends alone)
             process_family.disarm()

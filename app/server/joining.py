@@ -1,18 +1,12 @@
 """A class that opens its pages at the same moment: spread over the server's processes, built one per turn.
 
-**Over the processes.** With ``--num-procs N`` the server's processes share one listening socket.  Tornado
-(6.x) accepts up to 128 waiting connections each time the socket becomes readable, so when thirty students
-open the link at once the first process to wake takes all of them and builds their pages one after the
-other, while the other processes stay idle.  :func:`balance_accepts` makes each process accept one
-connection per wake-up: a process busy building a page leaves the next connection to an idle one.  Measured
-on the 2-core machine with ``ringlab loadtest --students 30 --join-together --num-procs 2`` (29 November
-2026): the pages arrived after 48.0 s (median) and 49.4 s (last) with Tornado's default and after 22.5-30.7 s
-and 23.6-32.8 s (three runs) with one connection per wake-up.  The listen backlog (128) is unchanged: only
-the accept loop reads this value at run time.  A process with a page to build still accepted the connections
-that arrived while it waited between two builds, and took more than its share (19 and 11 of 30 pages, logged
-in the server with ``scripts/measure_join_order.py --num-procs 2``): while it has a new page queued or in
-the making it now accepts none (:class:`BuildOrder`), so the next page goes to the process that is
-free first.
+**Over the processes.** With ``--num-procs N``, ``ringlab serve`` accepts one connection per wake-up in each
+process (:mod:`ringlab.server.accepting`), so that a class opening the link at once is spread over the
+processes instead of the first process to wake taking every waiting connection.  A process with a page to
+build still accepted the connections that arrived while it waited between two builds, and took more than its
+share (19 and 11 of 30 pages, logged in the server with ``scripts/measure_join_order.py --num-procs 2``):
+while it has a new page queued or in the making it now accepts none (:class:`BuildOrder` tells
+:func:`ringlab.server.accepting.hold`), so the next page goes to the process that is free first.
 
 **One page built per turn of the event loop.** Bokeh builds a session's page as soon as its connection asks for
 one, on the event loop. When thirty connections arrive together, all thirty builds are queued before the first page
@@ -48,9 +42,10 @@ built twice (29 November 2026), and the copy nobody shows lives until the server
 depend on the page's query, and the page itself is built once, by the process its websocket reaches (6 pages,
 6 builds).
 
-``ringlab serve`` calls the balance and the page template before its processes start (with ``--num-procs``
-N > 1) and :func:`order_builds`; ``panel serve ... --setup <this file>`` (or ``app/server/serve_setup.py``)
-runs this file as the server's setup script (add ``--warm --reuse-sessions`` there).
+``ringlab serve`` calls :func:`order_builds` and (with ``--num-procs`` N > 1) the page template before its
+processes start; ``panel serve ... --setup <this file>`` runs this file as the server's setup script, which orders
+the builds (add ``--warm --reuse-sessions`` there); one accept per wake-up needs ``ringlab serve``, which makes its
+own accept loop (:mod:`ringlab.server.accepting`).
 """
 from __future__ import annotations
 
@@ -58,42 +53,20 @@ import asyncio
 import weakref
 
 import panel as pn
-import tornado.netutil
 from bokeh.application import Application
 from bokeh.application.handlers import Handler
 from panel.io.resources import LOCAL_DIST
 from panel.io.session import generate_session
 from panel.io.state import set_curdoc, state
 
-from ringlab.server import gc_policy
+from ringlab.server import accepting, gc_policy
 
-ACCEPTS_PER_WAKEUP = 1
-_BALANCING: dict = {}  # {"on": True} once balance_accepts() ran in this process (inherited by forked processes)
 _ORDERING: dict = {}  # {"on": True} once order_builds() registered its session-created callback
-_PENDING: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # event loop -> new pages queued or being built
 # [s] before each page is built, the event loop first answers what is waiting (a few turns of the loop: a built
 # page's request for its document has arrived by then); at 0.05 s thirty pages waited 1.5 s in all for nothing
 YIELD_S = 0.005
 BUILD_ORDER = {"on": True}  # False: order_builds() adds nothing (Bokeh's order, an A/B: scripts/measure_join_order.py)
 _BUILD_LOCKS: weakref.WeakKeyDictionary = weakref.WeakKeyDictionary()  # event loop -> its build lock
-
-
-def balance_accepts() -> bool:
-    """Accept at most :data:`ACCEPTS_PER_WAKEUP` connection each time the listening socket becomes readable
-    (in this process and the processes it forks); False if this Tornado has no such setting."""
-    if not isinstance(getattr(tornado.netutil, "_DEFAULT_BACKLOG", None), int):
-        return False
-    tornado.netutil._DEFAULT_BACKLOG = ACCEPTS_PER_WAKEUP
-    _BALANCING["on"] = True
-    return True
-
-
-def _pending(loop, change: int) -> None:
-    """Count a new page queued (+1) or built (-1) on ``loop``; with balanced accepts a process accepts no
-    connection while it has one (the connection waits in the shared queue for a process that is free)."""
-    n = _PENDING[loop] = _PENDING.get(loop, 0) + change
-    if _BALANCING:
-        tornado.netutil._DEFAULT_BACKLOG = 0 if n > 0 else ACCEPTS_PER_WAKEUP
 
 
 class BuildOrder(Handler):
@@ -109,11 +82,11 @@ class BuildOrder(Handler):
         lock = _BUILD_LOCKS.get(loop)
         if lock is None:
             lock = _BUILD_LOCKS.setdefault(loop, asyncio.Lock())
-        _pending(loop, +1)
+        accepting.hold(loop, +1)  # with one accept per wake-up: none until this page is built
         try:
             await lock.acquire()
         except BaseException:
-            _pending(loop, -1)
+            accepting.hold(loop, -1)
             raise
         try:
             await asyncio.sleep(YIELD_S)  # what waits on the loop (a built page asking for its document) goes first
@@ -126,7 +99,7 @@ class BuildOrder(Handler):
 
 def _built(loop, lock) -> None:
     lock.release()
-    _pending(loop, -1)
+    accepting.hold(loop, -1)
     gc_policy.page_built()  # the new page's objects out of the next pages' garbage collections
 
 
@@ -206,5 +179,4 @@ def local_stylesheets() -> None:
 if __name__ != "ringlab.server.joining":  # run as `panel serve --setup` script: the package's module does it, so
     from ringlab.server import joining  # that its state (the balance) is the one the server uses
 
-    joining.balance_accepts()
     joining.order_builds()

@@ -25,12 +25,14 @@ An ERROR reply to a malformed message carries :data:`ERROR_TEXT` only: Bokeh put
 and the server's traceback (file paths, library versions) in it, after logging both.
 
 :class:`AppWSHandler` is a subclass of Panel's websocket handler that overrides public methods of Bokeh's
-(``on_message``, ``send_message``, ``on_close``) and calls them.  Bokeh takes an application's websocket
-handler from ``bokeh.server.urls.per_app_patterns`` when the server is made (Panel puts its own there the
-same way); :func:`install` puts this one in its place and must run before the server starts: ``ringlab
-serve`` calls it, and ``panel serve app/main.py --setup app/server/serve_setup.py`` does.  Neither Bokeh nor
-Panel offers another way to choose an application's websocket handler (``extra_patterns`` come after the
-application's routes), so this one write stays, listed in ``tests/app/test_public_api_only.py``.
+(``on_message``, ``send_message``, ``on_close``) and calls them.  :func:`route_websockets` registers it for
+every application of a Bokeh Tornado application with Tornado's public ``Application.add_handlers``, whose
+rules come before the application's own routes; ``ringlab serve`` builds its server itself
+(:mod:`ringlab.server.class_server`) and calls it.  ``panel serve`` makes its server inside Bokeh, and
+neither Bokeh nor Panel lets a setup script reach its Tornado application or choose the websocket handler
+(``extra_patterns``/``--plugins`` routes come after the application's routes): under ``panel serve`` the
+pages have Bokeh's handler (an ERROR reply with the server's traceback, log lines when a page leaves
+mid-stream, a closed tab's runs freed when Bokeh discards the session, 15-30 s later).
 
 The handler also knows the open websockets of each document (:func:`live_connections`: the live runners
 stop computing as soon as the socket is closing) and calls :func:`on_page_left` callbacks when the
@@ -43,7 +45,6 @@ import asyncio
 import logging
 import weakref
 
-from bokeh.server import urls
 from panel.io.server import WSHandler as PanelWSHandler
 from tornado.iostream import StreamClosedError
 from tornado.websocket import WebSocketClosedError
@@ -156,22 +157,27 @@ def quiet_closed_sockets(loop: asyncio.AbstractEventLoop) -> None:
     _QUIET_LOOPS.add(loop)
 
 
-def install_handler() -> bool:
-    """Make :class:`AppWSHandler` the websocket handler of the applications of servers made from now on;
-    True if it is (False: this Bokeh has no ``/ws`` route that Panel's handler serves)."""
-    for i, route in enumerate(urls.per_app_patterns):
-        if route[0] == r"/ws" and issubclass(AppWSHandler, route[1]):
-            urls.per_app_patterns[i] = (route[0], AppWSHandler, *route[2:])
-            _INSTALLED["handler"] = True
-            return True
-    return False
+def route_websockets(tornado_app) -> list[str]:
+    """Make :class:`AppWSHandler` the websocket handler of every application of ``tornado_app`` (a Bokeh
+    ``BokehTornado`` not yet serving): a rule ahead of the application's own routes, with the arguments Bokeh
+    gives its handler there.  Returns the websocket paths routed (none if this Bokeh's handler is not the
+    one :class:`AppWSHandler` extends)."""
+    routed = []
+    for rule in tornado_app.wildcard_router.rules:
+        pattern = getattr(rule.matcher, "regex", None)
+        if isinstance(rule.target, type) and issubclass(AppWSHandler, rule.target) and pattern is not None \
+                and pattern.pattern.endswith("/ws$"):
+            routed.append((pattern.pattern, AppWSHandler, dict(rule.target_kwargs)))
+    if routed:
+        tornado_app.add_handlers(r".*", routed)
+        _INSTALLED["handler"] = True
+    return [path for path, _, _ in routed]
 
 
 def install() -> dict:
-    """Install :class:`AppWSHandler` (for servers made after this call) and, where an event loop runs,
-    :func:`quiet_closed_sockets`; idempotent.  Returns what is installed (name -> bool)."""
-    if "handler" not in _INSTALLED:
-        install_handler()
+    """Install :func:`quiet_closed_sockets` where an event loop runs (idempotent).  Returns what is installed
+    (name -> bool): ``handler``, whether a server of this process routes its websockets to
+    :class:`AppWSHandler` (:func:`route_websockets`), and ``quiet_loop``."""
     try:
         quiet_closed_sockets(asyncio.get_running_loop())
         _INSTALLED["quiet_loop"] = True

@@ -7,56 +7,55 @@ import runpy
 import socket
 import time
 import types
-from pathlib import Path
 
 import panel as pn
-import pytest
 import tornado.netutil
 from bokeh.application.handlers import FunctionHandler
 from bokeh.server.contexts import ApplicationContext
 from panel.io.application import Application as PanelApplication
 from panel.io.state import state
 from tornado.ioloop import IOLoop
+from tornado.iostream import IOStream
 
-from ringlab.server import joining
-
-
-@pytest.fixture
-def tornado_default():
-    before, balancing = tornado.netutil._DEFAULT_BACKLOG, dict(joining._BALANCING)
-    yield before
-    tornado.netutil._DEFAULT_BACKLOG = before
-    joining._BALANCING.clear()
-    joining._BALANCING.update(balancing)
+from ringlab.server import accepting, joining
 
 
-def _accepted_per_wakeup() -> int:
-    """Connections Tornado's accept handler takes in one wake-up with three waiting."""
+class FakeHTTPServer:
+    """What OneAtATime uses of Tornado's HTTPServer: its buffer sizes and handle_stream."""
+    max_buffer_size, read_chunk_size = None, None
+
+    def __init__(self):
+        self.streams = []
+
+    def handle_stream(self, stream, address):
+        self.streams.append((stream, address))
+
+
+def _waiting(n: int):
     listener = tornado.netutil.bind_sockets(0, "127.0.0.1")[0]
-    clients = [socket.create_connection(listener.getsockname()) for _ in range(3)]
-    accepted = []
+    return listener, [socket.create_connection(listener.getsockname()) for _ in range(n)]
 
-    async def one_wakeup():  # nothing awaited: the loop never polls the socket itself
-        remove = tornado.netutil.add_accept_handler(listener, lambda conn, addr: accepted.append(conn))
-        handler = IOLoop.current().handlers[listener.fileno()][1]  # the accept handler Tornado registered
-        handler(listener, IOLoop.READ)
-        remove()
 
-    loop = IOLoop(make_current=False)
+def test_one_connection_per_wakeup():
+    """Three connections wait: one wake-up of the listening socket accepts one, handed to the HTTP server as a
+    Tornado IOStream; the others at the next wake-ups."""
+    listener, clients = _waiting(3)
+    http = FakeHTTPServer()
+    acceptor = accepting.OneAtATime(http, [listener])
+    loop = asyncio.new_event_loop()
     try:
-        loop.run_sync(one_wakeup)
+        acceptor.start(loop)
+        assert acceptor.listening
+        acceptor._ready(listener)  # one wake-up
+        assert len(http.streams) == 1 and isinstance(http.streams[0][0], IOStream)
+        assert http.streams[0][1][0] == "127.0.0.1"
+        loop.run_until_complete(asyncio.sleep(0.2))  # the loop polls the socket: one per wake-up, all in time
+        assert len(http.streams) == 3
+        acceptor.stop()
     finally:
         loop.close()
-        for c in clients + [listener] + accepted:
-            c.close()
-    return len(accepted)
-
-
-def test_one_connection_per_wakeup(tornado_default):
-    assert tornado_default == 128 and _accepted_per_wakeup() == 3
-    assert joining.balance_accepts()
-    assert tornado.netutil._DEFAULT_BACKLOG == joining.ACCEPTS_PER_WAKEUP == 1
-    assert _accepted_per_wakeup() == 1
+        for s in [listener, *clients] + [st.socket for st, _ in http.streams]:
+            s.close()
     # the listen backlog of new sockets is Tornado's own
     assert inspect.signature(tornado.netutil.bind_sockets).parameters["backlog"].default == 128
 
@@ -65,11 +64,10 @@ def _bokehs_own_session_creation() -> bool:
     return ApplicationContext.create_session_if_needed.__module__ == "bokeh.server.contexts"
 
 
-def test_runs_as_a_panel_setup_script(tornado_default, monkeypatch):
+def test_runs_as_a_panel_setup_script(monkeypatch):
     monkeypatch.setattr(state, "_on_session_created", [])  # this test's server only
     monkeypatch.setattr(joining, "_ORDERING", {})
     runpy.run_path(joining.__file__, run_name="panel_setup_module")
-    assert tornado.netutil._DEFAULT_BACKLOG == 1
     assert len(state._on_session_created) == 1  # the pages of the server built one per turn
     assert _bokehs_own_session_creation()  # through Bokeh's public Handler hook, nothing of Bokeh's replaced
 
@@ -78,18 +76,13 @@ def test_the_app_leaves_bokehs_session_creation_alone(monkeypatch):
     """The app's set-up (``ringlab.main.configure``, the ``panel serve`` setup script) orders the builds through
     Bokeh's public application-handler hook: Bokeh's ``ApplicationContext.create_session_if_needed`` stays Bokeh's
     (a Bokeh release that changes it cannot break the lab's session creation)."""
-    from bokeh.server import urls
-
     from ringlab import main
-    from ringlab.server import socket_guard
 
-    monkeypatch.setattr(urls, "per_app_patterns", list(urls.per_app_patterns))  # the setup's handler: this test's
-    monkeypatch.setattr(socket_guard, "_INSTALLED", {})
     monkeypatch.setattr(state, "_on_session_created", [])
     monkeypatch.setattr(joining, "_ORDERING", {}, raising=False)
     monkeypatch.setattr(main, "warm_engines", lambda: None)  # the compiled kernels: not this test's concern
     main.configure()
-    runpy.run_path(str(Path(joining.__file__).with_name("serve_setup.py")), run_name="panel_setup_module")
+    runpy.run_path(joining.__file__, run_name="panel_setup_module")
     assert _bokehs_own_session_creation()
 
 
@@ -177,29 +170,37 @@ def test_ordered_from_the_first_page_when_set_up_before_the_server(monkeypatch):
     assert order[3:] == ["build p1", "freeze", "build p2", "freeze"]
 
 
-def test_a_process_with_a_page_to_build_leaves_new_connections_to_the_others(monkeypatch, tornado_default):
-    """With balanced accepts, a process accepts no connection from the moment a new page is queued until the
-    last queued page is built; then one per wake-up again.  Without balancing (one process) nothing changes."""
+def test_a_process_with_a_page_to_build_leaves_new_connections_to_the_others(monkeypatch):
+    """With one accept per wake-up, a process accepts no connection from the moment a new page is queued until the
+    last queued page is built; then one per wake-up again.  Without its accept loop (one process) nothing changes."""
     seen = []
+    listener, clients = _waiting(1)
+    acceptor = accepting.OneAtATime(FakeHTTPServer(), [listener])
     monkeypatch.setattr(joining.gc_policy, "page_built", lambda: None)
 
-    def join(n):
+    def join(n, balanced):
         async def scenario():
-            ctx = _app_context(lambda doc: seen.append((doc.session_context.id, tornado.netutil._DEFAULT_BACKLOG)),
-                               ordered=True)
+            ctx = _app_context(lambda doc: seen.append((doc.session_context.id, acceptor.listening)), ordered=True)
             await ctx.create_session_if_needed("first")
             seen.clear()
+            if balanced:
+                acceptor.start(asyncio.get_running_loop())
             await asyncio.gather(*[ctx.create_session_if_needed(f"p{i}") for i in range(n)])
-        asyncio.run(scenario())
+            await asyncio.sleep(0)  # the turn after the last build
+            listening = acceptor.listening
+            acceptor.stop()
+            return listening
+        return asyncio.run(scenario())
 
-    join(2)
-    assert seen == [("p0", 128), ("p1", 128)] and tornado.netutil._DEFAULT_BACKLOG == 128
-    assert joining.balance_accepts()
-    join(3)
-    assert seen == [("p0", 0), ("p1", 0), ("p2", 0)]
-    assert tornado.netutil._DEFAULT_BACKLOG == joining.ACCEPTS_PER_WAKEUP  # all built: accepting again
-    tornado.netutil._DEFAULT_BACKLOG = 0
-    assert _accepted_per_wakeup() == 0  # Tornado's accept loop honours it at run time
+    try:
+        join(2, balanced=False)
+        assert seen == [("p0", False), ("p1", False)]  # no accept loop of ours on this event loop
+        seen.clear()
+        assert join(3, balanced=True)  # all built: accepting again
+        assert seen == [("p0", False), ("p1", False), ("p2", False)] and acceptor.held == 0
+    finally:
+        for s in [listener, *clients]:
+            s.close()
 
 
 def test_the_page_address_answers_from_one_empty_template():
@@ -217,3 +218,4 @@ def test_the_page_address_answers_from_one_empty_template():
         pn.config.reuse_sessions = before
         state._sessions.pop("/main-test", None)
         state._session_key_funcs.pop("/main-test", None)
+

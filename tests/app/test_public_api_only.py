@@ -34,18 +34,6 @@ PACKAGE_ALIASES = {"app": "ringlab"}  # app/ is installed as the package ringlab
 # The remaining debt: file -> (why it stays, {(kind, source text)}).  Each reason gives what the use buys,
 # measured, and why no public API gives it (yet).
 ALLOWED = {
-    # The app's websocket handler (a subclass of Panel's, overriding Bokeh's public on_message, send_message and
-    # on_close) is chosen where Bokeh reads an application's routes when the server is made; Panel rewrites
-    # this list the same way, and neither library offers another way to choose the handler (extra_patterns come
-    # after the application's routes; Tornado's public Application.add_handlers would put a route before them, but
-    # neither Bokeh's Server nor Panel's serve exposes its Tornado application, and ``panel serve`` takes no Tornado
-    # settings from a setup script).  It buys an ERROR reply without the server's traceback and file paths
-    # (Bokeh sends both: tests/app/test_web_cases.py), no AssertionError or warning lines when a page leaves
-    # mid-stream, and the count of a page's open websockets (a closed tab frees its runs at once, not when
-    # Bokeh discards the session 15-32 s later).
-    "app/server/socket_guard.py": ("the app's websocket handler registered", {
-        ("write", "urls.per_app_patterns[i]"),
-    }),
     # Bokeh's property defaults once per model class.  Measured 7 December 2026 (scripts/measure_page_cost.py's
     # pages in one process, Bokeh's methods and these alternated, 6 pages each, CPU medians, load average 19):
     # the class start link's page (498 models) 0.514 s instead of 0.859 s, the default page (230 models) 0.254 s
@@ -72,15 +60,13 @@ ALLOWED = {
         ("write", "deserializer._references"), ("write", "pdoc._WRITE_BLOCK[doc]"), ("write", "pdoc._WRITE_MSGS[doc]"),
         ("write", "pdoc.dispatch_tornado"), ("write", "pdoc.schedule_write_events"), ("write", "serializer._references"),
     }),
-    # A class joining at once (its docstring has the figures: 30 pages after 22.5-30.7 s instead of 48.0 s with two
-    # processes).  Tornado accepts up to 128 waiting connections per wake-up and has no setting for it (a process
-    # busy building pages takes a whole class).  Each page built once: Panel's public reuse_sessions setting keeps
-    # the first real page of an address as its template and builds a page in the HTTP request's process for every
-    # request before it; an empty template made before the fork is only made by `panel serve --warm
-    # --reuse-sessions` (Panel's command line), so reuse_page_template puts one in the same place (its docstring).
-    # The build order is Bokeh's public Handler.on_session_created hook (BuildOrder): no replaced method.
-    "app/server/joining.py": ("one accept per wake-up, each page built once", {
-        ("read", "getattr(tornado.netutil, '_DEFAULT_BACKLOG', None)"), ("write", "tornado.netutil._DEFAULT_BACKLOG"),
+    # A class joining at once: each page built once.  Panel's public reuse_sessions setting keeps the first real
+    # page of an address as its template and builds a page in the HTTP request's process for every request before
+    # it; an empty template made before the fork is only made by `panel serve --warm --reuse-sessions` (Panel's
+    # command line), so reuse_page_template puts one in the same place (its docstring).  The build order is
+    # Bokeh's public Handler.on_session_created hook (BuildOrder) and one accept per wake-up is the app's own
+    # accept loop (ringlab.server.accepting): no replaced method, no Tornado setting.
+    "app/server/joining.py": ("each page built once", {
         ("read", "state._session_key_funcs"), ("read", "state._sessions"),
         ("write", "state._session_key_funcs[path]"), ("write", "state._sessions[path]"),
     }),

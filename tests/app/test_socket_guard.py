@@ -15,7 +15,6 @@ import logging
 from types import SimpleNamespace
 
 import pytest
-from bokeh.server import urls
 from bokeh.server.connection import ServerConnection
 from panel.io.server import WSHandler as PanelWSHandler
 from tornado.websocket import WebSocketClosedError, WebSocketHandler
@@ -208,9 +207,26 @@ def test_live_connections_counts_the_open_sockets_of_a_page_and_its_leaving_is_r
     assert socket_guard.live_connections(doc) == 0 and left == ["callback"]
 
 
-def test_install_makes_the_app_handler_the_websocket_route_of_new_servers(monkeypatch):
-    monkeypatch.setattr(urls, "per_app_patterns", list(urls.per_app_patterns))
-    monkeypatch.setitem(socket_guard._INSTALLED, "handler", False)
-    assert socket_guard.install_handler()
-    ws = [r for r in urls.per_app_patterns if r[0] == r"/ws"]
-    assert ws == [(r"/ws", socket_guard.AppWSHandler)]
+def test_the_app_handler_answers_the_websocket_route_of_every_application():
+    """``route_websockets`` puts the app's handler, with Bokeh's arguments, ahead of Bokeh's routes (Tornado's
+    add_handlers); the other addresses of an application still reach Bokeh's and Panel's handlers."""
+    from bokeh.server.tornado import BokehTornado
+    from bokeh.server.views.doc_handler import DocHandler
+    from panel.io.application import build_applications
+    from tornado.httputil import HTTPServerRequest
+
+    app = BokehTornado(build_applications({"main": lambda: None, "teacher": lambda: None}))
+    bokeh_ws = {rule.matcher.regex.pattern: rule.target_kwargs for rule in app.wildcard_router.rules
+                if getattr(rule.target, "__name__", "") == "WSHandler"}
+
+    def handler(path):
+        delegate = app.find_handler(HTTPServerRequest(method="GET", uri=path, headers=None))
+        return delegate.handler_class, delegate.handler_kwargs
+
+    assert handler("/main/ws")[0] is PanelWSHandler  # before: Panel's
+    assert socket_guard.route_websockets(app) == ["/main/ws$", "/teacher/ws$"]
+    for path in ("/main/ws", "/teacher/ws"):
+        cls, kwargs = handler(path)
+        assert cls is socket_guard.AppWSHandler and kwargs == bokeh_ws[path + "$"]
+        assert kwargs["application_context"] is app.applications["/" + path.split("/")[1]]
+    assert issubclass(handler("/main")[0], DocHandler) and handler("/main/ws/x")[0] is not socket_guard.AppWSHandler

@@ -191,6 +191,36 @@ def test_a_malformed_websocket_message_gets_a_short_error_without_a_traceback(se
     assert "no-such-model" in log.read_text()  # the details are in the server's log
 
 
+@pytest.mark.slow  # two server processes start: 10-40 s
+def test_the_processes_of_num_procs_2_answer_with_the_app_handler(tmp_path):
+    """``ringlab serve --num-procs 2``: the page's address answers, and a malformed message gets the short
+    error in whichever forked process its websocket reaches (the route is made before the fork)."""
+    import signal
+    port = free_port()
+    log_path = tmp_path / "serve.log"
+    env = dict(os.environ, RINGLAB_COMPUTE="threads", PYTHONUNBUFFERED="1")
+    with open(log_path, "w") as log:
+        proc = subprocess.Popen([sys.executable, "-m", "ringlab.cli.main", "serve", "--port", str(port),
+                                 "--num-procs", "2"], env=env, stdout=log, stderr=subprocess.STDOUT,
+                                start_new_session=True)
+    try:
+        wait_live(proc, port, log_path)
+        base = f"http://127.0.0.1:{port}"
+        assert get(base + "/main")[0] == 200
+
+        async def four():
+            return await asyncio.gather(*[_malformed_exchange(base) for _ in range(4)])
+        for reply in asyncio.run(four()):
+            assert reply["content"] == dict(text=socket_guard.ERROR_TEXT, traceback=None)
+    finally:
+        os.killpg(proc.pid, signal.SIGINT)
+        try:
+            proc.wait(40)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait()
+
+
 def test_a_site_of_the_tutorial_pages_only_opens_at_their_index(tmp_path, monkeypatch, ringlab_env):
     from ringlab.lessons import tutorials
     from ringlab.server import routes
