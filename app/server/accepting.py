@@ -10,6 +10,12 @@ a process that is free.  Measured on the 2-core machine with ``ringlab loadtest 
 --join-together --num-procs 2`` (29 November 2026): pages after 48.0 s (median) with Tornado's loop, 22.5-30.7
 s with one accept per wake-up (three runs).
 
+This accept loop against the one it replaces (Tornado's accept count set to 1 through its private
+``_DEFAULT_BACKLOG``), both under ``ringlab serve --num-procs 2``, ``ringlab loadtest --students 30
+--join-together``, 7 runs each in pairs, 7 December 2026, load average 1.5-11 from other work: pages ready
+(median / last) at best 4.95 / 8.07 s against 4.88 / 7.82 s, and 15-18 of the 32 pages built by each process
+in both; the runs of either spread from 5 to 22 s (whichever ran second in a pair was usually slower).
+
 Only public parts: the asyncio loop's ``add_reader``/``remove_reader`` on the listening socket, and each
 accepted connection handed to the HTTP server as Tornado's ``TCPServer`` does for plain HTTP (an ``IOStream``
 with the server's buffer sizes, then its public ``handle_stream``).  The listen backlog (128) is Tornado's.
