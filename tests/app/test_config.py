@@ -29,14 +29,14 @@ def test_every_ringlab_variable_of_the_code_is_a_setting():
 
 def test_only_the_config_module_reads_the_environment():
     """No os.environ.get / os.getenv / os.environ[...] read outside ringlab.config (writes for child processes and
-    the unrelated XDG_DATA_HOME aside)."""
+    the unrelated XDG_DATA_HOME and Jupyter's JPY_PARENT_PID aside)."""
     readers = []
     for p in APP.rglob("*.py"):
         if p.name == "config.py" and p.parent == APP:
             continue
         for node in ast.walk(ast.parse(p.read_text())):
             if isinstance(node, ast.Call) and ast.unparse(node.func) in ("os.environ.get", "os.getenv", "getenv"):
-                if "XDG_DATA_HOME" not in ast.unparse(node):
+                if not any(v in ast.unparse(node) for v in ("XDG_DATA_HOME", "JPY_PARENT_PID")):
                     readers.append(f"{p.relative_to(APP)}:{node.lineno}")
             if isinstance(node, ast.Subscript) and ast.unparse(node.value) == "os.environ" and isinstance(node.ctx, ast.Load):
                 readers.append(f"{p.relative_to(APP)}:{node.lineno}")

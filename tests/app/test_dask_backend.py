@@ -217,16 +217,20 @@ def test_chunks_queued_for_a_closed_run_return_at_once_without_stepping(backend)
     sim = Hydro1D(setup.params, setup.options, initial=setup.initial, **setup.initial_kw)
     actor, addr, fut = backend.host(sim.snapshot())
     try:
-        first = actor.advance(None, 1e6, 1.0)  # one second of stepping each (long for this box)
-        queued = [actor.advance(None, 1e6, 1.0) for _ in range(3)]
-        time.sleep(0.3)  # the first chunk is stepping
+        # one second of stepping each (long for this box); each call travels on its own connection, so the
+        # worker may take them in any order
+        chunks = [actor.advance(None, 1e6, 1.0) for _ in range(4)]
+        time.sleep(0.3)  # one chunk is stepping (on a loaded machine perhaps none yet)
         t0 = time.perf_counter()
         remote.cancel_queued(actor)
-        results = [f.result() for f in queued]
+        results = [f.result() for f in chunks]
         waited = time.perf_counter() - t0
-        assert first.result()["advanced"] > 0  # the chunk already stepping ends at its budget
-        assert [r["advanced"] for r in results] == [0.0, 0.0, 0.0] and waited < 2.0
-        assert actor.snapshot().result().meta["steps"] == first.result()["light"].meta["steps"]
+        stepped = [r for r in results if r["advanced"] > 0]
+        # at most the chunk already stepping ends at its budget; the queued ones return at once without stepping
+        # (not cancelled: four seconds of stepping)
+        assert len(stepped) <= 1 and waited < 2.0, ([r["advanced"] for r in results], waited)
+        steps = max(r["light"].meta["steps"] for r in results)
+        assert actor.snapshot().result().meta["steps"] == steps
     finally:
         backend.free(fut)
         backend.forget(addr)
