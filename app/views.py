@@ -63,7 +63,7 @@ def use_installed_resources() -> bool:
 
 def serve_panel_stylesheets(view) -> int:
     """Have the notebook output of ``view`` (just displayed) load the stylesheets Panel sends with a changed pane
-    from the Jupyter server (:func:`ringlab.server.installed_css.serve_stylesheets`); returns for how many of its
+    from the Jupyter server (``ringlab.server.installed_css.serve_stylesheets``); returns for how many of its
     documents it did (the documents of the view's Bokeh plots: the output's)."""
     docs = {id(p.object.document): p.object.document for p in view.__panel__().select(pn.pane.Bokeh)
             if p.object is not None and p.object.document is not None}
